@@ -1,0 +1,207 @@
+# granary - one non-recursive Makefile.
+#   make run     build and run the default scene          make test       build and run every test
+#   make all     libraries + command-line driver          make test-asan  the tests under ASan+UBSan
+#   make bench   speed / accuracy-versus-cost tables      make test-gpu   GPU tests (needs a GPU)
+#   make install prefix=... DESTDIR=...                   make deps       install Debian packages
+#   make info    show the configuration                   make clean
+# Override OPT (default -O3 -march=native), CC, CXX, FC, NVCC (empty disables CUDA), BUILD.
+
+BUILD   ?= build
+prefix  ?= /usr/local
+DESTDIR ?=
+CC      := gcc
+CXX     := g++
+FC      := gfortran
+OPT     ?= -O3 -march=native
+SAN     ?=
+# CUDA: probe nvcc on PATH, then in /usr/local/cuda/bin. `make NVCC=` builds without CUDA.
+NVCC    ?= $(firstword $(shell command -v nvcc 2>/dev/null) $(wildcard /usr/local/cuda/bin/nvcc))
+CUDA_HOME ?= $(patsubst %/bin/nvcc,%,$(NVCC))
+CUDA_ARCH ?= -gencode arch=compute_90,code=sm_90 -gencode arch=compute_90,code=compute_90
+
+PKGS     := gsl fftw3 hdf5 cmocka
+DEB_PKGS := pkg-config libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran
+DEPS_OK   = pkg-config --exists $(PKGS) 2>/dev/null && [ -f /usr/include/toml.hpp ] && command -v $(FC) >/dev/null 2>&1
+
+# ---- configuration, cached in $(BUILD)/config.mk (installs missing packages first) ------------
+CONFIG := $(BUILD)/config.mk
+NOCONFIG_GOALS := clean deps info help
+ifeq ($(filter $(NOCONFIG_GOALS),$(MAKECMDGOALS)),)
+include $(CONFIG)
+endif
+
+$(CONFIG): Makefile
+	@mkdir -p $(@D)
+	@if ! ( $(DEPS_OK) ); then $(MAKE) --no-print-directory deps; fi
+	@( $(DEPS_OK) ) || { echo "granary: dependencies still missing (see 'make deps')" >&2; exit 1; }
+	@echo "PKG_CFLAGS := $$(pkg-config --cflags $(PKGS))" > $@.tmp
+	@echo "PKG_LIBS := $$(pkg-config --libs $(PKGS))" >> $@.tmp
+	@mv $@.tmp $@
+
+deps:
+	@if ( $(DEPS_OK) ); then echo "deps: everything granary needs is installed"; \
+	elif [ "$$(id -u)" = 0 ]; then \
+	  echo "deps: installing $(DEB_PKGS)"; \
+	  DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(DEB_PKGS) >/dev/null || \
+	  { apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(DEB_PKGS) >/dev/null; }; \
+	elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then \
+	  echo "deps: installing $(DEB_PKGS) with sudo"; \
+	  sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(DEB_PKGS) >/dev/null || \
+	  { sudo apt-get update -q >/dev/null && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(DEB_PKGS) >/dev/null; }; \
+	else \
+	  echo "granary needs Debian packages it cannot install without root. Run:" >&2; \
+	  echo "  sudo apt-get install -y $(DEB_PKGS)" >&2; exit 1; \
+	fi
+
+# ---- flags ------------------------------------------------------------------------------------
+WARN       := -Wall -Wextra
+CUDA_FLAG  := $(if $(NVCC),-DGRAN_HAVE_CUDA=1,)
+BUILD_CONFIG_STR := cxx=$(CXX) opt=$(OPT) $(if $(SAN),san=$(SAN) ,)cuda=$(if $(NVCC),yes,no)
+CPPFLAGS   := -Iinclude -Isrc $(CUDA_FLAG)
+CXXFLAGS   := -std=c++17 $(OPT) $(SAN) $(WARN) -fPIC -fvisibility=hidden -MMD -MP
+CFLAGS     := -std=c99 $(OPT) $(SAN) $(WARN) -MMD -MP
+FFLAGS     := -std=f2008 $(OPT) $(SAN) -Wall -Wextra -Wno-compare-reals -J$(BUILD)/mod -I$(BUILD)/mod
+NVCCFLAGS  := -std=c++17 -O3 $(CUDA_ARCH) -Xcompiler -fPIC,-fvisibility=hidden,-Wall,-Wextra
+CUDA_LIBS  := $(if $(NVCC),-L$(CUDA_HOME)/lib64 -lcudart_static -ldl -lrt -lpthread,)
+LDLIBS      = $(PKG_LIBS) $(CUDA_LIBS) -lstdc++ -lm -lpthread
+
+# ---- sources ----------------------------------------------------------------------------------
+LIB_SRC  := $(sort $(wildcard src/core/*.cpp src/theory/*.cpp src/dsmc/*.cpp src/analysis/*.cpp src/io/*.cpp))
+CLI_SRC  := $(sort $(wildcard src/cli/*.cpp))
+CU_SRC   := $(if $(NVCC),$(sort $(wildcard cuda/*.cu)),cuda/stub.cpp)
+LIB_OBJ  := $(LIB_SRC:%.cpp=$(BUILD)/obj/%.o) $(patsubst %,$(BUILD)/obj/%.o,$(basename $(CU_SRC)))
+CLI_OBJ  := $(CLI_SRC:%.cpp=$(BUILD)/obj/%.o)
+FMOD_SRC := bindings/granary.f90
+FMOD_OBJ := $(BUILD)/obj/bindings/granary.o
+
+LIB_A    := $(BUILD)/libgranary.a
+LIB_SO   := $(BUILD)/libgranary.so
+LIBF_A   := $(BUILD)/libgranary_fortran.a
+CLI      := $(BUILD)/granary
+
+TEST_C   := $(sort $(wildcard tests/t*.c))
+TEST_F   := $(sort $(wildcard tests/t*-f.f90))
+EXAMPLES := $(sort $(wildcard bindings/examples/*.c bindings/examples/*.f90))
+TEST_BIN := $(TEST_C:tests/%.c=$(BUILD)/tests/%) $(TEST_F:tests/%.f90=$(BUILD)/tests/%) \
+            $(patsubst bindings/examples/%,$(BUILD)/tests/example-%,$(basename $(EXAMPLES)))
+BENCH_C  := $(sort $(wildcard bench/b*.c))
+BENCH_BIN:= $(BENCH_C:bench/%.c=$(BUILD)/bench/%)
+GPU_TEST_C := $(sort $(wildcard tests/gpu/t*.c))
+GPU_TEST_BIN := $(GPU_TEST_C:tests/gpu/%.c=$(BUILD)/tests/gpu/%)
+
+.PHONY: all lib run test test-asan test-gpu bench install deps info clean help check-header
+.DEFAULT_GOAL := all
+
+all: $(LIB_A) $(LIB_SO) $(LIBF_A) $(CLI) check-header
+
+# ---- compile ----------------------------------------------------------------------------------
+$(BUILD)/obj/%.o: %.cpp $(CONFIG)
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(PKG_CFLAGS) $(CXXFLAGS) -c $< -o $@
+
+$(BUILD)/obj/src/core/errors.o: CPPFLAGS += -DGRAN_BUILD_CONFIG='"$(BUILD_CONFIG_STR)"'
+
+$(BUILD)/obj/cuda/%.o: cuda/%.cu $(CONFIG) include/granary.h src/granary_impl.h
+	@mkdir -p $(@D)
+	$(NVCC) $(CPPFLAGS) $(NVCCFLAGS) -c $< -o $@
+
+$(FMOD_OBJ): $(FMOD_SRC) $(CONFIG)
+	@mkdir -p $(@D) $(BUILD)/mod
+	$(FC) $(FFLAGS) -c $< -o $@
+
+$(LIB_A): $(LIB_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(LIB_SO): $(LIB_OBJ)
+	$(CXX) -shared $(SAN) -o $@ $^ $(LDLIBS)
+
+$(LIBF_A): $(FMOD_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(CLI): $(CLI_OBJ) $(LIB_A)
+	$(CXX) $(SAN) -o $@ $(CLI_OBJ) $(LIB_A) $(LDLIBS)
+
+# The public header must be valid C99 on its own (and C++17: every src/ file includes it).
+check-header: $(BUILD)/check/header-c99.o
+$(BUILD)/check/header-c99.o: include/granary.h $(CONFIG)
+	@mkdir -p $(@D)
+	$(CC) -std=c99 -pedantic-errors $(WARN) -Iinclude -x c -c $< -o $@
+
+# ---- tests ------------------------------------------------------------------------------------
+$(BUILD)/tests/%: tests/%.c tests/granary_test.h $(LIB_A)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests $(CFLAGS) -o $@ $< $(LIB_A) $(LDLIBS)
+
+$(BUILD)/tests/%-f: tests/%-f.f90 $(LIBF_A) $(LIB_A)
+	@mkdir -p $(@D)
+	$(FC) $(FFLAGS) -o $@ $< $(LIBF_A) $(LIB_A) $(LDLIBS)
+
+$(BUILD)/tests/example-%: bindings/examples/%.c $(LIB_A)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -o $@ $< $(LIB_A) $(LDLIBS)
+
+$(BUILD)/tests/example-%: bindings/examples/%.f90 $(LIBF_A) $(LIB_A)
+	@mkdir -p $(@D)
+	$(FC) $(FFLAGS) -o $@ $< $(LIBF_A) $(LIB_A) $(LDLIBS)
+
+$(BUILD)/tests/gpu/%: tests/gpu/%.c tests/granary_test.h $(LIB_A)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests $(CFLAGS) -o $@ $< $(LIB_A) $(LDLIBS)
+
+test: $(TEST_BIN) $(CLI) check-header
+	@GRAN_SOURCE_DIR=$(CURDIR) GRAN_CLI=$(CURDIR)/$(CLI) sh tests/run-tests.sh $(TEST_BIN)
+
+# The same tests under AddressSanitizer + UndefinedBehaviorSanitizer, in their own build folder
+# (CUDA off: the CUDA runtime is not built for the sanitizers).
+test-asan:
+	@$(MAKE) --no-print-directory BUILD=build-asan NVCC= OPT="-O1 -g -fno-omit-frame-pointer" \
+	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=all" test
+
+test-gpu: $(GPU_TEST_BIN) $(CLI)
+	@n=0; [ -x $(CLI) ] && n=$$($(CLI) info --gpu-count 2>/dev/null || echo 0); \
+	if [ "$(NVCC)" = "" ]; then echo "test-gpu: CUDA was not compiled (no nvcc); nothing to run"; \
+	elif [ "$$n" = "0" ]; then echo "test-gpu: no GPU visible on this machine; nothing to run"; \
+	else GRAN_SOURCE_DIR=$(CURDIR) sh tests/run-tests.sh $(GPU_TEST_BIN); fi
+
+# ---- bench ------------------------------------------------------------------------------------
+$(BUILD)/bench/%: bench/%.c bench/bench_util.h $(LIB_A)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Ibench $(CFLAGS) -o $@ $< $(LIB_A) $(LDLIBS)
+
+bench: $(BENCH_BIN) $(CLI)
+	@for b in $(BENCH_BIN); do echo "== $$b"; GRAN_SOURCE_DIR=$(CURDIR) $$b || exit 1; done
+
+# ---- run --------------------------------------------------------------------------------------
+run: all
+	@if [ -f scenes/default.toml ] && $(CLI) --help 2>&1 | grep -q '^ *run '; then \
+	  $(CLI) run scenes/default.toml; else $(CLI) info; fi
+
+# ---- install ----------------------------------------------------------------------------------
+install: all
+	install -d $(DESTDIR)$(prefix)/include $(DESTDIR)$(prefix)/lib/pkgconfig $(DESTDIR)$(prefix)/bin \
+	  $(DESTDIR)$(prefix)/include/granary
+	install -m 644 include/granary.h $(DESTDIR)$(prefix)/include/
+	install -m 644 $(LIB_A) $(LIB_SO) $(LIBF_A) $(DESTDIR)$(prefix)/lib/
+	install -m 644 $(BUILD)/mod/granary.mod $(DESTDIR)$(prefix)/include/granary/
+	install -m 755 $(CLI) $(DESTDIR)$(prefix)/bin/
+	sed -e 's|@prefix@|$(prefix)|' -e 's|@version@|$(shell sed -n 's/^#define GRAN_VERSION_STRING "\(.*\)"/\1/p' include/granary.h)|' \
+	  -e 's|@libs@|$(PKG_LIBS) $(CUDA_LIBS)|' granary.pc.in > $(DESTDIR)$(prefix)/lib/pkgconfig/granary.pc
+
+info:
+	@echo "granary build configuration"
+	@echo "  CC=$(CC) CXX=$(CXX) FC=$(FC)"
+	@echo "  OPT=$(OPT) SAN=$(SAN)"
+	@echo "  NVCC=$(if $(NVCC),$(NVCC),(none: CUDA backend is a stub))"
+	@echo "  packages: $$(for p in $(PKGS); do printf '%s=%s ' $$p $$(pkg-config --modversion $$p 2>/dev/null || echo missing); done)"
+	@echo "  toml11: $$([ -f /usr/include/toml.hpp ] && echo found || echo missing)"
+	@echo "  sources: $(words $(LIB_SRC)) library, $(words $(CU_SRC)) cuda, $(words $(TEST_C) $(TEST_F)) tests, $(words $(BENCH_C)) benches"
+
+help:
+	@sed -n '2,7p' Makefile
+
+clean:
+	rm -rf build build-asan
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -1,0 +1,15 @@
+/* stub.cpp - built instead of cuda/*.cu when nvcc is not found: the CUDA entry points report
+ * GRAN_ERR_UNSUPPORTED (device queries report zero devices). */
+#include "granary_impl.h"
+
+GRAN_EXTERN int gran_cuda_compiled(int *compiled) {
+  GRAN_CHECK_PTR(compiled);
+  *compiled = 0;
+  return GRAN_SUCCESS;
+}
+
+GRAN_EXTERN int gran_cuda_device_count(int *count) {
+  GRAN_CHECK_PTR(count);
+  *count = 0;
+  return GRAN_SUCCESS;
+}

@@ -1,0 +1,306 @@
+/*
+ * granary.h - the one public header of granary: simulation and kinetic theory of granular gases.
+ *
+ * Valid C99 and C++. Every function returns an int status (GRAN_SUCCESS = 0, negative on error)
+ * and hands results back through out-pointers; gran_strerror() names a code and
+ * gran_last_error_message() (thread-local) names the argument or scene key that was wrong.
+ * Nothing aborts, prints or throws across this interface.
+ *
+ * Ownership: arrays passed in are borrowed for the duration of the call unless a function says
+ * otherwise; arrays inside the plain structs (gran_segtree, gran_particles) belong to the struct and
+ * are released by its *_free function; opaque handles are released by *_destroy(&h), which is
+ * NULL-safe and sets h to NULL.
+ *
+ * Counts are int64_t (print with GRAN_I64_FMT). Flags are int, not bool.
+ * Fortran: module `granary` (bindings/granary.f90) mirrors everything here with bind(C).
+ */
+#ifndef GRANARY_H
+#define GRANARY_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <inttypes.h>
+
+#ifdef __cplusplus
+#define GRAN_EXTERN extern "C" __attribute__((visibility("default")))
+#else
+#define GRAN_EXTERN extern __attribute__((visibility("default")))
+#endif
+
+#define GRAN_I64_FMT "%" PRId64
+
+/* ---------------------------------------------------------------------------------------------
+ * Version and build
+ * ------------------------------------------------------------------------------------------- */
+#define GRAN_VERSION_MAJOR 0
+#define GRAN_VERSION_MINOR 1
+#define GRAN_VERSION_PATCH 0
+#define GRAN_VERSION_STRING "0.1.0"
+
+GRAN_EXTERN int gran_get_version(int *major, int *minor, int *patch);
+/* Build configuration, e.g. "cxx=g++ 12.2 flags=-O3 -march=native cuda=yes". Static storage. */
+GRAN_EXTERN int gran_get_build_config(const char **config);
+/* 1 when the CUDA backend was compiled in, else 0. */
+GRAN_EXTERN int gran_cuda_compiled(int *compiled);
+/* Number of visible CUDA devices (0 without a GPU or without the CUDA backend). */
+GRAN_EXTERN int gran_cuda_device_count(int *count);
+
+/* ---------------------------------------------------------------------------------------------
+ * Errors: one X-macro list (numbers never reused).  X(NAME, value, "message")
+ * ------------------------------------------------------------------------------------------- */
+#define GRAN_ERROR_LIST(X)                                                                  \
+  X(GRAN_SUCCESS, 0, "success")                                                             \
+  X(GRAN_ERR_ARG, -1, "invalid argument")                                                   \
+  X(GRAN_ERR_NOMEM, -2, "out of memory")                                                    \
+  X(GRAN_ERR_DOMAIN, -3, "value outside the domain of the model")                           \
+  X(GRAN_ERR_NOCONV, -4, "iteration did not converge")                                      \
+  X(GRAN_ERR_IO, -5, "file input/output failed")                                            \
+  X(GRAN_ERR_PARSE, -6, "scene file could not be parsed")                                   \
+  X(GRAN_ERR_UNSUPPORTED, -7, "feature not available in this build")                        \
+  X(GRAN_ERR_STATE, -8, "object is not in a state that allows this call")                   \
+  X(GRAN_ERR_EMPTY, -9, "nothing to sample: all weights are zero")                          \
+  X(GRAN_ERR_RANGE, -10, "index out of range")                                              \
+  X(GRAN_ERR_CUDA, -11, "CUDA runtime error")                                               \
+  X(GRAN_ERR_NUMERIC, -12, "numerical failure (non-finite intermediate result)")            \
+  X(GRAN_ERR_INTERNAL, -99, "internal error")
+
+#define GRAN_ERROR_ENUM_(name, value, msg) name = value,
+enum gran_error { GRAN_ERROR_LIST(GRAN_ERROR_ENUM_) GRAN_ERROR_LIST_END_ = -100 };
+#undef GRAN_ERROR_ENUM_
+
+/* Static string naming the code ("GRAN_ERR_ARG: invalid argument"); never NULL. */
+GRAN_EXTERN const char *gran_strerror(int code);
+/* Thread-local message of the last failure in this thread ("" when none). */
+GRAN_EXTERN const char *gran_last_error_message(void);
+/* Copy of that message into buf (NUL-terminated, truncated to len); for Fortran. */
+GRAN_EXTERN int gran_last_error_copy(char *buf, int64_t len);
+GRAN_EXTERN int gran_clear_error(void);
+/* Warnings (e.g. a clamped value) are collected per thread; 0 disables printing them to stderr
+ * from the command-line driver. The library itself never prints. */
+GRAN_EXTERN int gran_warning_count(int64_t *count);
+GRAN_EXTERN int gran_last_warning_copy(char *buf, int64_t len);
+
+/* ---------------------------------------------------------------------------------------------
+ * RNG: xoshiro256** (xorshift family) with jump (2^128) and long_jump (2^192).
+ * A POD: the four words describe the stream completely (no cached normal deviate).
+ * ------------------------------------------------------------------------------------------- */
+typedef struct gran_rng {
+  uint64_t s[4];
+} gran_rng;
+
+GRAN_EXTERN int gran_rng_seed(gran_rng *rng, uint64_t seed);
+GRAN_EXTERN int gran_rng_stream(uint64_t seed, uint64_t stream_id, gran_rng *rng);
+GRAN_EXTERN int gran_rng_jump(gran_rng *rng);
+GRAN_EXTERN int gran_rng_long_jump(gran_rng *rng);
+GRAN_EXTERN int gran_rng_u64(gran_rng *rng, int64_t n, uint64_t *out);
+GRAN_EXTERN int gran_rng_uniform(gran_rng *rng, int64_t n, double *out);     /* [0,1) */
+GRAN_EXTERN int gran_rng_uniform_pos(gran_rng *rng, int64_t n, double *out); /* (0,1] */
+GRAN_EXTERN int gran_rng_exponential(gran_rng *rng, int64_t n, double *out); /* mean 1 */
+GRAN_EXTERN int gran_rng_normal(gran_rng *rng, int64_t n, double *out);      /* N(0,1) */
+/* n unit vectors, interleaved xyz (3n doubles) / xy (2n doubles). */
+GRAN_EXTERN int gran_rng_unit_vector3(gran_rng *rng, int64_t n, double *xyz);
+GRAN_EXTERN int gran_rng_unit_vector2(gran_rng *rng, int64_t n, double *xy);
+
+/* ---------------------------------------------------------------------------------------------
+ * Segment tree: sum tree over m >= 1 nonnegative weights (any m, not only powers of two).
+ * node[1] is the root; leaf i is node[base + i]; node[0] unused. Owned by the struct.
+ * ------------------------------------------------------------------------------------------- */
+typedef struct gran_segtree {
+  int64_t m;        /* number of weights (leaves) */
+  int64_t base;     /* first leaf index: smallest power of two >= m */
+  int64_t nupdate;  /* updates since the last full rebuild (drift control) */
+  double *node;     /* 2*base sums */
+} gran_segtree;
+
+GRAN_EXTERN int gran_segtree_init(gran_segtree *t, int64_t m, const double *w); /* w may be NULL: zeros */
+GRAN_EXTERN int gran_segtree_free(gran_segtree *t);
+GRAN_EXTERN int gran_segtree_set(gran_segtree *t, int64_t i, double w);
+GRAN_EXTERN int gran_segtree_set_batch(gran_segtree *t, int64_t n, const int64_t *idx, const double *w);
+GRAN_EXTERN int gran_segtree_get(const gran_segtree *t, int64_t i, double *w);
+GRAN_EXTERN int gran_segtree_total(const gran_segtree *t, double *total);
+/* index with probability w_i/total from one uniform u in [0,1); GRAN_ERR_EMPTY when total == 0. */
+GRAN_EXTERN int gran_segtree_sample(const gran_segtree *t, double u, int64_t *index);
+GRAN_EXTERN int gran_segtree_rebuild(gran_segtree *t);
+
+/* ---------------------------------------------------------------------------------------------
+ * Particle arrays: explicit structure of arrays. Velocity components are interleaved per
+ * particle (v[3i], v[3i+1], v[3i+2]) because every hot loop reads them together; optional arrays
+ * are NULL unless their flag was given.
+ * ------------------------------------------------------------------------------------------- */
+enum gran_particle_flags {
+  GRAN_PARTICLES_DISPLACEMENT = 1, /* r (3 per particle) and t_last: for MSD / TAMSD */
+  GRAN_PARTICLES_POSITION = 2,     /* x (3 per particle): spatial DSMC */
+  GRAN_PARTICLES_MASS = 4          /* mass per particle: aggregation / fragmentation */
+};
+
+typedef struct gran_particles {
+  int64_t n;         /* particles in use */
+  int64_t capacity;  /* allocated slots */
+  int32_t flags;     /* gran_particle_flags */
+  int32_t pad_;
+  double *v;         /* 3*capacity velocities, interleaved */
+  int32_t *species;  /* capacity species indices (0-based) */
+  double *r;         /* 3*capacity displacements, or NULL */
+  double *t_last;    /* capacity times of last displacement update, or NULL */
+  double *x;         /* 3*capacity positions, or NULL */
+  double *mass;      /* capacity masses, or NULL */
+} gran_particles;
+
+GRAN_EXTERN int gran_particles_init(gran_particles *p, int64_t capacity, int flags);
+GRAN_EXTERN int gran_particles_free(gran_particles *p);
+GRAN_EXTERN int gran_particles_reserve(gran_particles *p, int64_t capacity);
+/* O(1) amortised; optional arrays of the new particle are zeroed. */
+GRAN_EXTERN int gran_particles_add(gran_particles *p, const double v[3], int32_t species, int64_t *index);
+/* O(1): the last particle moves into slot i. */
+GRAN_EXTERN int gran_particles_swap_remove(gran_particles *p, int64_t i);
+/* bytes held by the arrays */
+GRAN_EXTERN int gran_particles_memory(const gran_particles *p, int64_t *bytes);
+
+/* @@SECTION theory@@ (owned by the theory module; see src/theory) ----------------------------
+ * Kinetic theory of polydisperse granular gases (seed 000 Sec. II, App. A; seed 002).
+ * Species are 0-based in C (species "k" of the paper is index k-1). Arrays of per-species values
+ * have length M; time series are row-major [time][species]; pair matrices are row-major M*M.
+ * ------------------------------------------------------------------------------------------- */
+typedef struct gran_mixture gran_mixture; /* opaque */
+
+enum gran_restitution_model {
+  GRAN_RESTITUTION_CONSTANT = 0,    /* one eps for every pair */
+  GRAN_RESTITUTION_MATRIX = 1,      /* eps_ij per pair */
+  GRAN_RESTITUTION_VISCOELASTIC = 2 /* eps(v_n) with beta_ij per pair (PHYSICS-NOTES Sec. 2) */
+};
+enum gran_hcs_norm {
+  GRAN_HCS_NORM_MEAN = 0, /* number-weighted mean temperature <T(0)> = value (seed 000 Eq. 25) */
+  GRAN_HCS_NORM_T1 = 1    /* T of the first species = value */
+};
+
+/* mass, sigma: NULL for the defaults m_k = k, sigma_k = k^(1/3) (k = 1..M); density: n_k >= 0
+ * (n_k = 0 marks a tracer species). Restitution defaults to eps = 1, g2 to 1. */
+GRAN_EXTERN int gran_mixture_create(int64_t nspecies, const double *mass, const double *sigma,
+                                    const double *density, gran_mixture **mix);
+/* n_k = n1 k^-theta, m_k = k m1, sigma_k = sigma1 k^(1/3). */
+GRAN_EXTERN int gran_mixture_create_powerlaw(int64_t nspecies, double m1, double sigma1, double n1,
+                                             double theta, gran_mixture **mix);
+GRAN_EXTERN int gran_mixture_destroy(gran_mixture **mix);
+GRAN_EXTERN int gran_mixture_nspecies(const gran_mixture *mix, int64_t *nspecies);
+/* Any output may be NULL. */
+GRAN_EXTERN int gran_mixture_get(const gran_mixture *mix, double *mass, double *sigma, double *density);
+GRAN_EXTERN int gran_mixture_set_restitution(gran_mixture *mix, double eps);
+GRAN_EXTERN int gran_mixture_set_restitution_matrix(gran_mixture *mix, const double *eps);
+/* Viscoelastic: one beta for every pair, a matrix, or from one material (A, Y, nu) per pair. */
+GRAN_EXTERN int gran_mixture_set_viscoelastic(gran_mixture *mix, double beta);
+GRAN_EXTERN int gran_mixture_set_viscoelastic_matrix(gran_mixture *mix, const double *beta);
+GRAN_EXTERN int gran_mixture_set_viscoelastic_material(gran_mixture *mix, double A, double Y, double nu);
+GRAN_EXTERN int gran_mixture_set_g2(gran_mixture *mix, double g2);
+GRAN_EXTERN int gran_mixture_set_g2_matrix(gran_mixture *mix, const double *g2);
+GRAN_EXTERN int gran_mixture_restitution_model(const gran_mixture *mix, int *model);
+/* Parameters of pair (i, k): eps (constant/matrix models), beta (viscoelastic), g2; any may be NULL. */
+GRAN_EXTERN int gran_mixture_pair(const gran_mixture *mix, int64_t i, int64_t k, double *eps,
+                                  double *beta, double *g2);
+
+/* Viscoelastic restitution eps(x), x = sqrt(beta) |v_n|^(1/10): 20-term series, [3/6] Pade beyond. */
+GRAN_EXTERN int gran_viscoelastic_eps(double x, double *eps);
+/* eps for a pair with parameter beta and normal relative speed |v_n|. */
+GRAN_EXTERN int gran_viscoelastic_eps_vn(double beta, double vn, double *eps);
+
+/* Cooling rates xi_k (Eq. 14-15, or A7 for viscoelastic) at temperatures T. */
+GRAN_EXTERN int gran_theory_cooling_rates(const gran_mixture *mix, const double *T, double *xi);
+/* Velocity correlation times tau_v,k (Eq. 10-11 / A6), diffusion coefficients D_k (Eq. 8),
+ * inverse mean collision time of species 1 (Eq. 7). */
+GRAN_EXTERN int gran_theory_tau_v(const gran_mixture *mix, const double *T, double *tau_v);
+GRAN_EXTERN int gran_theory_diffusion(const gran_mixture *mix, const double *T, double *D);
+GRAN_EXTERN int gran_theory_collision_rate1(const gran_mixture *mix, const double *T, double *inv_tau_c);
+/* Homogeneous cooling state: T0 (M) with equal cooling rates and tau0 (Eq. 21; inf for eps = 1). */
+GRAN_EXTERN int gran_theory_hcs(const gran_mixture *mix, int norm, double value, double *T0, double *tau0);
+/* T_k(t) from T0 by Eq. 13 (GSL odeiv2, relative tolerance rtol); T is ntimes*M. */
+GRAN_EXTERN int gran_theory_temperatures(const gran_mixture *mix, const double *T0, int64_t ntimes,
+                                         const double *t, double rtol, double *T);
+/* MSD in the HCS, closed form Eq. 22 (msd ntimes*M; msd_total Eq. 3, ntimes, may be NULL). */
+GRAN_EXTERN int gran_theory_msd_hcs(const gran_mixture *mix, const double *T0, double tau0,
+                                    int64_t ntimes, const double *t, double *msd, double *msd_total);
+/* MSD by numerical integration of Eq. 4 from any start T0 and any restitution model. */
+GRAN_EXTERN int gran_theory_msd(const gran_mixture *mix, const double *T0, int64_t ntimes,
+                                const double *t, double rtol, double *msd, double *msd_total);
+/* TAMSD in the HCS (Eq. 27) over measurement time t_meas for nlag lags (tamsd nlag*M). */
+GRAN_EXTERN int gran_theory_tamsd(const gran_mixture *mix, const double *T0, double tau0, double t_meas,
+                                  int64_t nlag, const double *lag, double rtol, double *tamsd);
+
+/* @@END theory@@ */
+
+/* @@SECTION dsmc@@ (owned by the DSMC engines; see src/dsmc) -----------------------------------
+ * Event-driven DSMC of the homogeneous cooling state (seed 000 Sec. III) with two pair selectors
+ * in one engine: the low-rank selector (segment trees over the rank-3 bound) and Bird's selector
+ * (one global bound C_max, Eq. 49). Effects and observables that are off cost nothing.
+ * ------------------------------------------------------------------------------------------- */
+typedef struct gran_dsmc gran_dsmc; /* opaque */
+
+enum gran_selector { GRAN_SELECTOR_LOWRANK = 0, GRAN_SELECTOR_BIRD = 1 };
+enum gran_dsmc_observe {
+  GRAN_OBSERVE_DISPLACEMENT = 1,     /* per-particle displacements (MSD); else not allocated */
+  GRAN_OBSERVE_COLLISION_COUNTS = 2, /* collisions per species pair (M*M counters) */
+  GRAN_OBSERVE_TRAJECTORIES = 4      /* tracer trajectories on a uniform grid (TAMSD) */
+};
+
+typedef struct gran_dsmc_options {
+  int32_t selector;          /* gran_selector */
+  int32_t observe;           /* gran_dsmc_observe flags */
+  uint64_t seed;             /* RNG seed */
+  double volume;             /* > 0: N_k = round(n_k V); ignored when counts are given */
+  double t_start;            /* time of the initial state (default 0) */
+  int64_t bound_refresh;     /* collisions between tightenings of the speed bounds (0: N) */
+  int64_t traj_per_species;  /* tracer particles per species whose trajectories are recorded */
+  double traj_dt;            /* sampling interval of the trajectories */
+  int64_t traj_samples;      /* samples per trajectory (first at t_start) */
+} gran_dsmc_options;
+
+typedef struct gran_dsmc_stats {
+  int64_t nparticles;
+  int64_t nspecies;
+  int64_t collisions;   /* accepted collisions */
+  int64_t trials;       /* candidate pairs drawn */
+  int64_t bound_raises; /* speed bound raised after a collision */
+  int64_t bound_tightenings;
+  double volume;
+  double time;
+  double acceptance;    /* collisions / trials since the last tightening of the bounds */
+} gran_dsmc_stats;
+
+GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt);
+/* counts: M particle numbers (NULL: from opt->volume and the densities); T0: M initial
+ * temperatures (NULL: the HCS of the mixture with <T(0)> = 1). Maxwellian start, zero momentum. */
+GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts, const double *T0,
+                                 const gran_dsmc_options *opt, gran_dsmc **sim);
+GRAN_EXTERN int gran_dsmc_destroy(gran_dsmc **sim);
+GRAN_EXTERN int gran_dsmc_advance(gran_dsmc *sim, double t_end);
+GRAN_EXTERN int gran_dsmc_advance_collisions(gran_dsmc *sim, int64_t ncollisions);
+GRAN_EXTERN int gran_dsmc_time(const gran_dsmc *sim, double *t);
+GRAN_EXTERN int gran_dsmc_get_stats(const gran_dsmc *sim, gran_dsmc_stats *stats);
+GRAN_EXTERN int gran_dsmc_counts(const gran_dsmc *sim, int64_t *counts);           /* M */
+GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T);           /* M */
+GRAN_EXTERN int gran_dsmc_msd(const gran_dsmc *sim, double *msd, double *msd_total); /* M, 1 */
+GRAN_EXTERN int gran_dsmc_collision_counts(const gran_dsmc *sim, int64_t *counts);  /* M*M */
+GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2);              /* M */
+/* Kinetic energy now, at the start, dissipated so far (e_initial - e_dissipated == e_kin). */
+GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_initial, double *e_dissipated);
+GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]);
+/* Borrowed view of the particles (species stored contiguously; offsets has M+1 entries). */
+GRAN_EXTERN int gran_dsmc_particles(const gran_dsmc *sim, const gran_particles **p);
+GRAN_EXTERN int gran_dsmc_species_offsets(const gran_dsmc *sim, int64_t *offsets);
+/* Borrowed trajectories: ntraj tracers, nsamples each, xyz layout [traj][sample][3]. */
+GRAN_EXTERN int gran_dsmc_trajectories(const gran_dsmc *sim, int64_t *ntraj, int64_t *nsamples,
+                                       const double **xyz, const int32_t **species);
+/* Complete engine state into group `group` of HDF5 file `path` (created if missing). */
+GRAN_EXTERN int gran_dsmc_checkpoint_write(const gran_dsmc *sim, const char *path, const char *group);
+GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, const gran_mixture *mix,
+                                          gran_dsmc **sim);
+
+/* @@END dsmc@@ */
+
+/* @@SECTION analysis@@ (owned by src/analysis) */
+
+/* @@END analysis@@ */
+
+/* @@SECTION io@@ (scenes, output; owned by src/io) */
+
+/* @@END io@@ */
+
+#endif /* GRANARY_H */

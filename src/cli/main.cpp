@@ -1,0 +1,33 @@
+/* main.cpp - the granary command-line driver: subcommand dispatch. */
+#include <cstdio>
+#include <cstring>
+
+#include "cli.h"
+
+static void usage(FILE *f) {
+  std::fprintf(f,
+               "usage: granary COMMAND [ARGS]\n"
+               "commands:\n"
+               "  info [--gpu-count]   version, build configuration, CUDA backend, visible GPUs\n"
+               "  --help               this text\n"
+               "  --version            the library version\n");
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    usage(stderr);
+    return 2;
+  }
+  const char *cmd = argv[1];
+  if (!std::strcmp(cmd, "--help") || !std::strcmp(cmd, "-h") || !std::strcmp(cmd, "help")) {
+    usage(stdout);
+    return 0;
+  }
+  if (!std::strcmp(cmd, "--version")) {
+    std::printf("granary %s\n", GRAN_VERSION_STRING);
+    return 0;
+  }
+  if (!std::strcmp(cmd, "info")) return cli_info(argc - 1, argv + 1);
+  std::fprintf(stderr, "granary: unknown command '%s' (see granary --help)\n", cmd);
+  return 2;
+}

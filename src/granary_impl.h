@@ -1,0 +1,163 @@
+/* granary_impl.h - private declarations shared by the library's modules (never installed). */
+#ifndef GRANARY_IMPL_H
+#define GRANARY_IMPL_H
+
+#include "granary.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <new>
+#include <stdexcept>
+
+/* ---- error recording -------------------------------------------------------------------------
+ * gran_error_set() stores "func (file:line): message" in the thread-local buffer and returns code;
+ * it never prints or aborts. Use through the macros below. */
+int gran_error_set(int code, const char *file, int line, const char *func, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+/* Record a warning (for instance a value that was clamped); the library never prints it. */
+void gran_warning_add(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+#define GRAN_ERROR(code, ...) gran_error_set((code), __FILE__, __LINE__, __func__, __VA_ARGS__)
+
+/* Return `code` with a message when `cond` is false. */
+#define GRAN_CHECK(cond, code, ...)                         \
+  do {                                                      \
+    if (!(cond)) return GRAN_ERROR((code), __VA_ARGS__);    \
+  } while (0)
+
+/* Propagate a failing status (the callee already recorded the message). */
+#define GRAN_CALL(expr)                 \
+  do {                                  \
+    int gran_ierr_ = (expr);            \
+    if (gran_ierr_ != GRAN_SUCCESS) return gran_ierr_; \
+  } while (0)
+
+#define GRAN_CHECK_PTR(p) GRAN_CHECK((p) != nullptr, GRAN_ERR_ARG, "argument '%s' is NULL", #p)
+#define GRAN_CHECK_FINITE(x) \
+  GRAN_CHECK(std::isfinite(x), GRAN_ERR_ARG, "argument '%s' is not finite (%g)", #x, (double)(x))
+
+/* Exception barrier for every C entry point (FINUFFT safe_call): no C++ exception crosses the ABI.
+ *   int gran_foo(...) { GRAN_TRY { ... return GRAN_SUCCESS; } GRAN_CATCH }               */
+#define GRAN_TRY try
+#define GRAN_CATCH                                                                   \
+  catch (const std::bad_alloc &) {                                                   \
+    return GRAN_ERROR(GRAN_ERR_NOMEM, "out of memory");                              \
+  }                                                                                  \
+  catch (const std::exception &e) {                                                  \
+    return GRAN_ERROR(GRAN_ERR_INTERNAL, "unexpected exception: %s", e.what());      \
+  }                                                                                  \
+  catch (...) {                                                                      \
+    return GRAN_ERROR(GRAN_ERR_INTERNAL, "unexpected exception");                    \
+  }
+
+/* Checked allocation helpers (return nullptr on failure; callers map to GRAN_ERR_NOMEM). */
+template <class T> static inline T *gran_alloc(int64_t n) {
+  if (n <= 0) return nullptr;
+  return static_cast<T *>(std::malloc(sizeof(T) * (size_t)n));
+}
+template <class T> static inline T *gran_calloc(int64_t n) {
+  if (n <= 0) return nullptr;
+  return static_cast<T *>(std::calloc((size_t)n, sizeof(T)));
+}
+
+/* ---- RNG core (inline, for hot loops; the public gran_rng_* functions wrap these) ----------- */
+namespace gran {
+
+static inline uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
+static inline uint64_t splitmix64(uint64_t *x) {
+  uint64_t z = (*x += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+/* xoshiro256** 1.0 (Blackman & Vigna). */
+static inline uint64_t rng_next(gran_rng *r) {
+  uint64_t *s = r->s;
+  const uint64_t result = rotl(s[1] * 5, 7) * 9;
+  const uint64_t t = s[1] << 17;
+  s[2] ^= s[0];
+  s[3] ^= s[1];
+  s[1] ^= s[2];
+  s[0] ^= s[3];
+  s[2] ^= t;
+  s[3] = rotl(s[3], 45);
+  return result;
+}
+
+/* uniform in [0,1): top 53 bits */
+static inline double rng_uniform(gran_rng *r) { return (double)(rng_next(r) >> 11) * 0x1.0p-53; }
+/* uniform in (0,1] */
+static inline double rng_uniform_pos(gran_rng *r) { return ((double)(rng_next(r) >> 11) + 1.0) * 0x1.0p-53; }
+static inline double rng_exponential(gran_rng *r) { return -std::log(rng_uniform_pos(r)); }
+
+/* Standard normal by the polar (Marsaglia) method, returning one deviate per call and
+ * discarding the second so the four state words describe the stream completely. */
+static inline double rng_normal(gran_rng *r) {
+  double u, v, s;
+  do {
+    u = 2.0 * rng_uniform(r) - 1.0;
+    v = 2.0 * rng_uniform(r) - 1.0;
+    s = u * u + v * v;
+  } while (s >= 1.0 || s == 0.0);
+  return u * std::sqrt(-2.0 * std::log(s) / s);
+}
+
+/* Uniform direction on the unit sphere (Marsaglia 1972). */
+static inline void rng_unit3(gran_rng *r, double e[3]) {
+  double u, v, s;
+  do {
+    u = 2.0 * rng_uniform(r) - 1.0;
+    v = 2.0 * rng_uniform(r) - 1.0;
+    s = u * u + v * v;
+  } while (s >= 1.0);
+  const double f = 2.0 * std::sqrt(1.0 - s);
+  e[0] = u * f;
+  e[1] = v * f;
+  e[2] = 1.0 - 2.0 * s;
+}
+
+static inline void rng_unit2(gran_rng *r, double e[2]) {
+  double u, v, s;
+  do {
+    u = 2.0 * rng_uniform(r) - 1.0;
+    v = 2.0 * rng_uniform(r) - 1.0;
+    s = u * u + v * v;
+  } while (s >= 1.0 || s == 0.0);
+  e[0] = (u * u - v * v) / s;
+  e[1] = 2.0 * u * v / s;
+}
+
+/* ---- segment tree core ------------------------------------------------------------------------
+ * Descend from the root with target = u * total. Ties and rounding never select a zero leaf: at
+ * each node we go right only when the right subtree has positive weight. */
+static inline int64_t segtree_sample(const gran_segtree *t, double u) {
+  const double *node = t->node;
+  double x = u * node[1];
+  int64_t i = 1;
+  while (i < t->base) {
+    const int64_t l = 2 * i;
+    const double wl = node[l];
+    if ((x < wl || node[l + 1] <= 0.0) && wl > 0.0) {
+      i = l;
+    } else {
+      x -= wl;
+      i = l + 1;
+    }
+  }
+  return i - t->base;
+}
+
+static inline void segtree_set(gran_segtree *t, int64_t leaf, double w) {
+  double *node = t->node;
+  int64_t i = t->base + leaf;
+  node[i] = w;
+  for (i >>= 1; i >= 1; i >>= 1) node[i] = node[2 * i] + node[2 * i + 1];
+  t->nupdate++;
+}
+
+}  // namespace gran
+
+#endif /* GRANARY_IMPL_H */
