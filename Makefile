@@ -35,7 +35,8 @@ $(CONFIG): Makefile
 	@if ! ( $(DEPS_OK) ); then $(MAKE) --no-print-directory deps; fi
 	@( $(DEPS_OK) ) || { echo "granary: dependencies still missing (see 'make deps')" >&2; exit 1; }
 	@echo "PKG_CFLAGS := $$(pkg-config --cflags $(PKGS))" > $@.tmp
-	@echo "PKG_LIBS := $$(pkg-config --libs $(PKGS))" >> $@.tmp
+	@echo "PKG_LIBS := $$(pkg-config --libs gsl fftw3 hdf5)" >> $@.tmp
+	@echo "CMOCKA_LIBS := $$(pkg-config --libs cmocka)" >> $@.tmp
 	@mv $@.tmp $@
 
 deps:
@@ -132,7 +133,7 @@ $(BUILD)/check/header-c99.o: include/granary.h $(CONFIG)
 # ---- tests ------------------------------------------------------------------------------------
 $(BUILD)/tests/%: tests/%.c tests/granary_test.h $(LIB_A)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests $(CFLAGS) -o $@ $< $(LIB_A) $(LDLIBS)
+	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests $(CFLAGS) -o $@ $< $(LIB_A) $(CMOCKA_LIBS) $(LDLIBS)
 
 $(BUILD)/tests/%-f: tests/%-f.f90 $(LIBF_A) $(LIB_A)
 	@mkdir -p $(@D)
@@ -148,7 +149,7 @@ $(BUILD)/tests/example-%: bindings/examples/%.f90 $(LIBF_A) $(LIB_A)
 
 $(BUILD)/tests/gpu/%: tests/gpu/%.c tests/granary_test.h $(LIB_A)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests $(CFLAGS) -o $@ $< $(LIB_A) $(LDLIBS)
+	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests $(CFLAGS) -o $@ $< $(LIB_A) $(CMOCKA_LIBS) $(LDLIBS)
 
 test: $(TEST_BIN) $(CLI) check-header
 	@GRAN_SOURCE_DIR=$(CURDIR) GRAN_CLI=$(CURDIR)/$(CLI) sh tests/run-tests.sh $(TEST_BIN)
