@@ -4,7 +4,8 @@
 #   make bench   speed / accuracy-versus-cost tables      make test-gpu   GPU tests (needs a GPU)
 #   make install prefix=... DESTDIR=...                   make deps       install Debian packages
 #   make info    show the configuration                   make clean
-# Override OPT (default -O3 -march=native), CC, CXX, FC, NVCC (empty disables CUDA), BUILD.
+# Override OPT (default -O3 -march=native), NVCC (empty disables CUDA), BUILD (build folder),
+# T (test pattern, e.g. make test T='t2*').
 
 BUILD   ?= build
 prefix  ?= /usr/local
@@ -80,9 +81,11 @@ LIB_SO   := $(BUILD)/libgranary.so
 LIBF_A   := $(BUILD)/libgranary_fortran.a
 CLI      := $(BUILD)/granary
 
-TEST_C   := $(sort $(wildcard tests/t*.c))
-TEST_F   := $(sort $(wildcard tests/t*-f.f90))
-EXAMPLES := $(sort $(wildcard bindings/examples/*.c bindings/examples/*.f90))
+# T selects tests by pattern: `make test T='t4*'` builds and runs only tests/t4*.
+T        ?= t*
+TEST_C   := $(sort $(wildcard tests/$(T).c))
+TEST_F   := $(sort $(filter %-f.f90,$(wildcard tests/$(T).f90)))
+EXAMPLES := $(if $(filter t*,$(T)),$(if $(filter-out t*,$(T)),,$(sort $(wildcard bindings/examples/*.c bindings/examples/*.f90))),)
 TEST_BIN := $(TEST_C:tests/%.c=$(BUILD)/tests/%) $(TEST_F:tests/%.f90=$(BUILD)/tests/%) \
             $(patsubst bindings/examples/%,$(BUILD)/tests/example-%,$(basename $(EXAMPLES)))
 BENCH_C  := $(sort $(wildcard bench/b*.c))
