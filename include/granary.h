@@ -88,10 +88,13 @@ typedef struct gran_rng {
   uint64_t s[4];
 } gran_rng;
 
+/* State = four successive splitmix64 outputs of seed. */
 GRAN_EXTERN int gran_rng_seed(gran_rng *rng, uint64_t seed);
+/* Independent reproducible stream (thread, cell, replica): gran_rng_seed(seed) advanced by
+ * stream_id * 2^128 steps (= stream_id jumps) in O(log stream_id); streams never overlap. */
 GRAN_EXTERN int gran_rng_stream(uint64_t seed, uint64_t stream_id, gran_rng *rng);
-GRAN_EXTERN int gran_rng_jump(gran_rng *rng);
-GRAN_EXTERN int gran_rng_long_jump(gran_rng *rng);
+GRAN_EXTERN int gran_rng_jump(gran_rng *rng);      /* advance 2^128 steps */
+GRAN_EXTERN int gran_rng_long_jump(gran_rng *rng); /* advance 2^192 steps */
 GRAN_EXTERN int gran_rng_u64(gran_rng *rng, int64_t n, uint64_t *out);
 GRAN_EXTERN int gran_rng_uniform(gran_rng *rng, int64_t n, double *out);     /* [0,1) */
 GRAN_EXTERN int gran_rng_uniform_pos(gran_rng *rng, int64_t n, double *out); /* (0,1] */
@@ -100,6 +103,11 @@ GRAN_EXTERN int gran_rng_normal(gran_rng *rng, int64_t n, double *out);      /* 
 /* n unit vectors, interleaved xyz (3n doubles) / xy (2n doubles). */
 GRAN_EXTERN int gran_rng_unit_vector3(gran_rng *rng, int64_t n, double *xyz);
 GRAN_EXTERN int gran_rng_unit_vector2(gran_rng *rng, int64_t n, double *xy);
+/* GPU: stream k (states[k], host array, not modified) draws n_per_stream uniforms in [0,1) into
+ * out[k*n_per_stream ...] (host array), bit-identical to gran_rng_uniform on a copy of states[k].
+ * GRAN_ERR_UNSUPPORTED without the CUDA backend or without a visible GPU. */
+GRAN_EXTERN int gran_cuda_rng_uniform(const gran_rng *states, int64_t nstreams, int64_t n_per_stream,
+                                      double *out);
 
 /* ---------------------------------------------------------------------------------------------
  * Segment tree: sum tree over m >= 1 nonnegative weights (any m, not only powers of two).
@@ -112,14 +120,19 @@ typedef struct gran_segtree {
   double *node;     /* 2*base sums */
 } gran_segtree;
 
-GRAN_EXTERN int gran_segtree_init(gran_segtree *t, int64_t m, const double *w); /* w may be NULL: zeros */
+/* O(m); w may be NULL: zeros. Overwrites *t (free an initialised tree first). */
+GRAN_EXTERN int gran_segtree_init(gran_segtree *t, int64_t m, const double *w);
 GRAN_EXTERN int gran_segtree_free(gran_segtree *t);
 GRAN_EXTERN int gran_segtree_set(gran_segtree *t, int64_t i, double w);
+/* n leaves at once (a repeated index keeps its last value); each affected parent recomputed once. */
 GRAN_EXTERN int gran_segtree_set_batch(gran_segtree *t, int64_t n, const int64_t *idx, const double *w);
 GRAN_EXTERN int gran_segtree_get(const gran_segtree *t, int64_t i, double *w);
 GRAN_EXTERN int gran_segtree_total(const gran_segtree *t, double *total);
-/* index with probability w_i/total from one uniform u in [0,1); GRAN_ERR_EMPTY when total == 0. */
+/* index with probability w_i/total from one uniform u in [0,1); GRAN_ERR_EMPTY when total == 0.
+ * A zero-weight leaf is never returned. Weights must be finite and >= 0 (else GRAN_ERR_ARG). */
 GRAN_EXTERN int gran_segtree_sample(const gran_segtree *t, double u, int64_t *index);
+/* Recompute internal nodes from the leaves (after writing t->node[base+i] directly). Updates
+ * already recompute parents from children, so a tree never drifts from a fresh rebuild. */
 GRAN_EXTERN int gran_segtree_rebuild(gran_segtree *t);
 
 /* ---------------------------------------------------------------------------------------------
@@ -146,15 +159,21 @@ typedef struct gran_particles {
   double *mass;      /* capacity masses, or NULL */
 } gran_particles;
 
+/* capacity >= 0; overwrites *p (free initialised particles first). */
 GRAN_EXTERN int gran_particles_init(gran_particles *p, int64_t capacity, int flags);
-GRAN_EXTERN int gran_particles_free(gran_particles *p);
-GRAN_EXTERN int gran_particles_reserve(gran_particles *p, int64_t capacity);
-/* O(1) amortised; optional arrays of the new particle are zeroed. */
+GRAN_EXTERN int gran_particles_free(gran_particles *p); /* NULL-safe; zeroes the struct */
+GRAN_EXTERN int gran_particles_reserve(gran_particles *p, int64_t capacity); /* never shrinks */
+/* O(1) amortised; optional arrays of the new particle are zeroed; index may be NULL. */
 GRAN_EXTERN int gran_particles_add(gran_particles *p, const double v[3], int32_t species, int64_t *index);
 /* O(1): the last particle moves into slot i. */
 GRAN_EXTERN int gran_particles_swap_remove(gran_particles *p, int64_t i);
-/* bytes held by the arrays */
+/* bytes held by the arrays: capacity * (28, +32 displacement, +24 position, +8 mass) */
 GRAN_EXTERN int gran_particles_memory(const gran_particles *p, int64_t *bytes);
+
+/* ABI self-description for bindings: "sizeof(gran_rng)" etc. for every struct of this header and
+ * the value of every enum constant by its name ("GRAN_ERR_ARG", "GRAN_SELECTOR_BIRD", ...).
+ * Unknown name: GRAN_ERR_ARG. */
+GRAN_EXTERN int gran_abi_query(const char *name, int64_t *value);
 
 /* @@SECTION theory@@ (owned by the theory module; see src/theory) ----------------------------
  * Kinetic theory of polydisperse granular gases (seed 000 Sec. II, App. A; seed 002).
@@ -233,7 +252,15 @@ GRAN_EXTERN int gran_theory_tamsd(const gran_mixture *mix, const double *T0, dou
  * ------------------------------------------------------------------------------------------- */
 typedef struct gran_dsmc gran_dsmc; /* opaque */
 
-enum gran_selector { GRAN_SELECTOR_LOWRANK = 0, GRAN_SELECTOR_BIRD = 1 };
+/* LOWRANK / BIRD accept a candidate pair with |g| against the bound and then draw e from its
+ * |g.e|-weighted law; the *_PAPER variants follow Eq. 40 / 48 literally (e uniform, accept with
+ * |g.e|): the same collision statistics at half the acceptance (kept as the reference). */
+enum gran_selector {
+  GRAN_SELECTOR_LOWRANK = 0,      /* segment trees over the rank-3 factors of C_ik N_i N_k */
+  GRAN_SELECTOR_BIRD = 1,         /* one global bound C_max (Eq. 49), pairs uniform among all N */
+  GRAN_SELECTOR_LOWRANK_PAPER = 2,
+  GRAN_SELECTOR_BIRD_PAPER = 3
+};
 enum gran_dsmc_observe {
   GRAN_OBSERVE_DISPLACEMENT = 1,     /* per-particle displacements (MSD); else not allocated */
   GRAN_OBSERVE_COLLISION_COUNTS = 2, /* collisions per species pair (M*M counters) */
@@ -299,7 +326,82 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
 
 /* @@END analysis@@ */
 
-/* @@SECTION io@@ (scenes, output; owned by src/io) */
+/* @@SECTION io@@ (scenes, output; owned by src/io) --------------------------------------------
+ * Scene files (TOML; every key is listed in README.md with its C API equivalent), runs that write
+ * HDF5, and checkpoints that continue a run bit for bit. A scene is validated completely when it
+ * is loaded: a bad key fails with GRAN_ERR_PARSE and a message "FILE:LINE: key 'table.key': why".
+ * Output and checkpoint files are written to PATH.tmp, fsync'ed and renamed: a killed run never
+ * leaves a half-written file under the final name.
+ * ------------------------------------------------------------------------------------------- */
+typedef struct gran_scene gran_scene; /* opaque, immutable once loaded */
+
+GRAN_EXTERN int gran_scene_load(const char *path, gran_scene **scene);
+/* The same from text in memory; `name` (may be NULL) is the file name used in messages. */
+GRAN_EXTERN int gran_scene_parse(const char *text, const char *name, gran_scene **scene);
+GRAN_EXTERN int gran_scene_destroy(gran_scene **scene);
+/* Borrowed, NUL-terminated, valid while the scene lives: the scene text / the output path. */
+GRAN_EXTERN int gran_scene_text(const gran_scene *scene, const char **text);
+GRAN_EXTERN int gran_scene_output_path(const gran_scene *scene, const char **path);
+/* Sizes: species, output times, TAMSD lags (0 when off); start and end time. Any may be NULL. */
+GRAN_EXTERN int gran_scene_sizes(const gran_scene *scene, int64_t *nspecies, int64_t *ntimes,
+                                 int64_t *nlags, double *t_start, double *t_end);
+GRAN_EXTERN int gran_scene_times(const gran_scene *scene, double *times); /* ntimes, absolute */
+GRAN_EXTERN int gran_scene_lags(const gran_scene *scene, double *lags);   /* nlags */
+/* A new mixture (caller destroys it) with the scene's species, restitution and g2. */
+GRAN_EXTERN int gran_scene_mixture(const gran_scene *scene, gran_mixture **mix);
+/* Initial temperatures T0 (nspecies) as the scene's [initial] asks, and tau0 of the HCS of mix. */
+GRAN_EXTERN int gran_scene_initial_temperatures(const gran_scene *scene, const gran_mixture *mix,
+                                                double *T0, double *tau0);
+/* The engine options of [engine] / [observables] and the particle numbers: counts (nspecies) is
+ * filled with N_k when the scene lists them (*have_counts = 1), else with round(n_k V) and
+ * opt->volume = V (*have_counts = 0). counts and have_counts may be NULL. */
+GRAN_EXTERN int gran_scene_dsmc_options(const gran_scene *scene, gran_dsmc_options *opt, int64_t *counts,
+                                        int *have_counts);
+/* A new engine exactly as `granary run` creates it (counts, seed, selector, observables). */
+GRAN_EXTERN int gran_scene_dsmc(const gran_scene *scene, const gran_mixture *mix, gran_dsmc **sim);
+
+/* Progress of a run, handed to the optional callback after every output time. */
+typedef struct gran_run_progress {
+  double time;           /* simulated time reached */
+  double t_start, t_end;
+  double fraction;       /* share of the output times done (0..1) */
+  double wall_seconds;   /* since this process started the run */
+  double collisions_per_second; /* in this process */
+  double eta_seconds;    /* estimate; < 0 when unknown */
+  int64_t collisions;    /* total, including those before a resume */
+  int64_t output_index;  /* output times recorded so far */
+  int64_t noutputs;
+  int64_t checkpoints;   /* written in this process */
+} gran_run_progress;
+/* Return 0 to continue; anything else stops the run there: a checkpoint is written (when the run
+ * has a checkpoint path) and the run returns GRAN_SUCCESS with result->finished = 0. */
+typedef int (*gran_progress_fn)(const gran_run_progress *progress, void *params);
+
+typedef struct gran_run_control {
+  int64_t stop_after_checkpoints; /* > 0: stop (finished = 0) right after writing this many */
+  gran_progress_fn progress;      /* may be NULL */
+  void *progress_params;
+} gran_run_control;
+
+typedef struct gran_run_result {
+  int32_t finished;     /* 1: output written; 0: stopped after a checkpoint (resume to go on) */
+  int32_t pad_;
+  int64_t checkpoints;  /* checkpoints written in this call */
+  int64_t collisions;   /* accepted collisions at the end of this call */
+  double time;          /* simulated time reached */
+  double wall_seconds;  /* spent in this call */
+} gran_run_result;
+
+/* Run a scene: output to `output` (NULL: the scene's [output] path), checkpoints to `checkpoint`
+ * (NULL: the scene's; "" : none). Both paths are checked for writability before any work.
+ * ctl and result may be NULL. */
+GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, const char *checkpoint,
+                               const gran_run_control *ctl, gran_run_result *result);
+/* Continue a run from its checkpoint file (scene text, engine and recorded observables are all
+ * inside); output NULL: the path the run was started with. Same result as an uninterrupted run,
+ * bit for bit. New checkpoints go to the same checkpoint path. */
+GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, const gran_run_control *ctl,
+                                  gran_run_result *result);
 
 /* @@END io@@ */
 

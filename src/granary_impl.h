@@ -62,11 +62,18 @@ template <class T> static inline T *gran_calloc(int64_t n) {
 }
 
 /* ---- RNG core (inline, for hot loops; the public gran_rng_* functions wrap these) ----------- */
+/* GRAN_HD: the RNG core is __host__ __device__ under nvcc, so CUDA kernels draw the same bits
+ * (cuda/rng.cu); plain host code elsewhere. */
+#if defined(__CUDACC__)
+#define GRAN_HD __host__ __device__
+#else
+#define GRAN_HD
+#endif
 namespace gran {
 
-static inline uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+GRAN_HD static inline uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
-static inline uint64_t splitmix64(uint64_t *x) {
+GRAN_HD static inline uint64_t splitmix64(uint64_t *x) {
   uint64_t z = (*x += 0x9e3779b97f4a7c15ULL);
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
@@ -74,7 +81,7 @@ static inline uint64_t splitmix64(uint64_t *x) {
 }
 
 /* xoshiro256** 1.0 (Blackman & Vigna). */
-static inline uint64_t rng_next(gran_rng *r) {
+GRAN_HD static inline uint64_t rng_next(gran_rng *r) {
   uint64_t *s = r->s;
   const uint64_t result = rotl(s[1] * 5, 7) * 9;
   const uint64_t t = s[1] << 17;
@@ -88,14 +95,14 @@ static inline uint64_t rng_next(gran_rng *r) {
 }
 
 /* uniform in [0,1): top 53 bits */
-static inline double rng_uniform(gran_rng *r) { return (double)(rng_next(r) >> 11) * 0x1.0p-53; }
+GRAN_HD static inline double rng_uniform(gran_rng *r) { return (double)(rng_next(r) >> 11) * 0x1.0p-53; }
 /* uniform in (0,1] */
-static inline double rng_uniform_pos(gran_rng *r) { return ((double)(rng_next(r) >> 11) + 1.0) * 0x1.0p-53; }
-static inline double rng_exponential(gran_rng *r) { return -std::log(rng_uniform_pos(r)); }
+GRAN_HD static inline double rng_uniform_pos(gran_rng *r) { return ((double)(rng_next(r) >> 11) + 1.0) * 0x1.0p-53; }
+GRAN_HD static inline double rng_exponential(gran_rng *r) { return -std::log(rng_uniform_pos(r)); }
 
 /* Standard normal by the polar (Marsaglia) method, returning one deviate per call and
  * discarding the second so the four state words describe the stream completely. */
-static inline double rng_normal(gran_rng *r) {
+GRAN_HD static inline double rng_normal(gran_rng *r) {
   double u, v, s;
   do {
     u = 2.0 * rng_uniform(r) - 1.0;
@@ -106,7 +113,7 @@ static inline double rng_normal(gran_rng *r) {
 }
 
 /* Uniform direction on the unit sphere (Marsaglia 1972). */
-static inline void rng_unit3(gran_rng *r, double e[3]) {
+GRAN_HD static inline void rng_unit3(gran_rng *r, double e[3]) {
   double u, v, s;
   do {
     u = 2.0 * rng_uniform(r) - 1.0;
@@ -119,7 +126,7 @@ static inline void rng_unit3(gran_rng *r, double e[3]) {
   e[2] = 1.0 - 2.0 * s;
 }
 
-static inline void rng_unit2(gran_rng *r, double e[2]) {
+GRAN_HD static inline void rng_unit2(gran_rng *r, double e[2]) {
   double u, v, s;
   do {
     u = 2.0 * rng_uniform(r) - 1.0;

@@ -5,5 +5,7 @@
 #include "granary.h"
 
 int cli_info(int argc, char **argv);
+int cli_run(int argc, char **argv);
+int cli_theory(int argc, char **argv);
 
 #endif

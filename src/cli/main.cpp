@@ -8,6 +8,10 @@ static void usage(FILE *f) {
   std::fprintf(f,
                "usage: granary COMMAND [ARGS]\n"
                "commands:\n"
+               "  run SCENE [-o FILE] [--resume CHECKPOINT] [--quiet]\n"
+               "                       simulate a scene, write HDF5 (granary run --help for all options)\n"
+               "  theory SCENE [--times t1,...] [--lags l1,...] [--json]\n"
+               "                       kinetic theory of the scene's mixture\n"
                "  info [--gpu-count]   version, build configuration, CUDA backend, visible GPUs\n"
                "  --help               this text\n"
                "  --version            the library version\n");
@@ -28,6 +32,8 @@ int main(int argc, char **argv) {
     return 0;
   }
   if (!std::strcmp(cmd, "info")) return cli_info(argc - 1, argv + 1);
+  if (!std::strcmp(cmd, "run")) return cli_run(argc - 1, argv + 1);
+  if (!std::strcmp(cmd, "theory")) return cli_theory(argc - 1, argv + 1);
   std::fprintf(stderr, "granary: unknown command '%s' (see granary --help)\n", cmd);
   return 2;
 }

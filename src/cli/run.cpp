@@ -1,0 +1,254 @@
+/* run.cpp - `granary run SCENE [-o FILE] [--checkpoint FILE | --no-checkpoint] [--quiet]
+ *            [--stop-after-checkpoints N]` and `granary run --resume CHECKPOINT [-o FILE]`.
+ * Progress goes to stderr: one line rewritten with \r on a terminal, a plain line every 10 s
+ * otherwise (logs stay readable). At the end: where the output went, and a short table of the
+ * simulated T_k and MSD_k beside the theory, read back from the output file. */
+#include <hdf5.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "cli.h"
+#include "io/io_impl.h"
+
+namespace {
+
+volatile std::sig_atomic_t g_interrupted = 0;
+void on_sigint(int) {
+  g_interrupted = 1;
+  std::signal(SIGINT, SIG_DFL); /* a second Ctrl-C kills at once */
+}
+
+void run_usage(FILE *f) {
+  std::fprintf(f,
+               "usage: granary run SCENE [-o FILE] [--checkpoint FILE | --no-checkpoint] [--quiet]\n"
+               "       granary run --resume CHECKPOINT [-o FILE] [--quiet]\n"
+               "  -o FILE                    HDF5 output (default: the scene's [output] path)\n"
+               "  --checkpoint FILE          checkpoint file (default: the scene's, OUTPUT.ckpt)\n"
+               "  --no-checkpoint            write no checkpoints\n"
+               "  --resume CHECKPOINT        continue a run from its checkpoint, bit for bit\n"
+               "  --stop-after-checkpoints N stop after writing N checkpoints (for testing resume)\n"
+               "  --quiet                    no progress line, no summary table\n"
+               "  Ctrl-C stops at the next output time after writing a checkpoint.\n");
+}
+
+struct Progress {
+  bool tty = false, quiet = false;
+  double last_print = -1e300;
+  int width = 0;
+};
+
+std::string hms(double s) {
+  if (!(s >= 0) || !std::isfinite(s)) return "?";
+  char b[32];
+  long t = (long)(s + 0.5);
+  if (t >= 3600) std::snprintf(b, sizeof b, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+  else std::snprintf(b, sizeof b, "%ld:%02ld", t / 60, t % 60);
+  return b;
+}
+
+int progress_cb(const gran_run_progress *p, void *params) {
+  Progress *pr = static_cast<Progress *>(params);
+  if (!pr->quiet) {
+    const bool last = p->output_index == p->noutputs;
+    if (pr->tty || last || p->wall_seconds - pr->last_print >= 10.0) {
+      char line[256];
+      int n = std::snprintf(line, sizeof line, "[%5.1f%%] t = %-11.5g collisions %-11" PRId64 " %9.3g coll/s  ETA %s",
+                            100.0 * p->fraction, p->time, p->collisions, p->collisions_per_second,
+                            hms(p->eta_seconds).c_str());
+      if (pr->tty) {
+        std::fprintf(stderr, "\r%s%*s", line, pr->width > n ? pr->width - n : 0, "");
+        if (last) std::fputc('\n', stderr);
+        pr->width = n;
+      } else {
+        std::fprintf(stderr, "%s\n", line);
+      }
+      std::fflush(stderr);
+      pr->last_print = p->wall_seconds;
+    }
+  }
+  return g_interrupted ? 1 : 0;
+}
+
+/* The summary: a few output times (spread over the run), simulated beside theory. */
+void summary(const std::string &path) {
+  int64_t f = gran_h5::open_file(path.c_str(), 0);
+  if (f < 0) return;
+  std::vector<double> t, T, Tth, msd, msdth;
+  std::vector<int64_t> dT, dm;
+  const char *p = path.c_str();
+  bool haveT = gran_h5::exists(f, "temperatures") && !gran_h5::read_double(f, "temperatures/T", T, &dT, p);
+  bool haveTth = haveT && gran_h5::exists(f, "temperatures/T_theory") && !gran_h5::read_double(f, "temperatures/T_theory", Tth, nullptr, p);
+  bool haveM = gran_h5::exists(f, "msd") && !gran_h5::read_double(f, "msd/msd", msd, &dm, p);
+  bool haveMth = haveM && gran_h5::exists(f, "msd/msd_theory") && !gran_h5::read_double(f, "msd/msd_theory", msdth, nullptr, p);
+  bool haveTime = !gran_h5::read_double(f, "time", t, nullptr, p);
+  gran_h5::close_file(f);
+  gran_clear_error();
+  if (!haveTime || (!haveT && !haveM)) return;
+  const int64_t nt = (int64_t)t.size();
+  const int64_t M = haveT ? dT[1] : dm[1];
+  /* rows: about 5 output times spread evenly over the index range (log-spaced times stay log-spaced) */
+  std::vector<int64_t> rows;
+  const int want = 5;
+  for (int i = 0; i < want; i++) {
+    int64_t r = nt <= 1 ? 0 : (int64_t)std::llround((double)(nt - 1) * (i + 1) / want);
+    if (rows.empty() || rows.back() != r) rows.push_back(r);
+  }
+  const int64_t Mshow = M > 6 ? 6 : M;
+  std::printf("\n%12s %4s | %12s %12s %8s | %12s %12s %8s\n", "time", "k", "T_sim", "T_theory", "dev", "MSD_sim",
+              "MSD_theory", "dev");
+  auto dev = [](double a, double b) -> std::string {
+    char s[32];
+    if (!std::isfinite(a) || !std::isfinite(b) || b == 0) return "";
+    std::snprintf(s, sizeof s, "%+.2f%%", 100.0 * (a - b) / b);
+    return s;
+  };
+  for (int64_t r : rows) {
+    for (int64_t k = 0; k < Mshow; k++) {
+      const size_t i = (size_t)(r * M + k);
+      double a = haveT ? T[i] : NAN, b = haveTth ? Tth[i] : NAN, c = haveM ? msd[i] : NAN, d = haveMth ? msdth[i] : NAN;
+      std::printf("%12.5g %4" PRId64 " | %12.6g %12.6g %8s | %12.6g %12.6g %8s\n", t[(size_t)r], k + 1, a, b,
+                  dev(a, b).c_str(), c, d, dev(c, d).c_str());
+    }
+  }
+  if (Mshow < M) std::printf("(species 1..%" PRId64 " of %" PRId64 " shown; everything is in %s)\n", Mshow, M, p);
+}
+
+int fail(const char *what) {
+  std::fprintf(stderr, "granary run: %s: %s\n", what, gran_last_error_message());
+  return 1;
+}
+
+}  // namespace
+
+int cli_run(int argc, char **argv) {
+  const char *scene_path = nullptr, *output = nullptr, *checkpoint = nullptr, *resume = nullptr;
+  bool quiet = false, no_ckpt = false;
+  long long stop_after = 0;
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    auto need = [&](const char *opt) -> const char * {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "granary run: %s needs an argument\n", opt);
+        return nullptr;
+      }
+      return argv[++i];
+    };
+    if (!std::strcmp(a, "--help") || !std::strcmp(a, "-h")) {
+      run_usage(stdout);
+      return 0;
+    } else if (!std::strcmp(a, "-o") || !std::strcmp(a, "--output")) {
+      if (!(output = need(a))) return 2;
+    } else if (!std::strcmp(a, "--checkpoint")) {
+      if (!(checkpoint = need(a))) return 2;
+    } else if (!std::strcmp(a, "--no-checkpoint")) {
+      no_ckpt = true;
+    } else if (!std::strcmp(a, "--resume")) {
+      if (!(resume = need(a))) return 2;
+    } else if (!std::strcmp(a, "--quiet") || !std::strcmp(a, "-q")) {
+      quiet = true;
+    } else if (!std::strcmp(a, "--stop-after-checkpoints")) {
+      const char *v = need(a);
+      if (!v) return 2;
+      char *end = nullptr;
+      stop_after = std::strtoll(v, &end, 10);
+      if (*end || stop_after < 1) {
+        std::fprintf(stderr, "granary run: --stop-after-checkpoints '%s': expected an integer >= 1\n", v);
+        return 2;
+      }
+    } else if (a[0] == '-' && a[1] != '\0') {
+      std::fprintf(stderr, "granary run: unknown option '%s'\n", a);
+      run_usage(stderr);
+      return 2;
+    } else if (!scene_path) {
+      scene_path = a;
+    } else {
+      std::fprintf(stderr, "granary run: more than one scene given ('%s')\n", a);
+      return 2;
+    }
+  }
+  if (!!scene_path == !!resume) {
+    std::fprintf(stderr, "granary run: give a SCENE or --resume CHECKPOINT (exactly one)\n");
+    run_usage(stderr);
+    return 2;
+  }
+  if (resume && (checkpoint || no_ckpt)) {
+    std::fprintf(stderr, "granary run: --resume keeps writing checkpoints to the file it resumes from\n");
+    return 2;
+  }
+  if (checkpoint && no_ckpt) {
+    std::fprintf(stderr, "granary run: --checkpoint and --no-checkpoint exclude each other\n");
+    return 2;
+  }
+
+  Progress pr;
+  pr.tty = isatty(2);
+  pr.quiet = quiet;
+  gran_run_control ctl = {};
+  ctl.stop_after_checkpoints = stop_after;
+  ctl.progress = progress_cb;
+  ctl.progress_params = &pr;
+  gran_run_result res = {};
+  std::signal(SIGINT, on_sigint);
+
+  std::string out_path;
+  int st;
+  if (resume) {
+    st = gran_scene_resume(resume, output, &ctl, &res);
+    if (st) return fail("resume failed");
+    if (!output) {
+      /* the output path stored in the checkpoint; read back for the messages */
+      gran_scene *sc = nullptr;
+      int64_t f = gran_h5::open_file(resume, 0);
+      std::string o;
+      if (f >= 0 && !gran_h5::read_attr_string(f, "output", o, resume)) out_path = o;
+      gran_h5::close_file(f);
+      gran_scene_destroy(&sc);
+      gran_clear_error();
+    } else {
+      out_path = output;
+    }
+  } else {
+    gran_scene *scene = nullptr;
+    if (gran_scene_load(scene_path, &scene)) return fail("invalid scene");
+    const char *p = nullptr;
+    gran_scene_output_path(scene, &p);
+    out_path = output ? output : p;
+    st = gran_scene_run(scene, output, no_ckpt ? "" : checkpoint, &ctl, &res);
+    if (st) {
+      fail("run failed");
+      gran_scene_destroy(&scene);
+      return 1;
+    }
+    if (!res.finished && !checkpoint && !no_ckpt) checkpoint = scene->checkpoint_path.c_str();
+    std::string ck = checkpoint ? checkpoint : "";
+    gran_scene_destroy(&scene);
+    if (!res.finished) {
+      std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s); continue with\n"
+                           "  granary run --resume %s\n", res.time, res.checkpoints, ck.empty() ? "(no checkpoint)" : ck.c_str());
+      return g_interrupted ? 130 : 0;
+    }
+  }
+  if (!res.finished) {
+    std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s); continue with\n"
+                         "  granary run --resume %s\n", res.time, res.checkpoints, resume);
+    return g_interrupted ? 130 : 0;
+  }
+  int64_t nwarn = 0;
+  gran_warning_count(&nwarn);
+  if (nwarn > 0) {
+    char w[1024];
+    gran_last_warning_copy(w, sizeof w);
+    std::fprintf(stderr, "granary run: %" PRId64 " warning(s); last: %s\n", nwarn, w);
+  }
+  std::printf("granary run: wrote %s (%" PRId64 " collisions, t = %.6g, %.1f s, %.3g collisions/s)\n", out_path.c_str(),
+              res.collisions, res.time, res.wall_seconds, res.wall_seconds > 0 ? (double)res.collisions / res.wall_seconds : 0.0);
+  if (!quiet) summary(out_path);
+  return 0;
+}

@@ -1,0 +1,302 @@
+/* theory.cpp - `granary theory SCENE [--times ...] [--lags ...] [--json]`: kinetic theory of the
+ * scene's mixture (HCS temperatures, relaxation and correlation times, diffusion coefficients;
+ * T_k(t), MSD_k(t) and TAMSD at requested times and lags). */
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "io/io_impl.h"
+
+namespace {
+
+void theory_usage(FILE *f) {
+  std::fprintf(f,
+               "usage: granary theory SCENE [--times t1,t2,...] [--lags l1,l2,...] [--json]\n"
+               "  Prints, per species, n_k, m_k, sigma_k, T_k(0), gamma_k1 = T_k(0)/T_1(0), tau_v,k(0), D_k(0),\n"
+               "  and tau0 of the homogeneous cooling state. Times are measured from the scene's t_start.\n"
+               "  --times  also T_k(t) and MSD_k(t) at these times\n"
+               "  --lags   also the TAMSD at these lags, for a measurement time equal to each of --times\n"
+               "  --json   the same as one JSON object on stdout (numbers %%.17g, inf/nan as null)\n");
+}
+
+/* comma-separated list of finite numbers */
+bool parse_list(const char *s, std::vector<double> &out) {
+  out.clear();
+  std::string str(s);
+  size_t pos = 0;
+  while (pos <= str.size()) {
+    size_t c = str.find(',', pos);
+    std::string tok = str.substr(pos, c == std::string::npos ? std::string::npos : c - pos);
+    char *end = nullptr;
+    double v = std::strtod(tok.c_str(), &end);
+    if (tok.empty() || *end != '\0' || !std::isfinite(v)) return false;
+    out.push_back(v);
+    if (c == std::string::npos) break;
+    pos = c + 1;
+  }
+  return !out.empty();
+}
+
+void jnum(std::string &o, double x) {
+  if (!std::isfinite(x)) {
+    o += "null";
+    return;
+  }
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", x);
+  o += b;
+}
+
+void jstr(std::string &o, const std::string &s) {
+  o += '"';
+  for (unsigned char c : s) {
+    if (c == '"') o += "\\\"";
+    else if (c == '\\') o += "\\\\";
+    else if (c == '\n') o += "\\n";
+    else if (c == '\t') o += "\\t";
+    else if (c == '\r') o += "\\r";
+    else if (c < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", c);
+      o += b;
+    } else o += (char)c;
+  }
+  o += '"';
+}
+
+void jarr(std::string &o, const double *x, int64_t n) {
+  o += '[';
+  for (int64_t i = 0; i < n; i++) {
+    if (i) o += ", ";
+    jnum(o, x[i]);
+  }
+  o += ']';
+}
+
+/* rows x cols row-major as an array of arrays */
+void jmat(std::string &o, const double *x, int64_t rows, int64_t cols) {
+  o += '[';
+  for (int64_t i = 0; i < rows; i++) {
+    if (i) o += ", ";
+    jarr(o, x + i * cols, cols);
+  }
+  o += ']';
+}
+
+int fail(const char *what) {
+  std::fprintf(stderr, "granary theory: %s: %s\n", what, gran_last_error_message());
+  return 1;
+}
+
+}  // namespace
+
+int cli_theory(int argc, char **argv) {
+  const char *scene_path = nullptr;
+  std::vector<double> times, lags;
+  bool json = false;
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    if (!std::strcmp(a, "--help") || !std::strcmp(a, "-h")) {
+      theory_usage(stdout);
+      return 0;
+    } else if (!std::strcmp(a, "--json")) {
+      json = true;
+    } else if (!std::strcmp(a, "--times") || !std::strcmp(a, "--lags")) {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "granary theory: %s needs a comma-separated list\n", a);
+        return 2;
+      }
+      std::vector<double> &v = !std::strcmp(a, "--times") ? times : lags;
+      if (!parse_list(argv[++i], v)) {
+        std::fprintf(stderr, "granary theory: %s '%s': expected comma-separated finite numbers\n", a, argv[i]);
+        return 2;
+      }
+      for (double x : v)
+        if (x < 0) {
+          std::fprintf(stderr, "granary theory: %s: values must be >= 0 (got %g)\n", a, x);
+          return 2;
+        }
+    } else if (a[0] == '-' && a[1] != '\0') {
+      std::fprintf(stderr, "granary theory: unknown option '%s'\n", a);
+      theory_usage(stderr);
+      return 2;
+    } else if (!scene_path) {
+      scene_path = a;
+    } else {
+      std::fprintf(stderr, "granary theory: more than one scene given ('%s')\n", a);
+      return 2;
+    }
+  }
+  if (!scene_path) {
+    theory_usage(stderr);
+    return 2;
+  }
+  if (!lags.empty() && times.empty()) {
+    std::fprintf(stderr, "granary theory: --lags needs --times (the measurement times of the TAMSD)\n");
+    return 2;
+  }
+
+  gran_scene *scene = nullptr;
+  gran_mixture *mix = nullptr;
+  if (gran_scene_load(scene_path, &scene)) return fail("cannot load the scene");
+  struct Guard {
+    gran_scene **s;
+    gran_mixture **m;
+    ~Guard() {
+      gran_mixture_destroy(m);
+      gran_scene_destroy(s);
+    }
+  } guard{&scene, &mix};
+  if (gran_scene_mixture(scene, &mix)) return fail("cannot build the mixture");
+  int64_t M = 0;
+  gran_mixture_nspecies(mix, &M);
+  std::vector<double> m((size_t)M), sg((size_t)M), n((size_t)M), T0((size_t)M), tv((size_t)M),
+      D((size_t)M);
+  gran_mixture_get(mix, m.data(), sg.data(), n.data());
+  double tau0 = NAN, tau0_hcs = NAN, inv_tc = NAN;
+  if (gran_scene_initial_temperatures(scene, mix, T0.data(), &tau0)) return fail("cannot compute the initial temperatures");
+  if (gran_theory_tau_v(mix, T0.data(), tv.data())) return fail("gran_theory_tau_v failed");
+  if (gran_theory_diffusion(mix, T0.data(), D.data())) return fail("gran_theory_diffusion failed");
+  if (gran_theory_collision_rate1(mix, T0.data(), &inv_tc)) return fail("gran_theory_collision_rate1 failed");
+  tau0_hcs = tau0;
+  int model = 0;
+  gran_mixture_restitution_model(mix, &model);
+  const char *model_name = model == GRAN_RESTITUTION_CONSTANT ? "constant" : model == GRAN_RESTITUTION_MATRIX ? "matrix" : "viscoelastic";
+
+  /* initial state: the scene's; HCS flag decides which MSD formula applies */
+  const char *text = nullptr;
+  gran_scene_text(scene, &text);
+  double t_start = 0;
+  gran_scene_sizes(scene, nullptr, nullptr, nullptr, &t_start, nullptr);
+  const bool hcs_start = scene->init == SCENE_INIT_HCS;
+
+  const int64_t nt = (int64_t)times.size(), nl = (int64_t)lags.size();
+  std::vector<double> T((size_t)(nt * M)), msd((size_t)(nt * M)), msd_tot((size_t)nt), ta((size_t)(nt * nl * M), NAN);
+  const char *msd_formula = "";
+  if (nt) {
+    if (gran_theory_temperatures(mix, T0.data(), nt, times.data(), 1e-10, T.data())) return fail("gran_theory_temperatures failed");
+    const bool closed = hcs_start && model != GRAN_RESTITUTION_VISCOELASTIC && std::isfinite(tau0);
+    msd_formula = closed ? "Eq. 22 (HCS, closed form)" : "Eq. 4 (numerical integration)";
+    int st = closed ? gran_theory_msd_hcs(mix, T0.data(), tau0, nt, times.data(), msd.data(), msd_tot.data())
+                    : gran_theory_msd(mix, T0.data(), nt, times.data(), 1e-8, msd.data(), msd_tot.data());
+    if (st) return fail("MSD theory failed");
+    for (int64_t i = 0; i < nt && nl; i++) {
+      std::vector<double> ok_lags;
+      for (double L : lags)
+        if (L < times[(size_t)i]) ok_lags.push_back(L);
+      if (ok_lags.empty()) continue;
+      std::vector<double> out(ok_lags.size() * (size_t)M);
+      if (!std::isfinite(tau0)) break;
+      if (gran_theory_tamsd(mix, T0.data(), tau0, times[(size_t)i], (int64_t)ok_lags.size(), ok_lags.data(), 1e-8, out.data()))
+        return fail("gran_theory_tamsd failed");
+      for (size_t j = 0; j < ok_lags.size(); j++)
+        for (int64_t k = 0; k < M; k++) ta[(size_t)((i * nl + (int64_t)j) * M + k)] = out[j * (size_t)M + (size_t)k];
+    }
+  }
+
+  if (json) {
+    std::string o = "{";
+    o += "\"scene\": ";
+    jstr(o, scene_path);
+    o += ", \"nspecies\": " + std::to_string(M);
+    o += ", \"restitution\": ";
+    jstr(o, model_name);
+    o += ", \"hcs_start\": ";
+    o += hcs_start ? "true" : "false";
+    o += ", \"t_start\": ";
+    jnum(o, t_start);
+    o += ", \"tau0\": ";
+    jnum(o, tau0_hcs);
+    o += ", \"tau_c0\": ";
+    jnum(o, 1.0 / inv_tc);
+    o += ", \"species\": [";
+    for (int64_t k = 0; k < M; k++) {
+      const size_t K = (size_t)k;
+      if (k) o += ", ";
+      o += "{\"k\": " + std::to_string(k + 1) + ", \"n\": ";
+      jnum(o, n[K]);
+      o += ", \"m\": ";
+      jnum(o, m[K]);
+      o += ", \"sigma\": ";
+      jnum(o, sg[K]);
+      o += ", \"T0\": ";
+      jnum(o, T0[K]);
+      o += ", \"gamma\": ";
+      jnum(o, T0[K] / T0[0]);
+      o += ", \"tau_v0\": ";
+      jnum(o, tv[K]);
+      o += ", \"D0\": ";
+      jnum(o, D[K]);
+      o += "}";
+    }
+    o += "]";
+    if (nt) {
+      o += ", \"times\": ";
+      jarr(o, times.data(), nt);
+      o += ", \"T\": ";
+      jmat(o, T.data(), nt, M);
+      o += ", \"msd\": ";
+      jmat(o, msd.data(), nt, M);
+      o += ", \"msd_total\": ";
+      jarr(o, msd_tot.data(), nt);
+      o += ", \"msd_formula\": ";
+      jstr(o, msd_formula);
+    }
+    if (nl) {
+      o += ", \"lags\": ";
+      jarr(o, lags.data(), nl);
+      o += ", \"tamsd\": [";
+      for (int64_t i = 0; i < nt; i++) {
+        if (i) o += ", ";
+        o += "{\"t_meas\": ";
+        jnum(o, times[(size_t)i]);
+        o += ", \"tamsd\": ";
+        jmat(o, ta.data() + i * nl * M, nl, M);
+        o += "}";
+      }
+      o += "]";
+    }
+    o += "}\n";
+    std::fputs(o.c_str(), stdout);
+    return 0;
+  }
+
+  std::printf("scene %s: %" PRId64 " species, restitution %s, start %s\n", scene_path, M, model_name,
+              hcs_start ? "in the homogeneous cooling state" : "away from the HCS");
+  std::printf("tau0 = %.8g   (HCS temperature relaxation time, Eq. 21)\n", tau0_hcs);
+  std::printf("tau_c(0) = %.8g   (mean collision time of species 1, Eq. 7)\n", 1.0 / inv_tc);
+  std::printf("%4s %14s %14s %14s %16s %14s %14s %14s\n", "k", "n_k", "m_k", "sigma_k", "T_k(0)", "gamma_k1",
+              "tau_v,k(0)", "D_k(0)");
+  for (int64_t k = 0; k < M; k++) {
+    const size_t K = (size_t)k;
+    std::printf("%4" PRId64 " %14.8g %14.8g %14.8g %16.10g %14.8g %14.8g %14.8g\n", k + 1, n[K], m[K], sg[K], T0[K],
+                T0[K] / T0[0], tv[K], D[K]);
+  }
+  if (nt) {
+    std::printf("\nT_k(t) (Eq. 13) and MSD_k(t), %s\n", msd_formula);
+    std::printf("%14s %4s %16s %16s\n", "t", "k", "T_k(t)", "MSD_k(t)");
+    for (int64_t i = 0; i < nt; i++) {
+      for (int64_t k = 0; k < M; k++)
+        std::printf("%14.8g %4" PRId64 " %16.10g %16.10g\n", times[(size_t)i], k + 1, T[(size_t)(i * M + k)],
+                    msd[(size_t)(i * M + k)]);
+      std::printf("%14.8g %4s %16s %16.10g\n", times[(size_t)i], "all", "", msd_tot[(size_t)i]);
+    }
+  }
+  if (nl) {
+    std::printf("\nTAMSD_k(lag; t_meas) (Eq. 27; lags >= t_meas are skipped)\n");
+    std::printf("%14s %14s %4s %16s\n", "t_meas", "lag", "k", "TAMSD_k");
+    for (int64_t i = 0; i < nt; i++)
+      for (int64_t j = 0; j < nl; j++) {
+        if (!(lags[(size_t)j] < times[(size_t)i])) continue;
+        for (int64_t k = 0; k < M; k++)
+          std::printf("%14.8g %14.8g %4" PRId64 " %16.10g\n", times[(size_t)i], lags[(size_t)j], k + 1,
+                      ta[(size_t)((i * nl + j) * M + k)]);
+      }
+  }
+  (void)text;
+  return 0;
+}

@@ -1,0 +1,234 @@
+/* dsmc_loop.h - the hot loop of the DSMC engine, a template over the selector and the effects
+ * that are on. Included by lowrank.cpp and bird.cpp, which instantiate it for their selector and
+ * hand out function pointers; gran_dsmc_advance picks one pointer per call (dispatch outside the
+ * loop). An effect whose template flag is off leaves no instruction and touches no memory here.
+ *
+ * One trial (seed 000 Sec. III, steps 1-5):
+ *   take the oldest pre-drawn candidate pair (j, l) of species (i, k) and draw a new one in its
+ *   place (prefetching its velocities); reject j == l; accept with w |g| / B (default) or
+ *   w |g.e| / B with e uniform (paper variant), where B bounds w |g|; collide (Eq. 41), update
+ *   the displacements lazily (Eq. 45), the ledger, the counters and the bounds; draw the time of
+ *   the next trial, t += Exp(1) / Lambda (Eq. 38 / 50).
+ */
+#ifndef GRANARY_DSMC_LOOP_H
+#define GRANARY_DSMC_LOOP_H
+
+#include "dsmc_impl.h"
+
+namespace gran {
+
+/* Uniform integer in [0, n) from the top bits of one 64-bit draw (multiply-shift). */
+static inline int64_t rng_below(gran_rng *r, int64_t n) {
+  return (int64_t)(((unsigned __int128)rng_next(r) * (unsigned __int128)(uint64_t)n) >> 64);
+}
+
+static inline void prefetch_particle(const double *v, int64_t j) {
+  __builtin_prefetch(v + 3 * j);
+  __builtin_prefetch(v + 3 * j + 2);
+}
+
+/* Low-rank selector: choose the rank-one term r with probability U_r V_r / sum, species i from
+ * the tree of u^(r), species k from the tree of v^(r), then j, l uniformly within the species. */
+struct SelLowRank {
+  static inline void draw(const gran_dsmc *s, gran_rng *r, DsmcCand *c) {
+    const double x = rng_uniform(r) * (s->uv[0] + s->uv[1] + s->uv[2]);
+    const int q = x < s->uv[0] ? 0 : (x < s->uv[0] + s->uv[1] ? 1 : 2);
+    const int64_t i = segtree_sample(&s->u[q], rng_uniform(r));
+    const int64_t k = segtree_sample(&s->v[q], rng_uniform(r));
+    c->i = (int32_t)i;
+    c->k = (int32_t)k;
+    c->j = s->offset[(size_t)i] + rng_below(r, s->count[(size_t)i]);
+    c->l = s->offset[(size_t)k] + rng_below(r, s->count[(size_t)k]);
+    prefetch_particle(s->p.v, c->j);
+    prefetch_particle(s->p.v, c->l);
+  }
+  static inline void species(const gran_dsmc *, DsmcCand *) {}
+  /* bound B of w |g| and weight w of the pair */
+  static inline double bound(const gran_dsmc *s, int32_t i, int32_t k, double *w) {
+    *w = 1.0;
+    return s->bound[(size_t)i] + s->bound[(size_t)k];
+  }
+};
+
+/* Bird's selector: j, l uniformly among all N particles (ordered), one global bound C_max (Eq. 49). */
+struct SelBird {
+  static inline void draw(const gran_dsmc *s, gran_rng *r, DsmcCand *c) {
+    c->j = rng_below(r, s->N);
+    c->l = rng_below(r, s->N);
+    __builtin_prefetch(s->p.species + c->j);
+    __builtin_prefetch(s->p.species + c->l);
+    prefetch_particle(s->p.v, c->j);
+    prefetch_particle(s->p.v, c->l);
+  }
+  static inline void species(const gran_dsmc *s, DsmcCand *c) {
+    c->i = s->p.species[c->j];
+    c->k = s->p.species[c->l];
+  }
+  static inline double bound(const gran_dsmc *s, int32_t i, int32_t k, double *w) {
+    const double sik = 0.5 * (s->mix.sigma[(size_t)i] + s->mix.sigma[(size_t)k]);
+    *w = sik * sik;
+    return s->cmax;
+  }
+};
+
+template <class Sel, bool kPaper, bool kDisp, bool kCount, int kRest>
+void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
+  constexpr int K = kDsmcPipe;
+  gran_rng rng = s->rng;
+  double *const v = s->p.v;
+  double *const R = kDisp ? s->p.r : nullptr;
+  double *const tl = kDisp ? s->p.t_last : nullptr;
+  int64_t *const cc = kCount ? s->ccount.data() : nullptr;
+  const double *const mass = s->mix.m.data();
+  const int64_t M = s->M;
+  const DsmcPair *const pair = s->pair.empty() ? nullptr : s->pair.data();
+  double t = s->t, t_next = s->t_next, inv_rate = s->inv_rate;
+  int64_t coll = s->collisions, trials = s->trials;
+  double ed = s->e_diss, edc = s->e_diss_c;
+  int head = s->cand_head, count = s->cand_count;
+
+  while (t_next <= t_stop) {
+    t = t_next;
+    ++trials;
+    if (count == 0) {
+      for (int q = 0; q < K; q++) Sel::draw(s, &rng, &s->cand[q]);
+      head = 0;
+      count = K;
+    }
+    DsmcCand c = s->cand[head];
+    Sel::draw(s, &rng, &s->cand[head]);
+    head = (head + 1) & (K - 1);
+    bool accepted = false;
+    do {
+      if (c.j == c.l) break; /* the same particle twice: no pair */
+      Sel::species(s, &c);
+      double w;
+      const double B = Sel::bound(s, c.i, c.k, &w);
+      const size_t pik = (size_t)c.i * (size_t)M + (size_t)c.k;
+      if (kRest != kRestConst) w *= pair ? pair[pik].g2r : 1.0;
+      double *const vj = v + 3 * c.j;
+      double *const vl = v + 3 * c.l;
+      const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
+      const double ub = rng_uniform(&rng) * B;
+      double gn[3], gn2;
+      if (kPaper) {
+        double e[3];
+        rng_unit3(&rng, e);
+        const double ge = g[0] * e[0] + g[1] * e[1] + g[2] * e[2];
+        if (!(ub < w * std::fabs(ge))) break;
+        gn[0] = ge * e[0];
+        gn[1] = ge * e[1];
+        gn[2] = ge * e[2];
+        gn2 = ge * ge;
+      } else {
+        const double g2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+        if (!(ub * ub < w * w * g2)) break;
+        /* e from the |g.e|-weighted law: e ~ (g/|g| - u) with u uniform, so that
+         * (g.e) e = (g - |g| u) / 2 (the elastic collision scatters g uniformly). */
+        const double ga = std::sqrt(g2);
+        double u[3];
+        rng_unit3(&rng, u);
+        gn[0] = 0.5 * (g[0] - ga * u[0]);
+        gn[1] = 0.5 * (g[1] - ga * u[1]);
+        gn[2] = 0.5 * (g[2] - ga * u[2]);
+        gn2 = gn[0] * gn[0] + gn[1] * gn[1] + gn[2] * gn[2];
+      }
+      accepted = true;
+      double eps;
+      if (kRest == kRestConst) {
+        eps = s->eps0;
+      } else if (kRest == kRestTable) {
+        eps = pair[pik].a;
+      } else {
+        double sb;
+        if (pair)
+          sb = pair[pik].a;
+        else if (s->visco_sqrt_beta0 >= 0)
+          sb = s->visco_sqrt_beta0;
+        else
+          sb = std::sqrt(mix_beta(&s->mix, c.i, c.k));
+        eps = visco_eps(sb * std::pow(gn2, 0.05)); /* x = sqrt(beta) |v_n|^(1/10) */
+      }
+      if (kDisp) {
+        double *const rj = R + 3 * c.j, *const rl = R + 3 * c.l;
+        const double dj = t - tl[c.j], dl = t - tl[c.l];
+        rj[0] += vj[0] * dj;
+        rj[1] += vj[1] * dj;
+        rj[2] += vj[2] * dj;
+        rl[0] += vl[0] * dl;
+        rl[1] += vl[1] * dl;
+        rl[2] += vl[2] * dl;
+        tl[c.j] = t;
+        tl[c.l] = t;
+      }
+      const double mi = mass[c.i], mk = mass[c.k];
+      const double inv = 1.0 / (mi + mk);
+      const double a = (1.0 + eps) * inv;
+      const double aj = a * mk, al = a * mi;
+      vj[0] -= aj * gn[0];
+      vj[1] -= aj * gn[1];
+      vj[2] -= aj * gn[2];
+      vl[0] += al * gn[0];
+      vl[1] += al * gn[1];
+      vl[2] += al * gn[2];
+      neumaier_add(ed, edc, 0.5 * (1.0 - eps * eps) * mi * mk * inv * gn2);
+      if (kCount) {
+        const int64_t lo = c.i < c.k ? c.i : c.k, hi = c.i < c.k ? c.k : c.i;
+        cc[lo * M + hi]++;
+      }
+      ++coll;
+      const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+      const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
+      bool changed = false;
+      if (sj > s->bound2[(size_t)c.i]) {
+        dsmc_raise_bound(s, c.i, sj);
+        changed = true;
+      }
+      if (sl > s->bound2[(size_t)c.k]) {
+        dsmc_raise_bound(s, c.k, sl);
+        changed = true;
+      }
+      if (coll >= s->next_refresh) {
+        s->collisions = coll;
+        s->trials = trials;
+        dsmc_refresh_bounds(s);
+        changed = true;
+      }
+      if (changed) {
+        inv_rate = s->inv_rate;
+        count = 0; /* the selection law changed: discard the pre-drawn candidates */
+      }
+    } while (0);
+    t_next = std::isinf(inv_rate) ? INFINITY : t + rng_exponential(&rng) * inv_rate;
+    if (accepted && coll >= coll_stop) break;
+  }
+  s->rng = rng;
+  s->t = t;
+  s->t_next = t_next;
+  s->collisions = coll;
+  s->trials = trials;
+  s->e_diss = ed;
+  s->e_diss_c = edc;
+  s->cand_head = head;
+  s->cand_count = count;
+}
+
+/* Function pointer for the runtime flags (dispatch once per advance). */
+template <class Sel, bool kPaper, bool kDisp, bool kCount>
+static DsmcLoopFn dsmc_pick_rest(int rest) {
+  switch (rest) {
+    case kRestTable: return &dsmc_loop<Sel, kPaper, kDisp, kCount, kRestTable>;
+    case kRestVisco: return &dsmc_loop<Sel, kPaper, kDisp, kCount, kRestVisco>;
+    default: return &dsmc_loop<Sel, kPaper, kDisp, kCount, kRestConst>;
+  }
+}
+template <class Sel, bool kPaper>
+static DsmcLoopFn dsmc_pick(int disp, int counts, int rest) {
+  if (disp)
+    return counts ? dsmc_pick_rest<Sel, kPaper, true, true>(rest) : dsmc_pick_rest<Sel, kPaper, true, false>(rest);
+  return counts ? dsmc_pick_rest<Sel, kPaper, false, true>(rest) : dsmc_pick_rest<Sel, kPaper, false, false>(rest);
+}
+
+}  // namespace gran
+
+#endif

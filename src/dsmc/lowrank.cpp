@@ -1,0 +1,11 @@
+/* lowrank.cpp - the low-rank selector's instantiations of the hot loop (seed 000 Eqs. 36-44). */
+#include "dsmc_loop.h"
+
+namespace gran {
+
+/** @brief Hot loop of the low-rank selector for the given effects. */
+DsmcLoopFn dsmc_lowrank_loop(int paper, int disp, int counts, int rest) {
+  return paper ? dsmc_pick<SelLowRank, true>(disp, counts, rest) : dsmc_pick<SelLowRank, false>(disp, counts, rest);
+}
+
+}  // namespace gran

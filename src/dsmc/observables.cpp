@@ -1,0 +1,191 @@
+/* observables.cpp - what the DSMC engine measures: temperatures, MSD, Sonine a2, energy ledger,
+ * momentum, collision counts, trajectories. Displacements are evaluated lazily (Eq. 45):
+ * R_j(t) = r_j + v_j (t - t_last_j), without modifying the state. */
+#include "dsmc_impl.h"
+
+namespace gran {
+
+namespace {
+
+/* Mean flow u = P / sum m (0 up to rounding: the engine conserves momentum). */
+void mean_flow(const gran_dsmc *s, double u[3]) {
+  double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0;
+  const double *v = s->p.v;
+  for (int64_t k = 0; k < s->M; k++) {
+    const double mk = s->mix.m[(size_t)k];
+    for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1]; j++)
+      for (int d = 0; d < 3; d++) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
+    mt += mk * (double)s->count[(size_t)k];
+  }
+  for (int d = 0; d < 3; d++) u[d] = mt > 0 ? (P[d] + Pc[d]) / mt : 0.0;
+}
+
+}  // namespace
+
+void dsmc_record_trajectories(gran_dsmc *s) {
+  const int64_t S = s->opt.traj_samples, g = s->traj_next;
+  if (g >= S) return;
+  const double t = s->t;
+  for (int64_t q = 0; q < s->ntraj; q++) {
+    const int64_t j = s->traj_index[(size_t)q];
+    double *x = &s->traj_xyz[(size_t)((q * S + g) * 3)];
+    const double dt = t - s->p.t_last[j];
+    for (int d = 0; d < 3; d++) x[d] = s->p.r[3 * j + d] + s->p.v[3 * j + d] * dt;
+  }
+  s->traj_next = g + 1;
+}
+
+}  // namespace gran
+
+using namespace gran;
+
+/** @brief Partial temperatures T_k = m_k <|v - u|^2> / 3 with u the global mean flow (0 up to
+ *  rounding, since the total momentum is conserved); NaN for an empty species. */
+GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    GRAN_CHECK_PTR(T);
+    double u[3];
+    mean_flow(sim, u);
+    const double *v = sim->p.v;
+    for (int64_t k = 0; k < sim->M; k++) {
+      double s2 = 0, c = 0;
+      for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++) {
+        const double a = v[3 * j] - u[0], b = v[3 * j + 1] - u[1], e = v[3 * j + 2] - u[2];
+        neumaier_add(s2, c, a * a + b * b + e * e);
+      }
+      const int64_t n = sim->count[(size_t)k];
+      T[k] = n > 0 ? sim->mix.m[(size_t)k] * (s2 + c) / (3.0 * (double)n) : NAN;
+    }
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief Partial MSD <R_k^2> at the current time and the number-weighted total (Eq. 3);
+ *  needs GRAN_OBSERVE_DISPLACEMENT. Either output may be NULL; NaN for an empty species. */
+GRAN_EXTERN int gran_dsmc_msd(const gran_dsmc *sim, double *msd, double *msd_total) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    GRAN_CHECK(msd || msd_total, GRAN_ERR_ARG, "arguments 'msd' and 'msd_total' are both NULL");
+    GRAN_CHECK(sim->p.r != nullptr, GRAN_ERR_STATE,
+               "MSD needs displacements: create the engine with GRAN_OBSERVE_DISPLACEMENT");
+    const double t = sim->t, *v = sim->p.v, *r = sim->p.r, *tl = sim->p.t_last;
+    double tot = 0, totc = 0;
+    for (int64_t k = 0; k < sim->M; k++) {
+      double s2 = 0, c = 0;
+      for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++) {
+        const double dt = t - tl[j];
+        const double a = r[3 * j] + v[3 * j] * dt, b = r[3 * j + 1] + v[3 * j + 1] * dt,
+                     e = r[3 * j + 2] + v[3 * j + 2] * dt;
+        neumaier_add(s2, c, a * a + b * b + e * e);
+      }
+      const int64_t n = sim->count[(size_t)k];
+      if (msd) msd[k] = n > 0 ? (s2 + c) / (double)n : NAN;
+      neumaier_add(tot, totc, s2 + c);
+    }
+    if (msd_total) *msd_total = sim->N > 0 ? (tot + totc) / (double)sim->N : NAN;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief Collisions per species pair, symmetric M*M (counts[i*M+k] = collisions between species
+ *  i and k; the diagonal counts i-i collisions once); needs GRAN_OBSERVE_COLLISION_COUNTS. */
+GRAN_EXTERN int gran_dsmc_collision_counts(const gran_dsmc *sim, int64_t *counts) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    GRAN_CHECK_PTR(counts);
+    GRAN_CHECK(!sim->ccount.empty(), GRAN_ERR_STATE,
+               "collision counts were not recorded: create the engine with GRAN_OBSERVE_COLLISION_COUNTS");
+    const int64_t M = sim->M;
+    for (int64_t i = 0; i < M; i++)
+      for (int64_t k = i; k < M; k++) counts[i * M + k] = counts[k * M + i] = sim->ccount[(size_t)(i * M + k)];
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief Sonine coefficient a2 = (3/5) <c^4>/<c^2>^2 - 1 per species, c = v - u; NaN when empty. */
+GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    GRAN_CHECK_PTR(a2);
+    double u[3];
+    mean_flow(sim, u);
+    const double *v = sim->p.v;
+    for (int64_t k = 0; k < sim->M; k++) {
+      double s2 = 0, c2 = 0, s4 = 0, c4 = 0;
+      for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++) {
+        const double a = v[3 * j] - u[0], b = v[3 * j + 1] - u[1], e = v[3 * j + 2] - u[2];
+        const double q = a * a + b * b + e * e;
+        neumaier_add(s2, c2, q);
+        neumaier_add(s4, c4, q * q);
+      }
+      const double n = (double)sim->count[(size_t)k];
+      const double m2 = (s2 + c2) / n, m4 = (s4 + c4) / n;
+      a2[k] = (n > 0 && m2 > 0) ? 0.6 * m4 / (m2 * m2) - 1.0 : NAN;
+    }
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief Energy ledger: kinetic energy now (compensated sum), at creation, and dissipated by the
+ *  collisions so far (compensated sum of (1 - eps^2) mu g_n^2 / 2). Any output may be NULL. */
+GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_initial, double *e_dissipated) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    if (e_kin) {
+      double e = 0, c = 0;
+      const double *v = sim->p.v;
+      for (int64_t k = 0; k < sim->M; k++) {
+        const double mk = sim->mix.m[(size_t)k];
+        for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++)
+          neumaier_add(e, c, 0.5 * mk * (v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2]));
+      }
+      *e_kin = e + c;
+    }
+    if (e_initial) *e_initial = sim->e_initial;
+    if (e_dissipated) *e_dissipated = sim->e_diss + sim->e_diss_c;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief Total momentum sum_j m_j v_j (compensated). */
+GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    GRAN_CHECK_PTR(p);
+    double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0};
+    const double *v = sim->p.v;
+    for (int64_t k = 0; k < sim->M; k++) {
+      const double mk = sim->mix.m[(size_t)k];
+      for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++)
+        for (int d = 0; d < 3; d++) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
+    }
+    for (int d = 0; d < 3; d++) p[d] = P[d] + Pc[d];
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief Borrowed trajectories of the tracers (the first traj_per_species particles of each
+ *  species): xyz[(q*nsamples + s)*3 + d] is the displacement of tracer q at t_start + s traj_dt,
+ *  NaN for times not reached yet; nsamples = traj_samples. Needs GRAN_OBSERVE_TRAJECTORIES.
+ *  Any output may be NULL. */
+GRAN_EXTERN int gran_dsmc_trajectories(const gran_dsmc *sim, int64_t *ntraj, int64_t *nsamples, const double **xyz,
+                                       const int32_t **species) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    GRAN_CHECK(sim->opt.observe & GRAN_OBSERVE_TRAJECTORIES, GRAN_ERR_STATE,
+               "trajectories were not recorded: create the engine with GRAN_OBSERVE_TRAJECTORIES");
+    if (ntraj) *ntraj = sim->ntraj;
+    if (nsamples) *nsamples = sim->opt.traj_samples;
+    if (xyz) *xyz = sim->traj_xyz.empty() ? nullptr : sim->traj_xyz.data();
+    if (species) *species = sim->traj_species.empty() ? nullptr : sim->traj_species.data();
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}

@@ -1,0 +1,107 @@
+/* io_impl.h - private declarations of the io module (scenes, runs, HDF5 output, checkpoints).
+ * scene.cpp parses and validates a TOML scene into gran_scene; run.cpp drives the engine and
+ * writes HDF5 (h5.cpp holds the thin HDF5 helpers). */
+#ifndef GRANARY_IO_IMPL_H
+#define GRANARY_IO_IMPL_H
+
+#include <string>
+#include <vector>
+
+#include "granary_impl.h"
+
+enum scene_init { SCENE_INIT_HCS = 0, SCENE_INIT_EQUAL = 1, SCENE_INIT_LIST = 2 };
+
+/* The validated scene. Every field has its default filled in by the parser. */
+struct gran_scene {
+  std::string text;  /* the whole scene file */
+  std::string name;  /* file name used in messages */
+  std::string title;
+
+  /* [mixture] */
+  int64_t nspecies = 0;
+  std::vector<double> mass, sigma, density;
+  int g2_is_matrix = 0;
+  double g2 = 1.0;
+  std::vector<double> g2_matrix;
+
+  /* [restitution] */
+  int model = GRAN_RESTITUTION_CONSTANT;
+  double eps = 1.0;
+  std::vector<double> eps_matrix;
+  int visco_kind = 0; /* 0 beta, 1 beta_matrix, 2 material */
+  double beta = 0.0;
+  std::vector<double> beta_matrix;
+  double mat_A = 0, mat_Y = 0, mat_nu = 0;
+
+  /* [initial] */
+  int init = SCENE_INIT_HCS;
+  int hcs_norm = GRAN_HCS_NORM_MEAN;
+  double T_value = 1.0;
+  std::vector<double> T_list;
+  double t_start = 0.0;
+
+  /* [engine] */
+  int selector = GRAN_SELECTOR_LOWRANK;
+  uint64_t seed = 1;
+  double t_end = 0.0;
+  int counts_kind = 0; /* 0 counts, 1 N1, 2 volume */
+  std::vector<int64_t> counts;
+  double N1 = 0.0;
+  double volume = 0.0;
+  int64_t bound_refresh = 0;
+
+  /* [observables] */
+  std::vector<double> times;
+  int obs_temperatures = 1, obs_msd = 1, obs_energy = 1, obs_momentum = 0;
+  int obs_collision_counts = 0, obs_sonine_a2 = 0, obs_theory = 1;
+  double theory_rtol = 1e-8;
+  int obs_veldist = 0;
+  int64_t vd_bins = 60;
+  double vd_cmax = 4.0;
+  int obs_tamsd = 0;
+  int64_t tamsd_tracers = 0;
+  double tamsd_dt = 0.0;
+  int64_t tamsd_samples = 0;
+  std::vector<double> tamsd_lags;
+
+  /* [output] */
+  std::string output_path;
+  std::string checkpoint_path; /* "" = none */
+  double checkpoint_interval = 600.0;
+  int64_t checkpoint_every = 0;
+  int keep_checkpoint = 0;
+};
+
+/* scene.cpp */
+int gran_scene_parse_text_(const std::string &text, const std::string &name, gran_scene **scene);
+/* Initial temperatures of the scene (HCS solved with the theory module when asked) and tau0. */
+int gran_scene_T0_(const gran_scene *s, const gran_mixture *mix, double *T0, double *tau0);
+
+/* h5.cpp: thin helpers. Every function returns a granary status; the file name goes in messages. */
+namespace gran_h5 {
+int64_t create_file(const char *path);                /* truncating create; < 0 on failure */
+int64_t open_file(const char *path, int readwrite);   /* < 0 on failure */
+void close_file(int64_t f);
+int write_double(int64_t loc, const char *name, const std::vector<int64_t> &dims, const double *data,
+                 const char *file);
+int write_int64(int64_t loc, const char *name, const std::vector<int64_t> &dims, const int64_t *data,
+                const char *file);
+int read_double(int64_t loc, const char *name, std::vector<double> &out, std::vector<int64_t> *dims,
+                const char *file);
+int read_int64(int64_t loc, const char *name, std::vector<int64_t> &out, std::vector<int64_t> *dims,
+               const char *file);
+int make_group(int64_t loc, const char *name, int64_t *group, const char *file);
+void close_group(int64_t g);
+int attr_string(int64_t loc, const char *name, const std::string &value, const char *file);
+int attr_double(int64_t loc, const char *name, double value, const char *file);
+int attr_int64(int64_t loc, const char *name, int64_t value, const char *file);
+int attr_uint64(int64_t loc, const char *name, uint64_t value, const char *file);
+int read_attr_string(int64_t loc, const char *name, std::string &value, const char *file);
+int read_attr_int64(int64_t loc, const char *name, int64_t *value, const char *file);
+int exists(int64_t loc, const char *name);
+}  // namespace gran_h5
+
+/* Flush a closed file to disk (fsync) and rename it over its final name; then fsync the folder. */
+int gran_io_commit_file_(const std::string &tmp, const std::string &path);
+
+#endif

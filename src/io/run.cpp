@@ -1,0 +1,570 @@
+/* run.cpp - running a scene: engine, observers at the output times, HDF5 output, checkpoints.
+ *
+ * The engine is only ever advanced to the scene's output times (then to t_end), whether or not a
+ * checkpoint is written there, so a run split by checkpoints makes exactly the same calls as an
+ * uninterrupted one: resuming is bit for bit. Recorded rows live in named buffers [ntimes x row];
+ * the output file and the checkpoint's /observer group are written from the same buffers. */
+#include <hdf5.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "io/io_impl.h"
+
+namespace {
+
+const char *kCheckpointFormat = "granary-checkpoint 1";
+const char *kOutputFormat = "granary-output 1";
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/* One recorded quantity: row `i` belongs to output time i. */
+struct Buf {
+  std::string group, name;
+  int is_int = 0;
+  std::vector<int64_t> row_dims; /* shape of one row */
+  int64_t row = 1;               /* elements per row */
+  std::vector<double> d;
+  std::vector<int64_t> n;
+};
+
+struct Run {
+  const gran_scene *s = nullptr;
+  gran_scene *owned_scene = nullptr;
+  gran_mixture *mix = nullptr;
+  gran_dsmc *sim = nullptr;
+  std::vector<double> T0;
+  double tau0 = NAN;
+  std::vector<Buf> bufs;
+  int64_t next = 0; /* output times recorded */
+  std::string out, ckpt;
+  ~Run() {
+    gran_dsmc_destroy(&sim);
+    gran_mixture_destroy(&mix);
+    gran_scene_destroy(&owned_scene);
+  }
+  Buf &buf(const char *g, const char *nm) {
+    for (auto &b : bufs)
+      if (b.group == g && b.name == nm) return b;
+    throw std::logic_error("no buffer");
+  }
+};
+
+void add_buf(Run &r, const char *g, const char *nm, int is_int, std::vector<int64_t> row_dims) {
+  Buf b;
+  b.group = g;
+  b.name = nm;
+  b.is_int = is_int;
+  b.row_dims = std::move(row_dims);
+  for (int64_t x : b.row_dims) b.row *= x;
+  const size_t total = (size_t)(b.row * (int64_t)r.s->times.size());
+  if (is_int) b.n.assign(total, 0);
+  else b.d.assign(total, 0.0);
+  r.bufs.push_back(std::move(b));
+}
+
+void setup_buffers(Run &r) {
+  const gran_scene *s = r.s;
+  const int64_t M = s->nspecies;
+  add_buf(r, "stats", "collisions", 1, {});
+  add_buf(r, "stats", "trials", 1, {});
+  if (s->obs_temperatures) add_buf(r, "temperatures", "T", 0, {M});
+  if (s->obs_msd) {
+    add_buf(r, "msd", "msd", 0, {M});
+    add_buf(r, "msd", "msd_total", 0, {});
+  }
+  if (s->obs_energy) {
+    add_buf(r, "energy", "e_kin", 0, {});
+    add_buf(r, "energy", "e_initial", 0, {});
+    add_buf(r, "energy", "e_dissipated", 0, {});
+  }
+  if (s->obs_momentum) add_buf(r, "momentum", "p", 0, {3});
+  if (s->obs_collision_counts) add_buf(r, "collision_counts", "counts", 1, {M, M});
+  if (s->obs_sonine_a2) add_buf(r, "sonine_a2", "a2", 0, {M});
+  if (s->obs_veldist) add_buf(r, "velocity_distribution", "pdf", 0, {M, s->vd_bins});
+}
+
+/* Speed histogram of c = |v| / sqrt(2 T_k / m_k) per species, normalised by N_k dc. */
+int record_veldist(Run &r, double *row) {
+  const gran_scene *s = r.s;
+  const int64_t M = s->nspecies, B = s->vd_bins;
+  const gran_particles *p = nullptr;
+  std::vector<int64_t> off((size_t)M + 1);
+  std::vector<double> T((size_t)M);
+  GRAN_CALL(gran_dsmc_particles(r.sim, &p));
+  GRAN_CALL(gran_dsmc_species_offsets(r.sim, off.data()));
+  GRAN_CALL(gran_dsmc_temperatures(r.sim, T.data()));
+  const double dc = s->vd_cmax / (double)B;
+  for (int64_t k = 0; k < M; k++) {
+    double *h = row + k * B;
+    std::fill(h, h + B, 0.0);
+    const int64_t n = off[(size_t)k + 1] - off[(size_t)k];
+    if (n <= 0 || !(T[(size_t)k] > 0)) continue;
+    const double inv_vth = 1.0 / std::sqrt(2.0 * T[(size_t)k] / s->mass[(size_t)k]);
+    for (int64_t i = off[(size_t)k]; i < off[(size_t)k + 1]; i++) {
+      const double *v = p->v + 3 * i;
+      const double c = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * inv_vth;
+      const int64_t b = (int64_t)(c / dc);
+      if (b < B) h[b] += 1.0;
+    }
+    for (int64_t b = 0; b < B; b++) h[b] /= (double)n * dc;
+  }
+  return GRAN_SUCCESS;
+}
+
+int record(Run &r, int64_t i) {
+  const int64_t M = r.s->nspecies;
+  gran_dsmc_stats st;
+  GRAN_CALL(gran_dsmc_get_stats(r.sim, &st));
+  for (auto &b : r.bufs) {
+    double *d = b.is_int ? nullptr : b.d.data() + i * b.row;
+    int64_t *n = b.is_int ? b.n.data() + i * b.row : nullptr;
+    const std::string &g = b.group, &nm = b.name;
+    if (g == "stats") {
+      n[0] = nm == "collisions" ? st.collisions : st.trials;
+    } else if (g == "temperatures") {
+      GRAN_CALL(gran_dsmc_temperatures(r.sim, d));
+    } else if (g == "msd" && nm == "msd") {
+      double total = 0;
+      GRAN_CALL(gran_dsmc_msd(r.sim, d, &total));
+      r.buf("msd", "msd_total").d[(size_t)i] = total;
+    } else if (g == "energy" && nm == "e_kin") {
+      double e, e0, ed;
+      GRAN_CALL(gran_dsmc_energy(r.sim, &e, &e0, &ed));
+      d[0] = e;
+      r.buf("energy", "e_initial").d[(size_t)i] = e0;
+      r.buf("energy", "e_dissipated").d[(size_t)i] = ed;
+    } else if (g == "momentum") {
+      GRAN_CALL(gran_dsmc_momentum(r.sim, d));
+    } else if (g == "collision_counts") {
+      GRAN_CALL(gran_dsmc_collision_counts(r.sim, n));
+    } else if (g == "sonine_a2") {
+      GRAN_CALL(gran_dsmc_sonine_a2(r.sim, d));
+    } else if (g == "velocity_distribution") {
+      GRAN_CALL(record_veldist(r, d));
+    }
+  }
+  (void)M;
+  return GRAN_SUCCESS;
+}
+
+/* mkdir -p of the folder holding `path` */
+int make_parent(const std::string &path) {
+  size_t s = path.find_last_of('/');
+  if (s == std::string::npos || s == 0) return GRAN_SUCCESS;
+  std::string dir = path.substr(0, s);
+  for (size_t i = 1; i <= dir.size(); i++) {
+    if (i == dir.size() || dir[i] == '/') {
+      std::string d = dir.substr(0, i);
+      if (mkdir(d.c_str(), 0777) != 0 && errno != EEXIST)
+        return GRAN_ERROR(GRAN_ERR_IO, "cannot create folder '%s' for '%s': %s", d.c_str(), path.c_str(),
+                          std::strerror(errno));
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
+/* Writability check before any work: create PATH.tmp, then remove it. */
+int check_writable(const std::string &path, const char *what) {
+  GRAN_CALL(make_parent(path));
+  std::string tmp = path + ".tmp";
+  FILE *f = std::fopen(tmp.c_str(), "wb");
+  if (!f) return GRAN_ERROR(GRAN_ERR_IO, "%s '%s' is not writable: %s", what, tmp.c_str(), std::strerror(errno));
+  std::fclose(f);
+  std::remove(tmp.c_str());
+  struct stat sb;
+  if (stat(path.c_str(), &sb) == 0 && S_ISDIR(sb.st_mode))
+    return GRAN_ERROR(GRAN_ERR_IO, "%s '%s' is a folder", what, path.c_str());
+  return GRAN_SUCCESS;
+}
+
+/* ---- HDF5 writing -------------------------------------------------------------------------- */
+
+struct H5File {
+  int64_t id = -1;
+  ~H5File() { gran_h5::close_file(id); }
+};
+struct H5Group {
+  int64_t id = -1;
+  ~H5Group() { gran_h5::close_group(id); }
+};
+
+int write_root_attrs(Run &r, int64_t f, const char *file, const char *format) {
+  const gran_scene *s = r.s;
+  GRAN_CALL(gran_h5::attr_string(f, "format", format, file));
+  GRAN_CALL(gran_h5::attr_string(f, "scene", s->text, file));
+  GRAN_CALL(gran_h5::attr_string(f, "scene_file", s->name, file));
+  GRAN_CALL(gran_h5::attr_string(f, "title", s->title, file));
+  GRAN_CALL(gran_h5::attr_string(f, "granary_version", GRAN_VERSION_STRING, file));
+  GRAN_CALL(gran_h5::attr_uint64(f, "seed", s->seed, file));
+  GRAN_CALL(gran_h5::attr_string(f, "selector", s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", file));
+  GRAN_CALL(gran_h5::attr_int64(f, "nspecies", s->nspecies, file));
+  GRAN_CALL(gran_h5::attr_double(f, "t_start", s->t_start, file));
+  GRAN_CALL(gran_h5::attr_double(f, "t_end", s->t_end, file));
+  return GRAN_SUCCESS;
+}
+
+/* Theory beside the simulation; a theory call that fails leaves a warning and an attribute. */
+int write_theory(Run &r, int64_t f, const char *file, const std::vector<double> &tt) {
+  const gran_scene *s = r.s;
+  const int64_t M = s->nspecies, nt = (int64_t)tt.size();
+  std::vector<int64_t> dims = {nt, M};
+  if (s->obs_temperatures) {
+    H5Group g;
+    g.id = H5Gopen2((hid_t)f, "temperatures", H5P_DEFAULT);
+    std::vector<double> T((size_t)(nt * M));
+    int st = gran_theory_temperatures(r.mix, r.T0.data(), nt, tt.data(), s->theory_rtol, T.data());
+    if (st == GRAN_SUCCESS) {
+      GRAN_CALL(gran_h5::write_double(g.id, "T_theory", dims, T.data(), file));
+    } else {
+      gran_warning_add("no T_theory in '%s': %s", file, gran_last_error_message());
+      GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
+    }
+  }
+  if (s->obs_msd) {
+    H5Group g;
+    g.id = H5Gopen2((hid_t)f, "msd", H5P_DEFAULT);
+    std::vector<double> m((size_t)(nt * M)), mt((size_t)nt);
+    const bool hcs = s->init == SCENE_INIT_HCS && s->model != GRAN_RESTITUTION_VISCOELASTIC && std::isfinite(r.tau0);
+    int st = hcs ? gran_theory_msd_hcs(r.mix, r.T0.data(), r.tau0, nt, tt.data(), m.data(), mt.data())
+                 : gran_theory_msd(r.mix, r.T0.data(), nt, tt.data(), s->theory_rtol, m.data(), mt.data());
+    if (st == GRAN_SUCCESS) {
+      GRAN_CALL(gran_h5::write_double(g.id, "msd_theory", dims, m.data(), file));
+      GRAN_CALL(gran_h5::write_double(g.id, "msd_total_theory", {nt}, mt.data(), file));
+      GRAN_CALL(gran_h5::attr_string(g.id, "theory", hcs ? "gran_theory_msd_hcs (Eq. 22)" : "gran_theory_msd (Eq. 4)", file));
+    } else {
+      gran_warning_add("no msd_theory in '%s': %s", file, gran_last_error_message());
+      GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
+/* TAMSD of the recorded tracer trajectories, averaged over the tracers of each species:
+ * delta^2(L) = 1/(S-L) sum_{j<S-L} |R_{j+L} - R_j|^2 (Eq. 26 on the sampling grid). */
+int write_tamsd(Run &r, int64_t f, const char *file) {
+  const gran_scene *s = r.s;
+  const int64_t M = s->nspecies, nl = (int64_t)s->tamsd_lags.size();
+  int64_t ntraj = 0, ns = 0;
+  const double *xyz = nullptr;
+  const int32_t *sp = nullptr;
+  GRAN_CALL(gran_dsmc_trajectories(r.sim, &ntraj, &ns, &xyz, &sp));
+  std::vector<double> lag((size_t)nl), ta((size_t)(nl * M), 0.0);
+  std::vector<int64_t> L((size_t)nl), ntr((size_t)M, 0);
+  for (int64_t l = 0; l < nl; l++) {
+    L[(size_t)l] = std::max<int64_t>(1, (int64_t)std::llround(s->tamsd_lags[(size_t)l] / s->tamsd_dt));
+    lag[(size_t)l] = (double)L[(size_t)l] * s->tamsd_dt;
+  }
+  for (int64_t j = 0; j < ntraj; j++) {
+    const int32_t k = sp[j];
+    if (k < 0 || k >= M) continue;
+    ntr[(size_t)k]++;
+    const double *R = xyz + j * ns * 3;
+    for (int64_t l = 0; l < nl; l++) {
+      const int64_t lg = L[(size_t)l];
+      if (lg >= ns) continue;
+      double acc = 0;
+      for (int64_t a = 0; a + lg < ns; a++) {
+        const double dx = R[3 * (a + lg)] - R[3 * a], dy = R[3 * (a + lg) + 1] - R[3 * a + 1],
+                     dz = R[3 * (a + lg) + 2] - R[3 * a + 2];
+        acc += dx * dx + dy * dy + dz * dz;
+      }
+      ta[(size_t)(l * M + k)] += acc / (double)(ns - lg);
+    }
+  }
+  for (int64_t l = 0; l < nl; l++)
+    for (int64_t k = 0; k < M; k++) ta[(size_t)(l * M + k)] = ntr[(size_t)k] ? ta[(size_t)(l * M + k)] / (double)ntr[(size_t)k] : NAN;
+  H5Group g;
+  GRAN_CALL(gran_h5::make_group(f, "tamsd", &g.id, file));
+  const double t_meas = s->tamsd_dt * (double)(ns - 1);
+  GRAN_CALL(gran_h5::write_double(g.id, "lag", {nl}, lag.data(), file));
+  GRAN_CALL(gran_h5::write_double(g.id, "tamsd", {nl, M}, ta.data(), file));
+  GRAN_CALL(gran_h5::write_int64(g.id, "tracers", {M}, ntr.data(), file));
+  GRAN_CALL(gran_h5::attr_double(g.id, "t_meas", t_meas, file));
+  GRAN_CALL(gran_h5::attr_double(g.id, "dt", s->tamsd_dt, file));
+  GRAN_CALL(gran_h5::attr_int64(g.id, "samples", ns, file));
+  if (s->obs_theory) {
+    std::vector<double> th((size_t)(nl * M));
+    int st = std::isfinite(r.tau0) ? gran_theory_tamsd(r.mix, r.T0.data(), r.tau0, t_meas, nl, lag.data(), s->theory_rtol, th.data())
+                                   : GRAN_ERROR(GRAN_ERR_DOMAIN, "tau0 of the HCS is not finite");
+    if (st == GRAN_SUCCESS) {
+      GRAN_CALL(gran_h5::write_double(g.id, "tamsd_theory", {nl, M}, th.data(), file));
+    } else {
+      gran_warning_add("no tamsd_theory in '%s': %s", file, gran_last_error_message());
+      GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
+int write_output(Run &r, const std::string &path) {
+  const gran_scene *s = r.s;
+  const int64_t M = s->nspecies, nt = (int64_t)s->times.size();
+  const std::string tmp = path + ".tmp";
+  const char *file = tmp.c_str();
+  {
+    H5File f;
+    f.id = gran_h5::create_file(file);
+    GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot create output file '%s'", file);
+    GRAN_CALL(write_root_attrs(r, f.id, file, kOutputFormat));
+    {
+      H5Group g;
+      GRAN_CALL(gran_h5::make_group(f.id, "species", &g.id, file));
+      std::vector<int64_t> counts((size_t)M);
+      GRAN_CALL(gran_dsmc_counts(r.sim, counts.data()));
+      GRAN_CALL(gran_h5::write_double(g.id, "mass", {M}, s->mass.data(), file));
+      GRAN_CALL(gran_h5::write_double(g.id, "sigma", {M}, s->sigma.data(), file));
+      GRAN_CALL(gran_h5::write_double(g.id, "density", {M}, s->density.data(), file));
+      GRAN_CALL(gran_h5::write_int64(g.id, "counts", {M}, counts.data(), file));
+      GRAN_CALL(gran_h5::write_double(g.id, "T0", {M}, r.T0.data(), file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "tau0", r.tau0, file));
+    }
+    GRAN_CALL(gran_h5::write_double(f.id, "time", {nt}, s->times.data(), file));
+    for (const auto &b : r.bufs) {
+      H5Group g;
+      if (gran_h5::exists(f.id, b.group.c_str())) {
+        g.id = H5Gopen2((hid_t)f.id, b.group.c_str(), H5P_DEFAULT);
+      } else {
+        GRAN_CALL(gran_h5::make_group(f.id, b.group.c_str(), &g.id, file));
+        GRAN_CALL(gran_h5::write_double(g.id, "time", {nt}, s->times.data(), file));
+      }
+      std::vector<int64_t> dims = {nt};
+      dims.insert(dims.end(), b.row_dims.begin(), b.row_dims.end());
+      if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, b.name.c_str(), dims, b.n.data(), file));
+      else GRAN_CALL(gran_h5::write_double(g.id, b.name.c_str(), dims, b.d.data(), file));
+    }
+    if (s->obs_veldist) {
+      H5Group g;
+      g.id = H5Gopen2((hid_t)f.id, "velocity_distribution", H5P_DEFAULT);
+      const int64_t B = s->vd_bins;
+      const double dc = s->vd_cmax / (double)B;
+      std::vector<double> edges((size_t)B + 1), maxw((size_t)B);
+      auto F = [](double c) { return std::erf(c) - 2.0 * c / std::sqrt(M_PI) * std::exp(-c * c); };
+      for (int64_t b = 0; b <= B; b++) edges[(size_t)b] = dc * (double)b;
+      for (int64_t b = 0; b < B; b++) maxw[(size_t)b] = (F(edges[(size_t)b + 1]) - F(edges[(size_t)b])) / dc;
+      GRAN_CALL(gran_h5::write_double(g.id, "edges", {B + 1}, edges.data(), file));
+      GRAN_CALL(gran_h5::write_double(g.id, "pdf_maxwell", {B}, maxw.data(), file));
+      GRAN_CALL(gran_h5::attr_string(g.id, "variable", "c = |v| / sqrt(2 T_k / m_k)", file));
+    }
+    if (s->obs_theory) {
+      std::vector<double> tt((size_t)nt);
+      for (int64_t i = 0; i < nt; i++) tt[(size_t)i] = s->times[(size_t)i] - s->t_start;
+      GRAN_CALL(write_theory(r, f.id, file, tt));
+    }
+    if (s->obs_tamsd) GRAN_CALL(write_tamsd(r, f.id, file));
+    herr_t st = H5Fflush((hid_t)f.id, H5F_SCOPE_GLOBAL);
+    GRAN_CHECK(st >= 0, GRAN_ERR_IO, "cannot flush output file '%s'", file);
+  }
+  return gran_io_commit_file_(tmp, path);
+}
+
+int write_checkpoint(Run &r) {
+  const std::string tmp = r.ckpt + ".tmp";
+  const char *file = tmp.c_str();
+  std::remove(file);
+  /* the engine first (it creates the file), then the observer state beside it */
+  GRAN_CALL(gran_dsmc_checkpoint_write(r.sim, file, "/engine"));
+  {
+    H5File f;
+    f.id = gran_h5::open_file(file, 1);
+    GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot reopen checkpoint '%s'", file);
+    GRAN_CALL(write_root_attrs(r, f.id, file, kCheckpointFormat));
+    GRAN_CALL(gran_h5::attr_string(f.id, "output", r.out, file));
+    GRAN_CALL(gran_h5::attr_int64(f.id, "next_index", r.next, file));
+    H5Group g;
+    GRAN_CALL(gran_h5::make_group(f.id, "observer", &g.id, file));
+    for (const auto &b : r.bufs) {
+      const std::string nm = b.group + "." + b.name;
+      const int64_t total = b.row * (int64_t)r.s->times.size();
+      if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, nm.c_str(), {total}, b.n.data(), file));
+      else GRAN_CALL(gran_h5::write_double(g.id, nm.c_str(), {total}, b.d.data(), file));
+    }
+  }
+  return gran_io_commit_file_(tmp, r.ckpt);
+}
+
+int read_checkpoint_observer(Run &r, const char *path) {
+  H5File f;
+  f.id = gran_h5::open_file(path, 0);
+  GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot open checkpoint '%s'", path);
+  int64_t next = -1;
+  GRAN_CALL(gran_h5::read_attr_int64(f.id, "next_index", &next, path));
+  GRAN_CHECK(next >= 0 && next <= (int64_t)r.s->times.size(), GRAN_ERR_IO,
+             "checkpoint '%s': next_index %" PRId64 " out of range", path, next);
+  r.next = next;
+  H5Group g;
+  g.id = H5Gopen2((hid_t)f.id, "observer", H5P_DEFAULT);
+  GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "checkpoint '%s' has no /observer group", path);
+  for (auto &b : r.bufs) {
+    const std::string nm = b.group + "." + b.name;
+    const size_t total = (size_t)(b.row * (int64_t)r.s->times.size());
+    if (b.is_int) {
+      std::vector<int64_t> v;
+      GRAN_CALL(gran_h5::read_int64(g.id, nm.c_str(), v, nullptr, path));
+      GRAN_CHECK(v.size() == total, GRAN_ERR_IO, "checkpoint '%s': '%s' has the wrong size", path, nm.c_str());
+      b.n = v;
+    } else {
+      std::vector<double> v;
+      GRAN_CALL(gran_h5::read_double(g.id, nm.c_str(), v, nullptr, path));
+      GRAN_CHECK(v.size() == total, GRAN_ERR_IO, "checkpoint '%s': '%s' has the wrong size", path, nm.c_str());
+      b.d = v;
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
+int prepare(Run &r) {
+  const int64_t M = r.s->nspecies;
+  GRAN_CALL(gran_scene_mixture(r.s, &r.mix));
+  r.T0.assign((size_t)M, 0.0);
+  GRAN_CALL(gran_scene_T0_(r.s, r.mix, r.T0.data(), &r.tau0));
+  setup_buffers(r);
+  return GRAN_SUCCESS;
+}
+
+/* The loop shared by run and resume: record rows next..ntimes-1, checkpoint, finish. */
+int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
+  const gran_scene *s = r.s;
+  const int64_t nt = (int64_t)s->times.size();
+  const double w0 = now_s();
+  double w_ckpt = w0;
+  gran_dsmc_stats st;
+  GRAN_CALL(gran_dsmc_get_stats(r.sim, &st));
+  const int64_t coll0 = st.collisions;
+  int64_t nckpt = 0;
+  gran_run_result rr = {};
+  auto fill = [&](int finished) {
+    gran_dsmc_stats x;
+    if (gran_dsmc_get_stats(r.sim, &x) == GRAN_SUCCESS) {
+      rr.collisions = x.collisions;
+      rr.time = x.time;
+    }
+    rr.finished = finished;
+    rr.checkpoints = nckpt;
+    rr.wall_seconds = now_s() - w0;
+    if (res) *res = rr;
+  };
+  const int64_t first = r.next;
+  while (r.next < nt) {
+    const int64_t i = r.next;
+    GRAN_CALL(gran_dsmc_advance(r.sim, s->times[(size_t)i]));
+    GRAN_CALL(record(r, i));
+    r.next = i + 1;
+    int stop = 0;
+    if (ctl && ctl->progress) {
+      gran_dsmc_stats x;
+      GRAN_CALL(gran_dsmc_get_stats(r.sim, &x));
+      gran_run_progress p = {};
+      const double wall = now_s() - w0;
+      p.time = x.time;
+      p.t_start = s->t_start;
+      p.t_end = s->t_end;
+      p.fraction = (double)r.next / (double)nt;
+      p.wall_seconds = wall;
+      p.collisions = x.collisions;
+      p.collisions_per_second = wall > 0 ? (double)(x.collisions - coll0) / wall : 0.0;
+      const double done = (double)(r.next - first) / (double)(nt - first);
+      p.eta_seconds = done > 0 && wall > 0 ? wall * (1.0 - done) / done : -1.0;
+      p.output_index = r.next;
+      p.noutputs = nt;
+      p.checkpoints = nckpt;
+      stop = ctl->progress(&p, ctl->progress_params) != 0;
+    }
+    if (r.next >= nt || r.ckpt.empty()) {
+      if (stop) {
+        fill(0);
+        return GRAN_SUCCESS;
+      }
+      continue;
+    }
+    const bool due = stop || (s->checkpoint_every > 0 && r.next % s->checkpoint_every == 0) ||
+                     (s->checkpoint_interval > 0 && now_s() - w_ckpt >= s->checkpoint_interval);
+    if (due) {
+      GRAN_CALL(write_checkpoint(r));
+      w_ckpt = now_s();
+      nckpt++;
+      if (stop || (ctl && ctl->stop_after_checkpoints > 0 && nckpt >= ctl->stop_after_checkpoints)) {
+        fill(0);
+        return GRAN_SUCCESS;
+      }
+    }
+  }
+  double t = 0;
+  GRAN_CALL(gran_dsmc_time(r.sim, &t));
+  if (t < s->t_end) GRAN_CALL(gran_dsmc_advance(r.sim, s->t_end));
+  GRAN_CALL(write_output(r, r.out));
+  if (!r.ckpt.empty() && !s->keep_checkpoint) std::remove(r.ckpt.c_str());
+  fill(1);
+  return GRAN_SUCCESS;
+}
+
+}  // namespace
+
+/** @brief Run a scene to its end, writing HDF5 output and checkpoints.
+ *  @param[in] output     NULL: the scene's [output] path
+ *  @param[in] checkpoint NULL: the scene's; "": no checkpoints
+ *  @param[in] ctl        may be NULL  @param[out] result may be NULL */
+GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, const char *checkpoint,
+                               const gran_run_control *ctl, gran_run_result *result) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK(!ctl || ctl->stop_after_checkpoints >= 0, GRAN_ERR_ARG,
+             "argument 'ctl->stop_after_checkpoints' is negative (%" PRId64 ")", ctl ? ctl->stop_after_checkpoints : 0);
+  GRAN_TRY {
+    Run r;
+    r.s = scene;
+    r.out = output ? output : scene->output_path;
+    r.ckpt = checkpoint ? checkpoint : scene->checkpoint_path;
+    GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");
+    GRAN_CHECK(r.out != r.ckpt, GRAN_ERR_ARG, "arguments 'output' and 'checkpoint' name the same file '%s'", r.out.c_str());
+    if (result) *result = gran_run_result{};
+    GRAN_CALL(check_writable(r.out, "output file"));
+    if (!r.ckpt.empty()) GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
+    GRAN_CALL(prepare(r));
+    GRAN_CALL(gran_scene_dsmc(scene, r.mix, &r.sim));
+    return drive(r, ctl, result);
+  }
+  GRAN_CATCH
+}
+
+/** @brief Continue a run from its checkpoint; bit for bit the uninterrupted run.
+ *  @param[in] output NULL: the output path stored in the checkpoint */
+GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, const gran_run_control *ctl,
+                                  gran_run_result *result) {
+  GRAN_CHECK_PTR(checkpoint);
+  GRAN_CHECK(!ctl || ctl->stop_after_checkpoints >= 0, GRAN_ERR_ARG,
+             "argument 'ctl->stop_after_checkpoints' is negative (%" PRId64 ")", ctl ? ctl->stop_after_checkpoints : 0);
+  GRAN_TRY {
+    Run r;
+    std::string text, name, format, out;
+    {
+      H5File f;
+      f.id = gran_h5::open_file(checkpoint, 0);
+      GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot open checkpoint '%s' (missing or not HDF5)", checkpoint);
+      GRAN_CALL(gran_h5::read_attr_string(f.id, "format", format, checkpoint));
+      GRAN_CHECK(format == kCheckpointFormat, GRAN_ERR_IO, "'%s' is not a granary checkpoint (format '%s')", checkpoint,
+                 format.c_str());
+      GRAN_CALL(gran_h5::read_attr_string(f.id, "scene", text, checkpoint));
+      GRAN_CALL(gran_h5::read_attr_string(f.id, "scene_file", name, checkpoint));
+      GRAN_CALL(gran_h5::read_attr_string(f.id, "output", out, checkpoint));
+    }
+    GRAN_CALL(gran_scene_parse_text_(text, name, &r.owned_scene));
+    r.s = r.owned_scene;
+    r.out = output ? output : out;
+    r.ckpt = checkpoint;
+    GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");
+    GRAN_CHECK(r.out != r.ckpt, GRAN_ERR_ARG, "arguments 'output' and 'checkpoint' name the same file '%s'", r.out.c_str());
+    if (result) *result = gran_run_result{};
+    GRAN_CALL(check_writable(r.out, "output file"));
+    GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
+    GRAN_CALL(prepare(r));
+    GRAN_CALL(read_checkpoint_observer(r, checkpoint));
+    GRAN_CALL(gran_dsmc_checkpoint_read(checkpoint, "/engine", r.mix, &r.sim));
+    return drive(r, ctl, result);
+  }
+  GRAN_CATCH
+}

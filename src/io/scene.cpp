@@ -1,0 +1,778 @@
+/* scene.cpp - TOML scene files (toml11): parsing, complete validation, and the gran_scene_* API.
+ *
+ * Every failure is GRAN_ERR_PARSE with "FILE:LINE: key 'table.key': reason" (syntax errors carry
+ * toml11's own line). Keys are consumed as they are read; whatever is left in a table afterwards
+ * is an unknown key. */
+#include <toml.hpp>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "io/io_impl.h"
+
+namespace {
+
+/* Thrown inside the parser only; converted to GRAN_ERR_PARSE at the entry point. */
+struct scene_error {
+  std::string msg;
+};
+
+std::string fmt_line(const std::string &file, unsigned line) {
+  return file + ":" + std::to_string(line);
+}
+
+/* One TOML table being read: remembers which keys were used. */
+class Tab {
+ public:
+  Tab(const toml::value *v, std::string path, std::string file) : v_(v), path_(std::move(path)), file_(std::move(file)) {}
+
+  bool has(const std::string &k) const { return v_ && v_->is_table() && v_->as_table().count(k); }
+  std::string key(const std::string &k) const { return path_.empty() ? k : path_ + "." + k; }
+  unsigned line() const { return v_ ? (unsigned)v_->location().line() : 1u; }
+  unsigned line_of(const std::string &k) const { return (unsigned)v_->as_table().at(k).location().line(); }
+
+  [[noreturn]] void fail(const std::string &k, const std::string &why) const {
+    unsigned ln = has(k) ? line_of(k) : line();
+    throw scene_error{fmt_line(file_, ln) + ": key '" + key(k) + "': " + why};
+  }
+  [[noreturn]] void fail_missing(const std::string &k, const std::string &why = "") const {
+    throw scene_error{fmt_line(file_, line()) + ": key '" + key(k) + "' is missing" +
+                      (why.empty() ? std::string() : " (" + why + ")")};
+  }
+
+  const toml::value &get(const std::string &k) {
+    used_.insert(k);
+    return v_->as_table().at(k);
+  }
+
+  /* numbers: integers are accepted where floats are expected; NaN/inf are rejected */
+  double num(const std::string &k, const toml::value &x) const {
+    double d;
+    if (x.is_floating()) d = x.as_floating();
+    else if (x.is_integer()) d = (double)x.as_integer();
+    else fail(k, std::string("expected a number, got ") + type_name(x));
+    if (!std::isfinite(d)) fail(k, "value is not finite (" + std::to_string(d) + ")");
+    return d;
+  }
+  double number(const std::string &k) { return num(k, get(k)); }
+  double number(const std::string &k, double def) { return has(k) ? number(k) : def; }
+
+  /* a count: integer, or a float with an integral value (1e6) */
+  int64_t cnt(const std::string &k, const toml::value &x) const {
+    if (x.is_integer()) return (int64_t)x.as_integer();
+    if (x.is_floating()) {
+      double d = x.as_floating();
+      if (!std::isfinite(d)) fail(k, "value is not finite");
+      if (d != std::floor(d) || std::fabs(d) > 9.0e18) fail(k, "expected an integer, got " + num_str(d));
+      return (int64_t)d;
+    }
+    fail(k, std::string("expected an integer, got ") + type_name(x));
+  }
+  int64_t count(const std::string &k) { return cnt(k, get(k)); }
+  int64_t count(const std::string &k, int64_t def) { return has(k) ? count(k) : def; }
+
+  bool boolean(const std::string &k, bool def) {
+    if (!has(k)) return def;
+    const toml::value &x = get(k);
+    if (!x.is_boolean()) fail(k, std::string("expected true or false, got ") + type_name(x));
+    return x.as_boolean();
+  }
+  std::string string(const std::string &k, const std::string &def) {
+    if (!has(k)) return def;
+    const toml::value &x = get(k);
+    if (!x.is_string()) fail(k, std::string("expected a string, got ") + type_name(x));
+    return x.as_string().str;
+  }
+  std::vector<double> numbers(const std::string &k) {
+    const toml::value &x = get(k);
+    if (!x.is_array()) fail(k, std::string("expected an array of numbers, got ") + type_name(x));
+    std::vector<double> out;
+    for (const auto &e : x.as_array()) out.push_back(num(k, e));
+    return out;
+  }
+  std::vector<double> matrix(const std::string &k, int64_t M) {
+    const toml::value &x = get(k);
+    if (!x.is_array()) fail(k, "expected an array of arrays (an M x M matrix)");
+    const auto &rows = x.as_array();
+    if ((int64_t)rows.size() != M)
+      fail(k, "has " + std::to_string(rows.size()) + " rows, expected nspecies = " + std::to_string(M));
+    std::vector<double> out;
+    for (const auto &r : rows) {
+      if (!r.is_array()) fail(k, "expected an array of arrays (an M x M matrix)");
+      if ((int64_t)r.as_array().size() != M)
+        fail(k, "a row has " + std::to_string(r.as_array().size()) + " entries, expected nspecies = " +
+                    std::to_string(M));
+      for (const auto &e : r.as_array()) out.push_back(num(k, e));
+    }
+    for (int64_t i = 0; i < M; i++)
+      for (int64_t j = 0; j < i; j++)
+        if (out[i * M + j] != out[j * M + i])
+          fail(k, "matrix is not symmetric (entry [" + std::to_string(i + 1) + "][" + std::to_string(j + 1) + "])");
+    return out;
+  }
+  Tab sub(const std::string &k) {
+    const toml::value &x = get(k);
+    if (!x.is_table()) fail(k, std::string("expected a table, got ") + type_name(x));
+    return Tab(&x, key(k), file_);
+  }
+  /* every key not read is unknown; report the one on the first line */
+  void finish() const {
+    if (!v_ || !v_->is_table()) return;
+    std::string bad;
+    unsigned bad_line = 0;
+    for (const auto &kv : v_->as_table()) {
+      if (used_.count(kv.first)) continue;
+      unsigned ln = (unsigned)kv.second.location().line();
+      if (bad.empty() || ln < bad_line) {
+        bad = kv.first;
+        bad_line = ln;
+      }
+    }
+    if (!bad.empty())
+      throw scene_error{fmt_line(file_, bad_line) + ": key '" + key(bad) + "': unknown key" + hint(bad)};
+  }
+  void set_known(std::vector<std::string> k) { known_ = std::move(k); }
+  const std::string &file() const { return file_; }
+
+  static const char *type_name(const toml::value &x) {
+    switch (x.type()) {
+      case toml::value_t::boolean: return "a boolean";
+      case toml::value_t::integer: return "an integer";
+      case toml::value_t::floating: return "a float";
+      case toml::value_t::string: return "a string";
+      case toml::value_t::array: return "an array";
+      case toml::value_t::table: return "a table";
+      default: return "a date/time";
+    }
+  }
+  static std::string num_str(double d) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.17g", d);
+    return b;
+  }
+
+ private:
+  std::string hint(const std::string &bad) const {
+    std::string s;
+    for (const auto &k : known_) s += (s.empty() ? "" : ", ") + k;
+    (void)bad;
+    return s.empty() ? std::string() : " (known keys here: " + s + ")";
+  }
+  const toml::value *v_;
+  std::string path_, file_;
+  std::set<std::string> used_;
+  std::vector<std::string> known_;
+};
+
+void require(bool ok, Tab &t, const std::string &k, const std::string &why) {
+  if (!ok) t.fail(k, why);
+}
+
+/* times = [..] | {linear = {start, stop, n}} | {log = {start, stop, n}} */
+std::vector<double> parse_times(Tab &t, const std::string &k) {
+  const toml::value &x = t.get(k);
+  std::vector<double> out;
+  if (x.is_array()) {
+    for (const auto &e : x.as_array()) out.push_back(t.num(k, e));
+    if (out.empty()) t.fail(k, "the list of times is empty");
+  } else if (x.is_table()) {
+    Tab tt(&x, t.key(k), t.file());
+    tt.set_known({"linear", "log"});
+    const char *kind = tt.has("linear") ? "linear" : tt.has("log") ? "log" : nullptr;
+    if (!kind) {
+      tt.finish();
+      t.fail(k, "expected an array of times, {linear = {start, stop, n}} or {log = {start, stop, n}}");
+    }
+    if (tt.has("linear") && tt.has("log")) t.fail(k, "give either 'linear' or 'log', not both");
+    Tab g = tt.sub(kind);
+    g.set_known({"start", "stop", "n"});
+    if (!g.has("start")) g.fail_missing("start");
+    if (!g.has("stop")) g.fail_missing("stop");
+    if (!g.has("n")) g.fail_missing("n");
+    double a = g.number("start"), b = g.number("stop");
+    int64_t n = g.count("n");
+    g.finish();
+    tt.finish();
+    if (n < 1 || n > 100000000) g.fail("n", "number of times must be in [1, 1e8], got " + std::to_string(n));
+    if (n == 1 && a != b) g.fail("n", "n = 1 needs start == stop");
+    if (!(b >= a)) g.fail("stop", "stop (" + Tab::num_str(b) + ") is before start (" + Tab::num_str(a) + ")");
+    if (!std::strcmp(kind, "log") && !(a > 0)) g.fail("start", "log spacing needs start > 0");
+    out.resize((size_t)n);
+    for (int64_t i = 0; i < n; i++) {
+      double f = n > 1 ? (double)i / (double)(n - 1) : 0.0;
+      out[(size_t)i] = !std::strcmp(kind, "log") ? a * std::pow(b / a, f) : a + (b - a) * f;
+    }
+    out.front() = a;
+    out.back() = b;
+  } else {
+    t.fail(k, std::string("expected an array or a table, got ") + Tab::type_name(x));
+  }
+  for (size_t i = 1; i < out.size(); i++)
+    if (!(out[i] > out[i - 1]))
+      t.fail(k, "times must increase strictly (" + Tab::num_str(out[i]) + " after " + Tab::num_str(out[i - 1]) + ")");
+  return out;
+}
+
+std::string stem_of(const std::string &name) {
+  std::string b = name;
+  size_t s = b.find_last_of('/');
+  if (s != std::string::npos) b = b.substr(s + 1);
+  size_t d = b.rfind('.');
+  if (d != std::string::npos && d > 0) b = b.substr(0, d);
+  return b.empty() ? std::string("granary") : b;
+}
+
+void parse_scene(const toml::value &root, gran_scene &s) {
+  const std::string &F = s.name;
+  Tab top(&root, "", F);
+  top.set_known({"title", "mixture", "restitution", "initial", "engine", "observables", "output"});
+  s.title = top.string("title", "");
+
+  /* ---- [mixture] ---- */
+  if (!top.has("mixture")) top.fail_missing("mixture", "the [mixture] table is required");
+  Tab mx = top.sub("mixture");
+  mx.set_known({"nspecies", "mass", "m1", "sigma", "sigma1", "density", "density_law", "g2", "g2_matrix"});
+  int64_t M = -1;
+  std::string M_from;
+  if (mx.has("nspecies")) {
+    M = mx.count("nspecies");
+    require(M >= 1, mx, "nspecies", "must be >= 1, got " + std::to_string(M));
+    require(M <= 100000000, mx, "nspecies", "must be <= 1e8, got " + std::to_string(M));
+    M_from = "nspecies";
+  }
+  std::vector<double> mass, sigma, density;
+  auto take = [&](const char *k, std::vector<double> &v) {
+    if (!mx.has(k)) return;
+    v = mx.numbers(k);
+    if (M < 0) {
+      M = (int64_t)v.size();
+      M_from = k;
+      if (M < 1) mx.fail(k, "the array is empty");
+    } else if ((int64_t)v.size() != M) {
+      mx.fail(k, "has " + std::to_string(v.size()) + " entries, but " + M_from + " gives " + std::to_string(M) +
+                     " species");
+    }
+  };
+  take("mass", mass);
+  take("sigma", sigma);
+  take("density", density);
+  if (M < 0) mx.fail_missing("nspecies", "or give the arrays mass / sigma / density");
+  s.nspecies = M;
+  double m1 = mx.number("m1", 1.0), sigma1 = mx.number("sigma1", 1.0);
+  require(m1 > 0, mx, "m1", "must be > 0");
+  require(sigma1 > 0, mx, "sigma1", "must be > 0");
+  if (mx.has("mass") && mx.has("m1")) mx.fail("m1", "give either 'mass' or 'm1', not both");
+  if (mx.has("sigma") && mx.has("sigma1")) mx.fail("sigma1", "give either 'sigma' or 'sigma1', not both");
+  if (mass.empty()) {
+    mass.resize((size_t)M);
+    for (int64_t k = 0; k < M; k++) mass[(size_t)k] = m1 * (double)(k + 1);
+  }
+  if (sigma.empty()) {
+    sigma.resize((size_t)M);
+    for (int64_t k = 0; k < M; k++) sigma[(size_t)k] = sigma1 * std::cbrt((double)(k + 1));
+  }
+  for (int64_t k = 0; k < M; k++) {
+    require(mass[(size_t)k] > 0, mx, "mass", "entry " + std::to_string(k + 1) + " must be > 0");
+    require(sigma[(size_t)k] > 0, mx, "sigma", "entry " + std::to_string(k + 1) + " must be > 0");
+  }
+  if (mx.has("density") && mx.has("density_law")) mx.fail("density_law", "give either 'density' or 'density_law', not both");
+  if (mx.has("density_law")) {
+    Tab law = mx.sub("density_law");
+    law.set_known({"n1", "theta"});
+    if (!law.has("n1")) law.fail_missing("n1");
+    double n1 = law.number("n1"), theta = law.number("theta", 0.0);
+    law.finish();
+    require(n1 > 0, law, "n1", "must be > 0");
+    density.resize((size_t)M);
+    for (int64_t k = 0; k < M; k++) density[(size_t)k] = n1 * std::pow((double)(k + 1), -theta);
+  } else if (density.empty()) {
+    mx.fail_missing("density", "or density_law = {n1 = ..., theta = ...}");
+  }
+  for (int64_t k = 0; k < M; k++)
+    require(density[(size_t)k] >= 0, mx, mx.has("density") ? "density" : "density_law",
+            "entry " + std::to_string(k + 1) + " is negative");
+  require(density[0] > 0, mx, mx.has("density") ? "density" : "density_law",
+          "the first species must have a positive density (it sets the time unit)");
+  if (mx.has("g2") && mx.has("g2_matrix")) mx.fail("g2_matrix", "give either 'g2' or 'g2_matrix', not both");
+  if (mx.has("g2_matrix")) {
+    s.g2_is_matrix = 1;
+    s.g2_matrix = mx.matrix("g2_matrix", M);
+    for (double g : s.g2_matrix) require(g > 0, mx, "g2_matrix", "entries must be > 0");
+  } else {
+    s.g2 = mx.number("g2", 1.0);
+    require(s.g2 > 0, mx, "g2", "must be > 0");
+  }
+  mx.finish();
+  s.mass = mass;
+  s.sigma = sigma;
+  s.density = density;
+
+  /* ---- [restitution] ---- */
+  if (top.has("restitution")) {
+    Tab rs = top.sub("restitution");
+    rs.set_known({"model", "eps", "eps_matrix", "beta", "beta_matrix", "material"});
+    std::string model = rs.string("model", rs.has("eps_matrix") ? "matrix" : (rs.has("beta") || rs.has("beta_matrix") || rs.has("material")) ? "viscoelastic" : "constant");
+    auto forbid = [&](const char *k, const char *m) {
+      if (rs.has(k)) rs.fail(k, std::string("not used by model = \"") + m + "\"");
+    };
+    if (model == "constant") {
+      s.model = GRAN_RESTITUTION_CONSTANT;
+      forbid("eps_matrix", "constant"), forbid("beta", "constant"), forbid("beta_matrix", "constant"), forbid("material", "constant");
+      s.eps = rs.number("eps", 1.0);
+      require(s.eps >= 0 && s.eps <= 1, rs, "eps", "restitution coefficient must be in [0, 1], got " + Tab::num_str(s.eps));
+    } else if (model == "matrix") {
+      s.model = GRAN_RESTITUTION_MATRIX;
+      forbid("eps", "matrix"), forbid("beta", "matrix"), forbid("beta_matrix", "matrix"), forbid("material", "matrix");
+      if (!rs.has("eps_matrix")) rs.fail_missing("eps_matrix", "model = \"matrix\" needs it");
+      s.eps_matrix = rs.matrix("eps_matrix", M);
+      for (double e : s.eps_matrix)
+        require(e >= 0 && e <= 1, rs, "eps_matrix", "restitution coefficients must be in [0, 1], got " + Tab::num_str(e));
+    } else if (model == "viscoelastic") {
+      s.model = GRAN_RESTITUTION_VISCOELASTIC;
+      forbid("eps", "viscoelastic"), forbid("eps_matrix", "viscoelastic");
+      int n = rs.has("beta") + rs.has("beta_matrix") + rs.has("material");
+      if (n == 0) rs.fail_missing("beta", "model = \"viscoelastic\" needs beta, beta_matrix or material");
+      if (n > 1) rs.fail(rs.has("material") ? "material" : "beta_matrix", "give only one of beta, beta_matrix, material");
+      if (rs.has("beta")) {
+        s.visco_kind = 0;
+        s.beta = rs.number("beta");
+        require(s.beta >= 0, rs, "beta", "must be >= 0");
+      } else if (rs.has("beta_matrix")) {
+        s.visco_kind = 1;
+        s.beta_matrix = rs.matrix("beta_matrix", M);
+        for (double b : s.beta_matrix) require(b >= 0, rs, "beta_matrix", "entries must be >= 0");
+      } else {
+        s.visco_kind = 2;
+        Tab mt = rs.sub("material");
+        mt.set_known({"A", "Y", "nu"});
+        for (const char *k : {"A", "Y", "nu"})
+          if (!mt.has(k)) mt.fail_missing(k);
+        s.mat_A = mt.number("A");
+        s.mat_Y = mt.number("Y");
+        s.mat_nu = mt.number("nu");
+        mt.finish();
+        require(s.mat_A >= 0, mt, "A", "must be >= 0");
+        require(s.mat_Y > 0, mt, "Y", "must be > 0");
+        require(s.mat_nu > -1 && s.mat_nu < 0.5, mt, "nu", "Poisson ratio must be in (-1, 0.5)");
+      }
+    } else {
+      rs.fail("model", "unknown model \"" + model + "\" (constant, matrix or viscoelastic)");
+    }
+    rs.finish();
+  }
+
+  /* ---- [initial] ---- */
+  if (top.has("initial")) {
+    Tab in = top.sub("initial");
+    in.set_known({"temperatures", "T_mean", "T1", "t_start"});
+    s.t_start = in.number("t_start", 0.0);
+    if (in.has("T_mean") && in.has("T1")) in.fail("T1", "give either 'T_mean' or 'T1', not both");
+    if (in.has("temperatures")) {
+      const toml::value &x = in.get("temperatures");
+      if (x.is_string()) {
+        const std::string &v = x.as_string().str;
+        if (v == "hcs") s.init = SCENE_INIT_HCS;
+        else if (v == "equal") s.init = SCENE_INIT_EQUAL;
+        else in.fail("temperatures", "expected \"hcs\", \"equal\" or an array, got \"" + v + "\"");
+      } else if (x.is_array()) {
+        s.init = SCENE_INIT_LIST;
+        for (const auto &e : x.as_array()) s.T_list.push_back(in.num("temperatures", e));
+        if ((int64_t)s.T_list.size() != M)
+          in.fail("temperatures", "has " + std::to_string(s.T_list.size()) + " entries, but " + M_from + " gives " +
+                                      std::to_string(M) + " species");
+        for (double T : s.T_list) require(T > 0, in, "temperatures", "must be > 0");
+      } else {
+        in.fail("temperatures", std::string("expected \"hcs\", \"equal\" or an array, got ") + Tab::type_name(x));
+      }
+    }
+    if (s.init == SCENE_INIT_LIST && (in.has("T_mean") || in.has("T1")))
+      in.fail(in.has("T1") ? "T1" : "T_mean", "not used when temperatures are listed");
+    if (in.has("T1")) {
+      if (s.init != SCENE_INIT_HCS) in.fail("T1", "only with temperatures = \"hcs\"");
+      s.hcs_norm = GRAN_HCS_NORM_T1;
+      s.T_value = in.number("T1");
+      require(s.T_value > 0, in, "T1", "must be > 0");
+    } else {
+      s.T_value = in.number("T_mean", 1.0);
+      require(s.T_value > 0, in, "T_mean", "must be > 0");
+    }
+    in.finish();
+  }
+
+  /* ---- [engine] ---- */
+  if (!top.has("engine")) top.fail_missing("engine", "the [engine] table is required");
+  Tab en = top.sub("engine");
+  en.set_known({"type", "selector", "seed", "t_end", "counts", "N1", "volume", "bound_refresh"});
+  std::string type = en.string("type", "dsmc");
+  if (type != "dsmc") en.fail("type", "unknown engine \"" + type + "\" (only \"dsmc\" runs scenes so far)");
+  std::string sel = en.string("selector", "lowrank");
+  if (sel == "lowrank") s.selector = GRAN_SELECTOR_LOWRANK;
+  else if (sel == "bird") s.selector = GRAN_SELECTOR_BIRD;
+  else en.fail("selector", "unknown selector \"" + sel + "\" (lowrank or bird)");
+  if (en.has("seed")) {
+    const toml::value &x = en.get("seed");
+    if (!x.is_integer()) en.fail("seed", std::string("expected an integer, got ") + Tab::type_name(x));
+    if (x.as_integer() < 0) en.fail("seed", "must be >= 0");
+    s.seed = (uint64_t)x.as_integer();
+  }
+  int nc = en.has("counts") + en.has("N1") + en.has("volume");
+  if (nc == 0) en.fail_missing("counts", "give the particle numbers as counts = [...], N1 = ... or volume = ...");
+  if (nc > 1) en.fail(en.has("volume") ? "volume" : "N1", "give only one of counts, N1, volume");
+  if (en.has("counts")) {
+    s.counts_kind = 0;
+    const toml::value &x = en.get("counts");
+    if (!x.is_array()) en.fail("counts", std::string("expected an array of integers, got ") + Tab::type_name(x));
+    for (const auto &e : x.as_array()) {
+      int64_t c = en.cnt("counts", e);
+      if (c < 0) en.fail("counts", "particle numbers must be >= 0, got " + std::to_string(c));
+      s.counts.push_back(c);
+    }
+    if ((int64_t)s.counts.size() != M)
+      en.fail("counts", "has " + std::to_string(s.counts.size()) + " entries, but " + M_from + " gives " +
+                            std::to_string(M) + " species");
+    if (s.counts[0] < 1) en.fail("counts", "the first species needs at least one particle");
+  } else if (en.has("N1")) {
+    s.counts_kind = 1;
+    s.N1 = en.number("N1");
+    require(s.N1 >= 1 && s.N1 <= 1e12, en, "N1", "must be in [1, 1e12], got " + Tab::num_str(s.N1));
+    s.volume = s.N1 / s.density[0];
+  } else {
+    s.counts_kind = 2;
+    s.volume = en.number("volume");
+    require(s.volume > 0, en, "volume", "must be > 0");
+  }
+  if (s.counts_kind != 0) {
+    double total = 0;
+    for (double n : s.density) total += std::nearbyint(n * s.volume);
+    require(total <= 4e9, en, s.counts_kind == 1 ? "N1" : "volume", "gives " + Tab::num_str(total) + " particles (limit 4e9)");
+  }
+  s.bound_refresh = en.count("bound_refresh", 0);
+  require(s.bound_refresh >= 0, en, "bound_refresh", "must be >= 0");
+  bool have_tend = en.has("t_end");
+  if (have_tend) s.t_end = en.number("t_end");
+  en.finish();
+
+  /* ---- [observables] ---- */
+  Tab ob(nullptr, "observables", F);
+  if (top.has("observables")) ob = top.sub("observables");
+  ob.set_known({"times", "temperatures", "msd", "energy", "momentum", "collision_counts", "sonine_a2", "theory",
+                "theory_rtol", "velocity_distribution", "tamsd"});
+  if (ob.has("times")) {
+    s.times = parse_times(ob, "times");
+  } else {
+    if (!have_tend) en.fail_missing("t_end", "or give [observables] times");
+    double span = s.t_end - s.t_start;
+    if (!(span > 0)) en.fail("t_end", "end time " + Tab::num_str(s.t_end) + " is not after t_start = " + Tab::num_str(s.t_start));
+    const int n = 41;
+    for (int i = 0; i < n; i++) s.times.push_back(s.t_start + span * std::pow(10.0, -3.0 + 3.0 * i / (n - 1)));
+    s.times.back() = s.t_end;
+  }
+  if (!have_tend) s.t_end = s.times.back();
+  if (!(s.t_end > s.t_start))
+    en.fail("t_end", "end time " + Tab::num_str(s.t_end) + " is not after t_start = " + Tab::num_str(s.t_start));
+  if (s.times.front() < s.t_start)
+    ob.fail("times", "first output time " + Tab::num_str(s.times.front()) + " is before t_start = " + Tab::num_str(s.t_start));
+  if (s.times.back() > s.t_end)
+    ob.fail("times", "last output time " + Tab::num_str(s.times.back()) + " is after t_end = " + Tab::num_str(s.t_end));
+  if (ob.has("velocity_distribution") && ob.get("velocity_distribution").is_table()) {
+    Tab vd = ob.sub("velocity_distribution");
+    vd.set_known({"bins", "cmax"});
+    s.obs_veldist = 1;
+    s.vd_bins = vd.count("bins", 60);
+    s.vd_cmax = vd.number("cmax", 4.0);
+    vd.finish();
+    require(s.vd_bins >= 1 && s.vd_bins <= 1000000, vd, "bins", "must be in [1, 1e6]");
+    require(s.vd_cmax > 0, vd, "cmax", "must be > 0");
+  } else {
+    s.obs_veldist = ob.boolean("velocity_distribution", false);
+  }
+  s.obs_temperatures = ob.boolean("temperatures", true);
+  s.obs_msd = ob.boolean("msd", true);
+  s.obs_energy = ob.boolean("energy", true);
+  s.obs_momentum = ob.boolean("momentum", false);
+  s.obs_collision_counts = ob.boolean("collision_counts", false);
+  s.obs_sonine_a2 = ob.boolean("sonine_a2", false);
+  s.obs_theory = ob.boolean("theory", true);
+  s.theory_rtol = ob.number("theory_rtol", 1e-8);
+  require(s.theory_rtol > 0 && s.theory_rtol < 1, ob, "theory_rtol", "must be in (0, 1)");
+  if (ob.has("tamsd")) {
+    Tab ta = ob.sub("tamsd");
+    ta.set_known({"tracers", "dt", "samples", "lags"});
+    for (const char *k : {"tracers", "dt", "samples"})
+      if (!ta.has(k)) ta.fail_missing(k);
+    s.obs_tamsd = 1;
+    s.tamsd_tracers = ta.count("tracers");
+    s.tamsd_dt = ta.number("dt");
+    s.tamsd_samples = ta.count("samples");
+    require(s.tamsd_tracers >= 1, ta, "tracers", "must be >= 1, got " + std::to_string(s.tamsd_tracers));
+    require(s.tamsd_dt > 0, ta, "dt", "must be > 0");
+    require(s.tamsd_samples >= 2 && s.tamsd_samples <= 100000000, ta, "samples", "must be in [2, 1e8]");
+    double t_meas = s.tamsd_dt * (double)(s.tamsd_samples - 1);
+    require(s.t_start + t_meas <= s.t_end * (1 + 1e-12), ta, "samples",
+            "trajectories need t_start + dt*(samples-1) = " + Tab::num_str(s.t_start + t_meas) + " <= t_end = " +
+                Tab::num_str(s.t_end));
+    if (ta.has("lags")) {
+      s.tamsd_lags = parse_times(ta, "lags");
+    } else {
+      int n = 30;
+      for (int i = 0; i < n; i++) s.tamsd_lags.push_back(s.tamsd_dt * std::pow(0.5 * (double)(s.tamsd_samples - 1), (double)i / (n - 1)));
+    }
+    for (double &L : s.tamsd_lags) {
+      require(L >= s.tamsd_dt * (1 - 1e-12) && L < t_meas, ta, "lags",
+              "lag " + Tab::num_str(L) + " outside [dt, dt*(samples-1)) = [" + Tab::num_str(s.tamsd_dt) + ", " + Tab::num_str(t_meas) + ")");
+    }
+    ta.finish();
+  }
+  ob.finish();
+
+  /* ---- [output] ---- */
+  Tab ou(nullptr, "output", F);
+  if (top.has("output")) ou = top.sub("output");
+  ou.set_known({"path", "checkpoint", "checkpoint_interval", "checkpoint_every", "keep_checkpoint"});
+  s.output_path = ou.string("path", stem_of(F) + ".h5");
+  require(!s.output_path.empty(), ou, "path", "must not be empty");
+  s.checkpoint_path = ou.string("checkpoint", s.output_path + ".ckpt");
+  s.checkpoint_interval = ou.number("checkpoint_interval", 600.0);
+  require(s.checkpoint_interval >= 0, ou, "checkpoint_interval", "must be >= 0 (0: no time-based checkpoints)");
+  s.checkpoint_every = ou.count("checkpoint_every", 0);
+  require(s.checkpoint_every >= 0, ou, "checkpoint_every", "must be >= 0 (0: off)");
+  s.keep_checkpoint = ou.boolean("keep_checkpoint", false);
+  if (!s.checkpoint_path.empty() && s.checkpoint_path == s.output_path)
+    ou.fail("checkpoint", "must differ from the output path");
+  ou.finish();
+
+  top.finish();
+}
+
+}  // namespace
+
+int gran_scene_parse_text_(const std::string &text, const std::string &name, gran_scene **scene) {
+  gran_scene *s = new gran_scene();
+  s->text = text;
+  s->name = name;
+  try {
+    std::istringstream is(text);
+    toml::value root = toml::parse(is, name);
+    parse_scene(root, *s);
+  } catch (const toml::syntax_error &e) {
+    std::string first = e.what();
+    /* toml11's message is multi-line; keep its first line and name the file and line */
+    size_t nl = first.find('\n');
+    if (nl != std::string::npos) first = first.substr(0, nl);
+    if (first.rfind("[error] ", 0) == 0) first = first.substr(8);
+    std::string msg = fmt_line(name, (unsigned)e.location().line()) + ": TOML syntax error: " + first;
+    delete s;
+    return GRAN_ERROR(GRAN_ERR_PARSE, "%s", msg.c_str());
+  } catch (const scene_error &e) {
+    delete s;
+    return GRAN_ERROR(GRAN_ERR_PARSE, "%s", e.msg.c_str());
+  } catch (const toml::exception &e) {
+    std::string first = e.what();
+    size_t nl = first.find('\n');
+    if (nl != std::string::npos) first = first.substr(0, nl);
+    delete s;
+    return GRAN_ERROR(GRAN_ERR_PARSE, "%s: %s", fmt_line(name, (unsigned)e.location().line()).c_str(), first.c_str());
+  } catch (...) {
+    delete s;
+    throw;
+  }
+  *scene = s;
+  return GRAN_SUCCESS;
+}
+
+int gran_scene_T0_(const gran_scene *s, const gran_mixture *mix, double *T0, double *tau0) {
+  const int64_t M = s->nspecies;
+  std::vector<double> hcs((size_t)M);
+  double t0 = INFINITY;
+  int st = gran_theory_hcs(mix, s->hcs_norm, s->T_value, hcs.data(), &t0);
+  if (s->init == SCENE_INIT_HCS) {
+    if (st) return st;
+    for (int64_t k = 0; k < M; k++) T0[k] = hcs[(size_t)k];
+  } else if (s->init == SCENE_INIT_EQUAL) {
+    for (int64_t k = 0; k < M; k++) T0[k] = s->T_value;
+  } else {
+    for (int64_t k = 0; k < M; k++) T0[k] = s->T_list[(size_t)k];
+  }
+  if (tau0) *tau0 = st ? NAN : t0;
+  if (st) gran_clear_error();
+  return GRAN_SUCCESS;
+}
+
+/* ------------------------------------------------------------------------------------------------
+ * Public API
+ * ---------------------------------------------------------------------------------------------- */
+
+/** @brief Load and validate a scene file.
+ *  @param[in] path  TOML file  @param[out] scene  new scene (gran_scene_destroy) */
+GRAN_EXTERN int gran_scene_load(const char *path, gran_scene **scene) {
+  GRAN_CHECK_PTR(path);
+  GRAN_CHECK_PTR(scene);
+  GRAN_TRY {
+    *scene = nullptr;
+    std::ifstream f(path, std::ios::binary);
+    GRAN_CHECK(f.good(), GRAN_ERR_IO, "cannot open scene file '%s': %s", path, std::strerror(errno));
+    std::stringstream ss;
+    ss << f.rdbuf();
+    GRAN_CHECK(!f.bad(), GRAN_ERR_IO, "cannot read scene file '%s'", path);
+    return gran_scene_parse_text_(ss.str(), path, scene);
+  }
+  GRAN_CATCH
+}
+
+/** @brief Parse and validate a scene from text. @param[in] name file name for messages (NULL: "scene") */
+GRAN_EXTERN int gran_scene_parse(const char *text, const char *name, gran_scene **scene) {
+  GRAN_CHECK_PTR(text);
+  GRAN_CHECK_PTR(scene);
+  GRAN_TRY {
+    *scene = nullptr;
+    return gran_scene_parse_text_(text, name ? name : "scene", scene);
+  }
+  GRAN_CATCH
+}
+
+/** @brief Release a scene; NULL-safe, sets *scene to NULL. */
+GRAN_EXTERN int gran_scene_destroy(gran_scene **scene) {
+  GRAN_CHECK_PTR(scene);
+  delete *scene;
+  *scene = nullptr;
+  return GRAN_SUCCESS;
+}
+
+GRAN_EXTERN int gran_scene_text(const gran_scene *scene, const char **text) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(text);
+  *text = scene->text.c_str();
+  return GRAN_SUCCESS;
+}
+
+GRAN_EXTERN int gran_scene_output_path(const gran_scene *scene, const char **path) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(path);
+  *path = scene->output_path.c_str();
+  return GRAN_SUCCESS;
+}
+
+GRAN_EXTERN int gran_scene_sizes(const gran_scene *scene, int64_t *nspecies, int64_t *ntimes, int64_t *nlags,
+                                 double *t_start, double *t_end) {
+  GRAN_CHECK_PTR(scene);
+  if (nspecies) *nspecies = scene->nspecies;
+  if (ntimes) *ntimes = (int64_t)scene->times.size();
+  if (nlags) *nlags = scene->obs_tamsd ? (int64_t)scene->tamsd_lags.size() : 0;
+  if (t_start) *t_start = scene->t_start;
+  if (t_end) *t_end = scene->t_end;
+  return GRAN_SUCCESS;
+}
+
+GRAN_EXTERN int gran_scene_times(const gran_scene *scene, double *times) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(times);
+  std::copy(scene->times.begin(), scene->times.end(), times);
+  return GRAN_SUCCESS;
+}
+
+GRAN_EXTERN int gran_scene_lags(const gran_scene *scene, double *lags) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(lags);
+  GRAN_CHECK(scene->obs_tamsd, GRAN_ERR_STATE, "the scene '%s' records no TAMSD ([observables] tamsd)",
+             scene->name.c_str());
+  std::copy(scene->tamsd_lags.begin(), scene->tamsd_lags.end(), lags);
+  return GRAN_SUCCESS;
+}
+
+/** @brief A new mixture built from the scene's [mixture] and [restitution] tables. */
+GRAN_EXTERN int gran_scene_mixture(const gran_scene *scene, gran_mixture **mix) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(mix);
+  GRAN_TRY {
+    const gran_scene *s = scene;
+    gran_mixture *m = nullptr;
+    GRAN_CALL(gran_mixture_create(s->nspecies, s->mass.data(), s->sigma.data(), s->density.data(), &m));
+    int st = GRAN_SUCCESS;
+    if (s->g2_is_matrix) st = gran_mixture_set_g2_matrix(m, s->g2_matrix.data());
+    else st = gran_mixture_set_g2(m, s->g2);
+    if (!st) {
+      if (s->model == GRAN_RESTITUTION_CONSTANT) st = gran_mixture_set_restitution(m, s->eps);
+      else if (s->model == GRAN_RESTITUTION_MATRIX) st = gran_mixture_set_restitution_matrix(m, s->eps_matrix.data());
+      else if (s->visco_kind == 0) st = gran_mixture_set_viscoelastic(m, s->beta);
+      else if (s->visco_kind == 1) st = gran_mixture_set_viscoelastic_matrix(m, s->beta_matrix.data());
+      else st = gran_mixture_set_viscoelastic_material(m, s->mat_A, s->mat_Y, s->mat_nu);
+    }
+    if (st) {
+      gran_mixture_destroy(&m);
+      return st;
+    }
+    *mix = m;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief Initial temperatures as [initial] asks (HCS from the theory module), and the HCS tau0
+ *  (NaN when the theory cannot give it, e.g. a stub). */
+GRAN_EXTERN int gran_scene_initial_temperatures(const gran_scene *scene, const gran_mixture *mix, double *T0,
+                                                double *tau0) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(mix);
+  GRAN_CHECK_PTR(T0);
+  GRAN_TRY {
+    int64_t M = 0;
+    GRAN_CALL(gran_mixture_nspecies(mix, &M));
+    GRAN_CHECK(M == scene->nspecies, GRAN_ERR_ARG, "argument 'mix' has %" PRId64 " species, the scene %" PRId64, M,
+               scene->nspecies);
+    return gran_scene_T0_(scene, mix, T0, tau0);
+  }
+  GRAN_CATCH
+}
+
+/** @brief Engine options and particle numbers of the scene (see the header). */
+GRAN_EXTERN int gran_scene_dsmc_options(const gran_scene *scene, gran_dsmc_options *opt, int64_t *counts,
+                                        int *have_counts) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(opt);
+  GRAN_TRY {
+    const gran_scene *s = scene;
+    GRAN_CALL(gran_dsmc_options_default(opt));
+    opt->selector = s->selector;
+    opt->seed = s->seed;
+    opt->t_start = s->t_start;
+    opt->bound_refresh = s->bound_refresh;
+    opt->observe = 0;
+    if (s->obs_msd) opt->observe |= GRAN_OBSERVE_DISPLACEMENT;
+    if (s->obs_collision_counts) opt->observe |= GRAN_OBSERVE_COLLISION_COUNTS;
+    if (s->obs_tamsd) {
+      opt->observe |= GRAN_OBSERVE_TRAJECTORIES;
+      opt->traj_per_species = s->tamsd_tracers;
+      opt->traj_dt = s->tamsd_dt;
+      opt->traj_samples = s->tamsd_samples;
+    }
+    if (s->counts_kind != 0) opt->volume = s->volume; /* the engine rounds N_k = n_k V */
+    if (counts)
+      for (int64_t k = 0; k < s->nspecies; k++)
+        counts[k] = s->counts_kind == 0 ? s->counts[(size_t)k]
+                                        : (int64_t)std::nearbyint(s->density[(size_t)k] * s->volume);
+    if (have_counts) *have_counts = s->counts_kind == 0;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief A new DSMC engine exactly as `granary run` creates it. */
+GRAN_EXTERN int gran_scene_dsmc(const gran_scene *scene, const gran_mixture *mix, gran_dsmc **sim) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(mix);
+  GRAN_CHECK_PTR(sim);
+  GRAN_TRY {
+    const gran_scene *s = scene;
+    std::vector<double> T0((size_t)s->nspecies);
+    GRAN_CALL(gran_scene_initial_temperatures(s, mix, T0.data(), nullptr));
+    gran_dsmc_options opt;
+    GRAN_CALL(gran_scene_dsmc_options(s, &opt, nullptr, nullptr));
+    return gran_dsmc_create(mix, s->counts_kind == 0 ? s->counts.data() : nullptr, T0.data(), &opt, sim);
+  }
+  GRAN_CATCH
+}

@@ -1,0 +1,93 @@
+/* theory_impl.h - private declarations of the theory module (src/theory): the mixture struct,
+ * inline pair accessors (usable from hot loops of the DSMC engines), and the kernels shared by
+ * the theory files. Never installed. */
+#ifndef GRANARY_THEORY_IMPL_H
+#define GRANARY_THEORY_IMPL_H
+
+#include "granary_impl.h"
+
+#include <vector>
+
+/* Viscoelastic source of beta_ij (GRAN_RESTITUTION_VISCOELASTIC). */
+enum gran_visco_kind { GRAN_VISCO_CONSTANT = 0, GRAN_VISCO_MATRIX = 1, GRAN_VISCO_MATERIAL = 2 };
+
+/* Pair matrices are allocated only when a matrix is given (M = 1e5 would need 80 GB). */
+struct gran_mixture {
+  int64_t M;                    /* number of species >= 1 */
+  std::vector<double> m;        /* masses m_k > 0 */
+  std::vector<double> sigma;    /* diameters sigma_k > 0 */
+  std::vector<double> n;        /* number densities n_k >= 0 (0: tracer) */
+  int model;                    /* gran_restitution_model */
+  double eps;                   /* constant restitution coefficient (model CONSTANT) */
+  std::vector<double> eps_mat;  /* M*M (model MATRIX), else empty */
+  int visco;                    /* gran_visco_kind (model VISCOELASTIC) */
+  double beta;                  /* constant beta (VISCO_CONSTANT) */
+  std::vector<double> beta_mat; /* M*M (VISCO_MATRIX), else empty */
+  double matA, matY, matNu;     /* material (VISCO_MATERIAL) */
+  double rho_pref;              /* 2 Y / (3 (1 - nu^2)) (VISCO_MATERIAL) */
+  double g2;                    /* constant contact value */
+  std::vector<double> g2_mat;   /* M*M when given, else empty */
+};
+
+namespace gran {
+
+/* sigma_ki = (sigma_k + sigma_i)/2 */
+static inline double mix_sigma_pair(const gran_mixture *x, int64_t k, int64_t i) {
+  return 0.5 * (x->sigma[(size_t)k] + x->sigma[(size_t)i]);
+}
+static inline double mix_g2(const gran_mixture *x, int64_t k, int64_t i) {
+  return x->g2_mat.empty() ? x->g2 : x->g2_mat[(size_t)(k * x->M + i)];
+}
+/* Restitution of pair (k, i) for the constant and matrix models (1 for viscoelastic). */
+static inline double mix_eps(const gran_mixture *x, int64_t k, int64_t i) {
+  if (x->model == GRAN_RESTITUTION_CONSTANT) return x->eps;
+  if (x->model == GRAN_RESTITUTION_MATRIX) return x->eps_mat[(size_t)(k * x->M + i)];
+  return 1.0;
+}
+/* Viscoelastic beta_ki = (3/2) A (rho/m_eff)^(2/5), rho = 2 Y sqrt(R_eff)/(3(1-nu^2)),
+ * R_eff = R_k R_i/(R_k + R_i) with R = sigma/2, i.e. R_eff = sigma_k sigma_i/(2(sigma_k+sigma_i)),
+ * m_eff = m_k m_i/(m_k + m_i). 0 for the non-viscoelastic models. */
+static inline double mix_beta(const gran_mixture *x, int64_t k, int64_t i) {
+  if (x->model != GRAN_RESTITUTION_VISCOELASTIC) return 0.0;
+  if (x->visco == GRAN_VISCO_CONSTANT) return x->beta;
+  if (x->visco == GRAN_VISCO_MATRIX) return x->beta_mat[(size_t)(k * x->M + i)];
+  const double sk = x->sigma[(size_t)k], si = x->sigma[(size_t)i];
+  const double mk = x->m[(size_t)k], mi = x->m[(size_t)i];
+  const double reff = sk * si / (2.0 * (sk + si));
+  const double meff = mk * mi / (mk + mi);
+  const double rho = x->rho_pref * std::sqrt(reff);
+  return 1.5 * x->matA * std::pow(rho / meff, 0.4);
+}
+
+/* ---- argument checks shared by the theory entry points (return a status; 0 = fine) --------- */
+int check_mixture(const gran_mixture *mix, const char *name);
+/* n values finite and (positive when positive != 0, else >= 0). */
+int check_array(const double *a, int64_t n, const char *name, int positive);
+/* Times: finite, >= 0. */
+int check_times(const double *t, int64_t n, const char *name);
+int check_rtol(double rtol, const char *name);
+
+/* ---- viscoelastic averages ------------------------------------------------------------------
+ * For a pair with z = sqrt(beta) (2 v^2)^(1/20), v^2 = T_k/m_k + T_i/m_i, the collision-weighted
+ * averages over the Maxwellian normal relative speed (weight s e^-s ds, x = z s^(1/20)):
+ *   q1 = <(1 + eps)/2> - 1 = sum_n h_n B_n,   q2 = <((1 + eps)/2)^2> - 1 = (1/2) sum_n A_n B_n
+ * with B_n = (1/2) z^n Gamma(2 + n/20) (seed 000 App. A). Series for z <= 0.35 (exact for the
+ * polynomial branch of eps), GSL quadrature of the real eps(x) beyond. */
+int visco_averages(double z, double *q1, double *q2);
+double visco_eps(double x); /* no argument checks; x >= 0 finite */
+
+/* ---- kinetic kernels (cooling.cpp) -----------------------------------------------------------
+ * xi_k (Eq. 15 / A7) for every k at temperatures T (any of xi, dxi_dlogT_self, may be NULL).
+ * Returns a status (viscoelastic quadrature may fail). */
+int cooling_rates(const gran_mixture *mix, const double *T, double *xi);
+/* xi_k and J_kj = d xi_k / d log T_j (row-major M*M); constant/matrix restitution only. */
+void cooling_jacobian(const gran_mixture *mix, const double *T, double *xi, double *J);
+/* 1/tau_v,k (Eq. 11 / A6). */
+int inv_tau_v(const gran_mixture *mix, const double *T, double *inv_tv);
+/* Collision frequency scale nu_k = sum_i n_i sigma_ki^2 g2 sqrt(T_k/m_k + T_i/m_i) m_i/(m_i+m_k)
+ * (used to scale residuals). */
+void collision_scale(const gran_mixture *mix, const double *T, double *nu);
+
+} // namespace gran
+
+#endif

@@ -1,0 +1,188 @@
+/* io_test_util.h - helpers for the io tests (t6xx): a private temporary folder, writing small
+ * files, and comparing two HDF5 files dataset by dataset, bit for bit. */
+#ifndef GRANARY_IO_TEST_UTIL_H
+#define GRANARY_IO_TEST_UTIL_H
+#define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE
+#include <dirent.h>
+#include <ftw.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <hdf5.h>
+
+#include "granary_test.h"
+
+static char io_tmpdir[256];
+
+/* Creates /tmp/granary-NAME-XXXXXX once per test program; removed by io_tmp_cleanup. */
+static inline const char *io_tmp(const char *name) {
+  if (!io_tmpdir[0]) {
+    snprintf(io_tmpdir, sizeof io_tmpdir, "/tmp/granary-%s-XXXXXX", name);
+    if (!mkdtemp(io_tmpdir)) {
+      fprintf(stderr, "mkdtemp failed\n");
+      exit(1);
+    }
+  }
+  return io_tmpdir;
+}
+
+static inline int io_rm_cb(const char *p, const struct stat *sb, int flag, struct FTW *ftw) {
+  (void)sb, (void)flag, (void)ftw;
+  return remove(p);
+}
+static inline void io_tmp_cleanup(void) {
+  if (io_tmpdir[0] && !getenv("GRAN_KEEP_TMP")) nftw(io_tmpdir, io_rm_cb, 16, FTW_DEPTH | FTW_PHYS);
+}
+
+/* path inside the temporary folder (static ring of buffers) */
+static inline const char *io_path(const char *leaf) {
+  static char buf[8][512];
+  static int i = 0;
+  i = (i + 1) % 8;
+  snprintf(buf[i], sizeof buf[i], "%s/%s", io_tmpdir, leaf);
+  return buf[i];
+}
+
+static inline void io_write_file(const char *path, const char *text) {
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  fputs(text, f);
+  fclose(f);
+}
+
+static inline int io_exists(const char *path) {
+  struct stat sb;
+  return stat(path, &sb) == 0;
+}
+
+static inline char *io_read_file(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *s = malloc((size_t)n + 1);
+  size_t got = fread(s, 1, (size_t)n, f);
+  s[got] = '\0';
+  fclose(f);
+  return s;
+}
+
+/* ---- HDF5 comparison ---------------------------------------------------------------------- */
+typedef struct {
+  hid_t other;
+  int ndatasets;
+  int ndiff;
+  char first_diff[512];
+} io_cmp_state;
+
+static inline herr_t io_cmp_cb(hid_t obj, const char *name, const H5O_info2_t *info, void *op) {
+  io_cmp_state *st = (io_cmp_state *)op;
+  if (info->type != H5O_TYPE_DATASET) return 0;
+  st->ndatasets++;
+  hid_t a = H5Dopen2(obj, name, H5P_DEFAULT), b = H5Dopen2(st->other, name, H5P_DEFAULT);
+  int same = 0;
+  if (a >= 0 && b >= 0) {
+    hid_t ta = H5Dget_type(a), tb = H5Dget_type(b);
+    hsize_t sa = H5Dget_storage_size(a), sb = H5Dget_storage_size(b);
+    hid_t spa = H5Dget_space(a), spb = H5Dget_space(b);
+    hssize_t na = H5Sget_simple_extent_npoints(spa), nb = H5Sget_simple_extent_npoints(spb);
+    size_t es = H5Tget_size(ta);
+    if (H5Tequal(ta, tb) > 0 && na == nb && H5Sextent_equal(spa, spb) > 0) {
+      size_t bytes = (size_t)na * es;
+      unsigned char *x = malloc(bytes + 1), *y = malloc(bytes + 1);
+      hid_t mt = H5Tget_native_type(ta, H5T_DIR_DEFAULT);
+      if (H5Dread(a, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, x) >= 0 && H5Dread(b, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, y) >= 0)
+        same = memcmp(x, y, bytes) == 0;
+      H5Tclose(mt);
+      free(x);
+      free(y);
+    }
+    (void)sa, (void)sb;
+    H5Sclose(spa);
+    H5Sclose(spb);
+    H5Tclose(ta);
+    H5Tclose(tb);
+  }
+  if (a >= 0) H5Dclose(a);
+  if (b >= 0) H5Dclose(b);
+  if (!same) {
+    if (!st->ndiff) snprintf(st->first_diff, sizeof st->first_diff, "%s", name);
+    st->ndiff++;
+  }
+  return 0;
+}
+
+/* Number of datasets of `a` that differ from `b` (missing counts as different); *ndatasets = total. */
+static inline int io_h5_compare(const char *a, const char *b, int *ndatasets, char *first_diff, size_t len) {
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  hid_t fa = H5Fopen(a, H5F_ACC_RDONLY, H5P_DEFAULT), fb = H5Fopen(b, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (fa < 0 || fb < 0) {
+    if (fa >= 0) H5Fclose(fa);
+    if (fb >= 0) H5Fclose(fb);
+    return -1;
+  }
+  io_cmp_state st;
+  memset(&st, 0, sizeof st);
+  st.other = fb;
+  H5Ovisit3(fa, H5_INDEX_NAME, H5_ITER_INC, io_cmp_cb, &st, H5O_INFO_BASIC);
+  H5Fclose(fa);
+  H5Fclose(fb);
+  if (ndatasets) *ndatasets = st.ndatasets;
+  if (first_diff) snprintf(first_diff, len, "%s", st.first_diff);
+  return st.ndiff;
+}
+
+/* dims of a dataset (returns rank, -1 when missing) */
+static inline int io_h5_dims(hid_t f, const char *name, hsize_t dims[4]) {
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  if (d < 0) return -1;
+  hid_t s = H5Dget_space(d);
+  int r = H5Sget_simple_extent_ndims(s);
+  if (r > 4) r = 4;
+  hsize_t tmp[32];
+  H5Sget_simple_extent_dims(s, tmp, NULL);
+  for (int i = 0; i < r; i++) dims[i] = tmp[i];
+  H5Sclose(s);
+  H5Dclose(d);
+  return r;
+}
+
+static inline double *io_h5_read_double(hid_t f, const char *name, size_t *n) {
+  hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  if (d < 0) return NULL;
+  hid_t s = H5Dget_space(d);
+  hssize_t np = H5Sget_simple_extent_npoints(s);
+  double *x = malloc(sizeof(double) * (size_t)(np > 0 ? np : 1));
+  if (H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x) < 0) {
+    free(x);
+    x = NULL;
+  }
+  H5Sclose(s);
+  H5Dclose(d);
+  if (n) *n = (size_t)np;
+  return x;
+}
+
+/* string attribute of the root group (malloc'ed), NULL when missing */
+static inline char *io_h5_attr_string(hid_t f, const char *name) {
+  hid_t a = H5Aopen(f, name, H5P_DEFAULT);
+  if (a < 0) return NULL;
+  hid_t t = H5Aget_type(a);
+  size_t n = H5Tget_size(t);
+  char *s = calloc(n + 1, 1);
+  hid_t mt = H5Tcopy(H5T_C_S1);
+  H5Tset_size(mt, n);
+  if (H5Aread(a, mt, s) < 0) {
+    free(s);
+    s = NULL;
+  }
+  H5Tclose(mt);
+  H5Tclose(t);
+  H5Aclose(a);
+  return s;
+}
+
+#endif
