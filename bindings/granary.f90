@@ -64,14 +64,59 @@ module granary
   public :: gran_get_version, gran_strerror, gran_last_error_message, gran_check
 
   ! @@SECTION core-public@@ (rng, segtree, particles: names made public here)
+  ! Indices handed across (segment-tree leaves, particle slots) are 1-based in the wrappers; values
+  ! stored in arrays (species) are the library's 0-based ones. Seeds and stream ids are the bits of
+  ! a uint64_t in an integer(c_int64_t). Vectors are real(c_double) :: v(3, n) (C's interleaved xyz).
+  public :: gran_rng_seed, gran_rng_stream, gran_rng_jump, gran_rng_long_jump, gran_rng_u64, &
+            gran_rng_uniform, gran_rng_uniform_pos, gran_rng_exponential, gran_rng_normal, &
+            gran_rng_unit_vector3, gran_rng_unit_vector2, gran_cuda_rng_uniform
+  public :: gran_segtree_init, gran_segtree_free, gran_segtree_set, gran_segtree_set_batch, &
+            gran_segtree_get, gran_segtree_total, gran_segtree_sample, gran_segtree_rebuild
+  public :: gran_particles_init, gran_particles_free, gran_particles_reserve, gran_particles_add, &
+            gran_particles_swap_remove, gran_particles_memory
+  ! pointer views of the particle arrays (particles in use only; stale after add/reserve)
+  public :: gran_particles_view_v, gran_particles_view_species, gran_particles_view_r, &
+            gran_particles_view_t_last, gran_particles_view_x, gran_particles_view_mass
+  public :: gran_abi_query
   ! @@END core-public@@
   ! @@SECTION theory-public@@
   ! @@END theory-public@@
   ! @@SECTION dsmc-public@@
   ! @@END dsmc-public@@
   ! @@SECTION analysis-public@@
+  ! A TAMSD plan: the C handle and the trajectory length it was made for (so that the wrappers can
+  ! check the shape of the positions they pass).
+  type, public :: gran_tamsd_plan
+    type(c_ptr) :: ptr = c_null_ptr
+    integer(c_int64_t) :: nsamples = 0
+  end type gran_tamsd_plan
+  public :: gran_tamsd_plan_create, gran_tamsd_plan_destroy, gran_tamsd_plan_execute, gran_tamsd, &
+            gran_tamsd_direct, gran_sonine_a2, gran_speed_histogram
   ! @@END analysis-public@@
   ! @@SECTION io-public@@
+  ! Scenes and runs. Handles (gran_scene, gran_mixture, gran_dsmc) are type(c_ptr).
+  type, bind(C), public :: gran_run_progress
+    real(c_double) :: time = 0, t_start = 0, t_end = 0, fraction = 0
+    real(c_double) :: wall_seconds = 0, collisions_per_second = 0, eta_seconds = 0
+    integer(c_int64_t) :: collisions = 0, output_index = 0, noutputs = 0, checkpoints = 0
+  end type gran_run_progress
+  ! progress: c_funloc of `integer(c_int) function f(p, params) bind(C)` with
+  ! `type(gran_run_progress), intent(in) :: p` and `type(c_ptr), value :: params`.
+  type, bind(C), public :: gran_run_control
+    integer(c_int64_t) :: stop_after_checkpoints = 0
+    type(c_funptr) :: progress = c_null_funptr
+    type(c_ptr) :: progress_params = c_null_ptr
+  end type gran_run_control
+  type, bind(C), public :: gran_run_result
+    integer(c_int32_t) :: finished = 0
+    integer(c_int32_t) :: pad_ = 0
+    integer(c_int64_t) :: checkpoints = 0, collisions = 0
+    real(c_double) :: time = 0, wall_seconds = 0
+  end type gran_run_result
+  public :: gran_scene_load, gran_scene_parse, gran_scene_destroy, gran_scene_text, gran_scene_output_path, &
+            gran_scene_sizes, gran_scene_times, gran_scene_lags, gran_scene_mixture, &
+            gran_scene_initial_temperatures, gran_scene_dsmc_options, gran_scene_dsmc, gran_scene_run, &
+            gran_scene_resume
   ! @@END io-public@@
 
   ! ---- raw C interfaces ------------------------------------------------------------------------
@@ -98,14 +143,331 @@ module granary
       integer(c_size_t) :: n
     end function c_strlen
     ! @@SECTION core-interfaces@@
+    ! ---- rng
+    function c_gran_rng_seed(rng, seed) bind(C, name='gran_rng_seed') result(ierr)
+      import :: c_int, c_int64_t, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int64_t), value :: seed
+      integer(c_int) :: ierr
+    end function c_gran_rng_seed
+    function c_gran_rng_stream(seed, stream_id, rng) bind(C, name='gran_rng_stream') result(ierr)
+      import :: c_int, c_int64_t, gran_rng
+      integer(c_int64_t), value :: seed, stream_id
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int) :: ierr
+    end function c_gran_rng_stream
+    function c_gran_rng_jump(rng) bind(C, name='gran_rng_jump') result(ierr)
+      import :: c_int, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int) :: ierr
+    end function c_gran_rng_jump
+    function c_gran_rng_long_jump(rng) bind(C, name='gran_rng_long_jump') result(ierr)
+      import :: c_int, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int) :: ierr
+    end function c_gran_rng_long_jump
+    function c_gran_rng_u64(rng, n, out) bind(C, name='gran_rng_u64') result(ierr)
+      import :: c_int, c_int64_t, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int64_t), value :: n
+      integer(c_int64_t), intent(out) :: out(*)
+      integer(c_int) :: ierr
+    end function c_gran_rng_u64
+    function c_gran_rng_uniform(rng, n, out) bind(C, name='gran_rng_uniform') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: out(*)
+      integer(c_int) :: ierr
+    end function c_gran_rng_uniform
+    function c_gran_rng_uniform_pos(rng, n, out) bind(C, name='gran_rng_uniform_pos') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: out(*)
+      integer(c_int) :: ierr
+    end function c_gran_rng_uniform_pos
+    function c_gran_rng_exponential(rng, n, out) bind(C, name='gran_rng_exponential') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: out(*)
+      integer(c_int) :: ierr
+    end function c_gran_rng_exponential
+    function c_gran_rng_normal(rng, n, out) bind(C, name='gran_rng_normal') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: out(*)
+      integer(c_int) :: ierr
+    end function c_gran_rng_normal
+    function c_gran_rng_unit_vector3(rng, n, xyz) bind(C, name='gran_rng_unit_vector3') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: xyz(*)
+      integer(c_int) :: ierr
+    end function c_gran_rng_unit_vector3
+    function c_gran_rng_unit_vector2(rng, n, xy) bind(C, name='gran_rng_unit_vector2') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_rng
+      type(gran_rng), intent(inout) :: rng
+      integer(c_int64_t), value :: n
+      real(c_double), intent(out) :: xy(*)
+      integer(c_int) :: ierr
+    end function c_gran_rng_unit_vector2
+    function c_gran_cuda_rng_uniform(states, nstreams, n_per_stream, out) &
+        bind(C, name='gran_cuda_rng_uniform') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_rng
+      type(gran_rng), intent(in) :: states(*)
+      integer(c_int64_t), value :: nstreams, n_per_stream
+      real(c_double), intent(out) :: out(*)
+      integer(c_int) :: ierr
+    end function c_gran_cuda_rng_uniform
+    ! ---- segment tree
+    function c_gran_segtree_init(t, m, w) bind(C, name='gran_segtree_init') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_segtree
+      type(gran_segtree), intent(inout) :: t
+      integer(c_int64_t), value :: m
+      real(c_double), intent(in) :: w(*)
+      integer(c_int) :: ierr
+    end function c_gran_segtree_init
+    function c_gran_segtree_free(t) bind(C, name='gran_segtree_free') result(ierr)
+      import :: c_int, gran_segtree
+      type(gran_segtree), intent(inout) :: t
+      integer(c_int) :: ierr
+    end function c_gran_segtree_free
+    function c_gran_segtree_set(t, i, w) bind(C, name='gran_segtree_set') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_segtree
+      type(gran_segtree), intent(inout) :: t
+      integer(c_int64_t), value :: i
+      real(c_double), value :: w
+      integer(c_int) :: ierr
+    end function c_gran_segtree_set
+    function c_gran_segtree_set_batch(t, n, idx, w) bind(C, name='gran_segtree_set_batch') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_segtree
+      type(gran_segtree), intent(inout) :: t
+      integer(c_int64_t), value :: n
+      integer(c_int64_t), intent(in) :: idx(*)
+      real(c_double), intent(in) :: w(*)
+      integer(c_int) :: ierr
+    end function c_gran_segtree_set_batch
+    function c_gran_segtree_get(t, i, w) bind(C, name='gran_segtree_get') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_segtree
+      type(gran_segtree), intent(in) :: t
+      integer(c_int64_t), value :: i
+      real(c_double), intent(out) :: w
+      integer(c_int) :: ierr
+    end function c_gran_segtree_get
+    function c_gran_segtree_total(t, total) bind(C, name='gran_segtree_total') result(ierr)
+      import :: c_int, c_double, gran_segtree
+      type(gran_segtree), intent(in) :: t
+      real(c_double), intent(out) :: total
+      integer(c_int) :: ierr
+    end function c_gran_segtree_total
+    function c_gran_segtree_sample(t, u, index) bind(C, name='gran_segtree_sample') result(ierr)
+      import :: c_int, c_int64_t, c_double, gran_segtree
+      type(gran_segtree), intent(in) :: t
+      real(c_double), value :: u
+      integer(c_int64_t), intent(out) :: index
+      integer(c_int) :: ierr
+    end function c_gran_segtree_sample
+    function c_gran_segtree_rebuild(t) bind(C, name='gran_segtree_rebuild') result(ierr)
+      import :: c_int, gran_segtree
+      type(gran_segtree), intent(inout) :: t
+      integer(c_int) :: ierr
+    end function c_gran_segtree_rebuild
+    ! ---- particles
+    function c_gran_particles_init(p, capacity, flags) bind(C, name='gran_particles_init') result(ierr)
+      import :: c_int, c_int64_t, gran_particles
+      type(gran_particles), intent(inout) :: p
+      integer(c_int64_t), value :: capacity
+      integer(c_int), value :: flags
+      integer(c_int) :: ierr
+    end function c_gran_particles_init
+    function c_gran_particles_free(p) bind(C, name='gran_particles_free') result(ierr)
+      import :: c_int, gran_particles
+      type(gran_particles), intent(inout) :: p
+      integer(c_int) :: ierr
+    end function c_gran_particles_free
+    function c_gran_particles_reserve(p, capacity) bind(C, name='gran_particles_reserve') result(ierr)
+      import :: c_int, c_int64_t, gran_particles
+      type(gran_particles), intent(inout) :: p
+      integer(c_int64_t), value :: capacity
+      integer(c_int) :: ierr
+    end function c_gran_particles_reserve
+    function c_gran_particles_add(p, v, species, index) bind(C, name='gran_particles_add') result(ierr)
+      import :: c_int, c_int32_t, c_int64_t, c_double, gran_particles
+      type(gran_particles), intent(inout) :: p
+      real(c_double), intent(in) :: v(3)
+      integer(c_int32_t), value :: species
+      integer(c_int64_t), intent(out) :: index
+      integer(c_int) :: ierr
+    end function c_gran_particles_add
+    function c_gran_particles_swap_remove(p, i) bind(C, name='gran_particles_swap_remove') result(ierr)
+      import :: c_int, c_int64_t, gran_particles
+      type(gran_particles), intent(inout) :: p
+      integer(c_int64_t), value :: i
+      integer(c_int) :: ierr
+    end function c_gran_particles_swap_remove
+    function c_gran_particles_memory(p, bytes) bind(C, name='gran_particles_memory') result(ierr)
+      import :: c_int, c_int64_t, gran_particles
+      type(gran_particles), intent(in) :: p
+      integer(c_int64_t), intent(out) :: bytes
+      integer(c_int) :: ierr
+    end function c_gran_particles_memory
+    ! ---- ABI
+    function c_gran_abi_query(name, value) bind(C, name='gran_abi_query') result(ierr)
+      import :: c_int, c_int64_t, c_char
+      character(kind=c_char), intent(in) :: name(*)
+      integer(c_int64_t), intent(out) :: value
+      integer(c_int) :: ierr
+    end function c_gran_abi_query
     ! @@END core-interfaces@@
     ! @@SECTION theory-interfaces@@
     ! @@END theory-interfaces@@
     ! @@SECTION dsmc-interfaces@@
     ! @@END dsmc-interfaces@@
     ! @@SECTION analysis-interfaces@@
+    function c_gran_tamsd_plan_create(nsamples, plan) bind(C, name='gran_tamsd_plan_create') result(ierr)
+      import :: c_int, c_int64_t, c_ptr
+      integer(c_int64_t), value :: nsamples
+      type(c_ptr), intent(out) :: plan
+      integer(c_int) :: ierr
+    end function c_gran_tamsd_plan_create
+    function c_gran_tamsd_plan_destroy(plan) bind(C, name='gran_tamsd_plan_destroy') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), intent(inout) :: plan
+      integer(c_int) :: ierr
+    end function c_gran_tamsd_plan_destroy
+    function c_gran_tamsd_plan_execute(plan, ntraj, xyz, nlag, tamsd) &
+        bind(C, name='gran_tamsd_plan_execute') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: plan
+      integer(c_int64_t), value :: ntraj, nlag
+      real(c_double), intent(in) :: xyz(*)
+      real(c_double), intent(out) :: tamsd(*)
+      integer(c_int) :: ierr
+    end function c_gran_tamsd_plan_execute
+    function c_gran_tamsd(ntraj, nsamples, xyz, nlag, tamsd) bind(C, name='gran_tamsd') result(ierr)
+      import :: c_int, c_int64_t, c_double
+      integer(c_int64_t), value :: ntraj, nsamples, nlag
+      real(c_double), intent(in) :: xyz(*)
+      real(c_double), intent(out) :: tamsd(*)
+      integer(c_int) :: ierr
+    end function c_gran_tamsd
+    function c_gran_tamsd_direct(ntraj, nsamples, xyz, nlag, tamsd) bind(C, name='gran_tamsd_direct') result(ierr)
+      import :: c_int, c_int64_t, c_double
+      integer(c_int64_t), value :: ntraj, nsamples, nlag
+      real(c_double), intent(in) :: xyz(*)
+      real(c_double), intent(out) :: tamsd(*)
+      integer(c_int) :: ierr
+    end function c_gran_tamsd_direct
+    function c_gran_sonine_a2(n, v, mass, a2) bind(C, name='gran_sonine_a2') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in) :: v(*)
+      type(c_ptr), value :: mass   ! NULL: equal masses
+      real(c_double), intent(out) :: a2
+      integer(c_int) :: ierr
+    end function c_gran_sonine_a2
+    function c_gran_speed_histogram(n, v, scale, nbins, cmax, hist, nbeyond) &
+        bind(C, name='gran_speed_histogram') result(ierr)
+      import :: c_int, c_int64_t, c_double
+      integer(c_int64_t), value :: n, nbins
+      real(c_double), intent(in) :: v(*)
+      real(c_double), value :: scale, cmax
+      real(c_double), intent(out) :: hist(*)
+      integer(c_int64_t), intent(out) :: nbeyond
+      integer(c_int) :: ierr
+    end function c_gran_speed_histogram
     ! @@END analysis-interfaces@@
     ! @@SECTION io-interfaces@@
+    function c_gran_scene_load(path, scene) bind(C, name='gran_scene_load') result(ierr)
+      import :: c_int, c_char, c_ptr
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), intent(out) :: scene
+      integer(c_int) :: ierr
+    end function c_gran_scene_load
+    function c_gran_scene_parse(text, name, scene) bind(C, name='gran_scene_parse') result(ierr)
+      import :: c_int, c_char, c_ptr
+      character(kind=c_char), intent(in) :: text(*), name(*)
+      type(c_ptr), intent(out) :: scene
+      integer(c_int) :: ierr
+    end function c_gran_scene_parse
+    function c_gran_scene_destroy(scene) bind(C, name='gran_scene_destroy') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), intent(inout) :: scene
+      integer(c_int) :: ierr
+    end function c_gran_scene_destroy
+    function c_gran_scene_text(scene, text) bind(C, name='gran_scene_text') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene
+      type(c_ptr), intent(out) :: text
+      integer(c_int) :: ierr
+    end function c_gran_scene_text
+    function c_gran_scene_output_path(scene, path) bind(C, name='gran_scene_output_path') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene
+      type(c_ptr), intent(out) :: path
+      integer(c_int) :: ierr
+    end function c_gran_scene_output_path
+    function c_gran_scene_sizes(scene, nspecies, ntimes, nlags, t_start, t_end) &
+        bind(C, name='gran_scene_sizes') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: scene
+      integer(c_int64_t), intent(out) :: nspecies, ntimes, nlags
+      real(c_double), intent(out) :: t_start, t_end
+      integer(c_int) :: ierr
+    end function c_gran_scene_sizes
+    function c_gran_scene_times(scene, times) bind(C, name='gran_scene_times') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: scene
+      real(c_double), intent(out) :: times(*)
+      integer(c_int) :: ierr
+    end function c_gran_scene_times
+    function c_gran_scene_lags(scene, lags) bind(C, name='gran_scene_lags') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: scene
+      real(c_double), intent(out) :: lags(*)
+      integer(c_int) :: ierr
+    end function c_gran_scene_lags
+    function c_gran_scene_mixture(scene, mix) bind(C, name='gran_scene_mixture') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene
+      type(c_ptr), intent(out) :: mix
+      integer(c_int) :: ierr
+    end function c_gran_scene_mixture
+    function c_gran_scene_initial_temperatures(scene, mix, T0, tau0) &
+        bind(C, name='gran_scene_initial_temperatures') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: scene, mix
+      real(c_double), intent(out) :: T0(*), tau0
+      integer(c_int) :: ierr
+    end function c_gran_scene_initial_temperatures
+    function c_gran_scene_dsmc_options(scene, opt, counts, have_counts) &
+        bind(C, name='gran_scene_dsmc_options') result(ierr)
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: scene, opt
+      integer(c_int64_t), intent(out) :: counts(*)
+      integer(c_int), intent(out) :: have_counts
+      integer(c_int) :: ierr
+    end function c_gran_scene_dsmc_options
+    function c_gran_scene_dsmc(scene, mix, sim) bind(C, name='gran_scene_dsmc') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene, mix
+      type(c_ptr), intent(out) :: sim
+      integer(c_int) :: ierr
+    end function c_gran_scene_dsmc
+    function c_gran_scene_run(scene, output, checkpoint, ctl, result) bind(C, name='gran_scene_run') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene, output, checkpoint, ctl, result
+      integer(c_int) :: ierr
+    end function c_gran_scene_run
+    function c_gran_scene_resume(checkpoint, output, ctl, result) bind(C, name='gran_scene_resume') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: checkpoint, output, ctl, result
+      integer(c_int) :: ierr
+    end function c_gran_scene_resume
     ! @@END io-interfaces@@
   end interface
 
@@ -167,13 +529,618 @@ contains
   end subroutine gran_check
 
   ! @@SECTION core-procedures@@
+  !> A wrapper found arrays of inconsistent shapes before calling C: ierr = GRAN_ERR_ARG, or (without
+  !> ierr) stop with the message, as gran_check does.
+  subroutine gran_core_shape_error(what, ierr)
+    character(len=*), intent(in) :: what
+    integer, intent(out), optional :: ierr
+    if (present(ierr)) then
+      ierr = GRAN_ERR_ARG
+    else
+      write(*, '(a)') 'granary: ' // gran_strerror(int(GRAN_ERR_ARG)) // ': ' // what
+      error stop 1
+    end if
+  end subroutine gran_core_shape_error
+
+  ! ---- rng ---------------------------------------------------------------------------------------
+  !> State = four splitmix64 outputs of seed (the bits of a uint64_t).
+  subroutine gran_rng_seed(rng, seed, ierr)
+    type(gran_rng), intent(out) :: rng
+    integer(c_int64_t), intent(in) :: seed
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_rng_seed(rng, seed), ierr)
+  end subroutine gran_rng_seed
+
+  !> Stream stream_id of seed: the seeded state advanced by stream_id * 2^128 steps.
+  subroutine gran_rng_stream(seed, stream_id, rng, ierr)
+    integer(c_int64_t), intent(in) :: seed, stream_id
+    type(gran_rng), intent(out) :: rng
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_rng_stream(seed, stream_id, rng), ierr)
+  end subroutine gran_rng_stream
+
+  !> Advance by 2^128 steps.
+  subroutine gran_rng_jump(rng, ierr)
+    type(gran_rng), intent(inout) :: rng
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_rng_jump(rng), ierr)
+  end subroutine gran_rng_jump
+
+  !> Advance by 2^192 steps.
+  subroutine gran_rng_long_jump(rng, ierr)
+    type(gran_rng), intent(inout) :: rng
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_rng_long_jump(rng), ierr)
+  end subroutine gran_rng_long_jump
+
+  !> size(x) raw 64-bit outputs (bits of uint64_t).
+  subroutine gran_rng_u64(rng, x, ierr)
+    type(gran_rng), intent(inout) :: rng
+    integer(c_int64_t), intent(out) :: x(:)
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_rng_u64(rng, size(x, kind=c_int64_t), x), ierr)
+  end subroutine gran_rng_u64
+
+  !> size(x) uniforms in [0,1).
+  subroutine gran_rng_uniform(rng, x, ierr)
+    type(gran_rng), intent(inout) :: rng
+    real(c_double), intent(out) :: x(:)
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_rng_uniform(rng, size(x, kind=c_int64_t), x), ierr)
+  end subroutine gran_rng_uniform
+
+  !> size(x) uniforms in (0,1].
+  subroutine gran_rng_uniform_pos(rng, x, ierr)
+    type(gran_rng), intent(inout) :: rng
+    real(c_double), intent(out) :: x(:)
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_rng_uniform_pos(rng, size(x, kind=c_int64_t), x), ierr)
+  end subroutine gran_rng_uniform_pos
+
+  !> size(x) exponential deviates of mean 1.
+  subroutine gran_rng_exponential(rng, x, ierr)
+    type(gran_rng), intent(inout) :: rng
+    real(c_double), intent(out) :: x(:)
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_rng_exponential(rng, size(x, kind=c_int64_t), x), ierr)
+  end subroutine gran_rng_exponential
+
+  !> size(x) standard normal deviates.
+  subroutine gran_rng_normal(rng, x, ierr)
+    type(gran_rng), intent(inout) :: rng
+    real(c_double), intent(out) :: x(:)
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_rng_normal(rng, size(x, kind=c_int64_t), x), ierr)
+  end subroutine gran_rng_normal
+
+  !> Unit vectors e(3, n), uniform on the sphere.
+  subroutine gran_rng_unit_vector3(rng, e, ierr)
+    type(gran_rng), intent(inout) :: rng
+    real(c_double), intent(out) :: e(:,:)
+    integer, intent(out), optional :: ierr
+    if (size(e, 1) /= 3) then
+      call gran_core_shape_error('gran_rng_unit_vector3: e must have shape (3, n)', ierr)
+      return
+    end if
+    call gran_check(c_gran_rng_unit_vector3(rng, size(e, 2, kind=c_int64_t), e), ierr)
+  end subroutine gran_rng_unit_vector3
+
+  !> Unit vectors e(2, n), uniform on the circle.
+  subroutine gran_rng_unit_vector2(rng, e, ierr)
+    type(gran_rng), intent(inout) :: rng
+    real(c_double), intent(out) :: e(:,:)
+    integer, intent(out), optional :: ierr
+    if (size(e, 1) /= 2) then
+      call gran_core_shape_error('gran_rng_unit_vector2: e must have shape (2, n)', ierr)
+      return
+    end if
+    call gran_check(c_gran_rng_unit_vector2(rng, size(e, 2, kind=c_int64_t), e), ierr)
+  end subroutine gran_rng_unit_vector2
+
+  !> GPU: x(:, k) = size(x, 1) uniforms from states(k) (not advanced); GRAN_ERR_UNSUPPORTED
+  !> without the CUDA backend or a GPU.
+  subroutine gran_cuda_rng_uniform(states, x, ierr)
+    type(gran_rng), intent(in) :: states(:)
+    real(c_double), intent(out) :: x(:,:)
+    integer, intent(out), optional :: ierr
+    if (size(x, 2) /= size(states)) then
+      call gran_core_shape_error('gran_cuda_rng_uniform: x must have shape (n, size(states))', ierr)
+      return
+    end if
+    call gran_check(c_gran_cuda_rng_uniform(states, size(states, kind=c_int64_t), &
+                                            size(x, 1, kind=c_int64_t), x), ierr)
+  end subroutine gran_cuda_rng_uniform
+
+  ! ---- segment tree ------------------------------------------------------------------------------
+  !> Sum tree over the size(w) >= 1 weights w (>= 0). Free an initialised tree first.
+  subroutine gran_segtree_init(t, w, ierr)
+    type(gran_segtree), intent(inout) :: t
+    real(c_double), intent(in) :: w(:)
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_segtree_init(t, size(w, kind=c_int64_t), w), ierr)
+  end subroutine gran_segtree_init
+
+  !> Release the nodes (safe on a freed tree).
+  subroutine gran_segtree_free(t, ierr)
+    type(gran_segtree), intent(inout) :: t
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_segtree_free(t), ierr)
+  end subroutine gran_segtree_free
+
+  !> Weight of leaf i (1-based) := w.
+  subroutine gran_segtree_set(t, i, w, ierr)
+    type(gran_segtree), intent(inout) :: t
+    integer, intent(in) :: i
+    real(c_double), intent(in) :: w
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_segtree_set(t, int(i, c_int64_t) - 1, w), ierr)
+  end subroutine gran_segtree_set
+
+  !> Weights of leaves idx(k) (1-based) := w(k), parents recomputed once.
+  subroutine gran_segtree_set_batch(t, idx, w, ierr)
+    type(gran_segtree), intent(inout) :: t
+    integer, intent(in) :: idx(:)
+    real(c_double), intent(in) :: w(:)
+    integer, intent(out), optional :: ierr
+    if (size(w) /= size(idx)) then
+      call gran_core_shape_error('gran_segtree_set_batch: idx and w differ in size', ierr)
+      return
+    end if
+    call gran_check(c_gran_segtree_set_batch(t, size(idx, kind=c_int64_t), int(idx, c_int64_t) - 1, w), ierr)
+  end subroutine gran_segtree_set_batch
+
+  !> w = weight of leaf i (1-based).
+  subroutine gran_segtree_get(t, i, w, ierr)
+    type(gran_segtree), intent(in) :: t
+    integer, intent(in) :: i
+    real(c_double), intent(out) :: w
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_segtree_get(t, int(i, c_int64_t) - 1, w), ierr)
+  end subroutine gran_segtree_get
+
+  !> Sum of the weights.
+  subroutine gran_segtree_total(t, total, ierr)
+    type(gran_segtree), intent(in) :: t
+    real(c_double), intent(out) :: total
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_segtree_total(t, total), ierr)
+  end subroutine gran_segtree_total
+
+  !> Leaf index (1-based) with probability w(i)/total from one uniform u in [0,1).
+  subroutine gran_segtree_sample(t, u, index, ierr)
+    type(gran_segtree), intent(in) :: t
+    real(c_double), intent(in) :: u
+    integer, intent(out) :: index
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: i0
+    integer(c_int) :: status
+    i0 = -1
+    status = c_gran_segtree_sample(t, u, i0)
+    index = int(i0 + 1)
+    call gran_check(status, ierr)
+  end subroutine gran_segtree_sample
+
+  !> Recompute the internal nodes from the leaves.
+  subroutine gran_segtree_rebuild(t, ierr)
+    type(gran_segtree), intent(inout) :: t
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_segtree_rebuild(t), ierr)
+  end subroutine gran_segtree_rebuild
+
+  ! ---- particles ---------------------------------------------------------------------------------
+  !> Empty particle set with room for capacity particles; flags: OR (ior) of GRAN_PARTICLES_*.
+  subroutine gran_particles_init(p, capacity, flags, ierr)
+    type(gran_particles), intent(inout) :: p
+    integer, intent(in) :: capacity, flags
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_particles_init(p, int(capacity, c_int64_t), int(flags, c_int)), ierr)
+  end subroutine gran_particles_init
+
+  !> Release every array and zero p.
+  subroutine gran_particles_free(p, ierr)
+    type(gran_particles), intent(inout) :: p
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_particles_free(p), ierr)
+  end subroutine gran_particles_free
+
+  !> Room for at least capacity particles (never shrinks).
+  subroutine gran_particles_reserve(p, capacity, ierr)
+    type(gran_particles), intent(inout) :: p
+    integer, intent(in) :: capacity
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_particles_reserve(p, int(capacity, c_int64_t)), ierr)
+  end subroutine gran_particles_reserve
+
+  !> Append a particle with velocity v(3) and (0-based) species; index = its slot (1-based).
+  subroutine gran_particles_add(p, v, species, index, ierr)
+    type(gran_particles), intent(inout) :: p
+    real(c_double), intent(in) :: v(3)
+    integer, intent(in) :: species
+    integer, intent(out), optional :: index
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: i0
+    i0 = -1
+    call gran_check(c_gran_particles_add(p, v, int(species, c_int32_t), i0), ierr)
+    if (present(index)) index = int(i0 + 1)
+  end subroutine gran_particles_add
+
+  !> Remove particle i (1-based): the last particle moves into slot i.
+  subroutine gran_particles_swap_remove(p, i, ierr)
+    type(gran_particles), intent(inout) :: p
+    integer, intent(in) :: i
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_particles_swap_remove(p, int(i, c_int64_t) - 1), ierr)
+  end subroutine gran_particles_swap_remove
+
+  !> Bytes held by the arrays.
+  subroutine gran_particles_memory(p, bytes, ierr)
+    type(gran_particles), intent(in) :: p
+    integer(c_int64_t), intent(out) :: bytes
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_particles_memory(p, bytes), ierr)
+  end subroutine gran_particles_memory
+
+  !> View v(3, n) of the velocities (disassociated when nothing is allocated).
+  function gran_particles_view_v(p) result(v)
+    type(gran_particles), intent(in) :: p
+    real(c_double), pointer :: v(:,:)
+    nullify(v)
+    if (c_associated(p%v)) call c_f_pointer(p%v, v, [3_c_int64_t, p%n])
+  end function gran_particles_view_v
+
+  !> View species(n) (0-based species indices).
+  function gran_particles_view_species(p) result(s)
+    type(gran_particles), intent(in) :: p
+    integer(c_int32_t), pointer :: s(:)
+    nullify(s)
+    if (c_associated(p%species)) call c_f_pointer(p%species, s, [p%n])
+  end function gran_particles_view_species
+
+  !> View r(3, n) of the displacements (disassociated without GRAN_PARTICLES_DISPLACEMENT).
+  function gran_particles_view_r(p) result(r)
+    type(gran_particles), intent(in) :: p
+    real(c_double), pointer :: r(:,:)
+    nullify(r)
+    if (c_associated(p%r)) call c_f_pointer(p%r, r, [3_c_int64_t, p%n])
+  end function gran_particles_view_r
+
+  !> View t_last(n) (disassociated without GRAN_PARTICLES_DISPLACEMENT).
+  function gran_particles_view_t_last(p) result(t)
+    type(gran_particles), intent(in) :: p
+    real(c_double), pointer :: t(:)
+    nullify(t)
+    if (c_associated(p%t_last)) call c_f_pointer(p%t_last, t, [p%n])
+  end function gran_particles_view_t_last
+
+  !> View x(3, n) of the positions (disassociated without GRAN_PARTICLES_POSITION).
+  function gran_particles_view_x(p) result(x)
+    type(gran_particles), intent(in) :: p
+    real(c_double), pointer :: x(:,:)
+    nullify(x)
+    if (c_associated(p%x)) call c_f_pointer(p%x, x, [3_c_int64_t, p%n])
+  end function gran_particles_view_x
+
+  !> View mass(n) (disassociated without GRAN_PARTICLES_MASS).
+  function gran_particles_view_mass(p) result(m)
+    type(gran_particles), intent(in) :: p
+    real(c_double), pointer :: m(:)
+    nullify(m)
+    if (c_associated(p%mass)) call c_f_pointer(p%mass, m, [p%n])
+  end function gran_particles_view_mass
+
+  ! ---- ABI ---------------------------------------------------------------------------------------
+  !> value = sizeof of a struct ('sizeof(gran_rng)') or value of an enum constant ('GRAN_ERR_ARG').
+  subroutine gran_abi_query(name, value, ierr)
+    character(len=*), intent(in) :: name
+    integer(c_int64_t), intent(out) :: value
+    integer, intent(out), optional :: ierr
+    value = -huge(value)
+    call gran_check(c_gran_abi_query(trim(name) // c_null_char, value), ierr)
+  end subroutine gran_abi_query
   ! @@END core-procedures@@
   ! @@SECTION theory-procedures@@
   ! @@END theory-procedures@@
   ! @@SECTION dsmc-procedures@@
   ! @@END dsmc-procedures@@
   ! @@SECTION analysis-procedures@@
+  !> Plan for trajectories of nsamples samples; release with gran_tamsd_plan_destroy.
+  subroutine gran_tamsd_plan_create(nsamples, plan, ierr)
+    integer, intent(in) :: nsamples
+    type(gran_tamsd_plan), intent(out) :: plan
+    integer, intent(out), optional :: ierr
+    integer(c_int) :: status
+    status = c_gran_tamsd_plan_create(int(nsamples, c_int64_t), plan%ptr)
+    if (status == GRAN_SUCCESS) plan%nsamples = nsamples
+    call gran_check(status, ierr)
+  end subroutine gran_tamsd_plan_create
+
+  !> Release a plan (safe on a released one).
+  subroutine gran_tamsd_plan_destroy(plan, ierr)
+    type(gran_tamsd_plan), intent(inout) :: plan
+    integer, intent(out), optional :: ierr
+    plan%nsamples = 0
+    call gran_check(c_gran_tamsd_plan_destroy(plan%ptr), ierr)
+  end subroutine gran_tamsd_plan_destroy
+
+  !> tamsd(1 + L) = TAMSD at lag L samples, L = 0 .. size(tamsd)-1, averaged over the
+  !> trajectories xyz(3, nsamples, ntraj).
+  subroutine gran_tamsd_plan_execute(plan, xyz, tamsd, ierr)
+    type(gran_tamsd_plan), intent(in) :: plan
+    real(c_double), intent(in) :: xyz(:,:,:)
+    real(c_double), intent(out) :: tamsd(:)
+    integer, intent(out), optional :: ierr
+    if (size(xyz, 1) /= 3 .or. size(xyz, 2, kind=c_int64_t) /= plan%nsamples) then
+      call gran_core_shape_error('gran_tamsd_plan_execute: xyz must have shape (3, nsamples of the plan, ntraj)', ierr)
+      return
+    end if
+    call gran_check(c_gran_tamsd_plan_execute(plan%ptr, size(xyz, 3, kind=c_int64_t), xyz, &
+                                              size(tamsd, kind=c_int64_t), tamsd), ierr)
+  end subroutine gran_tamsd_plan_execute
+
+  !> One-shot TAMSD by FFT of the trajectories xyz(3, nsamples, ntraj) for lags 0 .. size(tamsd)-1.
+  subroutine gran_tamsd(xyz, tamsd, ierr)
+    real(c_double), intent(in) :: xyz(:,:,:)
+    real(c_double), intent(out) :: tamsd(:)
+    integer, intent(out), optional :: ierr
+    if (size(xyz, 1) /= 3) then
+      call gran_core_shape_error('gran_tamsd: xyz must have shape (3, nsamples, ntraj)', ierr)
+      return
+    end if
+    call gran_check(c_gran_tamsd(size(xyz, 3, kind=c_int64_t), size(xyz, 2, kind=c_int64_t), xyz, &
+                                 size(tamsd, kind=c_int64_t), tamsd), ierr)
+  end subroutine gran_tamsd
+
+  !> The same by the direct sum (reference).
+  subroutine gran_tamsd_direct(xyz, tamsd, ierr)
+    real(c_double), intent(in) :: xyz(:,:,:)
+    real(c_double), intent(out) :: tamsd(:)
+    integer, intent(out), optional :: ierr
+    if (size(xyz, 1) /= 3) then
+      call gran_core_shape_error('gran_tamsd_direct: xyz must have shape (3, nsamples, ntraj)', ierr)
+      return
+    end if
+    call gran_check(c_gran_tamsd_direct(size(xyz, 3, kind=c_int64_t), size(xyz, 2, kind=c_int64_t), xyz, &
+                                        size(tamsd, kind=c_int64_t), tamsd), ierr)
+  end subroutine gran_tamsd_direct
+
+  !> Sonine a2 of the velocities v(3, n) relative to the mean flow; mass(n) optional.
+  subroutine gran_sonine_a2(v, a2, mass, ierr)
+    real(c_double), intent(in) :: v(:,:)
+    real(c_double), intent(out) :: a2
+    real(c_double), intent(in), target, contiguous, optional :: mass(:)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pm
+    if (size(v, 1) /= 3) then
+      call gran_core_shape_error('gran_sonine_a2: v must have shape (3, n)', ierr)
+      return
+    end if
+    pm = c_null_ptr
+    if (present(mass)) then
+      if (size(mass) /= size(v, 2)) then
+        call gran_core_shape_error('gran_sonine_a2: mass must have size(v, 2) elements', ierr)
+        return
+      end if
+      pm = c_loc(mass)
+    end if
+    call gran_check(c_gran_sonine_a2(size(v, 2, kind=c_int64_t), v, pm, a2), ierr)
+  end subroutine gran_sonine_a2
+
+  !> hist(k) = density of c = |v - u|/scale in bin k of [0, cmax) (size(hist) bins);
+  !> nbeyond = particles with c >= cmax.
+  subroutine gran_speed_histogram(v, scale, cmax, hist, nbeyond, ierr)
+    real(c_double), intent(in) :: v(:,:)
+    real(c_double), intent(in) :: scale, cmax
+    real(c_double), intent(out) :: hist(:)
+    integer, intent(out), optional :: nbeyond
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: nb
+    if (size(v, 1) /= 3) then
+      call gran_core_shape_error('gran_speed_histogram: v must have shape (3, n)', ierr)
+      return
+    end if
+    nb = 0
+    call gran_check(c_gran_speed_histogram(size(v, 2, kind=c_int64_t), v, scale, size(hist, kind=c_int64_t), &
+                                           cmax, hist, nb), ierr)
+    if (present(nbeyond)) nbeyond = int(nb)
+  end subroutine gran_speed_histogram
   ! @@END analysis-procedures@@
   ! @@SECTION io-procedures@@
+  !> Fortran string -> NUL-terminated C characters (private helper).
+  subroutine io_to_c(s, c)
+    character(len=*), intent(in) :: s
+    character(kind=c_char), allocatable, intent(out) :: c(:)
+    integer :: i
+    allocate(c(len(s) + 1))
+    do i = 1, len(s)
+      c(i) = s(i:i)
+    end do
+    c(len(s) + 1) = c_null_char
+  end subroutine io_to_c
+
+  !> Borrowed C string -> Fortran string (private helper).
+  subroutine io_from_c(p, s)
+    type(c_ptr), intent(in) :: p
+    character(len=:), allocatable, intent(out) :: s
+    character(kind=c_char), pointer :: chars(:)
+    integer :: i, n
+    n = 0
+    if (c_associated(p)) n = int(c_strlen(p))
+    allocate(character(len=n) :: s)
+    if (n == 0) return
+    call c_f_pointer(p, chars, [n])
+    do i = 1, n
+      s(i:i) = chars(i)
+    end do
+  end subroutine io_from_c
+
+  !> Load and validate a scene file; release with gran_scene_destroy.
+  subroutine gran_scene_load(path, scene, ierr)
+    character(len=*), intent(in) :: path
+    type(c_ptr), intent(out) :: scene
+    integer, intent(out), optional :: ierr
+    character(kind=c_char), allocatable :: cpath(:)
+    call io_to_c(path, cpath)
+    call gran_check(c_gran_scene_load(cpath, scene), ierr)
+  end subroutine gran_scene_load
+
+  !> Parse and validate a scene from text; `name` is used in messages.
+  subroutine gran_scene_parse(text, name, scene, ierr)
+    character(len=*), intent(in) :: text, name
+    type(c_ptr), intent(out) :: scene
+    integer, intent(out), optional :: ierr
+    character(kind=c_char), allocatable :: ctext(:), cname(:)
+    call io_to_c(text, ctext)
+    call io_to_c(name, cname)
+    call gran_check(c_gran_scene_parse(ctext, cname, scene), ierr)
+  end subroutine gran_scene_parse
+
+  !> Release a scene (safe on a released one).
+  subroutine gran_scene_destroy(scene, ierr)
+    type(c_ptr), intent(inout) :: scene
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_scene_destroy(scene), ierr)
+  end subroutine gran_scene_destroy
+
+  !> The whole scene text.
+  subroutine gran_scene_text(scene, text, ierr)
+    type(c_ptr), intent(in) :: scene
+    character(len=:), allocatable, intent(out) :: text
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: p
+    p = c_null_ptr
+    call gran_check(c_gran_scene_text(scene, p), ierr)
+    call io_from_c(p, text)
+  end subroutine gran_scene_text
+
+  !> The scene's output path.
+  subroutine gran_scene_output_path(scene, path, ierr)
+    type(c_ptr), intent(in) :: scene
+    character(len=:), allocatable, intent(out) :: path
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: p
+    p = c_null_ptr
+    call gran_check(c_gran_scene_output_path(scene, p), ierr)
+    call io_from_c(p, path)
+  end subroutine gran_scene_output_path
+
+  !> Species, output times, TAMSD lags; start and end time.
+  subroutine gran_scene_sizes(scene, nspecies, ntimes, nlags, t_start, t_end, ierr)
+    type(c_ptr), intent(in) :: scene
+    integer, intent(out) :: nspecies, ntimes, nlags
+    real(c_double), intent(out) :: t_start, t_end
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m, nt, nl
+    m = 0; nt = 0; nl = 0; t_start = 0; t_end = 0
+    call gran_check(c_gran_scene_sizes(scene, m, nt, nl, t_start, t_end), ierr)
+    nspecies = int(m); ntimes = int(nt); nlags = int(nl)
+  end subroutine gran_scene_sizes
+
+  !> Output times (size ntimes).
+  subroutine gran_scene_times(scene, times, ierr)
+    type(c_ptr), intent(in) :: scene
+    real(c_double), intent(out) :: times(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m, nt, nl
+    real(c_double) :: a, b
+    integer(c_int) :: status
+    status = c_gran_scene_sizes(scene, m, nt, nl, a, b)
+    if (status == GRAN_SUCCESS .and. size(times) < nt) status = GRAN_ERR_ARG
+    if (status == GRAN_SUCCESS) status = c_gran_scene_times(scene, times)
+    call gran_check(status, ierr)
+  end subroutine gran_scene_times
+
+  !> TAMSD lags (size nlags; GRAN_ERR_STATE when the scene records no TAMSD).
+  subroutine gran_scene_lags(scene, lags, ierr)
+    type(c_ptr), intent(in) :: scene
+    real(c_double), intent(out) :: lags(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m, nt, nl
+    real(c_double) :: a, b
+    integer(c_int) :: status
+    status = c_gran_scene_sizes(scene, m, nt, nl, a, b)
+    if (status == GRAN_SUCCESS .and. size(lags) < nl) status = GRAN_ERR_ARG
+    if (status == GRAN_SUCCESS) status = c_gran_scene_lags(scene, lags)
+    call gran_check(status, ierr)
+  end subroutine gran_scene_lags
+
+  !> A new mixture from the scene (release it with the theory module's destroy).
+  subroutine gran_scene_mixture(scene, mix, ierr)
+    type(c_ptr), intent(in) :: scene
+    type(c_ptr), intent(out) :: mix
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_scene_mixture(scene, mix), ierr)
+  end subroutine gran_scene_mixture
+
+  !> Initial temperatures T0(nspecies) and tau0 = 2/xi_1(T0).
+  subroutine gran_scene_initial_temperatures(scene, mix, T0, tau0, ierr)
+    type(c_ptr), intent(in) :: scene, mix
+    real(c_double), intent(out) :: T0(:), tau0
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_scene_initial_temperatures(scene, mix, T0, tau0), ierr)
+  end subroutine gran_scene_initial_temperatures
+
+  !> Engine options and particle numbers of the scene. opt = c_loc of a bind(C) mirror of
+  !> gran_dsmc_options (target); counts(nspecies); have_counts = 1 when listed in the scene.
+  subroutine gran_scene_dsmc_options(scene, opt, counts, have_counts, ierr)
+    type(c_ptr), intent(in) :: scene, opt
+    integer(c_int64_t), intent(out) :: counts(:)
+    integer, intent(out) :: have_counts
+    integer, intent(out), optional :: ierr
+    integer(c_int) :: h
+    h = 0
+    call gran_check(c_gran_scene_dsmc_options(scene, opt, counts, h), ierr)
+    have_counts = int(h)
+  end subroutine gran_scene_dsmc_options
+
+  !> A new engine as `granary run` creates it.
+  subroutine gran_scene_dsmc(scene, mix, sim, ierr)
+    type(c_ptr), intent(in) :: scene, mix
+    type(c_ptr), intent(out) :: sim
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_scene_dsmc(scene, mix, sim), ierr)
+  end subroutine gran_scene_dsmc
+
+  !> Run a scene. output / checkpoint absent: the scene's ("" checkpoint: none).
+  subroutine gran_scene_run(scene, output, checkpoint, ctl, result, ierr)
+    type(c_ptr), intent(in) :: scene
+    character(len=*), intent(in), optional :: output, checkpoint
+    type(gran_run_control), intent(in), optional, target :: ctl
+    type(gran_run_result), intent(out), optional, target :: result
+    integer, intent(out), optional :: ierr
+    character(kind=c_char), allocatable, target :: cout(:), cck(:)
+    type(c_ptr) :: pout, pck, pctl, pres
+    pout = c_null_ptr; pck = c_null_ptr; pctl = c_null_ptr; pres = c_null_ptr
+    if (present(output)) then
+      call io_to_c(output, cout)
+      pout = c_loc(cout)
+    end if
+    if (present(checkpoint)) then
+      call io_to_c(checkpoint, cck)
+      pck = c_loc(cck)
+    end if
+    if (present(ctl)) pctl = c_loc(ctl)
+    if (present(result)) pres = c_loc(result)
+    call gran_check(c_gran_scene_run(scene, pout, pck, pctl, pres), ierr)
+  end subroutine gran_scene_run
+
+  !> Continue a run from its checkpoint (output absent: the path stored in the checkpoint).
+  subroutine gran_scene_resume(checkpoint, output, ctl, result, ierr)
+    character(len=*), intent(in) :: checkpoint
+    character(len=*), intent(in), optional :: output
+    type(gran_run_control), intent(in), optional, target :: ctl
+    type(gran_run_result), intent(out), optional, target :: result
+    integer, intent(out), optional :: ierr
+    character(kind=c_char), allocatable, target :: cout(:), cck(:)
+    type(c_ptr) :: pout, pctl, pres
+    pout = c_null_ptr; pctl = c_null_ptr; pres = c_null_ptr
+    call io_to_c(checkpoint, cck)
+    if (present(output)) then
+      call io_to_c(output, cout)
+      pout = c_loc(cout)
+    end if
+    if (present(ctl)) pctl = c_loc(ctl)
+    if (present(result)) pres = c_loc(result)
+    call gran_check(c_gran_scene_resume(c_loc(cck), pout, pctl, pres), ierr)
+  end subroutine gran_scene_resume
   ! @@END io-procedures@@
 end module granary

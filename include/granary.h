@@ -124,7 +124,8 @@ typedef struct gran_segtree {
 GRAN_EXTERN int gran_segtree_init(gran_segtree *t, int64_t m, const double *w);
 GRAN_EXTERN int gran_segtree_free(gran_segtree *t);
 GRAN_EXTERN int gran_segtree_set(gran_segtree *t, int64_t i, double w);
-/* n leaves at once (a repeated index keeps its last value); each affected parent recomputed once. */
+/* n leaves at once (a repeated index keeps its last value); affected parents recomputed level by
+ * level, O(n log(m/n) + n). */
 GRAN_EXTERN int gran_segtree_set_batch(gran_segtree *t, int64_t n, const int64_t *idx, const double *w);
 GRAN_EXTERN int gran_segtree_get(const gran_segtree *t, int64_t i, double *w);
 GRAN_EXTERN int gran_segtree_total(const gran_segtree *t, double *total);
@@ -171,8 +172,8 @@ GRAN_EXTERN int gran_particles_swap_remove(gran_particles *p, int64_t i);
 GRAN_EXTERN int gran_particles_memory(const gran_particles *p, int64_t *bytes);
 
 /* ABI self-description for bindings: "sizeof(gran_rng)" etc. for every struct of this header and
- * the value of every enum constant by its name ("GRAN_ERR_ARG", "GRAN_SELECTOR_BIRD", ...).
- * Unknown name: GRAN_ERR_ARG. */
+ * the value of every enum constant and version macro by its name ("GRAN_ERR_ARG",
+ * "GRAN_SELECTOR_BIRD", "GRAN_VERSION_MAJOR", ...). Unknown name: GRAN_ERR_ARG. */
 GRAN_EXTERN int gran_abi_query(const char *name, int64_t *value);
 
 /* @@SECTION theory@@ (owned by the theory module; see src/theory) ----------------------------
@@ -242,6 +243,33 @@ GRAN_EXTERN int gran_theory_msd(const gran_mixture *mix, const double *T0, int64
 /* TAMSD in the HCS (Eq. 27) over measurement time t_meas for nlag lags (tamsd nlag*M). */
 GRAN_EXTERN int gran_theory_tamsd(const gran_mixture *mix, const double *T0, double tau0, double t_meas,
                                   int64_t nlag, const double *lag, double rtol, double *tamsd);
+/* The two terms of Eq. 27: delta0 (closed form, no cancellation for lag << t_meas) and Xi (GSL
+ * quadrature); delta0 + Xi = tamsd up to cancellation at lags << tau_v. nlag*M each; either may be NULL. */
+GRAN_EXTERN int gran_theory_tamsd_parts(const gran_mixture *mix, const double *T0, double tau0, double t_meas,
+                                        int64_t nlag, const double *lag, double rtol, double *delta0, double *xi);
+/* MSD of species 1 by Eq. 31 (M = 1, or every other species a tracer), from T_1(0) = T1; tau0 (Eq. 29,
+ * may be NULL) out. msd has ntimes values. */
+GRAN_EXTERN int gran_theory_msd_mono(const gran_mixture *mix, double T1, int64_t ntimes, const double *t,
+                                     double *msd, double *tau0);
+/* Reduced times tau_k(t) of Eq. 6 (units of tau_c(0), Eq. 7) from any start T0 (ODE); ntimes*M. */
+GRAN_EXTERN int gran_theory_reduced_time(const gran_mixture *mix, const double *T0, int64_t ntimes,
+                                         const double *t, double rtol, double *tau);
+/* Tracer limit (Sec. II F): species `tracer` (0-based, n = 0) in the monodisperse gas of species 1
+ * (all others tracers). gamma = T_tracer/T_1 by the mu >> 1 approximation Eqs. 34-35 (GRAN_ERR_DOMAIN
+ * when b >= 1, i.e. outside its validity), and tau_v,tracer/tau_c(0) by Eq. 33 for a given gamma. */
+GRAN_EXTERN int gran_theory_tracer_gamma_approx(const gran_mixture *mix, int64_t tracer, double *gamma);
+GRAN_EXTERN int gran_theory_tracer_tau_v_hat(const gran_mixture *mix, int64_t tracer, double gamma,
+                                             double *tau_v_hat);
+/* Seed 002: mean relative speeds <|g_ij|> = sqrt(8/pi (T_i/m_i + T_j/m_j)) (Eq. 60), M*M. */
+GRAN_EXTERN int gran_theory_mean_relative_speed(const gran_mixture *mix, const double *T, double *g);
+/* Collisions per unit volume and time between species i and j (seed 002 Eq. 57, cross-section
+ * pi sigma_ij^2 g2_ij): rates[i*M+j] = n_i n_j pi sigma_ij^2 g2_ij <|g_ij|> / (1 + delta_ij). Symmetric;
+ * each unordered pair once (the convention of gran_dsmc_collision_counts): total = sum over i <= j. */
+GRAN_EXTERN int gran_theory_collision_rates(const gran_mixture *mix, const double *T, double *rates);
+/* Expected collisions in volume V from 0 to t along the cooling from T0 (ODE + quadrature):
+ * counts ntimes*M*M, [time][i][j], same convention as gran_theory_collision_rates. */
+GRAN_EXTERN int gran_theory_collision_counts(const gran_mixture *mix, const double *T0, double volume,
+                                             int64_t ntimes, const double *t, double rtol, double *counts);
 
 /* @@END theory@@ */
 
@@ -322,7 +350,31 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
 
 /* @@END dsmc@@ */
 
-/* @@SECTION analysis@@ (owned by src/analysis) */
+/* @@SECTION analysis@@ (owned by src/analysis) ------------------------------------------------
+ * Observables from trajectories and velocities. Trajectories: ntraj tracers sampled on a uniform
+ * time grid, xyz layout [traj][sample][3] (as gran_dsmc_trajectories hands them out); lags are
+ * counted in samples (multiply by the sampling interval). Velocities: 3n doubles, interleaved.
+ * ------------------------------------------------------------------------------------------- */
+/* TAMSD delta^2(L) = 1/(N-L) sum_{i=0}^{N-1-L} |R_{i+L} - R_i|^2, L = 0..nlag-1 (1 <= nlag <= N),
+ * averaged over the trajectories; by FFT autocorrelation in O(N log N) per trajectory (FFTW). */
+typedef struct gran_tamsd_plan gran_tamsd_plan; /* opaque: FFT plan and buffers for N samples */
+GRAN_EXTERN int gran_tamsd_plan_create(int64_t nsamples, gran_tamsd_plan **plan);
+GRAN_EXTERN int gran_tamsd_plan_destroy(gran_tamsd_plan **plan);
+/* Executes many times; holds working buffers, so one plan per thread. */
+GRAN_EXTERN int gran_tamsd_plan_execute(gran_tamsd_plan *plan, int64_t ntraj, const double *xyz,
+                                        int64_t nlag, double *tamsd);
+/* One shot: create, execute, destroy. */
+GRAN_EXTERN int gran_tamsd(int64_t ntraj, int64_t nsamples, const double *xyz, int64_t nlag, double *tamsd);
+/* The definition summed directly, O(N nlag) per trajectory: the reference for tests and benches. */
+GRAN_EXTERN int gran_tamsd_direct(int64_t ntraj, int64_t nsamples, const double *xyz, int64_t nlag,
+                                  double *tamsd);
+/* Sonine a2 = (3/5) <E^2>/<E>^2 - 1 with E_i = m_i |v_i - u|^2, u the (mass-weighted) mean flow;
+ * mass may be NULL (equal masses: (3/5)<c^4>/<c^2>^2 - 1). GRAN_ERR_DOMAIN if all v_i == u. */
+GRAN_EXTERN int gran_sonine_a2(int64_t n, const double *v, const double *mass, double *a2);
+/* Density of c = |v_i - u|/scale on [0, cmax), nbins bins: hist[k] = count_k / (n dc), so
+ * sum hist*dc = fraction below cmax; nbeyond (may be NULL) = particles with c >= cmax. */
+GRAN_EXTERN int gran_speed_histogram(int64_t n, const double *v, double scale, int64_t nbins, double cmax,
+                                     double *hist, int64_t *nbeyond);
 
 /* @@END analysis@@ */
 
@@ -349,7 +401,8 @@ GRAN_EXTERN int gran_scene_times(const gran_scene *scene, double *times); /* nti
 GRAN_EXTERN int gran_scene_lags(const gran_scene *scene, double *lags);   /* nlags */
 /* A new mixture (caller destroys it) with the scene's species, restitution and g2. */
 GRAN_EXTERN int gran_scene_mixture(const gran_scene *scene, gran_mixture **mix);
-/* Initial temperatures T0 (nspecies) as the scene's [initial] asks, and tau0 of the HCS of mix. */
+/* Initial temperatures T0 (nspecies) as the scene's [initial] asks, and tau0 = 2/xi_1(T0)
+ * (Eq. 21: the HCS relaxation time when the scene starts in the HCS; tau0 may be NULL). */
 GRAN_EXTERN int gran_scene_initial_temperatures(const gran_scene *scene, const gran_mixture *mix,
                                                 double *T0, double *tau0);
 /* The engine options of [engine] / [observables] and the particle numbers: counts (nspecies) is

@@ -2,9 +2,11 @@
  * files, and comparing two HDF5 files dataset by dataset, bit for bit. */
 #ifndef GRANARY_IO_TEST_UTIL_H
 #define GRANARY_IO_TEST_UTIL_H
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700
 #define _DEFAULT_SOURCE
+#include <ctype.h>
 #include <dirent.h>
+#include <sys/wait.h>
 #include <ftw.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -77,7 +79,7 @@ typedef struct {
   char first_diff[512];
 } io_cmp_state;
 
-static inline herr_t io_cmp_cb(hid_t obj, const char *name, const H5O_info2_t *info, void *op) {
+static inline herr_t io_cmp_cb(hid_t obj, const char *name, const H5O_info_t *info, void *op) {
   io_cmp_state *st = (io_cmp_state *)op;
   if (info->type != H5O_TYPE_DATASET) return 0;
   st->ndatasets++;
@@ -126,7 +128,7 @@ static inline int io_h5_compare(const char *a, const char *b, int *ndatasets, ch
   io_cmp_state st;
   memset(&st, 0, sizeof st);
   st.other = fb;
-  H5Ovisit3(fa, H5_INDEX_NAME, H5_ITER_INC, io_cmp_cb, &st, H5O_INFO_BASIC);
+  H5Ovisit2(fa, H5_INDEX_NAME, H5_ITER_INC, io_cmp_cb, &st, H5O_INFO_BASIC);
   H5Fclose(fa);
   H5Fclose(fb);
   if (ndatasets) *ndatasets = st.ndatasets;

@@ -137,6 +137,15 @@ static void test_known_answers_state_1234(void **state) {
   /* the same from the reference copy */
   s[0] = 1, s[1] = 2, s[2] = 3, s[3] = 4;
   for (int i = 0; i < 4; i++) assert_true(out[i] == ref_next());
+  /* first outputs after jump / long_jump from {1,2,3,4} (values of the reference code, hard-coded
+   * so that a shared mistake of library and copy would show; the Fortran twin checks them too) */
+  gran_rng j = {{1, 2, 3, 4}}, l = {{1, 2, 3, 4}};
+  GRAN_ASSERT_OK(gran_rng_jump(&j));
+  GRAN_ASSERT_OK(gran_rng_u64(&j, 2, out));
+  assert_true(out[0] == UINT64_C(13534147089533256664) && out[1] == UINT64_C(7126240192422241655));
+  GRAN_ASSERT_OK(gran_rng_long_jump(&l));
+  GRAN_ASSERT_OK(gran_rng_u64(&l, 2, out));
+  assert_true(out[0] == UINT64_C(5942309088398569549) && out[1] == UINT64_C(15625447729937358436));
 }
 
 static void test_seed_is_splitmix64(void **state) {

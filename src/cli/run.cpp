@@ -88,6 +88,11 @@ void summary(const std::string &path) {
   bool haveM = gran_h5::exists(f, "msd") && !gran_h5::read_double(f, "msd/msd", msd, &dm, p);
   bool haveMth = haveM && gran_h5::exists(f, "msd/msd_theory") && !gran_h5::read_double(f, "msd/msd_theory", msdth, nullptr, p);
   bool haveTime = !gran_h5::read_double(f, "time", t, nullptr, p);
+  std::vector<double> ek, e0;
+  std::vector<int64_t> coll;
+  bool haveE = gran_h5::exists(f, "energy") && !gran_h5::read_double(f, "energy/e_kin", ek, nullptr, p) &&
+               !gran_h5::read_double(f, "energy/e_initial", e0, nullptr, p);
+  bool haveC = !gran_h5::read_int64(f, "stats/collisions", coll, nullptr, p);
   gran_h5::close_file(f);
   gran_clear_error();
   if (!haveTime || (!haveT && !haveM)) return;
@@ -118,6 +123,10 @@ void summary(const std::string &path) {
     }
   }
   if (Mshow < M) std::printf("(species 1..%" PRId64 " of %" PRId64 " shown; everything is in %s)\n", Mshow, M, p);
+  if (haveE && !ek.empty())
+    std::printf("at t = %.6g: total kinetic energy %.6g (initially %.6g)%s", t.back(), ek.back(), e0.back(),
+                haveC && !coll.empty() ? "" : "\n");
+  if (haveC && !coll.empty()) std::printf("%s%" PRId64 " collisions\n", haveE ? ", " : "", coll.back());
 }
 
 int fail(const char *what) {
@@ -200,20 +209,18 @@ int cli_run(int argc, char **argv) {
   std::string out_path;
   int st;
   if (resume) {
-    st = gran_scene_resume(resume, output, &ctl, &res);
-    if (st) return fail("resume failed");
-    if (!output) {
-      /* the output path stored in the checkpoint; read back for the messages */
-      gran_scene *sc = nullptr;
+    if (output) {
+      out_path = output;
+    } else {
+      /* the output path stored in the checkpoint (read first: a finished run removes the file) */
       int64_t f = gran_h5::open_file(resume, 0);
       std::string o;
       if (f >= 0 && !gran_h5::read_attr_string(f, "output", o, resume)) out_path = o;
       gran_h5::close_file(f);
-      gran_scene_destroy(&sc);
       gran_clear_error();
-    } else {
-      out_path = output;
     }
+    st = gran_scene_resume(resume, output, &ctl, &res);
+    if (st) return fail("resume failed");
   } else {
     gran_scene *scene = nullptr;
     if (gran_scene_load(scene_path, &scene)) return fail("invalid scene");

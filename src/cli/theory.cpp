@@ -266,8 +266,10 @@ int cli_theory(int argc, char **argv) {
   }
 
   std::printf("scene %s: %" PRId64 " species, restitution %s, start %s\n", scene_path, M, model_name,
-              hcs_start ? "in the homogeneous cooling state" : "away from the HCS");
-  std::printf("tau0 = %.8g   (HCS temperature relaxation time, Eq. 21)\n", tau0_hcs);
+              scene->init == SCENE_INIT_HCS     ? "in the homogeneous cooling state"
+              : scene->init == SCENE_INIT_EQUAL ? "with equal temperatures"
+                                                : "with the listed temperatures");
+  std::printf("tau0 = %.8g   (2/xi_1(0), Eq. 21: the temperature relaxation time of the HCS)\n", tau0_hcs);
   std::printf("tau_c(0) = %.8g   (mean collision time of species 1, Eq. 7)\n", 1.0 / inv_tc);
   std::printf("%4s %14s %14s %14s %16s %14s %14s %14s\n", "k", "n_k", "m_k", "sigma_k", "T_k(0)", "gamma_k1",
               "tau_v,k(0)", "D_k(0)");

@@ -8,9 +8,6 @@
  */
 #include "granary_impl.h"
 
-#include <algorithm>
-#include <vector>
-
 namespace {
 
 int check_tree(const gran_segtree *t) {
@@ -22,11 +19,9 @@ int check_tree(const gran_segtree *t) {
 
 /* i < 0: a scalar argument named `name`; else element i of array `name`. */
 int check_weight(double w, const char *name, int64_t i) {
-  if (i < 0)
-    GRAN_CHECK(std::isfinite(w) && w >= 0.0, GRAN_ERR_ARG, "weight '%s' = %g is negative or not finite", name, w);
-  GRAN_CHECK(std::isfinite(w) && w >= 0.0, GRAN_ERR_ARG,
-             "weight %s[" GRAN_I64_FMT "] = %g is negative or not finite", name, i, w);
-  return GRAN_SUCCESS;
+  if (std::isfinite(w) && w >= 0.0) return GRAN_SUCCESS;
+  if (i < 0) return GRAN_ERROR(GRAN_ERR_ARG, "weight '%s' = %g is negative or not finite", name, w);
+  return GRAN_ERROR(GRAN_ERR_ARG, "weight %s[" GRAN_I64_FMT "] = %g is negative or not finite", name, i, w);
 }
 
 /* Recompute every internal node from its children, bottom up: O(base). */
@@ -82,8 +77,8 @@ GRAN_EXTERN int gran_segtree_set(gran_segtree *t, int64_t i, double w) {
 }
 
 /** @brief Set n weights w[k] at leaves idx[k] (a repeated index takes its last value), then
- *  recompute each affected ancestor once, level by level: O(n log n + n log m), or one O(m)
- *  rebuild when that is cheaper. All arguments are checked before anything changes. */
+ *  recompute the affected ancestors level by level: O(n log(m/n) + n), never more than one O(m)
+ *  rebuild. All arguments are checked before anything changes. */
 GRAN_EXTERN int gran_segtree_set_batch(gran_segtree *t, int64_t n, const int64_t *idx, const double *w) {
   GRAN_CALL(check_tree(t));
   GRAN_CHECK(n >= 0, GRAN_ERR_ARG, "argument 'n' is negative (" GRAN_I64_FMT ")", n);
@@ -95,29 +90,24 @@ GRAN_EXTERN int gran_segtree_set_batch(gran_segtree *t, int64_t n, const int64_t
                "idx[" GRAN_I64_FMT "] = " GRAN_I64_FMT " outside [0, " GRAN_I64_FMT ")", k, idx[k], t->m);
     GRAN_CALL(check_weight(w[k], "w", k));
   }
-  GRAN_TRY {
-    double *node = t->node;
-    const int64_t base = t->base;
-    for (int64_t k = 0; k < n; k++) node[base + idx[k]] = w[k];
-    int levels = 0;
-    while ((INT64_C(1) << levels) < base) levels++;
-    if (n * (levels + 1) >= base) {
-      build_internal(t); /* touching most parents anyway */
-    } else {
-      std::vector<int64_t> cur((size_t)n);
-      for (int64_t k = 0; k < n; k++) cur[(size_t)k] = (base + idx[k]) >> 1;
-      std::sort(cur.begin(), cur.end());
-      cur.erase(std::unique(cur.begin(), cur.end()), cur.end());
-      while (!cur.empty() && cur[0] >= 1) {
-        for (int64_t i : cur) node[i] = node[2 * i] + node[2 * i + 1];
-        for (int64_t &i : cur) i >>= 1; /* stays sorted */
-        cur.erase(std::unique(cur.begin(), cur.end()), cur.end());
-      }
+  double *node = t->node;
+  const int64_t base = t->base;
+  for (int64_t k = 0; k < n; k++) node[base + idx[k]] = w[k];
+  /* Level by level, bottom up: at shift s the affected nodes are (base + idx[k]) >> s. A node listed
+   * twice is simply recomputed twice (same value), so no sorting or buffer is needed; once a level
+   * has no more nodes than the batch, recomputing that whole level and all above is cheaper. */
+  for (int64_t s = 1, width = base / 2; width >= 1; s++, width /= 2) {
+    if (width <= n) {
+      for (int64_t i = 2 * width - 1; i >= 1; i--) node[i] = node[2 * i] + node[2 * i + 1];
+      break;
     }
-    t->nupdate += n;
-    return GRAN_SUCCESS;
+    for (int64_t k = 0; k < n; k++) {
+      const int64_t i = (base + idx[k]) >> s;
+      node[i] = node[2 * i] + node[2 * i + 1];
+    }
   }
-  GRAN_CATCH
+  t->nupdate += n;
+  return GRAN_SUCCESS;
 }
 
 /** @brief Weight of leaf i. */

@@ -164,9 +164,7 @@ void dsmc_raise_bound(gran_dsmc *s, int32_t i, double s2) {
 }
 
 int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_options *opt, gran_dsmc *s) {
-  GRAN_CHECK_PTR(mix);
-  GRAN_CHECK(mix->M >= 1 && (int64_t)mix->m.size() == mix->M && (int64_t)mix->sigma.size() == mix->M,
-             GRAN_ERR_STATE, "argument 'mix' is not a mixture made by gran_mixture_create");
+  GRAN_CALL(check_mixture(mix, "mix"));
   GRAN_CALL(check_options(opt));
   const int64_t M = mix->M;
   GRAN_CHECK(M <= INT32_MAX, GRAN_ERR_ARG, "mixture has too many species (" GRAN_I64_FMT ")", M);
@@ -297,7 +295,8 @@ GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt) {
 }
 
 /** @brief New engine: N_k particles of each species (counts, or round(n_k V)), Maxwellian
- *  velocities at T0[k] (NULL: the HCS of mix with <T(0)> = 1), zero total momentum.
+ *  velocities at T0[k] (NULL: the HCS of mix with <T(0)> = 1; T_k = 1 for viscoelastic
+ *  restitution, which has no HCS), zero total momentum.
  *  @param[in] mix copied; may be destroyed afterwards  @param[out] sim the new engine */
 GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts, const double *T0,
                                  const gran_dsmc_options *opt, gran_dsmc **sim) {
@@ -316,6 +315,8 @@ GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts,
           if (!(std::isfinite(T0[k]) && T0[k] >= 0))
             ierr = GRAN_ERROR(GRAN_ERR_ARG, "argument 'T0[" GRAN_I64_FMT "]' = %g must be finite and >= 0", k, T0[k]);
         if (ierr == GRAN_SUCCESS) T.assign(T0, T0 + M);
+      } else if (mix->model == GRAN_RESTITUTION_VISCOELASTIC) {
+        T.assign((size_t)M, 1.0); /* no HCS with constant ratios: equipartition (seed 000 App. A) */
       } else {
         double tau0;
         ierr = gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T.data(), &tau0);

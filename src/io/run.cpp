@@ -89,7 +89,8 @@ void setup_buffers(Run &r) {
   if (s->obs_veldist) add_buf(r, "velocity_distribution", "pdf", 0, {M, s->vd_bins});
 }
 
-/* Speed histogram of c = |v| / sqrt(2 T_k / m_k) per species, normalised by N_k dc. */
+/* Speed histogram of c = |v - u_k| / sqrt(2 T_k / m_k) per species (gran_speed_histogram),
+ * normalised by N_k dc. */
 int record_veldist(Run &r, double *row) {
   const gran_scene *s = r.s;
   const int64_t M = s->nspecies, B = s->vd_bins;
@@ -99,20 +100,13 @@ int record_veldist(Run &r, double *row) {
   GRAN_CALL(gran_dsmc_particles(r.sim, &p));
   GRAN_CALL(gran_dsmc_species_offsets(r.sim, off.data()));
   GRAN_CALL(gran_dsmc_temperatures(r.sim, T.data()));
-  const double dc = s->vd_cmax / (double)B;
   for (int64_t k = 0; k < M; k++) {
     double *h = row + k * B;
     std::fill(h, h + B, 0.0);
     const int64_t n = off[(size_t)k + 1] - off[(size_t)k];
     if (n <= 0 || !(T[(size_t)k] > 0)) continue;
-    const double inv_vth = 1.0 / std::sqrt(2.0 * T[(size_t)k] / s->mass[(size_t)k]);
-    for (int64_t i = off[(size_t)k]; i < off[(size_t)k + 1]; i++) {
-      const double *v = p->v + 3 * i;
-      const double c = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * inv_vth;
-      const int64_t b = (int64_t)(c / dc);
-      if (b < B) h[b] += 1.0;
-    }
-    for (int64_t b = 0; b < B; b++) h[b] /= (double)n * dc;
+    const double scale = std::sqrt(2.0 * T[(size_t)k] / s->mass[(size_t)k]);
+    GRAN_CALL(gran_speed_histogram(n, p->v + 3 * off[(size_t)k], scale, B, s->vd_cmax, h, nullptr));
   }
   return GRAN_SUCCESS;
 }
@@ -222,7 +216,7 @@ int write_theory(Run &r, int64_t f, const char *file, const std::vector<double> 
     if (st == GRAN_SUCCESS) {
       GRAN_CALL(gran_h5::write_double(g.id, "T_theory", dims, T.data(), file));
     } else {
-      gran_warning_add("no T_theory in '%s': %s", file, gran_last_error_message());
+      gran_warning_add("no T_theory in the output: %s", gran_last_error_message());
       GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
     }
   }
@@ -238,15 +232,16 @@ int write_theory(Run &r, int64_t f, const char *file, const std::vector<double> 
       GRAN_CALL(gran_h5::write_double(g.id, "msd_total_theory", {nt}, mt.data(), file));
       GRAN_CALL(gran_h5::attr_string(g.id, "theory", hcs ? "gran_theory_msd_hcs (Eq. 22)" : "gran_theory_msd (Eq. 4)", file));
     } else {
-      gran_warning_add("no msd_theory in '%s': %s", file, gran_last_error_message());
+      gran_warning_add("no msd_theory in the output: %s", gran_last_error_message());
       GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
     }
   }
   return GRAN_SUCCESS;
 }
 
-/* TAMSD of the recorded tracer trajectories, averaged over the tracers of each species:
- * delta^2(L) = 1/(S-L) sum_{j<S-L} |R_{j+L} - R_j|^2 (Eq. 26 on the sampling grid). */
+/* TAMSD of the recorded tracer trajectories, averaged over the tracers of each species
+ * (gran_tamsd_plan_*: delta^2(L) = 1/(S-L) sum_{j<S-L} |R_{j+L} - R_j|^2, Eq. 26 on the grid).
+ * Lags are rounded to whole sampling intervals; /tamsd/lag holds the lags used. */
 int write_tamsd(Run &r, int64_t f, const char *file) {
   const gran_scene *s = r.s;
   const int64_t M = s->nspecies, nl = (int64_t)s->tamsd_lags.size();
@@ -260,25 +255,29 @@ int write_tamsd(Run &r, int64_t f, const char *file) {
     L[(size_t)l] = std::max<int64_t>(1, (int64_t)std::llround(s->tamsd_lags[(size_t)l] / s->tamsd_dt));
     lag[(size_t)l] = (double)L[(size_t)l] * s->tamsd_dt;
   }
-  for (int64_t j = 0; j < ntraj; j++) {
-    const int32_t k = sp[j];
-    if (k < 0 || k >= M) continue;
-    ntr[(size_t)k]++;
-    const double *R = xyz + j * ns * 3;
-    for (int64_t l = 0; l < nl; l++) {
-      const int64_t lg = L[(size_t)l];
-      if (lg >= ns) continue;
-      double acc = 0;
-      for (int64_t a = 0; a + lg < ns; a++) {
-        const double dx = R[3 * (a + lg)] - R[3 * a], dy = R[3 * (a + lg) + 1] - R[3 * a + 1],
-                     dz = R[3 * (a + lg) + 2] - R[3 * a + 2];
-        acc += dx * dx + dy * dy + dz * dz;
+  int64_t Lmax = 1;
+  for (int64_t x : L) Lmax = std::max(Lmax, x);
+  GRAN_CHECK(Lmax < ns, GRAN_ERR_STATE, "TAMSD lag of %" PRId64 " samples >= the %" PRId64 " recorded samples", Lmax, ns);
+  gran_tamsd_plan *plan = nullptr;
+  GRAN_CALL(gran_tamsd_plan_create(ns, &plan));
+  std::vector<double> xs, full((size_t)Lmax + 1);
+  int st = GRAN_SUCCESS;
+  for (int64_t k = 0; k < M && st == GRAN_SUCCESS; k++) {
+    xs.clear();
+    for (int64_t j = 0; j < ntraj; j++)
+      if (sp[j] == k) {
+        ntr[(size_t)k]++;
+        xs.insert(xs.end(), xyz + j * ns * 3, xyz + (j + 1) * ns * 3);
       }
-      ta[(size_t)(l * M + k)] += acc / (double)(ns - lg);
+    if (!ntr[(size_t)k]) {
+      for (int64_t l = 0; l < nl; l++) ta[(size_t)(l * M + k)] = NAN;
+      continue;
     }
+    st = gran_tamsd_plan_execute(plan, ntr[(size_t)k], xs.data(), Lmax + 1, full.data());
+    for (int64_t l = 0; l < nl && st == GRAN_SUCCESS; l++) ta[(size_t)(l * M + k)] = full[(size_t)L[(size_t)l]];
   }
-  for (int64_t l = 0; l < nl; l++)
-    for (int64_t k = 0; k < M; k++) ta[(size_t)(l * M + k)] = ntr[(size_t)k] ? ta[(size_t)(l * M + k)] / (double)ntr[(size_t)k] : NAN;
+  gran_tamsd_plan_destroy(&plan);
+  GRAN_CALL(st);
   H5Group g;
   GRAN_CALL(gran_h5::make_group(f, "tamsd", &g.id, file));
   const double t_meas = s->tamsd_dt * (double)(ns - 1);
@@ -295,7 +294,7 @@ int write_tamsd(Run &r, int64_t f, const char *file) {
     if (st == GRAN_SUCCESS) {
       GRAN_CALL(gran_h5::write_double(g.id, "tamsd_theory", {nl, M}, th.data(), file));
     } else {
-      gran_warning_add("no tamsd_theory in '%s': %s", file, gran_last_error_message());
+      gran_warning_add("no tamsd_theory in the output: %s", gran_last_error_message());
       GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
     }
   }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <algorithm>
 #include <map>
 #include <set>
 #include <sstream>
@@ -136,7 +137,24 @@ class Tab {
     if (!bad.empty())
       throw scene_error{fmt_line(file_, bad_line) + ": key '" + key(bad) + "': unknown key" + hint(bad)};
   }
-  void set_known(std::vector<std::string> k) { known_ = std::move(k); }
+  /* Declare the keys this table may hold; any other key fails at once (before any "missing key"
+   * message, so a misspelt key is reported as such). */
+  void set_known(std::vector<std::string> k) {
+    known_ = std::move(k);
+    if (!v_ || !v_->is_table()) return;
+    std::string bad;
+    unsigned bad_line = 0;
+    for (const auto &kv : v_->as_table()) {
+      if (std::find(known_.begin(), known_.end(), kv.first) != known_.end()) continue;
+      unsigned ln = (unsigned)kv.second.location().line();
+      if (bad.empty() || ln < bad_line) {
+        bad = kv.first;
+        bad_line = ln;
+      }
+    }
+    if (!bad.empty())
+      throw scene_error{fmt_line(file_, bad_line) + ": key '" + key(bad) + "': unknown key" + hint(bad)};
+  }
   const std::string &file() const { return file_; }
 
   static const char *type_name(const toml::value &x) {
@@ -512,6 +530,9 @@ void parse_scene(const toml::value &root, gran_scene &s) {
     require(s.tamsd_tracers >= 1, ta, "tracers", "must be >= 1, got " + std::to_string(s.tamsd_tracers));
     require(s.tamsd_dt > 0, ta, "dt", "must be > 0");
     require(s.tamsd_samples >= 2 && s.tamsd_samples <= 100000000, ta, "samples", "must be in [2, 1e8]");
+    const double traj_bytes = 24.0 * (double)s.tamsd_tracers * (double)M * (double)s.tamsd_samples;
+    require(traj_bytes <= 16e9, ta, "samples",
+            "tracers x species x samples x 24 bytes = " + Tab::num_str(traj_bytes) + " bytes of trajectories (limit 16e9)");
     double t_meas = s.tamsd_dt * (double)(s.tamsd_samples - 1);
     require(s.t_start + t_meas <= s.t_end * (1 + 1e-12), ta, "samples",
             "trajectories need t_start + dt*(samples-1) = " + Tab::num_str(s.t_start + t_meas) + " <= t_end = " +
@@ -587,19 +608,24 @@ int gran_scene_parse_text_(const std::string &text, const std::string &name, gra
 
 int gran_scene_T0_(const gran_scene *s, const gran_mixture *mix, double *T0, double *tau0) {
   const int64_t M = s->nspecies;
-  std::vector<double> hcs((size_t)M);
-  double t0 = INFINITY;
-  int st = gran_theory_hcs(mix, s->hcs_norm, s->T_value, hcs.data(), &t0);
   if (s->init == SCENE_INIT_HCS) {
-    if (st) return st;
-    for (int64_t k = 0; k < M; k++) T0[k] = hcs[(size_t)k];
+    double t0 = NAN;
+    GRAN_CALL(gran_theory_hcs(mix, s->hcs_norm, s->T_value, T0, &t0));
   } else if (s->init == SCENE_INIT_EQUAL) {
     for (int64_t k = 0; k < M; k++) T0[k] = s->T_value;
   } else {
     for (int64_t k = 0; k < M; k++) T0[k] = s->T_list[(size_t)k];
   }
-  if (tau0) *tau0 = st ? NAN : t0;
-  if (st) gran_clear_error();
+  /* tau0 = 2 / xi_1(T(0)) (Eq. 21): in the HCS every species gives the same value */
+  if (tau0) {
+    std::vector<double> xi((size_t)M);
+    if (gran_theory_cooling_rates(mix, T0, xi.data()) == GRAN_SUCCESS) {
+      *tau0 = xi[0] > 0 ? 2.0 / xi[0] : INFINITY;
+    } else {
+      *tau0 = NAN;
+      gran_clear_error();
+    }
+  }
   return GRAN_SUCCESS;
 }
 
@@ -712,8 +738,8 @@ GRAN_EXTERN int gran_scene_mixture(const gran_scene *scene, gran_mixture **mix) 
   GRAN_CATCH
 }
 
-/** @brief Initial temperatures as [initial] asks (HCS from the theory module), and the HCS tau0
- *  (NaN when the theory cannot give it, e.g. a stub). */
+/** @brief Initial temperatures as [initial] asks (HCS from the theory module), and
+ *  tau0 = 2 / xi_1(T(0)) (Eq. 21; the HCS relaxation time when the start is the HCS). */
 GRAN_EXTERN int gran_scene_initial_temperatures(const gran_scene *scene, const gran_mixture *mix, double *T0,
                                                 double *tau0) {
   GRAN_CHECK_PTR(scene);

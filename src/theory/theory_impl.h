@@ -80,13 +80,75 @@ double visco_eps(double x); /* no argument checks; x >= 0 finite */
  * xi_k (Eq. 15 / A7) for every k at temperatures T (any of xi, dxi_dlogT_self, may be NULL).
  * Returns a status (viscoelastic quadrature may fail). */
 int cooling_rates(const gran_mixture *mix, const double *T, double *xi);
+/* One pass over the pairs (constant/matrix restitution): xi_k, d_k = sum_i d xi_ki/d log T_k (row
+ * part of the Jacobian), l_k = d xi_kk/d log T_k through the partner's temperature (diagonal of
+ * the column part) and the collision frequency nu_k. Constant eps and g2: each unordered pair once,
+ * vectorised. All outputs required (length M). */
+void cooling_pass(const gran_mixture *mix, const double *T, double *xi, double *d, double *l, double *nu);
 /* xi_k and J_kj = d xi_k / d log T_j (row-major M*M); constant/matrix restitution only. */
 void cooling_jacobian(const gran_mixture *mix, const double *T, double *xi, double *J);
 /* 1/tau_v,k (Eq. 11 / A6). */
 int inv_tau_v(const gran_mixture *mix, const double *T, double *inv_tv);
+/* 1/tau_v,k of one species k, O(M). */
+int inv_tau_v_one(const gran_mixture *mix, const double *T, int64_t k, double *inv_tv);
+
+/* g(y) = y - 1 + exp(-y) >= 0 without cancellation (series below y = 1); g(inf) = inf.
+ * Eq. 22 is MSD_k = 6 D_k tau_v,k g(beta_k log(1 + t/tau0)). */
+static inline double g_fun(double y) {
+  if (!(y < 1.0)) return y + std::expm1(-y);
+  double term = 0.5 * y * y, sum = 0.0;
+  for (int n = 2; n < 40 && std::fabs(term) > 1e-17 * sum; n++) {
+    sum += term;
+    term *= -y / (n + 1);
+  }
+  return sum;
+}
 /* Collision frequency scale nu_k = sum_i n_i sigma_ki^2 g2 sqrt(T_k/m_k + T_i/m_i) m_i/(m_i+m_k)
  * (used to scale residuals). */
 void collision_scale(const gran_mixture *mix, const double *T, double *nu);
+
+/* ---- HCS states (msd.cpp) ---------------------------------------------------------------------
+ * Checks that (T0, tau0) is a homogeneous cooling state (|xi_k tau0/2 - 1| <= 1e-3; tau0 = inf:
+ * elastic at equipartition) and returns D_k(0) (may be NULL) and tau_v,k(0). */
+int hcs_state(const gran_mixture *mix, const double *T0, double tau0, double *D, double *tau_v);
+int check_hcs_args(const gran_mixture *mix, const double *T0, double tau0);
+
+/* ---- temperature trajectories (ode.cpp) -----------------------------------------------------
+ * Eq. 13 integrated with GSL odeiv2 (msbdf with the analytic Jacobian; stiff: relaxation of the
+ * ratios is up to ~1/(1-eps) faster than the cooling) in the log-time s = log(1 + t/ts), with
+ * state z_k = log(T_k/T0_k) + 2 s and, when with_u, u_k = int_0^t sqrt(T_k/T0_k) dt' (Eq. 6 times
+ * tau_c(0)). T decays as t^-2 over 30 decades while dy/ds stays O(1). ts is the shortest
+ * collision time at T0. */
+struct Traj {
+  const gran_mixture *mix = nullptr;
+  int64_t M = 0;
+  int dim = 0;     /* M or 2M */
+  bool with_u = false;
+  double ts = 1.0; /* time scale of s */
+  std::vector<double> T0;
+  std::vector<double> uscale; /* absolute scale of u_k in the error control: tau_v,k(T0) */
+  /* dense output (when requested): nodes s_j, states Y (nodes*dim), derivatives F = dY/ds */
+  std::vector<double> s, Y, F;
+  /* workspace */
+  std::vector<double> T, xi, J, Jfd;
+  int status = 0; /* granary status of a failure inside a GSL callback */
+  int64_t nrhs = 0, njac = 0;
+};
+
+double traj_s_of_t(const Traj &tr, double t);
+double traj_t_of_s(const Traj &tr, double s);
+int traj_init(Traj &tr, const gran_mixture *mix, const double *T0, bool with_u);
+/* Integrate from s = 0 to each of the nout sorted s_out (Y_out nout*dim exact at those points,
+ * may be NULL); when dense, store every step up to s_end with steps <= hmax. */
+int traj_run(Traj &tr, int64_t nout, const double *s_out, double *Y_out, double rtol, bool dense, double hmax,
+             double s_end);
+/* Cubic Hermite interpolation of component c at s (dense output); traj_locate finds the node
+ * interval of s once for several components (traj_eval_at). */
+double traj_eval(const Traj &tr, double s, int c);
+size_t traj_locate(const Traj &tr, double s);
+double traj_eval_at(const Traj &tr, size_t j, double s, int c);
+/* All M temperatures at s (dense output). */
+void traj_temperatures(const Traj &tr, double s, double *T);
 
 } // namespace gran
 

@@ -1,0 +1,201 @@
+/* tamsd.cpp - time-averaged MSD in the HCS (seed 000 Sec. II E, Eqs. 26-28).
+ *
+ * The mean squared increment over [t', t' + D] in the HCS (Eq. 4 started at t') is
+ *   I(t', D) = 6 D_k tau_v,k g(beta_k l),  l = log(1 + D/(tau0 + t')),  g(y) = y - 1 + e^-y,
+ * whose two parts 6 D_k tau0 l and 6 D_k tau_v,k (e^(-beta l) - 1) are the integrands of delta0^2
+ * and Xi in Eq. 27. Their sum cancels at lags D << tau_v (ballistic regime: I ~ D^2 while each
+ * part ~ D), so the TAMSD is computed as one positive integral of g (GSL QAG), in the variable
+ * v = log(1 + t'/tau0) in which the integrand is smooth over any number of decades:
+ *   TAMSD = 6 D tau_v tau0/(t - D) int_0^V g(beta log1p((D/tau0) e^-v)) e^v dv,  V = log1p((t-D)/tau0).
+ * gran_theory_tamsd_parts returns the two terms separately: delta0^2 in closed form, rewritten
+ * without cancellation for D << t (and, by the symmetry D <-> t - D of the bracket, for D -> t):
+ *   [...] = d L(t) - B phi2(d/B) - tau0 phi1(d/tau0),  d = min(D, t - D), B = tau0 + t - d,
+ *   phi1(z) = (1+z) log1p(z) - z,  phi2(w) = w - log1p(w)  (series for small arguments),
+ * and Xi by QAG of expm1(-beta l) in the same variable v. tau0 = inf (eps = 1): I = 6 D tau_v
+ * g(D/tau_v) for every t', so TAMSD = MSD(D) exactly (ergodic). */
+#include "theory/theory_impl.h"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_integration.h>
+
+namespace {
+
+using namespace gran;
+
+/* (1+z) log1p(z) - z = sum_{n>=2} (-1)^n z^n/(n(n-1)) */
+double phi1(double z) {
+  if (z > 0.25) return (1.0 + z) * std::log1p(z) - z;
+  double zn = z * z, sum = 0.0;
+  for (int n = 2; n < 60; n++) {
+    const double term = zn / (n * (n - 1.0));
+    sum += (n % 2 == 0) ? term : -term;
+    if (term < 1e-18 * sum) break;
+    zn *= z;
+  }
+  return sum;
+}
+
+/* w - log1p(w) = sum_{n>=2} (-1)^n w^n/n */
+double phi2(double w) {
+  if (w > 0.25) return w - std::log1p(w);
+  double wn = w * w, sum = 0.0;
+  for (int n = 2; n < 60; n++) {
+    const double term = wn / n;
+    sum += (n % 2 == 0) ? term : -term;
+    if (term < 1e-18 * sum) break;
+    wn *= w;
+  }
+  return sum;
+}
+
+/* delta0^2 / (6 D tau0) (Eq. 27, first term) */
+double delta0_unit(double tau0, double t, double lag) {
+  if (lag <= 0.0) return 0.0;
+  const double d = std::min(lag, t - lag);
+  const double B = tau0 + t - d;
+  const double L = std::log1p(t / tau0);
+  if (d <= 0.0) return L; /* lag = t: MSD(t) term */
+  const double br = d * L - B * phi2(d / B) - tau0 * phi1(d / tau0);
+  return br / (t - lag);
+}
+
+struct TParams {
+  double beta, a; /* a = lag/tau0 */
+  int which;      /* 0: g (total), 1: expm1 (Xi) */
+};
+
+double t_integrand(double v, void *p) {
+  const TParams *q = static_cast<const TParams *>(p);
+  const double l = std::log1p(q->a * std::exp(-v));
+  const double y = q->beta * l;
+  const double f = q->which == 0 ? g_fun(y) : std::expm1(-y);
+  return f * std::exp(v);
+}
+
+int integrate(TParams &P, double V, double rtol, gsl_integration_workspace *w, double *res) {
+  gsl_function F{t_integrand, &P};
+  double r = 0.0, err = 0.0;
+  int st = gsl_integration_qag(&F, 0.0, V, 0.0, rtol, w->limit, GSL_INTEG_GAUSS21, w, &r, &err);
+  if (st == GSL_EROUND) st = GSL_SUCCESS;
+  if (st != GSL_SUCCESS)
+    return GRAN_ERROR(GRAN_ERR_NOCONV, "TAMSD quadrature (beta = %g, lag/tau0 = %g) failed: %s", P.beta, P.a,
+                      gsl_strerror(st));
+  *res = r;
+  return GRAN_SUCCESS;
+}
+
+int check_tamsd_args(const gran_mixture *mix, const double *T0, double tau0, double t_meas, int64_t nlag,
+                     const double *lag, double rtol) {
+  GRAN_CALL(check_hcs_args(mix, T0, tau0));
+  GRAN_CHECK(std::isfinite(t_meas) && t_meas > 0.0, GRAN_ERR_ARG, "argument 't_meas' = %g must be finite and > 0",
+             t_meas);
+  GRAN_CHECK(nlag >= 0, GRAN_ERR_ARG, "argument 'nlag' = %" PRId64 " is negative", nlag);
+  GRAN_CALL(check_rtol(rtol, "rtol"));
+  if (nlag > 0) {
+    GRAN_CALL(check_times(lag, nlag, "lag"));
+    for (int64_t j = 0; j < nlag; j++)
+      GRAN_CHECK(lag[j] <= t_meas, GRAN_ERR_ARG, "argument 'lag[%" PRId64 "]' = %g exceeds t_meas = %g", j, lag[j],
+                 t_meas);
+  }
+  return GRAN_SUCCESS;
+}
+
+} // namespace
+
+/**
+ * @brief TAMSD in the HCS (Eq. 26-27) over the measurement time t_meas, for nlag lags.
+ * @param[in] T0, tau0 HCS (gran_theory_hcs; tau0 = inf for an elastic mixture)
+ * @param[in] lag nlag lags in [0, t_meas]
+ * @param[in] rtol relative tolerance of the GSL quadrature, in [1e-14, 0.1]
+ * @param[out] tamsd nlag*M, row-major [lag][species]
+ */
+GRAN_EXTERN int gran_theory_tamsd(const gran_mixture *mix, const double *T0, double tau0, double t_meas, int64_t nlag,
+                                  const double *lag, double rtol, double *tamsd) {
+  GRAN_TRY {
+    gsl_set_error_handler_off();
+    GRAN_CALL(check_tamsd_args(mix, T0, tau0, t_meas, nlag, lag, rtol));
+    if (nlag == 0) return GRAN_SUCCESS;
+    GRAN_CHECK_PTR(tamsd);
+    const int64_t M = mix->M;
+    std::vector<double> D((size_t)M), tv((size_t)M);
+    GRAN_CALL(hcs_state(mix, T0, tau0, D.data(), tv.data()));
+    gsl_integration_workspace *w = gsl_integration_workspace_alloc(1000);
+    GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
+    int ret = GRAN_SUCCESS;
+    for (int64_t j = 0; j < nlag && ret == GRAN_SUCCESS; j++) {
+      const double dl = lag[j], rest = t_meas - dl;
+      for (int64_t k = 0; k < M && ret == GRAN_SUCCESS; k++) {
+        const double pref = 6.0 * D[(size_t)k] * tv[(size_t)k];
+        double val;
+        if (dl == 0.0) {
+          val = 0.0;
+        } else if (std::isinf(tau0)) {
+          val = pref * g_fun(dl / tv[(size_t)k]);
+        } else {
+          const double beta = tau0 / tv[(size_t)k];
+          const double V = std::log1p(rest / tau0);
+          TParams P{beta, dl / tau0, 0};
+          if (rest <= 0.0 || V <= 0.0) {
+            val = pref * g_fun(beta * std::log1p(P.a)); /* lag = t_meas: MSD(t_meas) */
+          } else {
+            double J = 0.0;
+            ret = integrate(P, V, rtol, w, &J);
+            val = pref * tau0 * J / rest;
+          }
+        }
+        tamsd[j * M + k] = val;
+      }
+    }
+    gsl_integration_workspace_free(w);
+    return ret;
+  }
+  GRAN_CATCH
+}
+
+/**
+ * @brief The two terms of Eq. 27 separately: delta0^2 (closed form) and Xi (GSL QAG).
+ * @param[out] delta0, xi nlag*M each (either may be NULL)
+ */
+GRAN_EXTERN int gran_theory_tamsd_parts(const gran_mixture *mix, const double *T0, double tau0, double t_meas,
+                                        int64_t nlag, const double *lag, double rtol, double *delta0, double *xi) {
+  GRAN_TRY {
+    gsl_set_error_handler_off();
+    GRAN_CALL(check_tamsd_args(mix, T0, tau0, t_meas, nlag, lag, rtol));
+    if (nlag == 0 || (!delta0 && !xi)) return GRAN_SUCCESS;
+    const int64_t M = mix->M;
+    std::vector<double> D((size_t)M), tv((size_t)M);
+    GRAN_CALL(hcs_state(mix, T0, tau0, D.data(), tv.data()));
+    gsl_integration_workspace *w = gsl_integration_workspace_alloc(1000);
+    GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
+    int ret = GRAN_SUCCESS;
+    for (int64_t j = 0; j < nlag && ret == GRAN_SUCCESS; j++) {
+      const double dl = lag[j], rest = t_meas - dl;
+      for (int64_t k = 0; k < M && ret == GRAN_SUCCESS; k++) {
+        double d0, x;
+        if (dl == 0.0) {
+          d0 = x = 0.0;
+        } else if (std::isinf(tau0)) { /* tau0 -> inf: delta0 -> 6 D lag, Xi -> 6 D tau_v (e^(-lag/tau_v) - 1) */
+          d0 = 6.0 * D[(size_t)k] * dl;
+          x = 6.0 * D[(size_t)k] * tv[(size_t)k] * std::expm1(-dl / tv[(size_t)k]);
+        } else {
+          const double beta = tau0 / tv[(size_t)k];
+          d0 = 6.0 * D[(size_t)k] * tau0 * delta0_unit(tau0, t_meas, dl);
+          const double V = std::log1p(rest / tau0);
+          TParams P{beta, dl / tau0, 1};
+          if (rest <= 0.0 || V <= 0.0) {
+            x = 6.0 * D[(size_t)k] * tv[(size_t)k] * std::expm1(-beta * std::log1p(P.a));
+          } else {
+            double J = 0.0;
+            if (xi) ret = integrate(P, V, rtol, w, &J);
+            x = 6.0 * D[(size_t)k] * tv[(size_t)k] * tau0 * J / rest;
+          }
+        }
+        if (delta0) delta0[j * M + k] = d0;
+        if (xi) xi[j * M + k] = x;
+      }
+    }
+    gsl_integration_workspace_free(w);
+    return ret;
+  }
+  GRAN_CATCH
+}

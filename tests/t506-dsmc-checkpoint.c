@@ -1,0 +1,156 @@
+/* t506-dsmc-checkpoint.c - checkpoint/restart is bit for bit: run to t1, write the state, read it
+ * into a new engine, advance both to t2, compare velocities, displacements, times of last
+ * collision, counters, ledger, collision counts and trajectories with memcmp. Every selector, with
+ * and without observables, constant and viscoelastic restitution. Bad files and mismatched
+ * mixtures fail with GRAN_ERR_IO / GRAN_ERR_ARG naming the path. */
+#define _POSIX_C_SOURCE 200809L
+#include <unistd.h>
+
+#include "dsmc_util.h"
+
+static char g_path[256];
+
+static int setup(void **state) {
+  (void)state;
+  snprintf(g_path, sizeof g_path, "/tmp/granary-t506-%ld.h5", (long)getpid());
+  remove(g_path);
+  return 0;
+}
+static int teardown(void **state) {
+  (void)state;
+  remove(g_path);
+  return 0;
+}
+
+static void compare(const gran_dsmc *a, const gran_dsmc *b, int observe) {
+  const gran_particles *pa, *pb;
+  GRAN_ASSERT_OK(gran_dsmc_particles(a, &pa));
+  GRAN_ASSERT_OK(gran_dsmc_particles(b, &pb));
+  assert_int_equal(pa->n, pb->n);
+  assert_memory_equal(pa->v, pb->v, sizeof(double) * 3 * (size_t)pa->n);
+  if (observe & (GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_TRAJECTORIES)) {
+    assert_memory_equal(pa->r, pb->r, sizeof(double) * 3 * (size_t)pa->n);
+    assert_memory_equal(pa->t_last, pb->t_last, sizeof(double) * (size_t)pa->n);
+  }
+  gran_dsmc_stats sa, sb;
+  GRAN_ASSERT_OK(gran_dsmc_get_stats(a, &sa));
+  GRAN_ASSERT_OK(gran_dsmc_get_stats(b, &sb));
+  assert_memory_equal(&sa, &sb, sizeof sa);
+  double ea[3], eb[3];
+  GRAN_ASSERT_OK(gran_dsmc_energy(a, &ea[0], &ea[1], &ea[2]));
+  GRAN_ASSERT_OK(gran_dsmc_energy(b, &eb[0], &eb[1], &eb[2]));
+  assert_memory_equal(ea, eb, sizeof ea);
+  if (observe & GRAN_OBSERVE_COLLISION_COUNTS) {
+    int64_t ca[25], cb[25];
+    GRAN_ASSERT_OK(gran_dsmc_collision_counts(a, ca));
+    GRAN_ASSERT_OK(gran_dsmc_collision_counts(b, cb));
+    assert_memory_equal(ca, cb, sizeof ca);
+  }
+  if (observe & GRAN_OBSERVE_TRAJECTORIES) {
+    int64_t na, nb, sa_, sb_;
+    const double *xa, *xb;
+    GRAN_ASSERT_OK(gran_dsmc_trajectories(a, &na, &sa_, &xa, NULL));
+    GRAN_ASSERT_OK(gran_dsmc_trajectories(b, &nb, &sb_, &xb, NULL));
+    assert_int_equal(na, nb);
+    assert_int_equal(sa_, sb_);
+    assert_memory_equal(xa, xb, sizeof(double) * 3 * (size_t)(na * sa_));
+  }
+}
+
+static gran_mixture *five_species(int visco) {
+  gran_mixture *mix;
+  double n[5] = {0.1, 0.03, 0.0, 0.004, 0.001}; /* the third species is empty */
+  GRAN_ASSERT_OK(gran_mixture_create(5, NULL, NULL, n, &mix));
+  if (visco)
+    GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 0.05));
+  else
+    GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.6));
+  return mix;
+}
+
+static void test_restart_bit_for_bit(void **state) {
+  (void)state;
+  const int observes[3] = {0, GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_COLLISION_COUNTS,
+                           GRAN_OBSERVE_TRAJECTORIES | GRAN_OBSERVE_COLLISION_COUNTS};
+  for (int visco = 0; visco < 2; visco++) {
+    gran_mixture *mix = five_species(visco);
+    for (int sel = 0; sel < 4; sel++)
+      for (int q = 0; q < 3; q++) {
+        gran_dsmc_options o = dsmc_opts(sel, 77 + (uint64_t)sel, 2e4, observes[q]);
+        o.bound_refresh = 700; /* several tightenings before and after the checkpoint */
+        o.traj_per_species = 2;
+        o.traj_dt = 0.5;
+        o.traj_samples = 40;
+        gran_dsmc *a, *b;
+        GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, NULL, &o, &a));
+        GRAN_ASSERT_OK(gran_dsmc_advance(a, 7.3));
+        GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(a, g_path, "/engine"));
+        GRAN_ASSERT_OK(gran_dsmc_checkpoint_read(g_path, "/engine", mix, &b));
+        compare(a, b, observes[q]);
+        GRAN_ASSERT_OK(gran_dsmc_advance(a, 15.0));
+        GRAN_ASSERT_OK(gran_dsmc_advance(b, 15.0));
+        GRAN_ASSERT_OK(gran_dsmc_advance_collisions(a, 3333));
+        GRAN_ASSERT_OK(gran_dsmc_advance_collisions(b, 3333));
+        compare(a, b, observes[q]);
+        assert_true(dsmc_collisions(a) > 10000);
+        /* rewrite into the same file and group (replaced), read back again */
+        GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(b, g_path, "/engine"));
+        gran_dsmc *c;
+        GRAN_ASSERT_OK(gran_dsmc_checkpoint_read(g_path, "/engine", mix, &c));
+        compare(b, c, observes[q]);
+        gran_dsmc_destroy(&a);
+        gran_dsmc_destroy(&b);
+        gran_dsmc_destroy(&c);
+      }
+    gran_mixture_destroy(&mix);
+  }
+}
+
+static void test_checkpoint_errors(void **state) {
+  (void)state;
+  gran_mixture *mix = five_species(0);
+  gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, 1, 1e4, 0);
+  gran_dsmc *a, *b = (gran_dsmc *)0x1;
+  GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, NULL, &o, &a));
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_write(a, "/nonexistent-dir/x.h5", "/engine"), GRAN_ERR_IO);
+  assert_non_null(strstr(gran_last_error_message(), "/nonexistent-dir/x.h5"));
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_write(a, g_path, "/"), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_write(a, NULL, "/engine"), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_write(NULL, g_path, "/engine"), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/engine", mix, &b), GRAN_ERR_IO); /* no file yet */
+  assert_null(b);
+  assert_non_null(strstr(gran_last_error_message(), g_path));
+  GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(a, g_path, "/run/engine")); /* nested group */
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/elsewhere", mix, &b), GRAN_ERR_IO);
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/run/engine", NULL, &b), GRAN_ERR_ARG);
+  gran_mixture *other;
+  GRAN_ASSERT_OK(gran_mixture_create_powerlaw(5, 1.0, 1.0, 0.1, 2.0, &other)); /* same masses: OK */
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(other, 0.6));
+  GRAN_ASSERT_OK(gran_dsmc_checkpoint_read(g_path, "/run/engine", other, &b));
+  gran_dsmc_destroy(&b);
+  gran_mixture_destroy(&other);
+  GRAN_ASSERT_OK(gran_mixture_create_powerlaw(4, 1.0, 1.0, 0.1, 3.0, &other));
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/run/engine", other, &b), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "species"));
+  gran_mixture_destroy(&other);
+  GRAN_ASSERT_OK(gran_mixture_create_powerlaw(5, 2.0, 1.0, 0.1, 3.0, &other));
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/run/engine", other, &b), GRAN_ERR_ARG);
+  gran_mixture_destroy(&other);
+  /* a file that is not HDF5 */
+  FILE *f = fopen(g_path, "w");
+  assert_non_null(f);
+  fputs("not hdf5\n", f);
+  fclose(f);
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_write(a, g_path, "/engine"), GRAN_ERR_IO);
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/engine", mix, &b), GRAN_ERR_IO);
+  gran_dsmc_destroy(&a);
+  gran_mixture_destroy(&mix);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test_setup_teardown(test_restart_bit_for_bit, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_checkpoint_errors, setup, teardown),
+  };
+  return cmocka_run_group_tests_name("t506-dsmc-checkpoint", tests, NULL, NULL);
+}

@@ -1,0 +1,227 @@
+/* t603-output.c - the HDF5 output of gran_scene_run: layout (groups, datasets, shapes, root
+ * attributes), values equal to a direct engine run, writability checked before any work, and
+ * no half-written file ever under the final name. */
+#include "io_test_util.h"
+#include "io_tiny_scene.h"
+
+static void expect_dims(hid_t f, const char *name, int rank, hsize_t d0, hsize_t d1, hsize_t d2) {
+  hsize_t d[4] = {0, 0, 0, 0};
+  int r = io_h5_dims(f, name, d);
+  if (r != rank) fail_msg("%s: rank %d, expected %d", name, r, rank);
+  hsize_t want[3] = {d0, d1, d2};
+  for (int i = 0; i < rank; i++)
+    if (d[i] != want[i]) fail_msg("%s: dimension %d is %llu, expected %llu", name, i, (unsigned long long)d[i], (unsigned long long)want[i]);
+}
+
+static void test_layout_and_values(void **state) {
+  (void)state;
+  const char *out = io_path("layout.h5");
+  const char *text = io_tiny_text("lowrank", out);
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(text, "tiny.toml", &s));
+  gran_run_result res;
+  memset(&res, 0xff, sizeof res);
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, NULL, NULL, &res));
+  assert_int_equal(res.finished, 1);
+  assert_true(res.collisions > 1000);
+  assert_true(res.time == 20.0);
+  assert_true(res.checkpoints >= 1); /* checkpoint_every = 2 */
+  assert_true(io_exists(out));
+  char tmp[600];
+  snprintf(tmp, sizeof tmp, "%s.tmp", out);
+  assert_false(io_exists(tmp));
+  snprintf(tmp, sizeof tmp, "%s.ckpt", out);
+  assert_false(io_exists(tmp)); /* removed after success (keep_checkpoint = false) */
+  snprintf(tmp, sizeof tmp, "%s.ckpt.tmp", out);
+  assert_false(io_exists(tmp));
+
+  const hsize_t NT = IO_TINY_NT, M = IO_TINY_M;
+  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  expect_dims(f, "time", 1, NT, 0, 0);
+  expect_dims(f, "species/mass", 1, M, 0, 0);
+  expect_dims(f, "species/counts", 1, M, 0, 0);
+  expect_dims(f, "species/T0", 1, M, 0, 0);
+  expect_dims(f, "stats/collisions", 1, NT, 0, 0);
+  expect_dims(f, "stats/trials", 1, NT, 0, 0);
+  expect_dims(f, "temperatures/time", 1, NT, 0, 0);
+  expect_dims(f, "temperatures/T", 2, NT, M, 0);
+  expect_dims(f, "temperatures/T_theory", 2, NT, M, 0);
+  expect_dims(f, "msd/msd", 2, NT, M, 0);
+  expect_dims(f, "msd/msd_total", 1, NT, 0, 0);
+  expect_dims(f, "msd/msd_theory", 2, NT, M, 0);
+  expect_dims(f, "msd/msd_total_theory", 1, NT, 0, 0);
+  expect_dims(f, "energy/e_kin", 1, NT, 0, 0);
+  expect_dims(f, "energy/e_initial", 1, NT, 0, 0);
+  expect_dims(f, "energy/e_dissipated", 1, NT, 0, 0);
+  expect_dims(f, "momentum/p", 2, NT, 3, 0);
+  expect_dims(f, "collision_counts/counts", 3, NT, M, M);
+  expect_dims(f, "sonine_a2/a2", 2, NT, M, 0);
+  expect_dims(f, "velocity_distribution/pdf", 3, NT, M, 8);
+  expect_dims(f, "velocity_distribution/edges", 1, 9, 0, 0);
+  expect_dims(f, "velocity_distribution/pdf_maxwell", 1, 8, 0, 0);
+  expect_dims(f, "tamsd/lag", 1, 3, 0, 0);
+  expect_dims(f, "tamsd/tamsd", 2, 3, M, 0);
+  expect_dims(f, "tamsd/tamsd_theory", 2, 3, M, 0);
+  expect_dims(f, "tamsd/tracers", 1, M, 0, 0);
+
+  /* root attributes: the whole scene text, the version, the seed */
+  char *a = io_h5_attr_string(f, "scene");
+  assert_non_null(a);
+  assert_string_equal(a, text);
+  free(a);
+  a = io_h5_attr_string(f, "granary_version");
+  assert_string_equal(a, GRAN_VERSION_STRING);
+  free(a);
+  a = io_h5_attr_string(f, "format");
+  assert_string_equal(a, "granary-output 1");
+  free(a);
+  uint64_t seed = 0;
+  hid_t at = H5Aopen(f, "seed", H5P_DEFAULT);
+  assert_true(at >= 0);
+  H5Aread(at, H5T_NATIVE_UINT64, &seed);
+  H5Aclose(at);
+  assert_true(seed == 11);
+
+  /* values: the recorded temperatures and MSDs are those of the engine itself */
+  size_t n;
+  double *T = io_h5_read_double(f, "temperatures/T", &n);
+  double *msd = io_h5_read_double(f, "msd/msd", NULL);
+  double *ek = io_h5_read_double(f, "energy/e_kin", NULL);
+  double *e0 = io_h5_read_double(f, "energy/e_initial", NULL);
+  double *ed = io_h5_read_double(f, "energy/e_dissipated", NULL);
+  double *lag = io_h5_read_double(f, "tamsd/lag", NULL);
+  double *pdf = io_h5_read_double(f, "velocity_distribution/pdf", NULL);
+  double *time = io_h5_read_double(f, "time", NULL);
+  assert_true(T && msd && ek && e0 && ed && lag && pdf && time);
+  gran_mixture *mix = NULL;
+  gran_dsmc *sim = NULL;
+  GRAN_ASSERT_OK(gran_scene_mixture(s, &mix));
+  GRAN_ASSERT_OK(gran_scene_dsmc(s, mix, &sim));
+  for (size_t i = 0; i < NT; i++) {
+    double Ts[2], ms[2], mt;
+    GRAN_ASSERT_OK(gran_dsmc_advance(sim, time[i]));
+    GRAN_ASSERT_OK(gran_dsmc_temperatures(sim, Ts));
+    GRAN_ASSERT_OK(gran_dsmc_msd(sim, ms, &mt));
+    for (size_t k = 0; k < M; k++) {
+      assert_true(T[i * M + k] == Ts[k]); /* bit for bit */
+      assert_true(msd[i * M + k] == ms[k]);
+    }
+    GRAN_ASSERT_REL(ek[i] + ed[i], e0[i], 1e-10); /* energy balance */
+    if (i) assert_true(T[i * M] < T[(i - 1) * M]); /* the gas cools */
+    /* the speed histogram integrates to the fraction below cmax = 3 thermal speeds */
+    double sum = 0;
+    for (int b = 0; b < 8; b++) sum += pdf[(i * M) * 8 + b] * (3.0 / 8);
+    assert_true(sum > 0.97 && sum <= 1.0 + 1e-12);
+  }
+  assert_true(lag[0] == 0.5 && lag[1] == 1.0 && lag[2] == 5.0);
+  gran_dsmc_destroy(&sim);
+  gran_mixture_destroy(&mix);
+  free(T), free(msd), free(ek), free(e0), free(ed), free(lag), free(pdf), free(time);
+  H5Fclose(f);
+  gran_scene_destroy(&s);
+}
+
+static void test_unwritable(void **state) {
+  (void)state;
+  const char *blocker = io_path("a-file");
+  io_write_file(blocker, "not a folder\n");
+  char bad[700];
+  snprintf(bad, sizeof bad, "%s/out.h5", blocker);
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(io_tiny_text("lowrank", bad), "tiny.toml", &s));
+  gran_run_result res;
+  memset(&res, 0xff, sizeof res);
+  /* the scene's [output] path */
+  GRAN_ASSERT_ERR(gran_scene_run(s, NULL, NULL, NULL, &res), GRAN_ERR_IO);
+  assert_non_null(strstr(gran_last_error_message(), blocker));
+  assert_int_equal(res.collisions, 0); /* stopped before any work */
+  assert_int_equal(res.finished, 0);
+  /* an explicit output path */
+  GRAN_ASSERT_ERR(gran_scene_run(s, bad, "", NULL, NULL), GRAN_ERR_IO);
+  assert_non_null(strstr(gran_last_error_message(), "out.h5"));
+  /* an unwritable checkpoint with a good output */
+  const char *good = io_path("good.h5");
+  GRAN_ASSERT_ERR(gran_scene_run(s, good, bad, NULL, NULL), GRAN_ERR_IO);
+  assert_non_null(strstr(gran_last_error_message(), "checkpoint"));
+  assert_false(io_exists(good));
+  /* output == checkpoint */
+  GRAN_ASSERT_ERR(gran_scene_run(s, good, good, NULL, NULL), GRAN_ERR_ARG);
+  /* a folder as output */
+  GRAN_ASSERT_ERR(gran_scene_run(s, io_tmpdir, "", NULL, NULL), GRAN_ERR_IO);
+  gran_run_control ctl = {-1, NULL, NULL};
+  GRAN_ASSERT_ERR(gran_scene_run(s, good, "", &ctl, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "stop_after_checkpoints"));
+  gran_scene_destroy(&s);
+}
+
+/* progress callback that sabotages the final write: a folder where PATH.tmp must go */
+static int sabotage(const gran_run_progress *p, void *params) {
+  if (p->output_index == p->noutputs) {
+    char tmp[700];
+    snprintf(tmp, sizeof tmp, "%s.tmp", (const char *)params);
+    mkdir(tmp, 0700);
+  }
+  return 0;
+}
+
+static int stop_at_3(const gran_run_progress *p, void *params) {
+  (void)params;
+  assert_true(p->fraction > 0 && p->fraction <= 1);
+  assert_true(p->noutputs == IO_TINY_NT);
+  return p->output_index == 3;
+}
+
+static void test_no_half_written_files(void **state) {
+  (void)state;
+  const char *out = io_path("precious.h5");
+  io_write_file(out, "OLD CONTENT\n");
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(io_tiny_text("lowrank", out), "tiny.toml", &s));
+  /* a failure while writing the output: the previous file stays as it was */
+  gran_run_control ctl = {0, sabotage, (void *)out};
+  GRAN_ASSERT_ERR(gran_scene_run(s, NULL, "", &ctl, NULL), GRAN_ERR_IO);
+  assert_non_null(strstr(gran_last_error_message(), "precious.h5.tmp"));
+  char *c = io_read_file(out);
+  assert_string_equal(c, "OLD CONTENT\n");
+  free(c);
+  char tmp[700];
+  snprintf(tmp, sizeof tmp, "%s.tmp", out);
+  rmdir(tmp);
+  /* a run stopped by its callback: checkpoint written, output untouched */
+  const char *ck = io_path("precious.ckpt");
+  gran_run_control stop = {0, stop_at_3, NULL};
+  gran_run_result res;
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, ck, &stop, &res));
+  assert_int_equal(res.finished, 0);
+  assert_int_equal(res.checkpoints, 2); /* after output 2 (checkpoint_every) and at the stop */
+  assert_true(io_exists(ck));
+  c = io_read_file(out);
+  assert_string_equal(c, "OLD CONTENT\n");
+  free(c);
+  /* and the resumed run replaces the old file by a complete one */
+  GRAN_ASSERT_OK(gran_scene_resume(ck, NULL, NULL, &res));
+  assert_int_equal(res.finished, 1);
+  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  H5Fclose(f);
+  assert_false(io_exists(ck));
+  gran_scene_destroy(&s);
+}
+
+static int teardown(void **state) {
+  (void)state;
+  io_tmp_cleanup();
+  return 0;
+}
+
+int main(void) {
+  io_tmp("t603");
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_layout_and_values),
+      cmocka_unit_test(test_unwritable),
+      cmocka_unit_test(test_no_half_written_files),
+  };
+  return cmocka_run_group_tests_name("t603-output", tests, NULL, teardown);
+}

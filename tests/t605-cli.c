@@ -1,0 +1,368 @@
+/* t605-cli.c - the command-line driver ($GRAN_CLI): --help lists run and theory; `run` writes
+ * its output and prints where; --stop-after-checkpoints + --resume give the same file as a
+ * straight run; bad scenes exit 1 naming file, line and key; `theory --json` is valid JSON
+ * (parsed back here) with the seed-000 Fig. 2 numbers. */
+#include "io_test_util.h"
+#include "io_tiny_scene.h"
+
+static const char *cli(void) {
+  const char *c = getenv("GRAN_CLI");
+  return c ? c : "build/granary";
+}
+
+/* runs a shell command, captures stdout (and stderr when merge), returns the exit status */
+static int sh(const char *cmd, char *out, size_t len, int merge) {
+  char full[4096];
+  snprintf(full, sizeof full, "%s%s", cmd, merge ? " 2>&1" : " 2>/dev/null");
+  FILE *p = popen(full, "r");
+  if (!p) return -1;
+  size_t n = 0;
+  if (out && len) {
+    size_t got;
+    while (n + 1 < len && (got = fread(out + n, 1, len - 1 - n, p)) > 0) n += got;
+    out[n] = '\0';
+  } else {
+    char buf[4096];
+    while (fread(buf, 1, sizeof buf, p) > 0) {
+    }
+  }
+  int st = pclose(p);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* ---- a small JSON parser (RFC 8259 values), enough to check the output of theory --json ---- */
+typedef struct jv {
+  int type; /* 0 null, 1 bool, 2 number, 3 string, 4 array, 5 object */
+  double num;
+  char *str;
+  int n;
+  struct jv *items; /* array items / object values */
+  char **keys;
+} jv;
+
+static const char *jp;
+static int jerr;
+
+static void jws(void) {
+  while (*jp == ' ' || *jp == '\n' || *jp == '\t' || *jp == '\r') jp++;
+}
+
+static char *jstring(void) {
+  if (*jp != '"') {
+    jerr = 1;
+    return NULL;
+  }
+  jp++;
+  size_t cap = 64, n = 0;
+  char *s = malloc(cap);
+  while (*jp && *jp != '"') {
+    char c = *jp++;
+    if ((unsigned char)c < 0x20) jerr = 1;
+    if (c == '\\') {
+      char e = *jp++;
+      if (e == 'u') {
+        for (int i = 0; i < 4; i++)
+          if (!isxdigit((unsigned char)*jp++)) jerr = 1;
+        c = '?';
+      } else if (strchr("\"\\/bfnrt", e)) {
+        c = e == 'n' ? '\n' : e == 't' ? '\t' : e;
+      } else {
+        jerr = 1;
+      }
+    }
+    if (n + 2 > cap) s = realloc(s, cap *= 2);
+    s[n++] = c;
+  }
+  if (*jp != '"') jerr = 1;
+  else jp++;
+  s[n] = '\0';
+  return s;
+}
+
+static void jparse(jv *v) {
+  memset(v, 0, sizeof *v);
+  jws();
+  if (*jp == '{' || *jp == '[') {
+    int obj = *jp == '{';
+    v->type = obj ? 5 : 4;
+    jp++;
+    jws();
+    char close = obj ? '}' : ']';
+    if (*jp == close) {
+      jp++;
+      return;
+    }
+    for (;;) {
+      v->items = realloc(v->items, sizeof(jv) * (size_t)(v->n + 1));
+      v->keys = realloc(v->keys, sizeof(char *) * (size_t)(v->n + 1));
+      v->keys[v->n] = NULL;
+      if (obj) {
+        jws();
+        v->keys[v->n] = jstring();
+        jws();
+        if (*jp != ':') {
+          jerr = 1;
+          return;
+        }
+        jp++;
+      }
+      jparse(&v->items[v->n]);
+      v->n++;
+      if (jerr) return;
+      jws();
+      if (*jp == ',') {
+        jp++;
+        continue;
+      }
+      if (*jp == close) {
+        jp++;
+        return;
+      }
+      jerr = 1;
+      return;
+    }
+  } else if (*jp == '"') {
+    v->type = 3;
+    v->str = jstring();
+  } else if (!strncmp(jp, "null", 4)) {
+    v->type = 0;
+    jp += 4;
+  } else if (!strncmp(jp, "true", 4) || !strncmp(jp, "false", 5)) {
+    v->type = 1;
+    v->num = *jp == 't';
+    jp += *jp == 't' ? 4 : 5;
+  } else {
+    /* JSON number grammar: -?(0|[1-9][0-9]*)(\.[0-9]+)?([eE][+-]?[0-9]+)? */
+    const char *s = jp;
+    if (*jp == '-') jp++;
+    if (*jp == '0') jp++;
+    else if (isdigit((unsigned char)*jp)) while (isdigit((unsigned char)*jp)) jp++;
+    else jerr = 1;
+    if (*jp == '.') {
+      jp++;
+      if (!isdigit((unsigned char)*jp)) jerr = 1;
+      while (isdigit((unsigned char)*jp)) jp++;
+    }
+    if (*jp == 'e' || *jp == 'E') {
+      jp++;
+      if (*jp == '+' || *jp == '-') jp++;
+      if (!isdigit((unsigned char)*jp)) jerr = 1;
+      while (isdigit((unsigned char)*jp)) jp++;
+    }
+    v->type = 2;
+    v->num = strtod(s, NULL);
+  }
+}
+
+static int json_parse(const char *text, jv *root) {
+  jp = text;
+  jerr = 0;
+  jparse(root);
+  jws();
+  return !jerr && *jp == '\0';
+}
+
+static const jv *jget(const jv *o, const char *key) {
+  if (!o || o->type != 5) return NULL;
+  for (int i = 0; i < o->n; i++)
+    if (o->keys[i] && !strcmp(o->keys[i], key)) return &o->items[i];
+  return NULL;
+}
+
+static double jnum(const jv *v) {
+  if (!v || v->type != 2) fail_msg("expected a JSON number");
+  return v->num;
+}
+
+static void jfree(jv *v) {
+  for (int i = 0; i < v->n; i++) {
+    jfree(&v->items[i]);
+    free(v->keys[i]);
+  }
+  free(v->items);
+  free(v->keys);
+  free(v->str);
+}
+
+/* ---- tests ---------------------------------------------------------------------------------- */
+
+static char outbuf[1 << 20];
+
+static void test_help(void **state) {
+  (void)state;
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "%s --help", cli());
+  assert_int_equal(sh(cmd, outbuf, sizeof outbuf, 0), 0);
+  assert_non_null(strstr(outbuf, "\n  run "));
+  assert_non_null(strstr(outbuf, "\n  theory "));
+  assert_non_null(strstr(outbuf, "\n  info "));
+  snprintf(cmd, sizeof cmd, "%s info --gpu-count", cli());
+  assert_int_equal(sh(cmd, outbuf, sizeof outbuf, 0), 0);
+  char *end = NULL;
+  long n = strtol(outbuf, &end, 10);
+  assert_true(end != outbuf && n >= 0);
+  snprintf(cmd, sizeof cmd, "%s run --bogus x.toml", cli());
+  assert_int_equal(sh(cmd, NULL, 0, 0), 2);
+  snprintf(cmd, sizeof cmd, "%s theory", cli());
+  assert_int_equal(sh(cmd, NULL, 0, 0), 2);
+  snprintf(cmd, sizeof cmd, "%s theory x.toml --times 1,abc", cli());
+  assert_int_equal(sh(cmd, NULL, 0, 0), 2);
+}
+
+static void test_run_and_resume(void **state) {
+  (void)state;
+  const char *scene = io_path("tiny.toml");
+  const char *a = io_path("cli-a.h5");
+  char a_s[600];
+  snprintf(a_s, sizeof a_s, "%s", a);
+  io_write_file(scene, io_tiny_text("lowrank", io_path("from-scene.h5")));
+  char cmd[4096];
+  snprintf(cmd, sizeof cmd, "%s run %s -o %s --no-checkpoint", cli(), scene, a_s);
+  int st = sh(cmd, outbuf, sizeof outbuf, 0);
+  if (st) fail_msg("%s exited %d: %s", cmd, st, outbuf);
+  assert_true(io_exists(a_s));
+  assert_non_null(strstr(outbuf, "wrote"));
+  assert_non_null(strstr(outbuf, a_s));
+  assert_non_null(strstr(outbuf, "T_theory")); /* the summary table */
+  assert_non_null(strstr(outbuf, "MSD_sim"));
+
+  const char *b = io_path("cli-b.h5");
+  const char *ck = io_path("cli-b.ckpt");
+  char b_s[600], ck_s[600];
+  snprintf(b_s, sizeof b_s, "%s", b);
+  snprintf(ck_s, sizeof ck_s, "%s", ck);
+  snprintf(cmd, sizeof cmd, "%s run %s -o %s --checkpoint %s --stop-after-checkpoints 1 --quiet", cli(), scene, b_s, ck_s);
+  st = sh(cmd, outbuf, sizeof outbuf, 1);
+  if (st) fail_msg("%s exited %d: %s", cmd, st, outbuf);
+  assert_non_null(strstr(outbuf, "--resume"));
+  assert_true(io_exists(ck_s));
+  assert_false(io_exists(b_s));
+  snprintf(cmd, sizeof cmd, "%s run --resume %s --quiet", cli(), ck_s);
+  st = sh(cmd, outbuf, sizeof outbuf, 1);
+  if (st) fail_msg("%s exited %d: %s", cmd, st, outbuf);
+  assert_true(io_exists(b_s));
+  assert_non_null(strstr(outbuf, b_s));
+  int nds = 0;
+  char first[512] = "";
+  int ndiff = io_h5_compare(a_s, b_s, &nds, first, sizeof first);
+  if (ndiff) fail_msg("%d of %d datasets differ (first %s)", ndiff, nds, first);
+  assert_true(nds >= 25);
+  assert_false(io_exists(io_path("from-scene.h5"))); /* -o overrides the scene's path */
+
+  /* resume + a scene at the same time is a usage error */
+  snprintf(cmd, sizeof cmd, "%s run %s --resume %s", cli(), scene, ck_s);
+  assert_int_equal(sh(cmd, NULL, 0, 0), 2);
+}
+
+static void test_bad_scene_message(void **state) {
+  (void)state;
+  const char *bad = io_path("bad.toml");
+  io_write_file(bad, "[mixture]\nnspecies = 2\ndensity = [0.1, 0.01]\n[restitution]\neps = 1.5\n[engine]\ncounts = [10, 1]\nt_end = 1.0\n");
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd, "%s run %s", cli(), bad);
+  assert_int_equal(sh(cmd, outbuf, sizeof outbuf, 1), 1);
+  assert_non_null(strstr(outbuf, "bad.toml:5:"));
+  assert_non_null(strstr(outbuf, "restitution.eps"));
+  snprintf(cmd, sizeof cmd, "%s theory %s", cli(), bad);
+  assert_int_equal(sh(cmd, outbuf, sizeof outbuf, 1), 1);
+  assert_non_null(strstr(outbuf, "bad.toml:5:"));
+  /* unwritable output: exit 1, nothing run */
+  io_write_file(io_path("blocker"), "x");
+  const char *good = io_path("good.toml");
+  char outp[700];
+  snprintf(outp, sizeof outp, "%s/o.h5", io_path("blocker"));
+  io_write_file(good, io_tiny_text("lowrank", outp));
+  snprintf(cmd, sizeof cmd, "%s run %s", cli(), good);
+  assert_int_equal(sh(cmd, outbuf, sizeof outbuf, 1), 1);
+  assert_non_null(strstr(outbuf, "not writable"));
+}
+
+static void test_theory_json(void **state) {
+  (void)state;
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd, "%s theory %s/scenes/fig2.toml --json --times 0,1,10,100,1000 --lags 1,10,100", cli(),
+           gran_test_source_dir());
+  int st = sh(cmd, outbuf, sizeof outbuf, 0);
+  if (st) fail_msg("%s exited %d", cmd, st);
+  jv root;
+  if (!json_parse(outbuf, &root)) fail_msg("theory --json is not valid JSON: %s", outbuf);
+  assert_int_equal(root.type, 5);
+  assert_true(jnum(jget(&root, "nspecies")) == 2);
+  const jv *sp = jget(&root, "species");
+  assert_non_null(sp);
+  assert_int_equal(sp->type, 4);
+  assert_int_equal(sp->n, 2);
+  /* seed 000 Fig. 2 caption: T_1(0) = 0.554, T_2(0) = 45.58755, tau0 = 19.258 (printed digits) */
+  const double T1 = jnum(jget(&sp->items[0], "T0")), T2 = jnum(jget(&sp->items[1], "T0"));
+  const double tau0 = jnum(jget(&root, "tau0"));
+  GRAN_ASSERT_ABS(T1, 0.554, 0.0005);
+  GRAN_ASSERT_ABS(T2, 45.58755, 0.000005);
+  GRAN_ASSERT_ABS(tau0, 19.258, 0.0005);
+  GRAN_ASSERT_REL((0.1 * T1 + 0.001 * T2) / 0.101, 1.0, 2e-4); /* <T(0)> = 1 to the caption's digits */
+  assert_true(jnum(jget(&sp->items[1], "m")) == 100.0);
+  /* T_k(t) follows Haff's law in the HCS: T_k(t) = T_k(0) / (1 + t/tau0)^2 (the caption's
+   * temperatures are the HCS to 5 digits: 1e-4) */
+  const jv *T = jget(&root, "T");
+  assert_non_null(T);
+  assert_int_equal(T->n, 5);
+  for (int i = 0; i < 5; i++) {
+    const double t = jnum(&jget(&root, "times")->items[i]);
+    GRAN_ASSERT_REL(jnum(&T->items[i].items[0]), T1 / ((1 + t / tau0) * (1 + t / tau0)), 1e-4);
+  }
+  const jv *msd = jget(&root, "msd");
+  assert_true(jnum(&msd->items[0].items[0]) == 0.0);
+  assert_true(jnum(&msd->items[4].items[1]) > jnum(&msd->items[3].items[1]));
+  /* TAMSD: lags >= t_meas are null, the others numbers */
+  const jv *ta = jget(&root, "tamsd");
+  assert_non_null(ta);
+  assert_int_equal(ta->n, 5);
+  const jv *row = jget(&ta->items[1], "tamsd"); /* t_meas = 1: every lag is >= 1 */
+  assert_int_equal(row->items[0].items[0].type, 0);
+  row = jget(&ta->items[4], "tamsd"); /* t_meas = 1000 */
+  assert_true(jnum(&row->items[2].items[1]) > jnum(&row->items[0].items[1]));
+  jfree(&root);
+
+  /* the text form prints the same three numbers */
+  snprintf(cmd, sizeof cmd, "%s theory %s/scenes/fig2.toml", cli(), gran_test_source_dir());
+  assert_int_equal(sh(cmd, outbuf, sizeof outbuf, 0), 0);
+  const char *t0 = strstr(outbuf, "tau0 = ");
+  assert_non_null(t0);
+  GRAN_ASSERT_ABS(strtod(t0 + 7, NULL), 19.258, 0.0005);
+  assert_non_null(strstr(outbuf, " 0.554"));
+  assert_non_null(strstr(outbuf, " 45.58755"));
+}
+
+static void test_json_of_every_scene(void **state) {
+  (void)state;
+  const char *names[] = {"default", "fig1", "fig3", "fig5", "fig7", "table1"};
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s theory %s/scenes/%s.toml --json --times 1,100", cli(), gran_test_source_dir(), names[i]);
+    int st = sh(cmd, outbuf, sizeof outbuf, 0);
+    if (st) fail_msg("%s exited %d", cmd, st);
+    jv root;
+    if (!json_parse(outbuf, &root)) fail_msg("%s: not valid JSON: %.400s", names[i], outbuf);
+    assert_non_null(jget(&root, "species"));
+    assert_non_null(jget(&root, "msd"));
+    jfree(&root);
+  }
+}
+
+static int teardown(void **state) {
+  (void)state;
+  io_tmp_cleanup();
+  return 0;
+}
+
+int main(void) {
+  io_tmp("t605");
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_help),
+      cmocka_unit_test(test_run_and_resume),
+      cmocka_unit_test(test_bad_scene_message),
+      cmocka_unit_test(test_theory_json),
+      cmocka_unit_test(test_json_of_every_scene),
+  };
+  return cmocka_run_group_tests_name("t605-cli", tests, NULL, teardown);
+}

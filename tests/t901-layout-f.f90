@@ -1,0 +1,84 @@
+! t901-layout-f.f90 - the hand-written Fortran mirrors against the compiled C library (STYLE rule 10):
+! c_sizeof of every bind(C) type of the module and every constant the module defines, each compared
+! with gran_abi_query. Hand bindings drift; this test is where the drift shows.
+program t901_layout_f
+  use, intrinsic :: iso_c_binding
+  use granary
+  implicit none
+  type(gran_rng) :: rng
+  type(gran_segtree) :: tree
+  type(gran_particles) :: parts
+  type(gran_run_progress) :: progress
+  type(gran_run_control) :: control
+  type(gran_run_result) :: result
+  integer(c_int64_t) :: value
+  integer :: nfail = 0, ierr
+
+  call check('sizeof(gran_rng)', c_sizeof(rng))
+  call check('sizeof(gran_segtree)', c_sizeof(tree))
+  call check('sizeof(gran_particles)', c_sizeof(parts))
+  call check('sizeof(gran_run_progress)', c_sizeof(progress))
+  call check('sizeof(gran_run_control)', c_sizeof(control))
+  call check('sizeof(gran_run_result)', c_sizeof(result))
+
+  call check('GRAN_VERSION_MAJOR', int(GRAN_VERSION_MAJOR, c_size_t))
+  call check('GRAN_VERSION_MINOR', int(GRAN_VERSION_MINOR, c_size_t))
+  call check('GRAN_VERSION_PATCH', int(GRAN_VERSION_PATCH, c_size_t))
+
+  call check('GRAN_SUCCESS', int(GRAN_SUCCESS, c_size_t))
+  call check('GRAN_ERR_ARG', int(GRAN_ERR_ARG, c_size_t))
+  call check('GRAN_ERR_NOMEM', int(GRAN_ERR_NOMEM, c_size_t))
+  call check('GRAN_ERR_DOMAIN', int(GRAN_ERR_DOMAIN, c_size_t))
+  call check('GRAN_ERR_NOCONV', int(GRAN_ERR_NOCONV, c_size_t))
+  call check('GRAN_ERR_IO', int(GRAN_ERR_IO, c_size_t))
+  call check('GRAN_ERR_PARSE', int(GRAN_ERR_PARSE, c_size_t))
+  call check('GRAN_ERR_UNSUPPORTED', int(GRAN_ERR_UNSUPPORTED, c_size_t))
+  call check('GRAN_ERR_STATE', int(GRAN_ERR_STATE, c_size_t))
+  call check('GRAN_ERR_EMPTY', int(GRAN_ERR_EMPTY, c_size_t))
+  call check('GRAN_ERR_RANGE', int(GRAN_ERR_RANGE, c_size_t))
+  call check('GRAN_ERR_CUDA', int(GRAN_ERR_CUDA, c_size_t))
+  call check('GRAN_ERR_NUMERIC', int(GRAN_ERR_NUMERIC, c_size_t))
+  call check('GRAN_ERR_INTERNAL', int(GRAN_ERR_INTERNAL, c_size_t))
+
+  call check('GRAN_PARTICLES_DISPLACEMENT', int(GRAN_PARTICLES_DISPLACEMENT, c_size_t))
+  call check('GRAN_PARTICLES_POSITION', int(GRAN_PARTICLES_POSITION, c_size_t))
+  call check('GRAN_PARTICLES_MASS', int(GRAN_PARTICLES_MASS, c_size_t))
+
+  ! an unknown name is an error, not a value
+  call gran_abi_query('sizeof(gran_nothing)', value, ierr)
+  if (ierr /= GRAN_ERR_ARG) then
+    print '(a, i0)', 'FAILED: unknown name gave status ', ierr
+    nfail = nfail + 1
+  end if
+  if (index(gran_last_error_message(), 'gran_nothing') == 0) then
+    print '(a)', 'FAILED: the message does not name the unknown name'
+    nfail = nfail + 1
+  end if
+
+  if (nfail > 0) then
+    print '(i0, a)', nfail, ' layout checks failed'
+    error stop 1
+  end if
+  print '(a)', 't901-layout-f: every mirrored struct and constant matches the C library'
+
+contains
+
+  ! signed comparison: c_size_t holds negative error codes as their two's complement bits
+  subroutine check(name, fortran_value)
+    character(len=*), intent(in) :: name
+    integer(c_size_t), intent(in) :: fortran_value
+    integer(c_int64_t) :: c_value
+    integer :: status
+    call gran_abi_query(name, c_value, status)
+    if (status /= GRAN_SUCCESS) then
+      print '(a)', 'FAILED: gran_abi_query does not know ' // name
+      nfail = nfail + 1
+    else if (c_value /= int(fortran_value, c_int64_t)) then
+      print '(a, i0, a, i0)', 'FAILED: ' // name // ': C ', c_value, ', Fortran ', fortran_value
+      nfail = nfail + 1
+    else
+      print '(a, i0)', 'ok: ' // name // ' = ', c_value
+    end if
+  end subroutine check
+
+end program t901_layout_f
