@@ -1,4 +1,4 @@
-/* stub.cpp - built instead of cuda/*.cu when nvcc is not found: the CUDA entry points report
+/* stub.cpp - built instead of the .cu files in cuda/ when nvcc is not found: the CUDA entry points report
  * GRAN_ERR_UNSUPPORTED (device queries report zero devices). */
 #include "granary_impl.h"
 

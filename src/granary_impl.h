@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <mutex>
 #include <new>
 #include <stdexcept>
 
@@ -50,6 +51,10 @@ void gran_warning_add(const char *fmt, ...) __attribute__((format(printf, 1, 2))
   catch (...) {                                                                      \
     return GRAN_ERROR(GRAN_ERR_INTERNAL, "unexpected exception");                    \
   }
+
+/* The FFTW planner is not thread-safe: every plan creation/destruction in the library holds this
+ * lock (defined in src/analysis/tamsd.cpp). Execution of a made plan needs no lock. */
+std::mutex &gran_fftw_planner_mutex();
 
 /* Checked allocation helpers (return nullptr on failure; callers map to GRAN_ERR_NOMEM). */
 template <class T> static inline T *gran_alloc(int64_t n) {

@@ -112,6 +112,8 @@ program t601_scene_f
   if (ierr /= 0) error stop 1
   close(10, status='delete')
 
+  call gran_scene_destroy(scene)
+
   ! exact error codes
   call gran_scene_parse('[mixture]' // nl_ // 'density = [0.1]' // nl_ // '[engine]' // nl_ // &
                         'counts = [10]' // nl_ // 't_end = -1.0' // nl_, 'bad.toml', scene, ierr)
@@ -132,5 +134,6 @@ program t601_scene_f
   call gran_scene_destroy(scene)
   if (c_associated(scene)) error stop 1
   call gran_scene_destroy(scene) ! safe twice
+  deallocate(text, path, msg)
   write(*, '(a)') 't601-scene-f: ok'
 end program t601_scene_f

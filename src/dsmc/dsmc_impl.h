@@ -25,7 +25,10 @@ namespace gran {
  * cache lines prefetched, so the memory latency of a trial overlaps the work of the trials before
  * it. Candidates are independent of the velocities; they are discarded ("flushed") whenever the
  * selection law changes (a bound is raised or the bounds are tightened). Part of the state. */
-enum { kDsmcPipe = 16 };
+#ifndef GRAN_DSMC_PIPE
+#define GRAN_DSMC_PIPE 16 /* power of two; measured in bench/b501-dsmc.c */
+#endif
+enum { kDsmcPipe = GRAN_DSMC_PIPE };
 
 struct DsmcCand {
   int64_t j, l;   /* particle indices */
