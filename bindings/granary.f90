@@ -80,6 +80,25 @@ module granary
   public :: gran_abi_query
   ! @@END core-public@@
   ! @@SECTION theory-public@@
+  ! Kinetic theory (include/granary.h, theory section). Mixtures are type(c_ptr) handles. Species
+  ! indices are 1-based here (0-based in C); per-species time series are arrays (M, ntimes) and pair
+  ! matrices (M, M) (symmetric, so the C row-major layout reads the same).
+  integer(c_int), parameter, public :: GRAN_RESTITUTION_CONSTANT = 0
+  integer(c_int), parameter, public :: GRAN_RESTITUTION_MATRIX = 1
+  integer(c_int), parameter, public :: GRAN_RESTITUTION_VISCOELASTIC = 2
+  integer(c_int), parameter, public :: GRAN_HCS_NORM_MEAN = 0
+  integer(c_int), parameter, public :: GRAN_HCS_NORM_T1 = 1
+  public :: gran_mixture_create, gran_mixture_create_powerlaw, gran_mixture_destroy, gran_mixture_nspecies
+  public :: gran_mixture_get, gran_mixture_set_restitution, gran_mixture_set_restitution_matrix
+  public :: gran_mixture_set_viscoelastic, gran_mixture_set_viscoelastic_matrix
+  public :: gran_mixture_set_viscoelastic_material, gran_mixture_set_g2, gran_mixture_set_g2_matrix
+  public :: gran_mixture_restitution_model, gran_mixture_pair
+  public :: gran_viscoelastic_eps, gran_viscoelastic_eps_vn
+  public :: gran_theory_cooling_rates, gran_theory_tau_v, gran_theory_diffusion, gran_theory_collision_rate1
+  public :: gran_theory_hcs, gran_theory_temperatures, gran_theory_msd_hcs, gran_theory_msd
+  public :: gran_theory_tamsd, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
+  public :: gran_theory_tracer_gamma_approx, gran_theory_tracer_tau_v_hat
+  public :: gran_theory_mean_relative_speed, gran_theory_collision_rates, gran_theory_collision_counts
   ! @@END theory-public@@
   ! @@SECTION dsmc-public@@
   ! @@END dsmc-public@@
@@ -324,6 +343,271 @@ module granary
     end function c_gran_abi_query
     ! @@END core-interfaces@@
     ! @@SECTION theory-interfaces@@
+    function c_gran_mixture_create(nspecies, mass, sigma, density, mix) &
+        bind(C, name='gran_mixture_create') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: nspecies
+      type(c_ptr), value :: mass, sigma
+      real(c_double), intent(in) :: density(*)
+      type(c_ptr), intent(out) :: mix
+      integer(c_int) :: ierr
+    end function c_gran_mixture_create
+    function c_gran_mixture_create_powerlaw(nspecies, m1, sigma1, n1, theta, mix) &
+        bind(C, name='gran_mixture_create_powerlaw') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: nspecies
+      real(c_double), value :: m1, sigma1, n1, theta
+      type(c_ptr), intent(out) :: mix
+      integer(c_int) :: ierr
+    end function c_gran_mixture_create_powerlaw
+    function c_gran_mixture_destroy(mix) bind(C, name='gran_mixture_destroy') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), intent(inout) :: mix
+      integer(c_int) :: ierr
+    end function c_gran_mixture_destroy
+    function c_gran_mixture_nspecies(mix, nspecies) bind(C, name='gran_mixture_nspecies') result(ierr)
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: mix
+      integer(c_int64_t), intent(out) :: nspecies
+      integer(c_int) :: ierr
+    end function c_gran_mixture_nspecies
+    function c_gran_mixture_get(mix, mass, sigma, density) bind(C, name='gran_mixture_get') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mix, mass, sigma, density
+      integer(c_int) :: ierr
+    end function c_gran_mixture_get
+    function c_gran_mixture_set_restitution(mix, eps) bind(C, name='gran_mixture_set_restitution') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), value :: eps
+      integer(c_int) :: ierr
+    end function c_gran_mixture_set_restitution
+    function c_gran_mixture_set_restitution_matrix(mix, eps) &
+        bind(C, name='gran_mixture_set_restitution_matrix') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: eps(*)
+      integer(c_int) :: ierr
+    end function c_gran_mixture_set_restitution_matrix
+    function c_gran_mixture_set_viscoelastic(mix, beta) bind(C, name='gran_mixture_set_viscoelastic') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), value :: beta
+      integer(c_int) :: ierr
+    end function c_gran_mixture_set_viscoelastic
+    function c_gran_mixture_set_viscoelastic_matrix(mix, beta) &
+        bind(C, name='gran_mixture_set_viscoelastic_matrix') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: beta(*)
+      integer(c_int) :: ierr
+    end function c_gran_mixture_set_viscoelastic_matrix
+    function c_gran_mixture_set_viscoelastic_material(mix, a, y, nu) &
+        bind(C, name='gran_mixture_set_viscoelastic_material') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), value :: a, y, nu
+      integer(c_int) :: ierr
+    end function c_gran_mixture_set_viscoelastic_material
+    function c_gran_mixture_set_g2(mix, g2) bind(C, name='gran_mixture_set_g2') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), value :: g2
+      integer(c_int) :: ierr
+    end function c_gran_mixture_set_g2
+    function c_gran_mixture_set_g2_matrix(mix, g2) bind(C, name='gran_mixture_set_g2_matrix') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: g2(*)
+      integer(c_int) :: ierr
+    end function c_gran_mixture_set_g2_matrix
+    function c_gran_mixture_restitution_model(mix, model) &
+        bind(C, name='gran_mixture_restitution_model') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mix
+      integer(c_int), intent(out) :: model
+      integer(c_int) :: ierr
+    end function c_gran_mixture_restitution_model
+    function c_gran_mixture_pair(mix, i, k, eps, beta, g2) bind(C, name='gran_mixture_pair') result(ierr)
+      import :: c_int, c_int64_t, c_ptr
+      type(c_ptr), value :: mix
+      integer(c_int64_t), value :: i, k
+      type(c_ptr), value :: eps, beta, g2
+      integer(c_int) :: ierr
+    end function c_gran_mixture_pair
+    function c_gran_viscoelastic_eps(x, eps) bind(C, name='gran_viscoelastic_eps') result(ierr)
+      import :: c_int, c_double
+      real(c_double), value :: x
+      real(c_double), intent(out) :: eps
+      integer(c_int) :: ierr
+    end function c_gran_viscoelastic_eps
+    function c_gran_viscoelastic_eps_vn(beta, vn, eps) bind(C, name='gran_viscoelastic_eps_vn') result(ierr)
+      import :: c_int, c_double
+      real(c_double), value :: beta, vn
+      real(c_double), intent(out) :: eps
+      integer(c_int) :: ierr
+    end function c_gran_viscoelastic_eps_vn
+    function c_gran_theory_cooling_rates(mix, t, xi) bind(C, name='gran_theory_cooling_rates') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t(*)
+      real(c_double), intent(out) :: xi(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_cooling_rates
+    function c_gran_theory_tau_v(mix, t, tau_v) bind(C, name='gran_theory_tau_v') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t(*)
+      real(c_double), intent(out) :: tau_v(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_tau_v
+    function c_gran_theory_diffusion(mix, t, d) bind(C, name='gran_theory_diffusion') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t(*)
+      real(c_double), intent(out) :: d(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_diffusion
+    function c_gran_theory_collision_rate1(mix, t, inv_tau_c) &
+        bind(C, name='gran_theory_collision_rate1') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t(*)
+      real(c_double), intent(out) :: inv_tau_c
+      integer(c_int) :: ierr
+    end function c_gran_theory_collision_rate1
+    function c_gran_theory_hcs(mix, norm, val, t0, tau0) bind(C, name='gran_theory_hcs') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      integer(c_int), value :: norm
+      real(c_double), value :: val
+      real(c_double), intent(out) :: t0(*)
+      real(c_double), intent(out) :: tau0
+      integer(c_int) :: ierr
+    end function c_gran_theory_hcs
+    function c_gran_theory_temperatures(mix, t0, ntimes, t, rtol, temp) &
+        bind(C, name='gran_theory_temperatures') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: temp(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_temperatures
+    function c_gran_theory_msd_hcs(mix, t0, tau0, ntimes, t, msd, msd_total) &
+        bind(C, name='gran_theory_msd_hcs') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      real(c_double), value :: tau0
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), intent(out) :: msd(*)
+      type(c_ptr), value :: msd_total
+      integer(c_int) :: ierr
+    end function c_gran_theory_msd_hcs
+    function c_gran_theory_msd(mix, t0, ntimes, t, rtol, msd, msd_total) bind(C, name='gran_theory_msd') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: msd(*)
+      type(c_ptr), value :: msd_total
+      integer(c_int) :: ierr
+    end function c_gran_theory_msd
+    function c_gran_theory_tamsd(mix, t0, tau0, t_meas, nlag, lag, rtol, tamsd) &
+        bind(C, name='gran_theory_tamsd') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      real(c_double), value :: tau0, t_meas
+      integer(c_int64_t), value :: nlag
+      real(c_double), intent(in) :: lag(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: tamsd(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_tamsd
+    function c_gran_theory_tamsd_parts(mix, t0, tau0, t_meas, nlag, lag, rtol, delta0, xi) &
+        bind(C, name='gran_theory_tamsd_parts') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      real(c_double), value :: tau0, t_meas
+      integer(c_int64_t), value :: nlag
+      real(c_double), intent(in) :: lag(*)
+      real(c_double), value :: rtol
+      type(c_ptr), value :: delta0, xi
+      integer(c_int) :: ierr
+    end function c_gran_theory_tamsd_parts
+    function c_gran_theory_msd_mono(mix, t1, ntimes, t, msd, tau0) bind(C, name='gran_theory_msd_mono') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), value :: t1
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), intent(out) :: msd(*)
+      real(c_double), intent(out) :: tau0
+      integer(c_int) :: ierr
+    end function c_gran_theory_msd_mono
+    function c_gran_theory_reduced_time(mix, t0, ntimes, t, rtol, tau) &
+        bind(C, name='gran_theory_reduced_time') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: tau(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_reduced_time
+    function c_gran_theory_tracer_gamma_approx(mix, tracer, gamma) &
+        bind(C, name='gran_theory_tracer_gamma_approx') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      integer(c_int64_t), value :: tracer
+      real(c_double), intent(out) :: gamma
+      integer(c_int) :: ierr
+    end function c_gran_theory_tracer_gamma_approx
+    function c_gran_theory_tracer_tau_v_hat(mix, tracer, gamma, tau_v_hat) &
+        bind(C, name='gran_theory_tracer_tau_v_hat') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      integer(c_int64_t), value :: tracer
+      real(c_double), value :: gamma
+      real(c_double), intent(out) :: tau_v_hat
+      integer(c_int) :: ierr
+    end function c_gran_theory_tracer_tau_v_hat
+    function c_gran_theory_mean_relative_speed(mix, t, g) &
+        bind(C, name='gran_theory_mean_relative_speed') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t(*)
+      real(c_double), intent(out) :: g(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_mean_relative_speed
+    function c_gran_theory_collision_rates(mix, t, rates) bind(C, name='gran_theory_collision_rates') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t(*)
+      real(c_double), intent(out) :: rates(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_collision_rates
+    function c_gran_theory_collision_counts(mix, t0, volume, ntimes, t, rtol, counts) &
+        bind(C, name='gran_theory_collision_counts') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      real(c_double), value :: volume
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: counts(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_collision_counts
     ! @@END theory-interfaces@@
     ! @@SECTION dsmc-interfaces@@
     ! @@END dsmc-interfaces@@
@@ -839,6 +1123,505 @@ contains
   end subroutine gran_abi_query
   ! @@END core-procedures@@
   ! @@SECTION theory-procedures@@
+  ! ---- theory: helpers ---------------------------------------------------------------------------
+  !> Number of species of mix (0 when the handle is not valid: the C call then reports that).
+  function gran_theory_m(mix) result(m)
+    type(c_ptr), intent(in) :: mix
+    integer(c_int64_t) :: m
+    if (c_gran_mixture_nspecies(mix, m) /= GRAN_SUCCESS) m = 0
+  end function gran_theory_m
+
+  !> An array of the wrong size: ierr = GRAN_ERR_ARG, or (without ierr) stop with the message.
+  subroutine gran_theory_shape_error(what, ierr)
+    character(len=*), intent(in) :: what
+    integer, intent(out), optional :: ierr
+    if (present(ierr)) then
+      ierr = GRAN_ERR_ARG
+    else
+      write(*, '(a)') 'granary: ' // gran_strerror(int(GRAN_ERR_ARG)) // ': ' // what
+      error stop 1
+    end if
+  end subroutine gran_theory_shape_error
+
+  !> .true. (and the error handled) when size(a) < need for a valid mixture.
+  logical function gran_theory_short(a_size, need, what, ierr)
+    integer, intent(in) :: a_size
+    integer(c_int64_t), intent(in) :: need
+    character(len=*), intent(in) :: what
+    integer, intent(out), optional :: ierr
+    gran_theory_short = need > 0 .and. int(a_size, c_int64_t) < need
+    if (gran_theory_short) call gran_theory_shape_error(what, ierr)
+  end function gran_theory_short
+
+  ! ---- theory: mixture ---------------------------------------------------------------------------
+  !> Mixture of size(density) species; mass, sigma optional (defaults m_k = k, sigma_k = k^(1/3)).
+  subroutine gran_mixture_create(mix, density, mass, sigma, ierr)
+    type(c_ptr), intent(out) :: mix
+    real(c_double), intent(in) :: density(:)
+    real(c_double), intent(in), target, contiguous, optional :: mass(:), sigma(:)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pm, ps
+    mix = c_null_ptr
+    pm = c_null_ptr
+    ps = c_null_ptr
+    if (present(mass)) then
+      if (size(mass) /= size(density)) then
+        call gran_theory_shape_error('gran_mixture_create: size(mass) /= size(density)', ierr)
+        return
+      end if
+      if (size(mass) > 0) pm = c_loc(mass(1))
+    end if
+    if (present(sigma)) then
+      if (size(sigma) /= size(density)) then
+        call gran_theory_shape_error('gran_mixture_create: size(sigma) /= size(density)', ierr)
+        return
+      end if
+      if (size(sigma) > 0) ps = c_loc(sigma(1))
+    end if
+    call gran_check(c_gran_mixture_create(size(density, kind=c_int64_t), pm, ps, density, mix), ierr)
+  end subroutine gran_mixture_create
+
+  !> n_k = n1 k^-theta, m_k = k m1, sigma_k = sigma1 k^(1/3).
+  subroutine gran_mixture_create_powerlaw(mix, nspecies, m1, sigma1, n1, theta, ierr)
+    type(c_ptr), intent(out) :: mix
+    integer(c_int64_t), intent(in) :: nspecies
+    real(c_double), intent(in) :: m1, sigma1, n1, theta
+    integer, intent(out), optional :: ierr
+    mix = c_null_ptr
+    call gran_check(c_gran_mixture_create_powerlaw(nspecies, m1, sigma1, n1, theta, mix), ierr)
+  end subroutine gran_mixture_create_powerlaw
+
+  !> Release the mixture; mix becomes c_null_ptr (NULL-safe).
+  subroutine gran_mixture_destroy(mix, ierr)
+    type(c_ptr), intent(inout) :: mix
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_mixture_destroy(mix), ierr)
+  end subroutine gran_mixture_destroy
+
+  subroutine gran_mixture_nspecies(mix, nspecies, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer(c_int64_t), intent(out) :: nspecies
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_mixture_nspecies(mix, nspecies), ierr)
+  end subroutine gran_mixture_nspecies
+
+  !> Masses, diameters, densities (each optional, size >= M).
+  subroutine gran_mixture_get(mix, mass, sigma, density, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(out), target, contiguous, optional :: mass(:), sigma(:), density(:)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pm, ps, pn
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    pm = c_null_ptr
+    ps = c_null_ptr
+    pn = c_null_ptr
+    if (present(mass)) then
+      if (gran_theory_short(size(mass), m, 'gran_mixture_get: size(mass) < M', ierr)) return
+      if (size(mass) > 0) pm = c_loc(mass(1))
+    end if
+    if (present(sigma)) then
+      if (gran_theory_short(size(sigma), m, 'gran_mixture_get: size(sigma) < M', ierr)) return
+      if (size(sigma) > 0) ps = c_loc(sigma(1))
+    end if
+    if (present(density)) then
+      if (gran_theory_short(size(density), m, 'gran_mixture_get: size(density) < M', ierr)) return
+      if (size(density) > 0) pn = c_loc(density(1))
+    end if
+    call gran_check(c_gran_mixture_get(mix, pm, ps, pn), ierr)
+  end subroutine gran_mixture_get
+
+  subroutine gran_mixture_set_restitution(mix, eps, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: eps
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_mixture_set_restitution(mix, eps), ierr)
+  end subroutine gran_mixture_set_restitution
+
+  !> Symmetric eps(M, M).
+  subroutine gran_mixture_set_restitution_matrix(mix, eps, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: eps(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (m > 0 .and. (size(eps, 1, kind=c_int64_t) /= m .or. size(eps, 2, kind=c_int64_t) /= m)) then
+      call gran_theory_shape_error('gran_mixture_set_restitution_matrix: eps must be M x M', ierr)
+      return
+    end if
+    call gran_check(c_gran_mixture_set_restitution_matrix(mix, eps), ierr)
+  end subroutine gran_mixture_set_restitution_matrix
+
+  subroutine gran_mixture_set_viscoelastic(mix, beta, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: beta
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_mixture_set_viscoelastic(mix, beta), ierr)
+  end subroutine gran_mixture_set_viscoelastic
+
+  !> Symmetric beta(M, M).
+  subroutine gran_mixture_set_viscoelastic_matrix(mix, beta, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: beta(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (m > 0 .and. (size(beta, 1, kind=c_int64_t) /= m .or. size(beta, 2, kind=c_int64_t) /= m)) then
+      call gran_theory_shape_error('gran_mixture_set_viscoelastic_matrix: beta must be M x M', ierr)
+      return
+    end if
+    call gran_check(c_gran_mixture_set_viscoelastic_matrix(mix, beta), ierr)
+  end subroutine gran_mixture_set_viscoelastic_matrix
+
+  !> beta_ij = (3/2) A (rho/m_eff)^(2/5), rho = 2 Y sqrt(R_eff)/(3 (1 - nu^2)), R = sigma/2.
+  subroutine gran_mixture_set_viscoelastic_material(mix, a, y, nu, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: a, y, nu
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_mixture_set_viscoelastic_material(mix, a, y, nu), ierr)
+  end subroutine gran_mixture_set_viscoelastic_material
+
+  subroutine gran_mixture_set_g2(mix, g2, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: g2
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_mixture_set_g2(mix, g2), ierr)
+  end subroutine gran_mixture_set_g2
+
+  subroutine gran_mixture_set_g2_matrix(mix, g2, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: g2(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (m > 0 .and. (size(g2, 1, kind=c_int64_t) /= m .or. size(g2, 2, kind=c_int64_t) /= m)) then
+      call gran_theory_shape_error('gran_mixture_set_g2_matrix: g2 must be M x M', ierr)
+      return
+    end if
+    call gran_check(c_gran_mixture_set_g2_matrix(mix, g2), ierr)
+  end subroutine gran_mixture_set_g2_matrix
+
+  !> GRAN_RESTITUTION_CONSTANT, _MATRIX or _VISCOELASTIC.
+  subroutine gran_mixture_restitution_model(mix, model, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(out) :: model
+    integer, intent(out), optional :: ierr
+    integer(c_int) :: cm
+    cm = -1
+    call gran_check(c_gran_mixture_restitution_model(mix, cm), ierr)
+    model = int(cm)
+  end subroutine gran_mixture_restitution_model
+
+  !> Pair (i, k), 1-based: eps (NaN for viscoelastic), beta, g2 (each optional).
+  subroutine gran_mixture_pair(mix, i, k, eps, beta, g2, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer(c_int64_t), intent(in) :: i, k
+    real(c_double), intent(out), target, optional :: eps, beta, g2
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pe, pb, pg
+    pe = c_null_ptr
+    pb = c_null_ptr
+    pg = c_null_ptr
+    if (present(eps)) pe = c_loc(eps)
+    if (present(beta)) pb = c_loc(beta)
+    if (present(g2)) pg = c_loc(g2)
+    call gran_check(c_gran_mixture_pair(mix, i - 1, k - 1, pe, pb, pg), ierr)
+  end subroutine gran_mixture_pair
+
+  ! ---- theory: viscoelastic restitution -----------------------------------------------------------
+  subroutine gran_viscoelastic_eps(x, eps, ierr)
+    real(c_double), intent(in) :: x
+    real(c_double), intent(out) :: eps
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_viscoelastic_eps(x, eps), ierr)
+  end subroutine gran_viscoelastic_eps
+
+  subroutine gran_viscoelastic_eps_vn(beta, vn, eps, ierr)
+    real(c_double), intent(in) :: beta, vn
+    real(c_double), intent(out) :: eps
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_viscoelastic_eps_vn(beta, vn, eps), ierr)
+  end subroutine gran_viscoelastic_eps_vn
+
+  ! ---- theory: rates, times, HCS ---------------------------------------------------------------------
+  !> Cooling rates xi(M) at temperatures temp(M) (Eq. 14-15 / A7).
+  subroutine gran_theory_cooling_rates(mix, temp, xi, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: temp(:)
+    real(c_double), intent(out) :: xi(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(temp), m, 'gran_theory_cooling_rates: size(temp) < M', ierr)) return
+    if (gran_theory_short(size(xi), m, 'gran_theory_cooling_rates: size(xi) < M', ierr)) return
+    call gran_check(c_gran_theory_cooling_rates(mix, temp, xi), ierr)
+  end subroutine gran_theory_cooling_rates
+
+  subroutine gran_theory_tau_v(mix, temp, tau_v, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: temp(:)
+    real(c_double), intent(out) :: tau_v(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(temp), m, 'gran_theory_tau_v: size(temp) < M', ierr)) return
+    if (gran_theory_short(size(tau_v), m, 'gran_theory_tau_v: size(tau_v) < M', ierr)) return
+    call gran_check(c_gran_theory_tau_v(mix, temp, tau_v), ierr)
+  end subroutine gran_theory_tau_v
+
+  subroutine gran_theory_diffusion(mix, temp, d, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: temp(:)
+    real(c_double), intent(out) :: d(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(temp), m, 'gran_theory_diffusion: size(temp) < M', ierr)) return
+    if (gran_theory_short(size(d), m, 'gran_theory_diffusion: size(d) < M', ierr)) return
+    call gran_check(c_gran_theory_diffusion(mix, temp, d), ierr)
+  end subroutine gran_theory_diffusion
+
+  subroutine gran_theory_collision_rate1(mix, temp, inv_tau_c, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: temp(:)
+    real(c_double), intent(out) :: inv_tau_c
+    integer, intent(out), optional :: ierr
+    if (gran_theory_short(size(temp), gran_theory_m(mix), 'gran_theory_collision_rate1: size(temp) < M', ierr)) return
+    call gran_check(c_gran_theory_collision_rate1(mix, temp, inv_tau_c), ierr)
+  end subroutine gran_theory_collision_rate1
+
+  !> HCS temperatures t0(M) with norm GRAN_HCS_NORM_MEAN or GRAN_HCS_NORM_T1; tau0 (huge -> inf).
+  subroutine gran_theory_hcs(mix, norm, val, t0, tau0, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: norm
+    real(c_double), intent(in) :: val
+    real(c_double), intent(out) :: t0(:)
+    real(c_double), intent(out), optional :: tau0
+    integer, intent(out), optional :: ierr
+    real(c_double) :: tau
+    if (gran_theory_short(size(t0), gran_theory_m(mix), 'gran_theory_hcs: size(t0) < M', ierr)) return
+    tau = 0
+    call gran_check(c_gran_theory_hcs(mix, int(norm, c_int), val, t0, tau), ierr)
+    if (present(tau0)) tau0 = tau
+  end subroutine gran_theory_hcs
+
+  !> temp(M, size(t)) from t0(M) by Eq. 13.
+  subroutine gran_theory_temperatures(mix, t0, t, rtol, temp, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), t(:), rtol
+    real(c_double), intent(out) :: temp(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_temperatures: size(t0) < M', ierr)) return
+    if (m > 0 .and. (size(temp, 1, kind=c_int64_t) /= m .or. size(temp, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_temperatures: temp must be (M, size(t))', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_temperatures(mix, t0, size(t, kind=c_int64_t), t, rtol, temp), ierr)
+  end subroutine gran_theory_temperatures
+
+  ! ---- theory: MSD, TAMSD --------------------------------------------------------------------------
+  !> Eq. 22: msd(M, size(t)), optional msd_total(size(t)) (Eq. 3).
+  subroutine gran_theory_msd_hcs(mix, t0, tau0, t, msd, msd_total, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), tau0, t(:)
+    real(c_double), intent(out) :: msd(:, :)
+    real(c_double), intent(out), target, contiguous, optional :: msd_total(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    type(c_ptr) :: pt
+    m = gran_theory_m(mix)
+    pt = c_null_ptr
+    if (gran_theory_short(size(t0), m, 'gran_theory_msd_hcs: size(t0) < M', ierr)) return
+    if (m > 0 .and. (size(msd, 1, kind=c_int64_t) /= m .or. size(msd, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_msd_hcs: msd must be (M, size(t))', ierr)
+      return
+    end if
+    if (present(msd_total)) then
+      if (size(msd_total) /= size(t)) then
+        call gran_theory_shape_error('gran_theory_msd_hcs: size(msd_total) /= size(t)', ierr)
+        return
+      end if
+      if (size(msd_total) > 0) pt = c_loc(msd_total(1))
+    end if
+    call gran_check(c_gran_theory_msd_hcs(mix, t0, tau0, size(t, kind=c_int64_t), t, msd, pt), ierr)
+  end subroutine gran_theory_msd_hcs
+
+  !> Eq. 4 by numerical integration from any start t0(M).
+  subroutine gran_theory_msd(mix, t0, t, rtol, msd, msd_total, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), t(:), rtol
+    real(c_double), intent(out) :: msd(:, :)
+    real(c_double), intent(out), target, contiguous, optional :: msd_total(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    type(c_ptr) :: pt
+    m = gran_theory_m(mix)
+    pt = c_null_ptr
+    if (gran_theory_short(size(t0), m, 'gran_theory_msd: size(t0) < M', ierr)) return
+    if (m > 0 .and. (size(msd, 1, kind=c_int64_t) /= m .or. size(msd, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_msd: msd must be (M, size(t))', ierr)
+      return
+    end if
+    if (present(msd_total)) then
+      if (size(msd_total) /= size(t)) then
+        call gran_theory_shape_error('gran_theory_msd: size(msd_total) /= size(t)', ierr)
+        return
+      end if
+      if (size(msd_total) > 0) pt = c_loc(msd_total(1))
+    end if
+    call gran_check(c_gran_theory_msd(mix, t0, size(t, kind=c_int64_t), t, rtol, msd, pt), ierr)
+  end subroutine gran_theory_msd
+
+  !> Eq. 27: tamsd(M, size(lag)) over the measurement time t_meas.
+  subroutine gran_theory_tamsd(mix, t0, tau0, t_meas, lag, rtol, tamsd, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), tau0, t_meas, lag(:), rtol
+    real(c_double), intent(out) :: tamsd(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_tamsd: size(t0) < M', ierr)) return
+    if (m > 0 .and. (size(tamsd, 1, kind=c_int64_t) /= m .or. size(tamsd, 2) /= size(lag))) then
+      call gran_theory_shape_error('gran_theory_tamsd: tamsd must be (M, size(lag))', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_tamsd(mix, t0, tau0, t_meas, size(lag, kind=c_int64_t), lag, rtol, tamsd), ierr)
+  end subroutine gran_theory_tamsd
+
+  !> The two terms of Eq. 27: delta0(M, size(lag)) and xi(M, size(lag)), each optional.
+  subroutine gran_theory_tamsd_parts(mix, t0, tau0, t_meas, lag, rtol, delta0, xi, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), tau0, t_meas, lag(:), rtol
+    real(c_double), intent(out), target, contiguous, optional :: delta0(:, :), xi(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    type(c_ptr) :: pd, px
+    m = gran_theory_m(mix)
+    pd = c_null_ptr
+    px = c_null_ptr
+    if (gran_theory_short(size(t0), m, 'gran_theory_tamsd_parts: size(t0) < M', ierr)) return
+    if (present(delta0)) then
+      if (m > 0 .and. (size(delta0, 1, kind=c_int64_t) /= m .or. size(delta0, 2) /= size(lag))) then
+        call gran_theory_shape_error('gran_theory_tamsd_parts: delta0 must be (M, size(lag))', ierr)
+        return
+      end if
+      if (size(delta0) > 0) pd = c_loc(delta0(1, 1))
+    end if
+    if (present(xi)) then
+      if (m > 0 .and. (size(xi, 1, kind=c_int64_t) /= m .or. size(xi, 2) /= size(lag))) then
+        call gran_theory_shape_error('gran_theory_tamsd_parts: xi must be (M, size(lag))', ierr)
+        return
+      end if
+      if (size(xi) > 0) px = c_loc(xi(1, 1))
+    end if
+    call gran_check(c_gran_theory_tamsd_parts(mix, t0, tau0, t_meas, size(lag, kind=c_int64_t), lag, rtol, pd, px), &
+                    ierr)
+  end subroutine gran_theory_tamsd_parts
+
+  !> Eq. 31 for species 1 of a monodisperse gas (others tracers): msd(size(t)), tau0 (Eq. 29) optional.
+  subroutine gran_theory_msd_mono(mix, t1, t, msd, tau0, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t1, t(:)
+    real(c_double), intent(out) :: msd(:)
+    real(c_double), intent(out), optional :: tau0
+    integer, intent(out), optional :: ierr
+    real(c_double) :: tau
+    if (size(msd) /= size(t)) then
+      call gran_theory_shape_error('gran_theory_msd_mono: size(msd) /= size(t)', ierr)
+      return
+    end if
+    tau = 0
+    call gran_check(c_gran_theory_msd_mono(mix, t1, size(t, kind=c_int64_t), t, msd, tau), ierr)
+    if (present(tau0)) tau0 = tau
+  end subroutine gran_theory_msd_mono
+
+  !> Reduced times tau(M, size(t)) of Eq. 6 (units of tau_c(0)).
+  subroutine gran_theory_reduced_time(mix, t0, t, rtol, tau, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), t(:), rtol
+    real(c_double), intent(out) :: tau(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_reduced_time: size(t0) < M', ierr)) return
+    if (m > 0 .and. (size(tau, 1, kind=c_int64_t) /= m .or. size(tau, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_reduced_time: tau must be (M, size(t))', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_reduced_time(mix, t0, size(t, kind=c_int64_t), t, rtol, tau), ierr)
+  end subroutine gran_theory_reduced_time
+
+  ! ---- theory: tracer limit -------------------------------------------------------------------------
+  !> Eqs. 34-35: gamma = T_tracer/T_1 for species `tracer` (1-based, >= 2).
+  subroutine gran_theory_tracer_gamma_approx(mix, tracer, gamma, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer(c_int64_t), intent(in) :: tracer
+    real(c_double), intent(out) :: gamma
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_theory_tracer_gamma_approx(mix, tracer - 1, gamma), ierr)
+  end subroutine gran_theory_tracer_gamma_approx
+
+  !> Eq. 33: tau_v,tracer/tau_c(0) for a given gamma (tracer 1-based, >= 2).
+  subroutine gran_theory_tracer_tau_v_hat(mix, tracer, gamma, tau_v_hat, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer(c_int64_t), intent(in) :: tracer
+    real(c_double), intent(in) :: gamma
+    real(c_double), intent(out) :: tau_v_hat
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_theory_tracer_tau_v_hat(mix, tracer - 1, gamma, tau_v_hat), ierr)
+  end subroutine gran_theory_tracer_tau_v_hat
+
+  ! ---- theory: collisions (seed 002) ----------------------------------------------------------------
+  !> <|g_ij|> (Eq. 60) as g(M, M).
+  subroutine gran_theory_mean_relative_speed(mix, temp, g, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: temp(:)
+    real(c_double), intent(out) :: g(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(temp), m, 'gran_theory_mean_relative_speed: size(temp) < M', ierr)) return
+    if (m > 0 .and. (size(g, 1, kind=c_int64_t) /= m .or. size(g, 2, kind=c_int64_t) /= m)) then
+      call gran_theory_shape_error('gran_theory_mean_relative_speed: g must be M x M', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_mean_relative_speed(mix, temp, g), ierr)
+  end subroutine gran_theory_mean_relative_speed
+
+  !> Collisions per unit volume and time per species pair, rates(M, M) (each unordered pair once).
+  subroutine gran_theory_collision_rates(mix, temp, rates, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: temp(:)
+    real(c_double), intent(out) :: rates(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(temp), m, 'gran_theory_collision_rates: size(temp) < M', ierr)) return
+    if (m > 0 .and. (size(rates, 1, kind=c_int64_t) /= m .or. size(rates, 2, kind=c_int64_t) /= m)) then
+      call gran_theory_shape_error('gran_theory_collision_rates: rates must be M x M', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_collision_rates(mix, temp, rates), ierr)
+  end subroutine gran_theory_collision_rates
+
+  !> Expected collisions in volume along the cooling from t0: counts(M, M, size(t)).
+  subroutine gran_theory_collision_counts(mix, t0, volume, t, rtol, counts, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), volume, t(:), rtol
+    real(c_double), intent(out) :: counts(:, :, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_collision_counts: size(t0) < M', ierr)) return
+    if (m > 0 .and. (size(counts, 1, kind=c_int64_t) /= m .or. size(counts, 2, kind=c_int64_t) /= m .or. &
+                     size(counts, 3) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_collision_counts: counts must be (M, M, size(t))', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_collision_counts(mix, t0, volume, size(t, kind=c_int64_t), t, rtol, counts), ierr)
+  end subroutine gran_theory_collision_counts
   ! @@END theory-procedures@@
   ! @@SECTION dsmc-procedures@@
   ! @@END dsmc-procedures@@

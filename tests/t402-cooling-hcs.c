@@ -187,7 +187,9 @@ static void test_tracer_decoupled(void **state) {
 
 /* eps = 1: equipartition and tau0 = inf (constant and matrix); eps = 1 - 1e-12: the deviations
  * from equipartition and 1/tau0 are linear in (1 - eps) (checked against eps = 1 - 1e-9: the
- * second-order terms are 1e-9 relative, the rounding of gamma - 1 ~ 1e-11 is 1e-5 relative: 1e-4). */
+ * second-order terms are 1e-9 relative). Temperatures that differ by 1e-11 relative are stored in
+ * doubles with 1e-5 relative accuracy of their differences, which drive xi and hence tau0: 1e-4
+ * for gamma - 1 and 1e-3 for tau0 (achieved: 2e-5). */
 static void test_near_elastic(void **state) {
   (void)state;
   const double m[3] = {1, 10, 100}, s[3] = {1, 2, 4}, n[3] = {0.1, 0.05, 0.01};
@@ -211,8 +213,8 @@ static void test_near_elastic(void **state) {
     assert_true(Ta[k] != 1.0);
     GRAN_ASSERT_REL((Ta[k] - 1.0) * 1e3, Tb[k] - 1.0, 1e-4);
   }
-  GRAN_ASSERT_REL(ta * 1e-12, tb * 1e-9, 1e-6);
-  assert_true(hcs_defect(mix, 3, Tb, tb) < 1e-12);
+  GRAN_ASSERT_REL(ta * 1e-12, tb * 1e-9, 1e-3);
+  assert_true(hcs_defect(mix, 3, Tb, tb) < 1e-5); /* same rounding floor: T differences of 1e-9 */
   gran_mixture_destroy(&mix);
 }
 
@@ -280,13 +282,14 @@ static void test_viscoelastic_rates(void **state) {
   double xi = 0;
   GRAN_ASSERT_OK(gran_theory_cooling_rates(mix, &T, &xi));
   GRAN_ASSERT_REL(xi, 6.5536217 * 1e-8 * n * g2 * s * s * pow(m, -0.6) * pow(T, 0.6), 1e-6);
-  /* continuity across the series/quadrature switch at z = 0.35: T on both sides, 1e-9 */
+  /* continuity across the series/quadrature switch at z = 0.35: T = T_switch (1 -+ 1e-12) changes xi
+   * by 1.2e-12 through T^(3/5); the two branches agree to 4e-12: 1e-10 */
   GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 0.1));
   const double Tsw = m / 4 * pow(0.35 / sqrt(0.1), 20.0);
-  double xlo = 0, xhi = 0, Tlo = Tsw * (1 - 1e-9), Thi = Tsw * (1 + 1e-9);
+  double xlo = 0, xhi = 0, Tlo = Tsw * (1 - 1e-12), Thi = Tsw * (1 + 1e-12);
   GRAN_ASSERT_OK(gran_theory_cooling_rates(mix, &Tlo, &xlo));
   GRAN_ASSERT_OK(gran_theory_cooling_rates(mix, &Thi, &xhi));
-  GRAN_ASSERT_REL(xlo, xhi, 1e-9);
+  GRAN_ASSERT_REL(xlo, xhi, 1e-10);
   /* tau_v (A6) tends to Eq. 11 with eps = 1 as beta -> 0: 1e-6 at beta = 1e-8 */
   double tv = 0, tv1 = 0;
   GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 1e-8));

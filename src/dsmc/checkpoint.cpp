@@ -100,22 +100,28 @@ int state_io(F &f, D *s) {
     }
   }
   GRAN_CALL(f.d("uv", 3, s->uv));
-  double sc[11] = {s->cmax, s->rate, s->inv_rate, s->t, s->t_next, s->acc_last, s->e_initial, s->e_diss, s->e_diss_c,
-                   s->volume, 0.0};
-  GRAN_CALL(f.d("scalars", 11, sc));
+  double sc[16] = {s->cmax,     s->rate,     s->inv_rate, s->t,      s->t_ref,     s->acc_last,
+                   s->e_initial, s->e_diss,   s->e_diss_c, s->volume,  s->tprod,     s->tlog,
+                   s->pend_t,    s->pend_e[0], s->pend_e[1], s->pend_e[2]};
+  GRAN_CALL(f.d("scalars", 16, sc));
   s->cmax = sc[0];
   s->rate = sc[1];
   s->inv_rate = sc[2];
   s->t = sc[3];
-  s->t_next = sc[4];
+  s->t_ref = sc[4];
   s->acc_last = sc[5];
   s->e_initial = sc[6];
   s->e_diss = sc[7];
   s->e_diss_c = sc[8];
   s->volume = sc[9];
-  int64_t ct[10] = {s->collisions, s->trials, s->bound_raises, s->bound_tightenings, s->next_refresh,
-                    s->coll_at_refresh, s->trials_at_refresh, s->cand_head, s->cand_count, s->traj_next};
-  GRAN_CALL(f.i64("counters", 10, ct));
+  s->tprod = sc[10];
+  s->tlog = sc[11];
+  s->pend_t = sc[12];
+  for (int d = 0; d < 3; d++) s->pend_e[d] = sc[13 + d];
+  int64_t ct[15] = {s->collisions,    s->trials,     s->bound_raises,  s->bound_tightenings, s->next_refresh,
+                    s->coll_at_refresh, s->trials_at_refresh, s->cand_head, s->cand_count, s->traj_next,
+                    s->pend_on,       s->pend_c.j,   s->pend_c.l,      s->pend_c.i,          s->pend_c.k};
+  GRAN_CALL(f.i64("counters", 15, ct));
   s->collisions = ct[0];
   s->trials = ct[1];
   s->bound_raises = ct[2];
@@ -126,6 +132,11 @@ int state_io(F &f, D *s) {
   s->cand_head = (int32_t)ct[7];
   s->cand_count = (int32_t)ct[8];
   s->traj_next = ct[9];
+  s->pend_on = (int32_t)ct[10];
+  s->pend_c.j = ct[11];
+  s->pend_c.l = ct[12];
+  s->pend_c.i = (int32_t)ct[13];
+  s->pend_c.k = (int32_t)ct[14];
   GRAN_CALL(f.u64("rng", 4, s->rng.s));
   int64_t cj[2 * kDsmcPipe];
   int32_t ci[2 * kDsmcPipe];

@@ -93,7 +93,12 @@ struct gran_dsmc {
   double inv_rate = 0;           /* 1/Lambda (inf when 0) */
   gran_rng rng{};
   double t = 0;                  /* time of the state */
-  double t_next = 0;             /* time of the pending trial (drawn with the current rate) */
+  double t_ref = 0;              /* time of the last collision (or of the start): trial times count from it */
+  double tprod = 1, tlog = 0;    /* trials since t_ref: product of their uniforms, folded -log */
+  int32_t pend_on = 0;           /* 1: an accepted collision lies beyond the last stop time */
+  gran::DsmcCand pend_c{};
+  double pend_t = 0;
+  double pend_e[3] = {0, 0, 0};  /* its direction (paper rule) */
   int64_t collisions = 0, trials = 0, bound_raises = 0, bound_tightenings = 0;
   int64_t next_refresh = 0;      /* collision count at which the bounds are tightened next */
   int64_t coll_at_refresh = 0, trials_at_refresh = 0;

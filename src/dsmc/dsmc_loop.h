@@ -22,6 +22,15 @@ static inline int64_t rng_below(gran_rng *r, int64_t n) {
   return (int64_t)(((unsigned __int128)rng_next(r) * (unsigned __int128)(uint64_t)n) >> 64);
 }
 
+#ifndef GRAN_DSMC_DISP_TLAST
+#define GRAN_DSMC_DISP_TLAST 0
+#endif
+constexpr bool kDispTlast = GRAN_DSMC_DISP_TLAST != 0;
+#ifndef GRAN_DSMC_PREFETCH_R
+#define GRAN_DSMC_PREFETCH_R 1
+#endif
+constexpr bool kPrefetchR = GRAN_DSMC_PREFETCH_R != 0;
+
 static inline void prefetch_particle(const double *v, int64_t j) {
   __builtin_prefetch(v + 3 * j);
   __builtin_prefetch(v + 3 * j + 2);
@@ -30,9 +39,9 @@ static inline void prefetch_particle(const double *v, int64_t j) {
 /* Low-rank selector: choose the rank-one term r with probability U_r V_r / sum, species i from
  * the tree of u^(r), species k from the tree of v^(r), then j, l uniformly within the species. */
 struct SelLowRank {
-  static inline void draw(const gran_dsmc *s, gran_rng *r, DsmcCand *c) {
+  __attribute__((always_inline)) static inline void draw(const gran_dsmc *s, gran_rng *r, DsmcCand *c) {
     const double x = rng_uniform(r) * (s->uv[0] + s->uv[1] + s->uv[2]);
-    const int q = x < s->uv[0] ? 0 : (x < s->uv[0] + s->uv[1] ? 1 : 2);
+    const int q = (int)(x >= s->uv[0]) + (int)(x >= s->uv[0] + s->uv[1]);
     const int64_t i = segtree_sample(&s->u[q], rng_uniform(r));
     const int64_t k = segtree_sample(&s->v[q], rng_uniform(r));
     c->i = (int32_t)i;
@@ -52,7 +61,7 @@ struct SelLowRank {
 
 /* Bird's selector: j, l uniformly among all N particles (ordered), one global bound C_max (Eq. 49). */
 struct SelBird {
-  static inline void draw(const gran_dsmc *s, gran_rng *r, DsmcCand *c) {
+  __attribute__((always_inline)) static inline void draw(const gran_dsmc *s, gran_rng *r, DsmcCand *c) {
     c->j = rng_below(r, s->N);
     c->l = rng_below(r, s->N);
     __builtin_prefetch(s->p.species + c->j);
@@ -78,133 +87,196 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   double *const v = s->p.v;
   double *const R = kDisp ? s->p.r : nullptr;
   double *const tl = kDisp ? s->p.t_last : nullptr;
+  const double t0 = s->opt.t_start;
   int64_t *const cc = kCount ? s->ccount.data() : nullptr;
   const double *const mass = s->mix.m.data();
   const int64_t M = s->M;
   const DsmcPair *const pair = s->pair.empty() ? nullptr : s->pair.data();
-  double t = s->t, t_next = s->t_next, inv_rate = s->inv_rate;
+  double inv_rate = s->inv_rate;
   int64_t coll = s->collisions, trials = s->trials;
   double ed = s->e_diss, edc = s->e_diss_c;
   int head = s->cand_head, count = s->cand_count;
+  double t_ref = s->t_ref, tprod = s->tprod, tlog = s->tlog;
+  bool stop = false;
 
-  while (t_next <= t_stop) {
-    t = t_next;
+  /* Collide the accepted pair c at time t (Eq. 41); e: the direction drawn before the acceptance
+   * (paper rule), unused otherwise. Updates displacements, ledger, counters, bounds. */
+  auto collide = [&](const DsmcCand &c, double t, const double *e) {
+    double *const vj = v + 3 * c.j;
+    double *const vl = v + 3 * c.l;
+    const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
+    double gn[3], gn2;
+    if (kPaper) {
+      const double ge = g[0] * e[0] + g[1] * e[1] + g[2] * e[2];
+      gn[0] = ge * e[0];
+      gn[1] = ge * e[1];
+      gn[2] = ge * e[2];
+      gn2 = ge * ge;
+    } else {
+      /* e from the |g.e|-weighted law: e ~ (g/|g| - u) with u uniform, so that
+       * (g.e) e = (g - |g| u) / 2 (the elastic collision scatters g uniformly). */
+      const double ga = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+      double u[3];
+      rng_unit3(&rng, u);
+      gn[0] = 0.5 * (g[0] - ga * u[0]);
+      gn[1] = 0.5 * (g[1] - ga * u[1]);
+      gn[2] = 0.5 * (g[2] - ga * u[2]);
+      gn2 = gn[0] * gn[0] + gn[1] * gn[1] + gn[2] * gn[2];
+    }
+    const size_t pik = (size_t)c.i * (size_t)M + (size_t)c.k;
+    double eps;
+    if (kRest == kRestConst) {
+      eps = s->eps0;
+    } else if (kRest == kRestTable) {
+      eps = pair[pik].a;
+    } else {
+      double sb;
+      if (pair)
+        sb = pair[pik].a;
+      else if (s->visco_sqrt_beta0 >= 0)
+        sb = s->visco_sqrt_beta0;
+      else
+        sb = std::sqrt(mix_beta(&s->mix, c.i, c.k));
+      eps = visco_eps(sb * std::pow(gn2, 0.05)); /* x = sqrt(beta) |v_n|^(1/10) */
+    }
+    if (kDisp && kDispTlast) { /* Eq. 45 literally: r += v (t - t_last), t_last = t */
+      double *const rj = R + 3 * c.j, *const rl = R + 3 * c.l;
+      const double dj = t - tl[c.j], dl = t - tl[c.l];
+      for (int d = 0; d < 3; d++) {
+        rj[d] += vj[d] * dj;
+        rl[d] += vl[d] * dl;
+      }
+      tl[c.j] = t;
+      tl[c.l] = t;
+    }
+    const double mi = mass[c.i], mk = mass[c.k];
+    const double inv = 1.0 / (mi + mk);
+    const double a = (1.0 + eps) * inv;
+    const double aj = a * mk, al = a * mi;
+    vj[0] -= aj * gn[0];
+    vj[1] -= aj * gn[1];
+    vj[2] -= aj * gn[2];
+    vl[0] += al * gn[0];
+    vl[1] += al * gn[1];
+    vl[2] += al * gn[2];
+    if (kDisp && !kDispTlast) {
+      /* Eq. 45 with the reference time fixed at t_start (t_last stays t_start): R(t) = r + v (t - t_start)
+       * holds when r absorbs -dv (t - t_start) at each velocity change dv. One array per particle. */
+      double *const rj = R + 3 * c.j, *const rl = R + 3 * c.l;
+      const double ts = t - t0, bj = aj * ts, bl = al * ts;
+      rj[0] += bj * gn[0];
+      rj[1] += bj * gn[1];
+      rj[2] += bj * gn[2];
+      rl[0] -= bl * gn[0];
+      rl[1] -= bl * gn[1];
+      rl[2] -= bl * gn[2];
+    }
+    neumaier_add(ed, edc, 0.5 * (1.0 - eps * eps) * mi * mk * inv * gn2);
+    if (kCount) {
+      const int64_t lo = c.i < c.k ? c.i : c.k, hi = c.i < c.k ? c.k : c.i;
+      cc[lo * M + hi]++;
+    }
+    ++coll;
+    t_ref = t;
+    const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+    const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
+    bool changed = false;
+    if (sj > s->bound2[(size_t)c.i]) {
+      dsmc_raise_bound(s, c.i, sj);
+      changed = true;
+    }
+    if (sl > s->bound2[(size_t)c.k]) {
+      dsmc_raise_bound(s, c.k, sl);
+      changed = true;
+    }
+    if (coll >= s->next_refresh) {
+      s->collisions = coll;
+      s->trials = trials;
+      dsmc_refresh_bounds(s);
+      changed = true;
+    }
+    if (changed) {
+      inv_rate = s->inv_rate;
+      count = 0; /* the selection law changed: discard the pre-drawn candidates */
+    }
+  };
+
+  if (s->pend_on) { /* accepted before the last stop, at a time beyond it */
+    if (s->pend_t > t_stop) return;
+    s->pend_on = 0;
+    collide(s->pend_c, s->pend_t, s->pend_e);
+    stop = coll >= coll_stop;
+  }
+  if (std::isinf(inv_rate)) stop = true; /* all bounds 0: no collision can ever happen */
+
+  /* Trial times: the spacings are iid Exp(1)/Lambda, independent of the acceptances, so the time
+   * of the next accepted collision is t_ref + (sum of the spacings of its trials) / Lambda, and
+   * that sum is -log of the product of one uniform per trial: one log per collision, not per
+   * trial. (Lambda changes only at collisions.) Every 64 trials the time reached is compared
+   * with t_stop, so a stop is found without an acceptance; the rejected trials beyond it are
+   * those of the next interval. */
+  while (!stop) {
+    if ((trials & 63) == 0 && t_ref + (tlog - std::log(tprod)) * inv_rate > t_stop) break;
     ++trials;
     if (count == 0) {
-      for (int q = 0; q < K; q++) Sel::draw(s, &rng, &s->cand[q]);
+      for (int q = 0; q < K; q++) {
+        Sel::draw(s, &rng, &s->cand[q]);
+        if (kDisp && kPrefetchR) {
+          prefetch_particle(R, s->cand[q].j);
+          prefetch_particle(R, s->cand[q].l);
+        }
+      }
       head = 0;
       count = K;
     }
     DsmcCand c = s->cand[head];
     Sel::draw(s, &rng, &s->cand[head]);
+    if (kDisp && kPrefetchR) { /* speculative: only accepted candidates need r */
+      prefetch_particle(R, s->cand[head].j);
+      prefetch_particle(R, s->cand[head].l);
+    }
     head = (head + 1) & (K - 1);
-    bool accepted = false;
-    do {
-      if (c.j == c.l) break; /* the same particle twice: no pair */
-      Sel::species(s, &c);
-      double w;
-      const double B = Sel::bound(s, c.i, c.k, &w);
-      const size_t pik = (size_t)c.i * (size_t)M + (size_t)c.k;
-      if (kRest != kRestConst) w *= pair ? pair[pik].g2r : 1.0;
-      double *const vj = v + 3 * c.j;
-      double *const vl = v + 3 * c.l;
-      const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
-      const double ub = rng_uniform(&rng) * B;
-      double gn[3], gn2;
-      if (kPaper) {
-        double e[3];
-        rng_unit3(&rng, e);
-        const double ge = g[0] * e[0] + g[1] * e[1] + g[2] * e[2];
-        if (!(ub < w * std::fabs(ge))) break;
-        gn[0] = ge * e[0];
-        gn[1] = ge * e[1];
-        gn[2] = ge * e[2];
-        gn2 = ge * ge;
-      } else {
-        const double g2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-        if (!(ub * ub < w * w * g2)) break;
-        /* e from the |g.e|-weighted law: e ~ (g/|g| - u) with u uniform, so that
-         * (g.e) e = (g - |g| u) / 2 (the elastic collision scatters g uniformly). */
-        const double ga = std::sqrt(g2);
-        double u[3];
-        rng_unit3(&rng, u);
-        gn[0] = 0.5 * (g[0] - ga * u[0]);
-        gn[1] = 0.5 * (g[1] - ga * u[1]);
-        gn[2] = 0.5 * (g[2] - ga * u[2]);
-        gn2 = gn[0] * gn[0] + gn[1] * gn[1] + gn[2] * gn[2];
-      }
-      accepted = true;
-      double eps;
-      if (kRest == kRestConst) {
-        eps = s->eps0;
-      } else if (kRest == kRestTable) {
-        eps = pair[pik].a;
-      } else {
-        double sb;
-        if (pair)
-          sb = pair[pik].a;
-        else if (s->visco_sqrt_beta0 >= 0)
-          sb = s->visco_sqrt_beta0;
-        else
-          sb = std::sqrt(mix_beta(&s->mix, c.i, c.k));
-        eps = visco_eps(sb * std::pow(gn2, 0.05)); /* x = sqrt(beta) |v_n|^(1/10) */
-      }
-      if (kDisp) {
-        double *const rj = R + 3 * c.j, *const rl = R + 3 * c.l;
-        const double dj = t - tl[c.j], dl = t - tl[c.l];
-        rj[0] += vj[0] * dj;
-        rj[1] += vj[1] * dj;
-        rj[2] += vj[2] * dj;
-        rl[0] += vl[0] * dl;
-        rl[1] += vl[1] * dl;
-        rl[2] += vl[2] * dl;
-        tl[c.j] = t;
-        tl[c.l] = t;
-      }
-      const double mi = mass[c.i], mk = mass[c.k];
-      const double inv = 1.0 / (mi + mk);
-      const double a = (1.0 + eps) * inv;
-      const double aj = a * mk, al = a * mi;
-      vj[0] -= aj * gn[0];
-      vj[1] -= aj * gn[1];
-      vj[2] -= aj * gn[2];
-      vl[0] += al * gn[0];
-      vl[1] += al * gn[1];
-      vl[2] += al * gn[2];
-      neumaier_add(ed, edc, 0.5 * (1.0 - eps * eps) * mi * mk * inv * gn2);
-      if (kCount) {
-        const int64_t lo = c.i < c.k ? c.i : c.k, hi = c.i < c.k ? c.k : c.i;
-        cc[lo * M + hi]++;
-      }
-      ++coll;
-      const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
-      const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
-      bool changed = false;
-      if (sj > s->bound2[(size_t)c.i]) {
-        dsmc_raise_bound(s, c.i, sj);
-        changed = true;
-      }
-      if (sl > s->bound2[(size_t)c.k]) {
-        dsmc_raise_bound(s, c.k, sl);
-        changed = true;
-      }
-      if (coll >= s->next_refresh) {
-        s->collisions = coll;
-        s->trials = trials;
-        dsmc_refresh_bounds(s);
-        changed = true;
-      }
-      if (changed) {
-        inv_rate = s->inv_rate;
-        count = 0; /* the selection law changed: discard the pre-drawn candidates */
-      }
-    } while (0);
-    t_next = std::isinf(inv_rate) ? INFINITY : t + rng_exponential(&rng) * inv_rate;
-    if (accepted && coll >= coll_stop) break;
+    tprod *= rng_uniform_pos(&rng);
+    if (tprod < 1e-280) {
+      tlog -= std::log(tprod);
+      tprod = 1.0;
+    }
+    if (c.j == c.l) continue; /* the same particle twice: no pair */
+    Sel::species(s, &c);
+    double w;
+    const double B = Sel::bound(s, c.i, c.k, &w);
+    if (kRest != kRestConst && pair) w *= pair[(size_t)c.i * (size_t)M + (size_t)c.k].g2r;
+    const double *const vj = v + 3 * c.j;
+    const double *const vl = v + 3 * c.l;
+    const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
+    const double ub = rng_uniform(&rng) * B;
+    double e[3];
+    if (kPaper) {
+      rng_unit3(&rng, e);
+      const double ge = g[0] * e[0] + g[1] * e[1] + g[2] * e[2];
+      if (!(ub < w * std::fabs(ge))) continue;
+    } else {
+      const double g2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+      if (!(ub * ub < w * w * g2)) continue;
+    }
+    const double tc = t_ref + (tlog - std::log(tprod)) * inv_rate;
+    tprod = 1.0;
+    tlog = 0.0;
+    if (tc > t_stop) { /* the collision belongs to a later interval */
+      s->pend_on = 1;
+      s->pend_c = c;
+      s->pend_t = tc;
+      for (int d = 0; d < 3; d++) s->pend_e[d] = kPaper ? e[d] : 0.0;
+      break;
+    }
+    collide(c, tc, e);
+    if (coll >= coll_stop) break;
   }
   s->rng = rng;
-  s->t = t;
-  s->t_next = t_next;
+  s->t = t_ref > s->t ? t_ref : s->t;
+  s->t_ref = t_ref;
+  s->tprod = tprod;
+  s->tlog = tlog;
   s->collisions = coll;
   s->trials = trials;
   s->e_diss = ed;

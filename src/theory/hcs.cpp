@@ -19,7 +19,7 @@
  *    clamped Newton whose Jacobian J = diag(d) + L is kept exact on the diagonal and has its
  *    smooth kernel part L_kj = n_j K(k, j) compressed by adaptive cross approximation (rank r at
  *    relative accuracy 1e-12, typically r ~ 20-60), solved by the Woodbury identity in O(M r^2).
- *    The start comes from the HCS of a coarse mixture (~96 species binned in log mass, densities
+ *    The start comes from the HCS of a coarse mixture (<= 48 species binned in log mass, densities
  *    summed), interpolated in log mass. Each iteration costs one O(M^2) pass (xi and d together,
  *    vectorised, each unordered pair visited once) plus O(r M) kernel entries: 3-6 passes in total.
  *    The pair sums themselves stay exact. */
@@ -52,8 +52,8 @@ void do_pass(const gran_mixture *mix, const double *T, Pass &P) {
   cooling_pass(mix, T, P.xi.data(), P.d.data(), P.l.data(), P.nu.data());
 }
 
-const int64_t HCS_DENSE_MAX = 256;
-const int HCS_COARSE_BINS = 96;
+const int64_t HCS_DENSE_MAX = 64;
+const int HCS_COARSE_BINS = 48; /* <= HCS_DENSE_MAX: the coarse problem is solved densely */
 const double RES_TOL = 1e-13;
 
 /* Column part of the Jacobian: L_kj = d f_kj / d u_j (the smooth kernel compressed by ACA). */
