@@ -179,7 +179,9 @@ GRAN_EXTERN int gran_abi_query(const char *name, int64_t *value);
 /* @@SECTION theory@@ (owned by the theory module; see src/theory) ----------------------------
  * Kinetic theory of polydisperse granular gases (seed 000 Sec. II, App. A; seed 002).
  * Species are 0-based in C (species "k" of the paper is index k-1). Arrays of per-species values
- * have length M; time series are row-major [time][species]; pair matrices are row-major M*M.
+ * have length M; time series are row-major [time][species]; pair matrices are row-major M*M
+ * (symmetric: checked). Tolerances rtol lie in [1e-14, 0.1]. Mixtures need M >= 1 and at least one
+ * n_k > 0; the viscoelastic model has no HCS (gran_theory_hcs, _msd_hcs, _tamsd: GRAN_ERR_DOMAIN).
  * ------------------------------------------------------------------------------------------- */
 typedef struct gran_mixture gran_mixture; /* opaque */
 
@@ -213,7 +215,9 @@ GRAN_EXTERN int gran_mixture_set_viscoelastic_material(gran_mixture *mix, double
 GRAN_EXTERN int gran_mixture_set_g2(gran_mixture *mix, double g2);
 GRAN_EXTERN int gran_mixture_set_g2_matrix(gran_mixture *mix, const double *g2);
 GRAN_EXTERN int gran_mixture_restitution_model(const gran_mixture *mix, int *model);
-/* Parameters of pair (i, k): eps (constant/matrix models), beta (viscoelastic), g2; any may be NULL. */
+/* Parameters of pair (i, k): eps (constant/matrix models; NaN when viscoelastic), beta (viscoelastic,
+ * else 0), g2; any may be NULL. Material beta: (3/2) A (rho/m_eff)^(2/5), rho = 2 Y sqrt(R_eff)/(3(1-nu^2)),
+ * R_eff = sigma_i sigma_k/(2(sigma_i+sigma_k)) (radius = sigma/2). */
 GRAN_EXTERN int gran_mixture_pair(const gran_mixture *mix, int64_t i, int64_t k, double *eps,
                                   double *beta, double *g2);
 

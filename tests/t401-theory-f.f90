@@ -102,6 +102,8 @@ program t401_theory_f
   call gran_mixture_set_restitution_matrix(mix, e2)
   call gran_mixture_pair(mix, 2_c_int64_t, 2_c_int64_t, eps=eps)
   call check('eps matrix (2,2) = 0.7', eps == 0.7_c_double)
+  call gran_mixture_restitution_model(mix, model)
+  call check('model matrix', model == GRAN_RESTITUTION_MATRIX)
   call gran_mixture_set_g2_matrix(mix, e2 + 1)
   call gran_mixture_set_g2(mix, 1.2_c_double)
   call gran_mixture_pair(mix, 1_c_int64_t, 2_c_int64_t, g2=g2)
@@ -120,6 +122,7 @@ program t401_theory_f
   call gran_mixture_create_powerlaw(pl, 1000_c_int64_t, 1.0_c_double, 1.0_c_double, 0.1_c_double, 3.0_c_double)
   call gran_mixture_nspecies(pl, m)
   call check('powerlaw M = 1000', m == 1000)
+  call gran_mixture_destroy(pl)
 
   ! ---- errors: codes come back through ierr -----------------------------------------------------
   call gran_mixture_set_restitution(mix, 1.5_c_double, ierr)

@@ -65,7 +65,8 @@ static void test_counts(void **state) {
     for (int p = 0; p < 4; p++) GRAN_ASSERT_REL(C[4 * j + p], V * R[p] * tau0 * log1p(t[j] / tau0), 1e-9);
   gran_mixture_destroy(&mix);
 
-  const double m1 = 1, s1 = 1, n1 = 0.1, eps = 0.8, Ts = 1.0;
+  const double m1 = 1, s1 = 1, n1 = 0.1, eps = 0.8;
+  double Ts = 1.0;
   mix = make(1, &m1, &s1, &n1, eps);
   const double tt[3] = {1.0, 50.0, 1e6};
   double Tt[3], c1[3], msd[3], tau;

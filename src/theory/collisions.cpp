@@ -7,7 +7,9 @@
  * with the cross-section pi (R_i + R_j)^2 = pi sigma_ij^2 (PHYSICS-NOTES Sec. 1 corrects Eq. 54) and
  * each unordered pair counted once (a like pair i-i once, hence 1/2): the total is the sum over
  * i <= j; the collision frequency per particle of species k is sum_j (1 + delta_kj) rate_kj / n_k,
- * for one species 2 rate/n = 4 sqrt(pi) n sigma^2 g2 sqrt(T/m) (PHYSICS-NOTES Sec. 3).
+ * for one species 2 rate/n = 4 sqrt(pi) n sigma^2 g2 sqrt(T/m) (PHYSICS-NOTES Sec. 3, seed 002 Eq. 35).
+ * Seed 002 Eqs. 58 and 61 as printed are half of this total: Eq. 57 already halves the sum over
+ * ordered pairs and Eq. 58 halves it again (for one species they contradict Eq. 35).
  *  counts_ij(t) = V int_0^t rate_ij(T(t')) dt'  along the cooling from T0 (ode.cpp dense output,
  * GSL fixed Gauss-Legendre, 8 points, on every node interval: all pairs share the nodes). */
 #include "theory/theory_impl.h"
@@ -44,6 +46,7 @@ void rates_at(const gran_mixture *mix, const double *T, double *rates) {
  */
 GRAN_EXTERN int gran_theory_mean_relative_speed(const gran_mixture *mix, const double *T, double *g) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CALL(check_array(T, mix->M, "T", 1));
     GRAN_CHECK_PTR(g);
@@ -62,6 +65,7 @@ GRAN_EXTERN int gran_theory_mean_relative_speed(const gran_mixture *mix, const d
  */
 GRAN_EXTERN int gran_theory_collision_rates(const gran_mixture *mix, const double *T, double *rates) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CALL(check_array(T, mix->M, "T", 1));
     GRAN_CHECK_PTR(rates);
@@ -179,6 +183,7 @@ GRAN_EXTERN int gran_theory_reduced_time(const gran_mixture *mix, const double *
  */
 GRAN_EXTERN int gran_theory_tracer_gamma_approx(const gran_mixture *mix, int64_t tracer, double *gamma) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK_PTR(gamma);
     GRAN_CHECK(tracer >= 1 && tracer < mix->M, GRAN_ERR_RANGE,
@@ -211,6 +216,7 @@ GRAN_EXTERN int gran_theory_tracer_gamma_approx(const gran_mixture *mix, int64_t
 GRAN_EXTERN int gran_theory_tracer_tau_v_hat(const gran_mixture *mix, int64_t tracer, double gamma,
                                              double *tau_v_hat) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK_PTR(tau_v_hat);
     GRAN_CHECK(tracer >= 1 && tracer < mix->M, GRAN_ERR_RANGE,

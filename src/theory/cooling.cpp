@@ -426,6 +426,7 @@ GRAN_EXTERN int gran_theory_diffusion(const gran_mixture *mix, const double *T, 
  */
 GRAN_EXTERN int gran_theory_collision_rate1(const gran_mixture *mix, const double *T, double *inv_tau_c) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CALL(check_array(T, mix->M, "T", 1));
     GRAN_CHECK_PTR(inv_tau_c);

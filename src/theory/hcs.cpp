@@ -12,7 +12,7 @@
  * near equipartition and grows like T^(3/2) beyond), and GSL's hybridsj/gnewton then stall. Every
  * Newton step is therefore clamped to |du| <= 1 (a factor e in T per step), which converges from
  * equipartition in all cases tried (mass ratios up to 1e8).
- *  - M <= HCS_DENSE_MAX: clamped Newton on the bordered system (exact analytic Jacobian, GSL LU)
+ *  - M <= HCS_DENSE_MAX (64): clamped Newton on the bordered system (exact analytic Jacobian, GSL LU)
  *    down to a residual of 1e-8, then GSL multiroots hybridsj (analytic Jacobian) polishes to
  *    1e-14 on F_k = (xi_k - xi_ref)/nu_k.
  *  - Larger M (a dense Jacobian is O(M^2) memory and O(M^3) time: 1e5 species would need 80 GB):
@@ -30,6 +30,7 @@
 #include <gsl/gsl_multiroots.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <numeric>
 
 
@@ -310,6 +311,10 @@ int newton(Newton &N, double tol, int maxit) {
     N.res = residual(N.P, &cstar);
     if (!std::isfinite(N.res)) return GRAN_ERROR(GRAN_ERR_NUMERIC, "HCS: non-finite cooling rates during the solve");
     if (N.iters == 0) N.c = cstar;
+#ifdef GRAN_HCS_DEBUG
+    std::fprintf(stderr, "hcs: M = %" PRId64 " %s iteration %d residual %.3e rank %d\n", M, N.dense ? "dense" : "aca",
+                 N.iters, N.res, N.rank);
+#endif
     if (N.res <= tol) return GRAN_SUCCESS;
     if (N.res > 0.5 * prev) stall++;
     else stall = 0;

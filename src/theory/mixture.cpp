@@ -136,6 +136,7 @@ GRAN_EXTERN int gran_mixture_create_powerlaw(int64_t nspecies, double m1, double
 
 GRAN_EXTERN int gran_mixture_destroy(gran_mixture **mix) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     if (mix == nullptr) return GRAN_SUCCESS;
     delete *mix;
     *mix = nullptr;
@@ -146,6 +147,7 @@ GRAN_EXTERN int gran_mixture_destroy(gran_mixture **mix) {
 
 GRAN_EXTERN int gran_mixture_nspecies(const gran_mixture *mix, int64_t *nspecies) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK_PTR(nspecies);
     *nspecies = mix->M;
@@ -156,6 +158,7 @@ GRAN_EXTERN int gran_mixture_nspecies(const gran_mixture *mix, int64_t *nspecies
 
 GRAN_EXTERN int gran_mixture_get(const gran_mixture *mix, double *mass, double *sigma, double *density) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     const size_t bytes = sizeof(double) * (size_t)mix->M;
     if (mass) std::memcpy(mass, mix->m.data(), bytes);
@@ -169,6 +172,7 @@ GRAN_EXTERN int gran_mixture_get(const gran_mixture *mix, double *mass, double *
 /** @brief One eps in [0, 1] for every pair (GRAN_RESTITUTION_CONSTANT). */
 GRAN_EXTERN int gran_mixture_set_restitution(gran_mixture *mix, double eps) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK(std::isfinite(eps) && eps >= 0.0 && eps <= 1.0, GRAN_ERR_ARG,
                "argument 'eps' = %g outside [0, 1]", eps);
@@ -184,6 +188,7 @@ GRAN_EXTERN int gran_mixture_set_restitution(gran_mixture *mix, double eps) {
 /** @brief Symmetric M*M matrix of eps_ij in [0, 1] (GRAN_RESTITUTION_MATRIX); copied. */
 GRAN_EXTERN int gran_mixture_set_restitution_matrix(gran_mixture *mix, const double *eps) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK_PTR(eps);
     GRAN_CALL(check_symmetric(eps, mix->M, "eps", 0.0, 1.0, 0));
@@ -197,6 +202,7 @@ GRAN_EXTERN int gran_mixture_set_restitution_matrix(gran_mixture *mix, const dou
 /** @brief Viscoelastic restitution with one beta >= 0 for every pair. */
 GRAN_EXTERN int gran_mixture_set_viscoelastic(gran_mixture *mix, double beta) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK(std::isfinite(beta) && beta >= 0.0, GRAN_ERR_ARG, "argument 'beta' = %g must be finite and >= 0",
                beta);
@@ -213,6 +219,7 @@ GRAN_EXTERN int gran_mixture_set_viscoelastic(gran_mixture *mix, double beta) {
 /** @brief Viscoelastic restitution with a symmetric M*M matrix beta_ij >= 0; copied. */
 GRAN_EXTERN int gran_mixture_set_viscoelastic_matrix(gran_mixture *mix, const double *beta) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK_PTR(beta);
     GRAN_CALL(check_symmetric(beta, mix->M, "beta", 0.0, HUGE_VAL, 0));
@@ -231,6 +238,7 @@ GRAN_EXTERN int gran_mixture_set_viscoelastic_matrix(gran_mixture *mix, const do
  */
 GRAN_EXTERN int gran_mixture_set_viscoelastic_material(gran_mixture *mix, double A, double Y, double nu) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK(std::isfinite(A) && A >= 0.0, GRAN_ERR_ARG, "argument 'A' = %g must be finite and >= 0", A);
     GRAN_CHECK(std::isfinite(Y) && Y > 0.0, GRAN_ERR_ARG, "argument 'Y' = %g must be finite and > 0", Y);
@@ -252,6 +260,7 @@ GRAN_EXTERN int gran_mixture_set_viscoelastic_material(gran_mixture *mix, double
 /** @brief Contact value of the pair correlation, g2 > 0, for every pair. */
 GRAN_EXTERN int gran_mixture_set_g2(gran_mixture *mix, double g2) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK(std::isfinite(g2) && g2 > 0.0, GRAN_ERR_ARG, "argument 'g2' = %g must be finite and > 0", g2);
     mix->g2 = g2;
@@ -265,6 +274,7 @@ GRAN_EXTERN int gran_mixture_set_g2(gran_mixture *mix, double g2) {
 /** @brief Symmetric M*M matrix of g2_ij > 0; copied. */
 GRAN_EXTERN int gran_mixture_set_g2_matrix(gran_mixture *mix, const double *g2) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK_PTR(g2);
     GRAN_CALL(check_symmetric(g2, mix->M, "g2", 0.0, HUGE_VAL, 1));
@@ -276,6 +286,7 @@ GRAN_EXTERN int gran_mixture_set_g2_matrix(gran_mixture *mix, const double *g2) 
 
 GRAN_EXTERN int gran_mixture_restitution_model(const gran_mixture *mix, int *model) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK_PTR(model);
     *model = mix->model;
@@ -294,6 +305,7 @@ GRAN_EXTERN int gran_mixture_restitution_model(const gran_mixture *mix, int *mod
 GRAN_EXTERN int gran_mixture_pair(const gran_mixture *mix, int64_t i, int64_t k, double *eps, double *beta,
                                   double *g2) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK(i >= 0 && i < mix->M, GRAN_ERR_RANGE, "argument 'i' = %" PRId64 " outside [0, %" PRId64 ")", i,
                mix->M);

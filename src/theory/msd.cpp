@@ -117,7 +117,8 @@ int qag(gsl_function *F, double a, double b, double rtol, gsl_integration_worksp
   double r = 0.0, err = 0.0;
   *res = 0.0;
   if (!(b > a)) return GRAN_SUCCESS;
-  int st = gsl_integration_qag(F, a, b, 0.0, rtol, w->limit, GSL_INTEG_GAUSS21, w, &r, &err);
+  /* GSL accepts epsrel >= 50 DBL_EPSILON only */
+  int st = gsl_integration_qag(F, a, b, 0.0, std::max(rtol, 2e-14), w->limit, GSL_INTEG_GAUSS21, w, &r, &err);
   if (st == GSL_EROUND) st = GSL_SUCCESS; /* accuracy limited by rounding: result still usable */
   if (st != GSL_SUCCESS)
     return GRAN_ERROR(GRAN_ERR_NOCONV, "GSL QAG on [%g, %g] failed: %s (estimate %g, error %g)", a, b,
@@ -169,6 +170,7 @@ GRAN_EXTERN int gran_theory_msd_hcs(const gran_mixture *mix, const double *T0, d
 GRAN_EXTERN int gran_theory_msd_mono(const gran_mixture *mix, double T1, int64_t ntimes, const double *t,
                                      double *msd, double *tau0) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK(std::isfinite(T1) && T1 > 0.0, GRAN_ERR_ARG, "argument 'T1' = %g must be finite and > 0", T1);
     GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);

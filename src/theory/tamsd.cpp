@@ -18,6 +18,8 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_integration.h>
 
+#include <algorithm>
+
 namespace {
 
 using namespace gran;
@@ -75,7 +77,8 @@ double t_integrand(double v, void *p) {
 int integrate(TParams &P, double V, double rtol, gsl_integration_workspace *w, double *res) {
   gsl_function F{t_integrand, &P};
   double r = 0.0, err = 0.0;
-  int st = gsl_integration_qag(&F, 0.0, V, 0.0, rtol, w->limit, GSL_INTEG_GAUSS21, w, &r, &err);
+  /* GSL accepts epsrel >= 50 DBL_EPSILON only */
+  int st = gsl_integration_qag(&F, 0.0, V, 0.0, std::max(rtol, 2e-14), w->limit, GSL_INTEG_GAUSS21, w, &r, &err);
   if (st == GSL_EROUND) st = GSL_SUCCESS;
   if (st != GSL_SUCCESS)
     return GRAN_ERROR(GRAN_ERR_NOCONV, "TAMSD quadrature (beta = %g, lag/tau0 = %g) failed: %s", P.beta, P.a,

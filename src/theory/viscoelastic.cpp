@@ -116,8 +116,14 @@ int visco_averages(double z, double *q1, double *q2) {
     *q2 = 0.5 * s2;
     return GRAN_SUCCESS;
   }
-  thread_local gsl_integration_workspace *w = nullptr;
-  if (!w) w = gsl_integration_workspace_alloc(256);
+  /* one workspace per thread, released at thread exit */
+  struct Ws {
+    gsl_integration_workspace *w = nullptr;
+    ~Ws() { gsl_integration_workspace_free(w); }
+  };
+  thread_local Ws ws;
+  if (!ws.w) ws.w = gsl_integration_workspace_alloc(256);
+  gsl_integration_workspace *w = ws.w;
   if (!w) return GRAN_ERROR(GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
   const double ssw = std::pow(X_SWITCH / z, 20.0);
   double out[2];
@@ -148,6 +154,7 @@ int visco_averages(double z, double *q1, double *q2) {
  */
 GRAN_EXTERN int gran_viscoelastic_eps(double x, double *eps) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CHECK_PTR(eps);
     GRAN_CHECK(std::isfinite(x) && x >= 0.0, GRAN_ERR_ARG, "argument 'x' = %g must be finite and >= 0", x);
     *eps = gran::visco_eps(x);
@@ -161,6 +168,7 @@ GRAN_EXTERN int gran_viscoelastic_eps(double x, double *eps) {
  */
 GRAN_EXTERN int gran_viscoelastic_eps_vn(double beta, double vn, double *eps) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CHECK_PTR(eps);
     GRAN_CHECK(std::isfinite(beta) && beta >= 0.0, GRAN_ERR_ARG, "argument 'beta' = %g must be finite and >= 0",
                beta);

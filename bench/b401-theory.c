@@ -1,0 +1,143 @@
+/* b401-theory.c - accuracy versus cost of the kinetic-theory numerics (src/theory):
+ *  1. temperature ODE (Eq. 13): requested rtol -> error against Haff's law (HCS start, exact) and
+ *     against a tight reference (equipartition start), time;
+ *  2. MSD by numerical integration of Eq. 4: error against the closed form Eq. 22, time;
+ *  3. Xi(Delta) of Eq. 27 by GSL QAG: error against a tight reference (rtol 1e-14), time; and the
+ *     100-lag TAMSD curve (target < 0.1 s);
+ *  4. HCS solve for M = 10 .. 1e5 (n_k = 0.1 k^-3; target M = 1e4 < 1 s), and the O(M^2) pass.
+ * BENCH_QUICK=1 skips M = 1e5 (about 30 s). */
+#include "bench_util.h"
+
+#include <math.h>
+
+static double maxrel(const double *a, const double *b, int n) {
+  double e = 0;
+  for (int i = 0; i < n; i++) e = fmax(e, fabs(a[i] / b[i] - 1));
+  return e;
+}
+
+static gran_mixture *fig3(double *T0, double *tau0) {
+  const double m[3] = {1, 100, 500}, s[3] = {1, cbrt(100.0), cbrt(500.0)}, n[3] = {0.1, 0.1, 0.1};
+  gran_mixture *mix = NULL;
+  BENCH_CHECK(gran_mixture_create(3, m, s, n, &mix));
+  BENCH_CHECK(gran_mixture_set_restitution(mix, 0.5));
+  BENCH_CHECK(gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T0, tau0));
+  return mix;
+}
+
+static const double RTOLS[5] = {1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+
+static void bench_ode(void) {
+  double T0[3], tau0;
+  gran_mixture *mix = fig3(T0, &tau0);
+  enum { NT = 31 };
+  double t[NT], T[3 * NT], Tex[3 * NT], Tref[3 * NT], Te[3 * NT];
+  for (int j = 0; j < NT; j++) {
+    t[j] = tau0 * pow(10.0, -15.0 + j); /* 1e-15 .. 1e15 tau0 */
+    for (int k = 0; k < 3; k++) Tex[3 * j + k] = T0[k] / pow(1 + t[j] / tau0, 2);
+  }
+  const double Teq[3] = {1, 1, 1};
+  BENCH_CHECK(gran_theory_temperatures(mix, Teq, NT, t, 1e-14, Tref));
+  printf("\n1. Temperature ODE (Eq. 13), Fig. 3 mixture, 31 times from 1e-15 to 1e15 tau0\n");
+  printf("%10s | %14s %10s | %14s %10s\n", "rtol", "HCS start: err", "time [s]", "equip.: err", "time [s]");
+  printf("%10s | %14s %10s | %14s %10s\n", "", "(vs Haff)", "", "(vs rtol 1e-14)", "");
+  for (int r = 0; r < 5; r++) {
+    double t0 = bench_now();
+    BENCH_CHECK(gran_theory_temperatures(mix, T0, NT, t, RTOLS[r], T));
+    const double e1 = bench_now() - t0;
+    t0 = bench_now();
+    BENCH_CHECK(gran_theory_temperatures(mix, Teq, NT, t, RTOLS[r], Te));
+    const double e2 = bench_now() - t0;
+    printf("%10.0e | %14.2e %10.4f | %14.2e %10.4f\n", RTOLS[r], maxrel(T, Tex, 3 * NT), e1,
+           maxrel(Te, Tref, 3 * NT), e2);
+  }
+  gran_mixture_destroy(&mix);
+}
+
+static void bench_msd(void) {
+  double T0[3], tau0;
+  gran_mixture *mix = fig3(T0, &tau0);
+  enum { NT = 25 };
+  double t[NT], a[3 * NT], b[3 * NT];
+  for (int j = 0; j < NT; j++) t[j] = tau0 * pow(10.0, -8.0 + j); /* 1e-8 .. 1e16 tau0 */
+  BENCH_CHECK(gran_theory_msd_hcs(mix, T0, tau0, NT, t, a, NULL));
+  printf("\n2. MSD by numerical integration of Eq. 4 (ODE + dense output + QAG), Fig. 3 mixture, HCS start,\n"
+         "   25 times from 1e-8 to 1e16 tau0; error against the closed form Eq. 22\n");
+  printf("%10s | %12s %10s\n", "rtol", "max rel err", "time [s]");
+  for (int r = 0; r < 5; r++) {
+    const double t0 = bench_now();
+    BENCH_CHECK(gran_theory_msd(mix, T0, NT, t, RTOLS[r], b, NULL));
+    printf("%10.0e | %12.2e %10.4f\n", RTOLS[r], maxrel(b, a, 3 * NT), bench_now() - t0);
+  }
+  gran_mixture_destroy(&mix);
+}
+
+static void bench_tamsd(void) {
+  /* Fig. 5 tracer setup */
+  const double m[2] = {1, 100}, s[2] = {1, cbrt(100.0)}, n[2] = {0.1, 0.0};
+  gran_mixture *mix = NULL;
+  double T0[2], tau0;
+  BENCH_CHECK(gran_mixture_create(2, m, s, n, &mix));
+  BENCH_CHECK(gran_mixture_set_restitution(mix, 0.5));
+  BENCH_CHECK(gran_theory_hcs(mix, GRAN_HCS_NORM_T1, 1.0, T0, &tau0));
+  enum { NL = 100 };
+  const double tm = 1e6;
+  double lag[NL], ref[2 * NL], xi[2 * NL], ta[2 * NL];
+  for (int i = 0; i < NL; i++) lag[i] = tm * pow(10.0, -12.0 + 12.0 * i / (NL - 1));
+  lag[NL - 1] = tm * (1 - 1e-12);
+  BENCH_CHECK(gran_theory_tamsd_parts(mix, T0, tau0, tm, NL, lag, 1e-14, NULL, ref));
+  printf("\n3. Xi(Delta) of Eq. 27 by GSL QAG (Fig. 5 tracer mixture, t = 1e6, 100 lags from 1e-12 t to\n"
+         "   t (1 - 1e-12)); error against rtol = 1e-14; and the whole TAMSD curve (Eq. 27, one integral)\n");
+  printf("%10s | %12s %10s | %14s\n", "rtol", "Xi max err", "time [s]", "TAMSD time [s]");
+  for (int r = 0; r < 5; r++) {
+    double t0 = bench_now();
+    BENCH_CHECK(gran_theory_tamsd_parts(mix, T0, tau0, tm, NL, lag, RTOLS[r], NULL, xi));
+    const double e1 = bench_now() - t0;
+    t0 = bench_now();
+    BENCH_CHECK(gran_theory_tamsd(mix, T0, tau0, tm, NL, lag, RTOLS[r], ta));
+    const double e2 = bench_now() - t0;
+    printf("%10.0e | %12.2e %10.5f | %14.5f\n", RTOLS[r], maxrel(xi, ref, 2 * NL), e1, e2);
+  }
+  gran_mixture_destroy(&mix);
+}
+
+static void bench_hcs(void) {
+  printf("\n4. HCS solve, n_k = 0.1 k^-3, m_k = k, sigma_k = k^(1/3), eps = 0.5 (target: M = 1e4 < 1 s);\n"
+         "   defect = max |xi_k tau0/2 - 1| recomputed independently; O(M^2) pass = one cooling-rate evaluation\n");
+  printf("%8s | %10s %12s | %12s %10s\n", "M", "HCS [s]", "defect", "pass [s]", "ns/pair");
+  const int64_t Ms[5] = {10, 100, 1000, 10000, 100000};
+  for (int i = 0; i < 5; i++) {
+    const int64_t M = Ms[i];
+    if (M > 10000 && bench_quick()) {
+      printf("%8" PRId64 " | (skipped: BENCH_QUICK)\n", M);
+      continue;
+    }
+    gran_mixture *mix = NULL;
+    BENCH_CHECK(gran_mixture_create_powerlaw(M, 1.0, 1.0, 0.1, 3.0, &mix));
+    BENCH_CHECK(gran_mixture_set_restitution(mix, 0.5));
+    double *T = malloc(sizeof(double) * (size_t)M), *xi = malloc(sizeof(double) * (size_t)M), tau0;
+    double t0 = bench_now();
+    BENCH_CHECK(gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T, &tau0));
+    const double eh = bench_now() - t0;
+    t0 = bench_now();
+    BENCH_CHECK(gran_theory_cooling_rates(mix, T, xi));
+    const double ep = bench_now() - t0;
+    double d = 0;
+    for (int64_t k = 0; k < M; k++) d = fmax(d, fabs(0.5 * xi[k] * tau0 - 1));
+    printf("%8" PRId64 " | %10.4f %12.2e | %12.5f %10.3f\n", M, eh, d, ep, ep / (0.5 * (double)M * (double)M) * 1e9);
+    free(T);
+    free(xi);
+    gran_mixture_destroy(&mix);
+  }
+}
+
+int main(void) {
+  printf("b401-theory: kinetic theory numerics (accuracy versus cost). Timings are wall-clock on a shared\n"
+         "machine: compare rows, not absolute values.\n");
+  bench_ode();
+  bench_msd();
+  bench_tamsd();
+  bench_hcs();
+  printf("\npeak RSS %.1f MB\n", bench_peak_rss() / 1048576.0);
+  return 0;
+}

@@ -1,0 +1,206 @@
+/* b501-dsmc.c - DSMC engine: speed on seed 000 Table I, low-rank against Bird, the cost of
+ * displacement tracking, memory per particle, accuracy versus cost.
+ *   BENCH_QUICK=1     N_1 = 1e5 instead of 1e6 (Table I), accuracy table up to N_1 = 1e5
+ *   BENCH_DSMC_BIRD=f run Bird for the fraction f of Table I's time and extrapolate (default 1:
+ *                     the whole run; the paper variant of Bird always runs 1/4 and extrapolates)
+ * Times: wall clock and CPU time of the advance call (the CPU time is the steadier number on a
+ * shared machine). */
+#include "bench_util.h" /* first: it sets _POSIX_C_SOURCE */
+
+#include <math.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static double cpu_now(void) {
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec;
+}
+
+/* current resident set size in bytes (/proc/self/statm) */
+static double rss_now(void) {
+  FILE *f = fopen("/proc/self/statm", "r");
+  long pages = 0, res = 0;
+  if (f) {
+    if (fscanf(f, "%ld %ld", &pages, &res) != 2) res = 0;
+    fclose(f);
+  }
+  return (double)res * 4096.0;
+}
+
+/* Table I species: n_k = 0.1 k^-3 while N_k = round(N_1 k^-3) >= 1 */
+static int table1_species(double N1) {
+  int M = 0;
+  while (llround(N1 * pow(M + 1, -3.0)) >= 1) M++;
+  return M;
+}
+
+typedef struct {
+  const char *name;
+  int selector, observe;
+  double t_end;   /* simulated */
+  double frac;    /* fraction of Table I's t = 100 simulated (extrapolated when < 1) */
+} variant;
+
+static void table1(double N1) {
+  const int M = table1_species(N1);
+  gran_mixture *mix;
+  BENCH_CHECK(gran_mixture_create_powerlaw(M, 1.0, 1.0, 0.1, 3.0, &mix));
+  BENCH_CHECK(gran_mixture_set_restitution(mix, 0.5));
+  double *T0 = malloc(sizeof(double) * (size_t)M);
+  for (int k = 0; k < M; k++) T0[k] = 1.0;
+  const char *fb = getenv("BENCH_DSMC_BIRD");
+  double fbird = fb ? atof(fb) : 1.0;
+  if (!(fbird > 0 && fbird <= 1)) fbird = 1.0;
+  const variant vs[] = {
+      {"low-rank", GRAN_SELECTOR_LOWRANK, 0, 100.0, 1.0},
+      {"low-rank + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, 100.0, 1.0},
+      {"low-rank + MSD + counts", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_COLLISION_COUNTS,
+       100.0, 1.0},
+      {"low-rank, paper's rule", GRAN_SELECTOR_LOWRANK_PAPER, 0, 100.0, 1.0},
+      {"Bird", GRAN_SELECTOR_BIRD, 0, 100.0 * fbird, fbird},
+      {"Bird + MSD", GRAN_SELECTOR_BIRD, GRAN_OBSERVE_DISPLACEMENT, 100.0 * fbird, fbird},
+      {"Bird, paper's rule", GRAN_SELECTOR_BIRD_PAPER, 0, 25.0, 0.25},
+  };
+  const int nv = (int)(sizeof vs / sizeof vs[0]);
+  printf("\nTable I (seed 000): N_1 = %.0e, n_k = 0.1 k^-3, N_k = round(N_1 k^-3) >= 1 -> %d species, ", N1, M);
+  {
+    gran_dsmc_options o;
+    BENCH_CHECK(gran_dsmc_options_default(&o));
+    o.volume = N1 / 0.1;
+    gran_dsmc *sim;
+    BENCH_CHECK(gran_dsmc_create(mix, NULL, T0, &o, &sim));
+    gran_dsmc_stats st;
+    BENCH_CHECK(gran_dsmc_get_stats(sim, &st));
+    printf("N = %lld, eps = 0.5, T(0) = 1, t = 100\n", (long long)st.nparticles);
+    gran_dsmc_destroy(&sim);
+  }
+  printf("paper (authors' Fortran): low-rank 12072722 collisions, E = 1.233e5 [sic; 1.233e4 by Haff], 28 s; "
+         "Bird 12067760, 1128 s\n");
+  printf("%-26s %12s %11s %9s %9s %9s %11s %8s %7s\n", "method", "collisions", "E_kin", "wall [s]", "cpu [s]",
+         "extrap[s]", "coll/s(cpu)", "accept", "x Ftn");
+  double rate_lr = 0, rate_bird = 0;
+  for (int q = 0; q < nv; q++) {
+    gran_dsmc_options o;
+    BENCH_CHECK(gran_dsmc_options_default(&o));
+    o.selector = vs[q].selector;
+    o.observe = vs[q].observe;
+    o.volume = N1 / 0.1;
+    o.seed = 2024;
+    gran_dsmc *sim;
+    BENCH_CHECK(gran_dsmc_create(mix, NULL, T0, &o, &sim));
+    const double w0 = bench_now(), c0 = cpu_now();
+    BENCH_CHECK(gran_dsmc_advance(sim, vs[q].t_end));
+    const double wall = bench_now() - w0, cpu = cpu_now() - c0;
+    gran_dsmc_stats st;
+    double ek;
+    BENCH_CHECK(gran_dsmc_get_stats(sim, &st));
+    BENCH_CHECK(gran_dsmc_energy(sim, &ek, NULL, NULL));
+    const double rate = (double)st.collisions / cpu;
+    /* partial runs: the cost per unit time is nearly constant (the bounds follow the cooling), so
+     * the time of the whole run is extrapolated linearly in t */
+    const double full = vs[q].frac >= 1 ? cpu : cpu / vs[q].frac;
+    if (q == 0) rate_lr = rate;
+    if (vs[q].selector == GRAN_SELECTOR_BIRD && vs[q].observe == 0) rate_bird = rate;
+    printf("%-26s %12lld %11.4e %9.2f %9.2f %9.2f %11.3e %8.4f %7.1f%s\n", vs[q].name, (long long)st.collisions, ek,
+           wall, cpu, full, rate, (double)st.collisions / (double)st.trials, rate / 3.6e5,
+           vs[q].frac < 1 ? "  (partial run, time extrapolated)" : "");
+    gran_dsmc_destroy(&sim);
+  }
+  printf("low-rank / Bird speed ratio (collisions per CPU second): %.1f (paper: 1128 s / 28 s = 40)\n",
+         rate_lr / rate_bird);
+  printf("target: >= 3.6e6 collisions/s (10x the authors' 3.6e5); 'x Ftn' = rate / 3.6e5\n");
+  free(T0);
+  gran_mixture_destroy(&mix);
+}
+
+/* Memory per particle: each engine (N_1 as Table I) is made in a child process, so that its peak
+ * RSS is its own: peak RSS growth (bench_peak_rss) and current RSS growth while the engine exists,
+ * per particle, and the bytes of its particle arrays (gran_particles_memory); without and with
+ * displacement arrays. */
+static void memory(double N1) {
+  const int M = table1_species(N1);
+  printf("\nMemory per particle (Table I, N_1 = %.0e): budget 32 B without displacements, 64 B with\n", N1);
+  printf("%-22s %12s %16s %16s %16s\n", "observables", "N", "arrays B/part", "RSS B/part", "peak RSS B/part");
+  fflush(stdout);
+  for (int disp = 0; disp <= 1; disp++) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      gran_mixture *mix;
+      BENCH_CHECK(gran_mixture_create_powerlaw(M, 1.0, 1.0, 0.1, 3.0, &mix));
+      BENCH_CHECK(gran_mixture_set_restitution(mix, 0.5));
+      gran_dsmc_options o;
+      BENCH_CHECK(gran_dsmc_options_default(&o));
+      o.volume = N1 / 0.1;
+      o.observe = disp ? GRAN_OBSERVE_DISPLACEMENT : 0;
+      const double r0 = rss_now(), p0 = bench_peak_rss();
+      gran_dsmc *sim;
+      BENCH_CHECK(gran_dsmc_create(mix, NULL, NULL, &o, &sim));
+      BENCH_CHECK(gran_dsmc_advance(sim, 1.0)); /* touch everything the loop touches */
+      const double r1 = rss_now(), p1 = bench_peak_rss();
+      const gran_particles *p;
+      int64_t bytes;
+      BENCH_CHECK(gran_dsmc_particles(sim, &p));
+      BENCH_CHECK(gran_particles_memory(p, &bytes));
+      printf("%-22s %12lld %16.1f %16.1f %16.1f\n", disp ? "MSD (displacements)" : "none", (long long)p->n,
+             (double)bytes / (double)p->n, (r1 - r0) / (double)p->n, (p1 - p0) / (double)p->n);
+      fflush(stdout);
+      _exit(0);
+    }
+    int status;
+    if (pid > 0) waitpid(pid, &status, 0);
+  }
+}
+
+/* Accuracy versus cost on seed 000 Fig. 2 (binary HCS, eps = 0.5, N_2 = N_1/100): at t = 100 the
+ * temperature ratio T_2/T_1 against the HCS value of the theory and MSD_1, MSD_2 against
+ * gran_theory_msd_hcs. One run per N: the errors are one realisation (statistical + model). */
+static void accuracy(double N1max) {
+  double m[2] = {1.0, 100.0}, s[2] = {1.0, cbrt(100.0)}, n[2] = {0.1, 0.001};
+  gran_mixture *mix;
+  BENCH_CHECK(gran_mixture_create(2, m, s, n, &mix));
+  BENCH_CHECK(gran_mixture_set_restitution(mix, 0.5));
+  double T0[2], tau0, th[2], tot;
+  const double t = 100.0;
+  BENCH_CHECK(gran_theory_hcs(mix, GRAN_HCS_NORM_T1, 0.554, T0, &tau0));
+  BENCH_CHECK(gran_theory_msd_hcs(mix, T0, tau0, 1, &t, th, &tot));
+  printf("\nAccuracy versus cost: seed 000 Fig. 2 (binary, eps = 0.5, m = (1, 100), T(0) = HCS), t = 100 = 5.2 tau0\n");
+  printf("%10s %8s %12s %10s %10s %10s %10s %10s\n", "N_1", "N_2", "collisions", "cpu [s]", "T2/T1 err",
+         "MSD_1 err", "MSD_2 err", "MSD err");
+  for (double N1 = 1e3; N1 <= N1max * 1.01; N1 *= 10) {
+    gran_dsmc_options o;
+    BENCH_CHECK(gran_dsmc_options_default(&o));
+    o.volume = N1 / 0.1;
+    o.observe = GRAN_OBSERVE_DISPLACEMENT;
+    o.seed = 7;
+    gran_dsmc *sim;
+    BENCH_CHECK(gran_dsmc_create(mix, NULL, T0, &o, &sim));
+    const double c0 = cpu_now();
+    BENCH_CHECK(gran_dsmc_advance(sim, t));
+    const double cpu = cpu_now() - c0;
+    double T[2], msd[2], mt;
+    int64_t cnt[2];
+    gran_dsmc_stats st;
+    BENCH_CHECK(gran_dsmc_temperatures(sim, T));
+    BENCH_CHECK(gran_dsmc_msd(sim, msd, &mt));
+    BENCH_CHECK(gran_dsmc_counts(sim, cnt));
+    BENCH_CHECK(gran_dsmc_get_stats(sim, &st));
+    printf("%10.0e %8lld %12lld %10.3f %+10.4f %+10.4f %+10.4f %+10.4f\n", N1, (long long)cnt[1],
+           (long long)st.collisions, cpu, (T[1] / T[0]) / (T0[1] / T0[0]) - 1, msd[0] / th[0] - 1, msd[1] / th[1] - 1,
+           mt / tot - 1);
+    gran_dsmc_destroy(&sim);
+  }
+  printf("(relative errors; the theory is Maxwellian: DSMC's T2/T1 drifts ~ +8%% and MSD_1 ~ -2%% at large N)\n");
+  gran_mixture_destroy(&mix);
+}
+
+int main(void) {
+  const int quick = bench_quick();
+  const double N1 = quick ? 1e5 : 1e6;
+  printf("b501-dsmc: DSMC engine%s\n", quick ? " (BENCH_QUICK=1: reduced sizes)" : "");
+  memory(N1);
+  table1(N1);
+  accuracy(quick ? 1e5 : 1e6);
+  return 0;
+}
