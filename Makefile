@@ -87,7 +87,8 @@ TEST_C   := $(sort $(wildcard tests/$(T).c))
 TEST_F   := $(sort $(filter %-f.f90,$(wildcard tests/$(T).f90)))
 EXAMPLES := $(if $(filter t*,$(T)),$(if $(filter-out t*,$(T)),,$(sort $(wildcard bindings/examples/*.c bindings/examples/*.f90))),)
 TEST_BIN := $(TEST_C:tests/%.c=$(BUILD)/tests/%) $(TEST_F:tests/%.f90=$(BUILD)/tests/%) \
-            $(patsubst bindings/examples/%,$(BUILD)/tests/example-%,$(basename $(EXAMPLES)))
+            $(patsubst bindings/examples/%.c,$(BUILD)/tests/example-c-%,$(filter %.c,$(EXAMPLES))) \
+            $(patsubst bindings/examples/%.f90,$(BUILD)/tests/example-f-%,$(filter %.f90,$(EXAMPLES)))
 BENCH_C  := $(sort $(wildcard bench/b*.c))
 BENCH_BIN:= $(BENCH_C:bench/%.c=$(BUILD)/bench/%)
 GPU_TEST_C := $(sort $(wildcard tests/gpu/t*.c))
@@ -142,11 +143,11 @@ $(BUILD)/tests/%-f: tests/%-f.f90 $(LIBF_A) $(LIB_A)
 	@mkdir -p $(@D)
 	$(FC) $(FFLAGS) -o $@ $< $(LIBF_A) $(LIB_A) $(LDLIBS)
 
-$(BUILD)/tests/example-%: bindings/examples/%.c $(LIB_A)
+$(BUILD)/tests/example-c-%: bindings/examples/%.c $(LIB_A)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -o $@ $< $(LIB_A) $(LDLIBS)
 
-$(BUILD)/tests/example-%: bindings/examples/%.f90 $(LIBF_A) $(LIB_A)
+$(BUILD)/tests/example-f-%: bindings/examples/%.f90 $(LIBF_A) $(LIB_A)
 	@mkdir -p $(@D)
 	$(FC) $(FFLAGS) -o $@ $< $(LIBF_A) $(LIB_A) $(LDLIBS)
 

@@ -101,6 +101,46 @@ module granary
   public :: gran_theory_mean_relative_speed, gran_theory_collision_rates, gran_theory_collision_counts
   ! @@END theory-public@@
   ! @@SECTION dsmc-public@@
+  ! DSMC engine (include/granary.h, dsmc section). Engines are type(c_ptr) handles; per-species
+  ! arrays have M entries, collision counts are (M, M) (symmetric), trajectories (3, nsamples, ntraj).
+  ! Species offsets are 0-based particle indices as in C.
+  integer(c_int32_t), parameter, public :: GRAN_SELECTOR_LOWRANK = 0
+  integer(c_int32_t), parameter, public :: GRAN_SELECTOR_BIRD = 1
+  integer(c_int32_t), parameter, public :: GRAN_SELECTOR_LOWRANK_PAPER = 2
+  integer(c_int32_t), parameter, public :: GRAN_SELECTOR_BIRD_PAPER = 3
+  integer(c_int32_t), parameter, public :: GRAN_OBSERVE_DISPLACEMENT = 1
+  integer(c_int32_t), parameter, public :: GRAN_OBSERVE_COLLISION_COUNTS = 2
+  integer(c_int32_t), parameter, public :: GRAN_OBSERVE_TRAJECTORIES = 4
+
+  type, bind(C), public :: gran_dsmc_options
+    integer(c_int32_t) :: selector = 0         ! GRAN_SELECTOR_*
+    integer(c_int32_t) :: observe = 0          ! GRAN_OBSERVE_* flags (ior)
+    integer(c_int64_t) :: seed = 1             ! uint64_t in C
+    real(c_double) :: volume = 0               ! > 0: N_k = round(n_k V)
+    real(c_double) :: t_start = 0
+    integer(c_int64_t) :: bound_refresh = 0    ! 0: N
+    integer(c_int64_t) :: traj_per_species = 0
+    real(c_double) :: traj_dt = 1
+    integer(c_int64_t) :: traj_samples = 0
+  end type gran_dsmc_options
+
+  type, bind(C), public :: gran_dsmc_stats
+    integer(c_int64_t) :: nparticles = 0
+    integer(c_int64_t) :: nspecies = 0
+    integer(c_int64_t) :: collisions = 0
+    integer(c_int64_t) :: trials = 0
+    integer(c_int64_t) :: bound_raises = 0
+    integer(c_int64_t) :: bound_tightenings = 0
+    real(c_double) :: volume = 0
+    real(c_double) :: time = 0
+    real(c_double) :: acceptance = 0
+  end type gran_dsmc_stats
+
+  public :: gran_dsmc_options_default, gran_dsmc_create, gran_dsmc_destroy, gran_dsmc_advance
+  public :: gran_dsmc_advance_collisions, gran_dsmc_time, gran_dsmc_get_stats, gran_dsmc_counts
+  public :: gran_dsmc_temperatures, gran_dsmc_msd, gran_dsmc_collision_counts, gran_dsmc_sonine_a2
+  public :: gran_dsmc_energy, gran_dsmc_momentum, gran_dsmc_particles, gran_dsmc_species_offsets
+  public :: gran_dsmc_trajectories, gran_dsmc_checkpoint_write, gran_dsmc_checkpoint_read
   ! @@END dsmc-public@@
   ! @@SECTION analysis-public@@
   ! A TAMSD plan: the C handle and the trajectory length it was made for (so that the wrappers can
@@ -610,6 +650,120 @@ module granary
     end function c_gran_theory_collision_counts
     ! @@END theory-interfaces@@
     ! @@SECTION dsmc-interfaces@@
+    function c_gran_dsmc_options_default(opt) bind(C, name='gran_dsmc_options_default') result(ierr)
+      import :: c_int, gran_dsmc_options
+      type(gran_dsmc_options), intent(out) :: opt
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_options_default
+    function c_gran_dsmc_create(mix, counts, T0, opt, sim) bind(C, name='gran_dsmc_create') result(ierr)
+      import :: c_int, c_ptr, gran_dsmc_options
+      type(c_ptr), value :: mix, counts, T0
+      type(gran_dsmc_options), intent(in) :: opt
+      type(c_ptr), intent(out) :: sim
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_create
+    function c_gran_dsmc_destroy(sim) bind(C, name='gran_dsmc_destroy') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), intent(inout) :: sim
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_destroy
+    function c_gran_dsmc_advance(sim, t_end) bind(C, name='gran_dsmc_advance') result(ierr)
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: t_end
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_advance
+    function c_gran_dsmc_advance_collisions(sim, n) bind(C, name='gran_dsmc_advance_collisions') result(ierr)
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: sim
+      integer(c_int64_t), value :: n
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_advance_collisions
+    function c_gran_dsmc_time(sim, t) bind(C, name='gran_dsmc_time') result(ierr)
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), intent(out) :: t
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_time
+    function c_gran_dsmc_get_stats(sim, stats) bind(C, name='gran_dsmc_get_stats') result(ierr)
+      import :: c_int, c_ptr, gran_dsmc_stats
+      type(c_ptr), value :: sim
+      type(gran_dsmc_stats), intent(out) :: stats
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_get_stats
+    function c_gran_dsmc_counts(sim, counts) bind(C, name='gran_dsmc_counts') result(ierr)
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: sim
+      integer(c_int64_t), intent(out) :: counts(*)
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_counts
+    function c_gran_dsmc_temperatures(sim, T) bind(C, name='gran_dsmc_temperatures') result(ierr)
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), intent(out) :: T(*)
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_temperatures
+    function c_gran_dsmc_msd(sim, msd, msd_total) bind(C, name='gran_dsmc_msd') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim, msd, msd_total
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_msd
+    function c_gran_dsmc_collision_counts(sim, counts) bind(C, name='gran_dsmc_collision_counts') result(ierr)
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: sim
+      integer(c_int64_t), intent(out) :: counts(*)
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_collision_counts
+    function c_gran_dsmc_sonine_a2(sim, a2) bind(C, name='gran_dsmc_sonine_a2') result(ierr)
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), intent(out) :: a2(*)
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_sonine_a2
+    function c_gran_dsmc_energy(sim, e_kin, e_initial, e_dissipated) bind(C, name='gran_dsmc_energy') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim, e_kin, e_initial, e_dissipated
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_energy
+    function c_gran_dsmc_momentum(sim, p) bind(C, name='gran_dsmc_momentum') result(ierr)
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), intent(out) :: p(3)
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_momentum
+    function c_gran_dsmc_particles(sim, p) bind(C, name='gran_dsmc_particles') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+      type(c_ptr), intent(out) :: p
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_particles
+    function c_gran_dsmc_species_offsets(sim, offsets) bind(C, name='gran_dsmc_species_offsets') result(ierr)
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: sim
+      integer(c_int64_t), intent(out) :: offsets(*)
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_species_offsets
+    function c_gran_dsmc_trajectories(sim, ntraj, nsamples, xyz, species) &
+        bind(C, name='gran_dsmc_trajectories') result(ierr)
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: sim
+      integer(c_int64_t), intent(out) :: ntraj, nsamples
+      type(c_ptr), intent(out) :: xyz, species
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_trajectories
+    function c_gran_dsmc_checkpoint_write(sim, path, group) bind(C, name='gran_dsmc_checkpoint_write') result(ierr)
+      import :: c_int, c_ptr, c_char
+      type(c_ptr), value :: sim
+      character(kind=c_char), intent(in) :: path(*), group(*)
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_checkpoint_write
+    function c_gran_dsmc_checkpoint_read(path, group, mix, sim) bind(C, name='gran_dsmc_checkpoint_read') result(ierr)
+      import :: c_int, c_ptr, c_char
+      character(kind=c_char), intent(in) :: path(*), group(*)
+      type(c_ptr), value :: mix
+      type(c_ptr), intent(out) :: sim
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_checkpoint_read
     ! @@END dsmc-interfaces@@
     ! @@SECTION analysis-interfaces@@
     function c_gran_tamsd_plan_create(nsamples, plan) bind(C, name='gran_tamsd_plan_create') result(ierr)
@@ -1624,6 +1778,258 @@ contains
   end subroutine gran_theory_collision_counts
   ! @@END theory-procedures@@
   ! @@SECTION dsmc-procedures@@
+  !> Array of the wrong size handed to a DSMC wrapper: ierr = GRAN_ERR_ARG, or stop with the message.
+  subroutine gran_dsmc_shape_error(what, ierr)
+    character(len=*), intent(in) :: what
+    integer, intent(out), optional :: ierr
+    if (present(ierr)) then
+      ierr = GRAN_ERR_ARG
+    else
+      write(*, '(a)') 'granary: ' // gran_strerror(int(GRAN_ERR_ARG)) // ': ' // what
+      error stop 1
+    end if
+  end subroutine gran_dsmc_shape_error
+
+  !> Number of species of an engine (0 when sim is not valid; the C call then reports it).
+  function gran_dsmc_m(sim) result(m)
+    type(c_ptr), intent(in) :: sim
+    integer(c_int64_t) :: m
+    type(gran_dsmc_stats) :: st
+    m = 0
+    if (c_gran_dsmc_get_stats(sim, st) == GRAN_SUCCESS) m = st%nspecies
+  end function gran_dsmc_m
+
+  !> Defaults: low-rank selector, no observables, seed 1, volume 0, bound_refresh 0 (= N).
+  subroutine gran_dsmc_options_default(opt, ierr)
+    type(gran_dsmc_options), intent(out) :: opt
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_options_default(opt), ierr)
+  end subroutine gran_dsmc_options_default
+
+  !> New engine for mixture mix: counts(M) particles per species (absent: round(n_k V) with
+  !> opt%volume), Maxwellian at T0(M) (absent: the HCS with <T(0)> = 1), zero momentum.
+  subroutine gran_dsmc_create(sim, mix, opt, counts, T0, ierr)
+    type(c_ptr), intent(out) :: sim
+    type(c_ptr), intent(in) :: mix
+    type(gran_dsmc_options), intent(in) :: opt
+    integer(c_int64_t), intent(in), target, contiguous, optional :: counts(:)
+    real(c_double), intent(in), target, contiguous, optional :: T0(:)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pc, pt
+    integer(c_int64_t) :: m
+    sim = c_null_ptr
+    pc = c_null_ptr
+    pt = c_null_ptr
+    m = -1
+    if (c_gran_mixture_nspecies(mix, m) /= GRAN_SUCCESS) m = -1
+    if (present(counts)) then
+      if (m >= 0 .and. size(counts, kind=c_int64_t) /= m) then
+        call gran_dsmc_shape_error('gran_dsmc_create: size(counts) /= number of species', ierr)
+        return
+      end if
+      if (size(counts) > 0) pc = c_loc(counts(1))
+    end if
+    if (present(T0)) then
+      if (m >= 0 .and. size(T0, kind=c_int64_t) /= m) then
+        call gran_dsmc_shape_error('gran_dsmc_create: size(T0) /= number of species', ierr)
+        return
+      end if
+      if (size(T0) > 0) pt = c_loc(T0(1))
+    end if
+    call gran_check(c_gran_dsmc_create(mix, pc, pt, opt, sim), ierr)
+  end subroutine gran_dsmc_create
+
+  !> Release the engine; sim becomes c_null_ptr (NULL-safe).
+  subroutine gran_dsmc_destroy(sim, ierr)
+    type(c_ptr), intent(inout) :: sim
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_destroy(sim), ierr)
+  end subroutine gran_dsmc_destroy
+
+  !> Simulate up to time t_end.
+  subroutine gran_dsmc_advance(sim, t_end, ierr)
+    type(c_ptr), intent(in) :: sim
+    real(c_double), intent(in) :: t_end
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_advance(sim, t_end), ierr)
+  end subroutine gran_dsmc_advance
+
+  !> Simulate the next n accepted collisions.
+  subroutine gran_dsmc_advance_collisions(sim, n, ierr)
+    type(c_ptr), intent(in) :: sim
+    integer(c_int64_t), intent(in) :: n
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_advance_collisions(sim, n), ierr)
+  end subroutine gran_dsmc_advance_collisions
+
+  subroutine gran_dsmc_time(sim, t, ierr)
+    type(c_ptr), intent(in) :: sim
+    real(c_double), intent(out) :: t
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_time(sim, t), ierr)
+  end subroutine gran_dsmc_time
+
+  subroutine gran_dsmc_get_stats(sim, stats, ierr)
+    type(c_ptr), intent(in) :: sim
+    type(gran_dsmc_stats), intent(out) :: stats
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_get_stats(sim, stats), ierr)
+  end subroutine gran_dsmc_get_stats
+
+  !> Particles per species (M).
+  subroutine gran_dsmc_counts(sim, counts, ierr)
+    type(c_ptr), intent(in) :: sim
+    integer(c_int64_t), intent(out), contiguous :: counts(:)
+    integer, intent(out), optional :: ierr
+    if (size(counts, kind=c_int64_t) /= gran_dsmc_m(sim)) then
+      call gran_dsmc_shape_error('gran_dsmc_counts: size(counts) /= number of species', ierr)
+      return
+    end if
+    call gran_check(c_gran_dsmc_counts(sim, counts), ierr)
+  end subroutine gran_dsmc_counts
+
+  !> Partial temperatures (M), NaN for an empty species.
+  subroutine gran_dsmc_temperatures(sim, T, ierr)
+    type(c_ptr), intent(in) :: sim
+    real(c_double), intent(out), contiguous :: T(:)
+    integer, intent(out), optional :: ierr
+    if (size(T, kind=c_int64_t) /= gran_dsmc_m(sim)) then
+      call gran_dsmc_shape_error('gran_dsmc_temperatures: size(T) /= number of species', ierr)
+      return
+    end if
+    call gran_check(c_gran_dsmc_temperatures(sim, T), ierr)
+  end subroutine gran_dsmc_temperatures
+
+  !> Partial MSDs (M) and the number-weighted total (optional); needs GRAN_OBSERVE_DISPLACEMENT.
+  subroutine gran_dsmc_msd(sim, msd, msd_total, ierr)
+    type(c_ptr), intent(in) :: sim
+    real(c_double), intent(out), target, contiguous :: msd(:)
+    real(c_double), intent(out), target, optional :: msd_total
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pt
+    if (size(msd, kind=c_int64_t) /= gran_dsmc_m(sim) .or. size(msd) == 0) then
+      call gran_dsmc_shape_error('gran_dsmc_msd: size(msd) /= number of species', ierr)
+      return
+    end if
+    pt = c_null_ptr
+    if (present(msd_total)) pt = c_loc(msd_total)
+    call gran_check(c_gran_dsmc_msd(sim, c_loc(msd(1)), pt), ierr)
+  end subroutine gran_dsmc_msd
+
+  !> Collisions per species pair, counts(M, M) (symmetric); needs GRAN_OBSERVE_COLLISION_COUNTS.
+  subroutine gran_dsmc_collision_counts(sim, counts, ierr)
+    type(c_ptr), intent(in) :: sim
+    integer(c_int64_t), intent(out), contiguous :: counts(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_dsmc_m(sim)
+    if (size(counts, 1, kind=c_int64_t) /= m .or. size(counts, 2, kind=c_int64_t) /= m) then
+      call gran_dsmc_shape_error('gran_dsmc_collision_counts: counts is not (M, M)', ierr)
+      return
+    end if
+    call gran_check(c_gran_dsmc_collision_counts(sim, counts), ierr)
+  end subroutine gran_dsmc_collision_counts
+
+  !> Sonine coefficient a2 per species (M).
+  subroutine gran_dsmc_sonine_a2(sim, a2, ierr)
+    type(c_ptr), intent(in) :: sim
+    real(c_double), intent(out), contiguous :: a2(:)
+    integer, intent(out), optional :: ierr
+    if (size(a2, kind=c_int64_t) /= gran_dsmc_m(sim)) then
+      call gran_dsmc_shape_error('gran_dsmc_sonine_a2: size(a2) /= number of species', ierr)
+      return
+    end if
+    call gran_check(c_gran_dsmc_sonine_a2(sim, a2), ierr)
+  end subroutine gran_dsmc_sonine_a2
+
+  !> Energy ledger: kinetic energy now, at the start, dissipated (any may be absent).
+  subroutine gran_dsmc_energy(sim, e_kin, e_initial, e_dissipated, ierr)
+    type(c_ptr), intent(in) :: sim
+    real(c_double), intent(out), target, optional :: e_kin, e_initial, e_dissipated
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: a, b, c
+    a = c_null_ptr
+    b = c_null_ptr
+    c = c_null_ptr
+    if (present(e_kin)) a = c_loc(e_kin)
+    if (present(e_initial)) b = c_loc(e_initial)
+    if (present(e_dissipated)) c = c_loc(e_dissipated)
+    call gran_check(c_gran_dsmc_energy(sim, a, b, c), ierr)
+  end subroutine gran_dsmc_energy
+
+  subroutine gran_dsmc_momentum(sim, p, ierr)
+    type(c_ptr), intent(in) :: sim
+    real(c_double), intent(out) :: p(3)
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_momentum(sim, p), ierr)
+  end subroutine gran_dsmc_momentum
+
+  !> Borrowed view of the particle arrays (valid while the engine lives, read only).
+  subroutine gran_dsmc_particles(sim, p, ierr)
+    type(c_ptr), intent(in) :: sim
+    type(gran_particles), pointer, intent(out) :: p
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: cp
+    integer(c_int) :: status
+    nullify(p)
+    cp = c_null_ptr
+    status = c_gran_dsmc_particles(sim, cp)
+    if (status == GRAN_SUCCESS) call c_f_pointer(cp, p)
+    call gran_check(status, ierr)
+  end subroutine gran_dsmc_particles
+
+  !> Species offsets (M+1, 0-based particle indices): species k occupies offsets(k)..offsets(k+1)-1.
+  subroutine gran_dsmc_species_offsets(sim, offsets, ierr)
+    type(c_ptr), intent(in) :: sim
+    integer(c_int64_t), intent(out), contiguous :: offsets(:)
+    integer, intent(out), optional :: ierr
+    if (size(offsets, kind=c_int64_t) /= gran_dsmc_m(sim) + 1) then
+      call gran_dsmc_shape_error('gran_dsmc_species_offsets: size(offsets) /= M + 1', ierr)
+      return
+    end if
+    call gran_check(c_gran_dsmc_species_offsets(sim, offsets), ierr)
+  end subroutine gran_dsmc_species_offsets
+
+  !> Borrowed trajectories xyz(3, nsamples, ntraj) (NaN where not reached yet) and the species of
+  !> each tracer (0-based, optional); needs GRAN_OBSERVE_TRAJECTORIES.
+  subroutine gran_dsmc_trajectories(sim, xyz, species, ierr)
+    type(c_ptr), intent(in) :: sim
+    real(c_double), pointer, intent(out) :: xyz(:, :, :)
+    integer(c_int32_t), pointer, intent(out), optional :: species(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: nt, ns
+    type(c_ptr) :: px, ps
+    integer(c_int) :: status
+    nullify(xyz)
+    if (present(species)) nullify(species)
+    nt = 0
+    ns = 0
+    status = c_gran_dsmc_trajectories(sim, nt, ns, px, ps)
+    if (status == GRAN_SUCCESS .and. nt > 0 .and. ns > 0) then
+      call c_f_pointer(px, xyz, [3_c_int64_t, ns, nt])
+      if (present(species)) call c_f_pointer(ps, species, [nt])
+    end if
+    call gran_check(status, ierr)
+  end subroutine gran_dsmc_trajectories
+
+  !> Complete engine state into group `group` of HDF5 file `path` (created if missing).
+  subroutine gran_dsmc_checkpoint_write(sim, path, group, ierr)
+    type(c_ptr), intent(in) :: sim
+    character(len=*), intent(in) :: path, group
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_checkpoint_write(sim, trim(path) // c_null_char, trim(group) // c_null_char), ierr)
+  end subroutine gran_dsmc_checkpoint_write
+
+  !> New engine from a checkpoint; mix must be the mixture it was made with.
+  subroutine gran_dsmc_checkpoint_read(sim, path, group, mix, ierr)
+    type(c_ptr), intent(out) :: sim
+    character(len=*), intent(in) :: path, group
+    type(c_ptr), intent(in) :: mix
+    integer, intent(out), optional :: ierr
+    sim = c_null_ptr
+    call gran_check(c_gran_dsmc_checkpoint_read(trim(path) // c_null_char, trim(group) // c_null_char, mix, sim), &
+                    ierr)
+  end subroutine gran_dsmc_checkpoint_read
   ! @@END dsmc-procedures@@
   ! @@SECTION analysis-procedures@@
   !> Plan for trajectories of nsamples samples; release with gran_tamsd_plan_destroy.

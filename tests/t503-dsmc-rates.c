@@ -95,7 +95,8 @@ static void test_pair_rates(void **state) {
         print_message("%-14s pair %d-%d: collisions / theory = %.4f (se %.1e)\n", sel_name[sel], i + 1, k + 1, mean,
                       se);
         GRAN_ASSERT_SIGMA(mean, 1.0, se, 4);
-        assert_true(se < 0.03); /* even the rarest pair (3-3, ~700 collisions) resolves 12% */
+        /* even the rarest pair (3-3, ~700 collisions per window) is resolved to 12% (24% under ASan) */
+        assert_true(se < (sc < 1 ? 0.07 : 0.03));
       }
     gran_dsmc_destroy(&sim);
   }

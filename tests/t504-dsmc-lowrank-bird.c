@@ -74,7 +74,8 @@ static void test_same_process(void **state) {
     print_message("%-10s lowrank %.6g bird %.6g lowrank-paper %.6g bird-paper %.6g (se of a difference %.2g)\n",
                   qname[i], mean[0], mean[1], mean[2], mean[3], se);
     for (int sel = 1; sel < 4; sel++) GRAN_ASSERT_SIGMA(mean[sel], mean[0], se, 4.5);
-    assert_true(se < 0.02 * fabs(mean[0])); /* every quantity resolved to better than 2% */
+    /* every quantity resolved to better than 2% (3% with the ASan sample) */
+    assert_true(se < (DSMC_ASAN ? 0.03 : 0.02) * fabs(mean[0]));
   }
   gran_mixture_destroy(&mix);
 }

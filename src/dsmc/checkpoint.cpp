@@ -138,6 +138,11 @@ int state_io(F &f, D *s) {
   s->pend_c.i = (int32_t)ct[13];
   s->pend_c.k = (int32_t)ct[14];
   GRAN_CALL(f.u64("rng", 4, s->rng.s));
+  GRAN_CALL(f.u64("rng_lanes", 4 * kRngLanes, &s->vrng.s[0][0]));
+  GRAN_CALL(f.u64("rng_buffer", kRngBuf, s->vrng.buf));
+  int64_t rpos = s->vrng.pos;
+  GRAN_CALL(f.i64("rng_pos", 1, &rpos));
+  s->vrng.pos = (int32_t)rpos;
   int64_t cj[2 * kDsmcPipe];
   int32_t ci[2 * kDsmcPipe];
   for (int q = 0; q < kDsmcPipe; q++) {

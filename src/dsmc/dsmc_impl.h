@@ -35,6 +35,53 @@ struct DsmcCand {
   int32_t i, k;   /* their species (low-rank: known at draw time; Bird: filled at use) */
 };
 
+/* Buffered random numbers for the hot loop: kRngLanes xoshiro256** streams (gran_rng_stream
+ * 1..kRngLanes of the seed: independent, non-overlapping) advanced together in a loop the compiler
+ * vectorises, kRngBuf outputs at a time. The scalar generator's state goes through memory at every
+ * call when the loop hands it to a helper (7 calls per trial): measured in b501. Part of the state
+ * (checkpointed with the unread part of the buffer). */
+enum { kRngLanes = 8, kRngBuf = 512 };
+struct DsmcRng {
+  uint64_t s[4][kRngLanes];
+  uint64_t buf[kRngBuf];
+  int32_t pos; /* next unread output; kRngBuf: empty */
+};
+
+/* GCC vector extension: one operation per kRngLanes lanes (AVX-512 or split by the compiler). */
+typedef uint64_t DsmcLanes __attribute__((vector_size(8 * kRngLanes)));
+
+static inline void dsmc_rng_refill(DsmcRng *r) {
+  DsmcLanes s0, s1, s2, s3;
+  std::memcpy(&s0, r->s[0], sizeof s0);
+  std::memcpy(&s1, r->s[1], sizeof s1);
+  std::memcpy(&s2, r->s[2], sizeof s2);
+  std::memcpy(&s3, r->s[3], sizeof s3);
+  for (int b = 0; b < kRngBuf; b += kRngLanes) {
+    const DsmcLanes x = s1 * 5;
+    const DsmcLanes out = ((x << 7) | (x >> 57)) * 9;
+    std::memcpy(r->buf + b, &out, sizeof out);
+    const DsmcLanes t = s1 << 17;
+    s2 ^= s0;
+    s3 ^= s1;
+    s1 ^= s2;
+    s0 ^= s3;
+    s2 ^= t;
+    s3 = (s3 << 45) | (s3 >> 19);
+  }
+  std::memcpy(r->s[0], &s0, sizeof s0);
+  std::memcpy(r->s[1], &s1, sizeof s1);
+  std::memcpy(r->s[2], &s2, sizeof s2);
+  std::memcpy(r->s[3], &s3, sizeof s3);
+  r->pos = 0;
+}
+
+static inline double u64_uniform(uint64_t x) { return (double)(x >> 11) * 0x1.0p-53; }           /* [0,1) */
+static inline double u64_uniform_pos(uint64_t x) { return ((double)(x >> 11) + 1.0) * 0x1.0p-53; } /* (0,1] */
+/* integer in [0, n) (multiply-shift) */
+static inline int64_t u64_below(uint64_t x, int64_t n) {
+  return (int64_t)(((unsigned __int128)x * (unsigned __int128)(uint64_t)n) >> 64);
+}
+
 /* Per-pair parameters for the table modes: a = eps (table) or sqrt(beta) (viscoelastic);
  * g2r = g2_ik / g2_max (the extra acceptance factor of a non-uniform contact value). */
 struct DsmcPair {
@@ -88,10 +135,14 @@ struct gran_dsmc {
   gran_segtree u[3]{};           /* low-rank: u^(r)_i (depend on the bounds) */
   gran_segtree v[3]{};           /* low-rank: v^(r)_k (depend on the counts only) */
   double uv[3] = {0, 0, 0};      /* U_r V_r: the weights of the three rank-one terms */
+  double inv_vtot[3] = {0, 0, 0}; /* 1 / V_r (constant) */
+  std::vector<double> alias_p[3];  /* Walker alias tables of v^(r) (constant): O(1) species k */
+  std::vector<int32_t> alias_k[3];
   double cmax = 0;               /* Bird: C_max of Eq. 49 (without pi/V) */
   double rate = 0;               /* total trial rate Lambda */
   double inv_rate = 0;           /* 1/Lambda (inf when 0) */
-  gran_rng rng{};
+  gran_rng rng{};                /* scalar stream: initial velocities */
+  gran::DsmcRng vrng{};          /* buffered streams: the hot loop */
   double t = 0;                  /* time of the state */
   double t_ref = 0;              /* time of the last collision (or of the start): trial times count from it */
   double tprod = 1, tlog = 0;    /* trials since t_ref: product of their uniforms, folded -log */

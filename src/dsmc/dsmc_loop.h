@@ -17,11 +17,6 @@
 
 namespace gran {
 
-/* Uniform integer in [0, n) from the top bits of one 64-bit draw (multiply-shift). */
-static inline int64_t rng_below(gran_rng *r, int64_t n) {
-  return (int64_t)(((unsigned __int128)rng_next(r) * (unsigned __int128)(uint64_t)n) >> 64);
-}
-
 #ifndef GRAN_DSMC_DISP_TLAST
 #define GRAN_DSMC_DISP_TLAST 0
 #endif
@@ -36,20 +31,51 @@ static inline void prefetch_particle(const double *v, int64_t j) {
   __builtin_prefetch(v + 3 * j + 2);
 }
 
-/* Low-rank selector: choose the rank-one term r with probability U_r V_r / sum, species i from
- * the tree of u^(r), species k from the tree of v^(r), then j, l uniformly within the species. */
+/* Descent of a sum tree with target x in [0, total): one compare per level (the core's guarded
+ * descent tests the sibling's weight too). Rounding can steer it into a zero-weight leaf (an
+ * empty species, a padding leaf); that never-taken case repeats the guarded descent of the core. */
+static inline int64_t tree_find(const gran_segtree *t, double x) {
+  const double *node = t->node;
+  const int64_t base = t->base;
+  const double x0 = x;
+  int64_t i = 1;
+  while (i < base) {
+    const double wl = node[2 * i];
+    if (x < wl) {
+      i = 2 * i;
+    } else {
+      x -= wl;
+      i = 2 * i + 1;
+    }
+  }
+  if (node[i] > 0.0) return i - base;
+  return segtree_sample(t, x0 / node[1]);
+}
+
+/* Low-rank selector: choose the rank-one term r with probability U_r V_r / sum and species i from
+ * the tree of u^(r) with one uniform (the residual of the first choice, scaled to the tree's units
+ * by 1/V_r, a constant), species k from v^(r) (constant: its alias table), then j, l uniformly
+ * within the species.
+ * Uses kNum random words r[0..kNum-1]. */
 struct SelLowRank {
+  enum { kNum = 4 };
   /* Kept out of line on purpose: inlined into the loop, gcc 12 schedules the prefetches so that
    * they no longer run ahead (measured 2.6x slower at N = 1.2e6, b501). */
-  __attribute__((noinline)) static void draw(const gran_dsmc *s, gran_rng *r, DsmcCand *c) {
-    const double x = rng_uniform(r) * (s->uv[0] + s->uv[1] + s->uv[2]);
-    const int q = (int)(x >= s->uv[0]) + (int)(x >= s->uv[0] + s->uv[1]);
-    const int64_t i = segtree_sample(&s->u[q], rng_uniform(r));
-    const int64_t k = segtree_sample(&s->v[q], rng_uniform(r));
+  __attribute__((noinline)) static void draw(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
+    const double u0 = s->uv[0], u1 = s->uv[1];
+    const double x = u64_uniform(r[0]) * (u0 + u1 + s->uv[2]);
+    const int q = (int)(x >= u0) + (int)(x >= u0 + u1);
+    const double xr = x - (q == 0 ? 0.0 : q == 1 ? u0 : u0 + u1); /* in [0, U_q V_q) */
+    const int64_t i = tree_find(&s->u[q], xr * s->inv_vtot[q]);
+    /* v^(r) never changes: O(1) by its alias table; one word gives the column (high part of
+     * r M) and the uniform deciding between the column and its alias (low part) */
+    const unsigned __int128 km = (unsigned __int128)r[1] * (unsigned __int128)(uint64_t)s->M;
+    const int64_t k0 = (int64_t)(km >> 64);
+    const int64_t k = (double)(uint64_t)km * 0x1.0p-64 < s->alias_p[q][(size_t)k0] ? k0 : s->alias_k[q][(size_t)k0];
     c->i = (int32_t)i;
     c->k = (int32_t)k;
-    c->j = s->offset[(size_t)i] + rng_below(r, s->count[(size_t)i]);
-    c->l = s->offset[(size_t)k] + rng_below(r, s->count[(size_t)k]);
+    c->j = s->offset[(size_t)i] + u64_below(r[2], s->count[(size_t)i]);
+    c->l = s->offset[(size_t)k] + u64_below(r[3], s->count[(size_t)k]);
     prefetch_particle(s->p.v, c->j);
     prefetch_particle(s->p.v, c->l);
   }
@@ -63,9 +89,10 @@ struct SelLowRank {
 
 /* Bird's selector: j, l uniformly among all N particles (ordered), one global bound C_max (Eq. 49). */
 struct SelBird {
-  __attribute__((noinline)) static void draw(const gran_dsmc *s, gran_rng *r, DsmcCand *c) {
-    c->j = rng_below(r, s->N);
-    c->l = rng_below(r, s->N);
+  enum { kNum = 2 };
+  __attribute__((noinline)) static void draw(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
+    c->j = u64_below(r[0], s->N);
+    c->l = u64_below(r[1], s->N);
     __builtin_prefetch(s->p.species + c->j);
     __builtin_prefetch(s->p.species + c->l);
     prefetch_particle(s->p.v, c->j);
@@ -85,7 +112,31 @@ struct SelBird {
 template <class Sel, bool kPaper, bool kDisp, bool kCount, int kRest>
 void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   constexpr int K = kDsmcPipe;
-  gran_rng rng = s->rng;
+  DsmcRng *const vr = &s->vrng;
+  const uint64_t *const buf = vr->buf;
+  int pos = vr->pos;
+  /* at least n unread random words (refilling discards the rest: deterministic) */
+  auto need = [&](int n) {
+    if (pos + n > kRngBuf) {
+      dsmc_rng_refill(vr);
+      pos = 0;
+    }
+  };
+  /* uniform direction on the sphere (Marsaglia 1972) */
+  auto unit3 = [&](double e[3]) {
+    double a, b, q;
+    do {
+      need(2);
+      a = 2.0 * u64_uniform(buf[pos]) - 1.0;
+      b = 2.0 * u64_uniform(buf[pos + 1]) - 1.0;
+      pos += 2;
+      q = a * a + b * b;
+    } while (q >= 1.0);
+    const double f = 2.0 * std::sqrt(1.0 - q);
+    e[0] = a * f;
+    e[1] = b * f;
+    e[2] = 1.0 - 2.0 * q;
+  };
   double *const v = s->p.v;
   double *const R = kDisp ? s->p.r : nullptr;
   double *const tl = kDisp ? s->p.t_last : nullptr;
@@ -103,7 +154,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
 
   /* Collide the accepted pair c at time t (Eq. 41); e: the direction drawn before the acceptance
    * (paper rule), unused otherwise. Updates displacements, ledger, counters, bounds. */
-  auto collide = [&](const DsmcCand &c, double t, const double *e) {
+  auto collide = [&](const DsmcCand &c, double t, const double *e) __attribute__((always_inline)) {
     double *const vj = v + 3 * c.j;
     double *const vl = v + 3 * c.l;
     const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
@@ -119,7 +170,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
        * (g.e) e = (g - |g| u) / 2 (the elastic collision scatters g uniformly). */
       const double ga = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
       double u[3];
-      rng_unit3(&rng, u);
+      unit3(u);
       gn[0] = 0.5 * (g[0] - ga * u[0]);
       gn[1] = 0.5 * (g[1] - ga * u[1]);
       gn[2] = 0.5 * (g[2] - ga * u[2]);
@@ -222,7 +273,9 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     ++trials;
     if (count == 0) {
       for (int q = 0; q < K; q++) {
-        Sel::draw(s, &rng, &s->cand[q]);
+        need(Sel::kNum);
+        Sel::draw(s, buf + pos, &s->cand[q]);
+        pos += Sel::kNum;
         if (kDisp && kPrefetchR) {
           prefetch_particle(R, s->cand[q].j);
           prefetch_particle(R, s->cand[q].l);
@@ -232,13 +285,15 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       count = K;
     }
     DsmcCand c = s->cand[head];
-    Sel::draw(s, &rng, &s->cand[head]);
+    need(Sel::kNum + 2);
+    Sel::draw(s, buf + pos, &s->cand[head]);
+    pos += Sel::kNum;
     if (kDisp && kPrefetchR) { /* speculative: only accepted candidates need r */
       prefetch_particle(R, s->cand[head].j);
       prefetch_particle(R, s->cand[head].l);
     }
     head = (head + 1) & (K - 1);
-    tprod *= rng_uniform_pos(&rng);
+    tprod *= u64_uniform_pos(buf[pos++]);
     if (tprod < 1e-280) {
       tlog -= std::log(tprod);
       tprod = 1.0;
@@ -251,10 +306,10 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     const double *const vj = v + 3 * c.j;
     const double *const vl = v + 3 * c.l;
     const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
-    const double ub = rng_uniform(&rng) * B;
+    const double ub = u64_uniform(buf[pos++]) * B;
     double e[3];
     if (kPaper) {
-      rng_unit3(&rng, e);
+      unit3(e);
       const double ge = g[0] * e[0] + g[1] * e[1] + g[2] * e[2];
       if (!(ub < w * std::fabs(ge))) continue;
     } else {
@@ -274,7 +329,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     collide(c, tc, e);
     if (coll >= coll_stop) break;
   }
-  s->rng = rng;
+  vr->pos = pos;
   s->t = t_ref > s->t ? t_ref : s->t;
   s->t_ref = t_ref;
   s->tprod = tprod;

@@ -61,6 +61,49 @@ void advise_huge_pages(void *p, size_t bytes) {
 #endif
 }
 
+/* Walker's alias table (Vose's construction) for weights w >= 0 with a positive sum: column c is
+ * taken with probability p[c], else its alias a[c]. A zero weight gets p = 0 and a positive alias,
+ * so it is never returned. */
+void build_alias(const std::vector<double> &w, std::vector<double> *p, std::vector<int32_t> *a) {
+  const size_t m = w.size();
+  p->assign(m, 0.0);
+  a->assign(m, 0);
+  double tot = 0;
+  int32_t any = -1;
+  for (size_t c = 0; c < m; c++) {
+    tot += w[c];
+    if (w[c] > 0 && any < 0) any = (int32_t)c;
+  }
+  if (!(tot > 0)) return;
+  std::vector<double> q(m);
+  std::vector<int32_t> small, large;
+  for (size_t c = 0; c < m; c++) {
+    q[c] = w[c] * (double)m / tot;
+    (q[c] < 1.0 ? small : large).push_back((int32_t)c);
+  }
+  while (!small.empty() && !large.empty()) {
+    const int32_t sm = small.back(), lg = large.back();
+    small.pop_back();
+    (*p)[(size_t)sm] = q[(size_t)sm];
+    (*a)[(size_t)sm] = lg;
+    q[(size_t)lg] -= 1.0 - q[(size_t)sm];
+    if (q[(size_t)lg] < 1.0) {
+      large.pop_back();
+      small.push_back(lg);
+    }
+  }
+  for (int32_t c : large) {
+    (*p)[(size_t)c] = 1.0;
+    (*a)[(size_t)c] = c;
+  }
+  for (int32_t c : small) { /* rounding leftovers: keep them only if they have weight */
+    (*p)[(size_t)c] = w[(size_t)c] > 0 ? 1.0 : 0.0;
+    (*a)[(size_t)c] = w[(size_t)c] > 0 ? c : any;
+  }
+  for (size_t c = 0; c < m; c++)
+    if ((*p)[c] < 1.0 && w[(size_t)(*a)[c]] <= 0) (*a)[c] = any;
+}
+
 /* Decide how the hot loop finds eps (and g2) of a pair; fill the pair table where one is used. */
 void setup_pairs(gran_dsmc *s) {
   const gran_mixture *x = &s->mix;
@@ -263,6 +306,8 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
         w[(size_t)k] = (double)s->count[(size_t)k] * (r == 0 ? 1.0 : r == 1 ? sg : sg * sg);
       }
       GRAN_CALL(gran_segtree_init(&s->v[r], M, w.data()));
+      s->inv_vtot[r] = s->v[r].node[1] > 0 ? 1.0 / s->v[r].node[1] : 0.0;
+      build_alias(w, &s->alias_p[r], &s->alias_k[r]);
     }
   } else {
     double smax = 0;
@@ -349,6 +394,12 @@ GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts,
     }
     /* Maxwellian per species, then subtract the mass-weighted mean velocity */
     gran_rng_seed(&s->rng, opt->seed);
+    for (int l = 0; l < kRngLanes; l++) {
+      gran_rng lane;
+      gran_rng_stream(opt->seed, (uint64_t)(1 + l), &lane);
+      for (int w = 0; w < 4; w++) s->vrng.s[w][l] = lane.s[w];
+    }
+    s->vrng.pos = kRngBuf;
     double *v = s->p.v;
     double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mtot = 0;
     for (int64_t k = 0; k < M; k++) {
