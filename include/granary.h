@@ -324,30 +324,43 @@ typedef struct gran_dsmc_stats {
 } gran_dsmc_stats;
 
 GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt);
-/* counts: M particle numbers (NULL: from opt->volume and the densities); T0: M initial
- * temperatures (NULL: the HCS of the mixture with <T(0)> = 1). Maxwellian start, zero momentum. */
+/* counts: M particle numbers (NULL: N_k = round(n_k V) with V = opt->volume; given counts with
+ * volume <= 0: V = sum N_k / sum n_k); T0: M initial temperatures (NULL: the HCS of the mixture
+ * with <T(0)> = 1; T_k = 1 for viscoelastic restitution, which has no HCS). Maxwellian start,
+ * zero momentum. The mixture is copied (it may be destroyed afterwards). */
 GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts, const double *T0,
                                  const gran_dsmc_options *opt, gran_dsmc **sim);
 GRAN_EXTERN int gran_dsmc_destroy(gran_dsmc **sim);
+/* To t_end >= the current time (the same state however the interval is cut into calls). */
 GRAN_EXTERN int gran_dsmc_advance(gran_dsmc *sim, double t_end);
+/* The next ncollisions accepted collisions; the time becomes that of the last one. */
 GRAN_EXTERN int gran_dsmc_advance_collisions(gran_dsmc *sim, int64_t ncollisions);
 GRAN_EXTERN int gran_dsmc_time(const gran_dsmc *sim, double *t);
 GRAN_EXTERN int gran_dsmc_get_stats(const gran_dsmc *sim, gran_dsmc_stats *stats);
+/* Per-species observables are NaN for an empty species. T_k = m_k <|v - u|^2>/3 with u the
+ * global mean flow (0 up to rounding). MSD (Eq. 3 total; either output may be NULL) needs
+ * GRAN_OBSERVE_DISPLACEMENT; collision counts (symmetric, [i*M+k]) GRAN_OBSERVE_COLLISION_COUNTS. */
 GRAN_EXTERN int gran_dsmc_counts(const gran_dsmc *sim, int64_t *counts);           /* M */
 GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T);           /* M */
 GRAN_EXTERN int gran_dsmc_msd(const gran_dsmc *sim, double *msd, double *msd_total); /* M, 1 */
 GRAN_EXTERN int gran_dsmc_collision_counts(const gran_dsmc *sim, int64_t *counts);  /* M*M */
 GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2);              /* M */
-/* Kinetic energy now, at the start, dissipated so far (e_initial - e_dissipated == e_kin). */
+/* Kinetic energy now, at the start, dissipated so far (e_initial - e_dissipated == e_kin);
+ * any output may be NULL. */
 GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_initial, double *e_dissipated);
 GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]);
-/* Borrowed view of the particles (species stored contiguously; offsets has M+1 entries). */
+/* Borrowed view of the particles (species stored contiguously; offsets has M+1 entries). With
+ * displacements, R_j(t) = r_j + v_j (t - t_last_j) (Eq. 45; the engine keeps t_last_j = t_start). */
 GRAN_EXTERN int gran_dsmc_particles(const gran_dsmc *sim, const gran_particles **p);
 GRAN_EXTERN int gran_dsmc_species_offsets(const gran_dsmc *sim, int64_t *offsets);
-/* Borrowed trajectories: ntraj tracers, nsamples each, xyz layout [traj][sample][3]. */
+/* Borrowed trajectories: ntraj tracers (the first traj_per_species particles of each species),
+ * nsamples = traj_samples each, xyz layout [traj][sample][3], NaN for samples not reached yet;
+ * needs GRAN_OBSERVE_TRAJECTORIES (which implies displacement tracking). Outputs may be NULL. */
 GRAN_EXTERN int gran_dsmc_trajectories(const gran_dsmc *sim, int64_t *ntraj, int64_t *nsamples,
                                        const double **xyz, const int32_t **species);
-/* Complete engine state into group `group` of HDF5 file `path` (created if missing). */
+/* Complete engine state into group `group` of HDF5 file `path` (created if missing; an existing
+ * group of that name is replaced). Reading needs the mixture the engine was made with (checked);
+ * the engine read back continues bit for bit. */
 GRAN_EXTERN int gran_dsmc_checkpoint_write(const gran_dsmc *sim, const char *path, const char *group);
 GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, const gran_mixture *mix,
                                           gran_dsmc **sim);

@@ -151,6 +151,13 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   int head = s->cand_head, count = s->cand_count;
   double t_ref = s->t_ref, tprod = s->tprod, tlog = s->tlog;
   bool stop = false;
+  /* time of the last trial drawn (one log) */
+  auto now = [&]() { return t_ref + (tlog - std::log(tprod)) * inv_rate; };
+  /* without displacements, the last trial lies beyond t_stop iff tprod < pthr: a compare instead
+   * of a log per collision (with displacements the time of each collision is needed anyway) */
+  double pthr = 0;
+  auto set_thr = [&]() { pthr = std::exp(tlog - (t_stop - t_ref) * s->rate); };
+  set_thr();
 
   /* Collide the accepted pair c at time t (Eq. 41); e: the direction drawn before the acceptance
    * (paper rule), unused otherwise. Updates displacements, ledger, counters, bounds. */
@@ -230,7 +237,6 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       cc[lo * M + hi]++;
     }
     ++coll;
-    t_ref = t;
     const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
     const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
     bool changed = false;
@@ -249,27 +255,39 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       changed = true;
     }
     if (changed) {
+      if (!kDisp) { /* the rate changes now: the trial times restart from this collision */
+        t_ref = t_ref + (tlog - std::log(tprod)) * inv_rate;
+        tprod = 1.0;
+        tlog = 0.0;
+      }
       inv_rate = s->inv_rate;
+      set_thr();
       count = 0; /* the selection law changed: discard the pre-drawn candidates */
     }
   };
 
+  double t_last_coll = -INFINITY;
   if (s->pend_on) { /* accepted before the last stop, at a time beyond it */
     if (s->pend_t > t_stop) return;
     s->pend_on = 0;
+    if (kDisp) t_ref = s->pend_t;
+    t_last_coll = s->pend_t;
     collide(s->pend_c, s->pend_t, s->pend_e);
     stop = coll >= coll_stop;
   }
   if (std::isinf(inv_rate)) stop = true; /* all bounds 0: no collision can ever happen */
 
   /* Trial times: the spacings are iid Exp(1)/Lambda, independent of the acceptances, so the time
-   * of the next accepted collision is t_ref + (sum of the spacings of its trials) / Lambda, and
-   * that sum is -log of the product of one uniform per trial: one log per collision, not per
-   * trial. (Lambda changes only at collisions.) Every 64 trials the time reached is compared
-   * with t_stop, so a stop is found without an acceptance; the rejected trials beyond it are
-   * those of the next interval. */
+   * of a trial is t_ref + (sum of the spacings since t_ref) / Lambda, and that sum is -log of the
+   * product of one uniform per trial (folded into tlog before it underflows). With displacements
+   * t_ref moves to each collision (one log per collision: Eq. 45 needs its time); without, it
+   * moves only when Lambda changes (a raise or a tightening of the bounds), and whether a
+   * collision lies beyond t_stop is a compare of tprod with a threshold: no log at all.
+   * Every 64 trials, between two trials, the time reached is compared with t_stop, so a stop is
+   * found without an acceptance; the rejected trials beyond it simply count in the next interval
+   * (the sequence of trials does not depend on where the run is cut). */
   while (!stop) {
-    if ((trials & 63) == 0 && t_ref + (tlog - std::log(tprod)) * inv_rate > t_stop) break;
+    if ((trials & 63) == 0 && (kDisp ? now() > t_stop : tprod < pthr)) break;
     ++trials;
     if (count == 0) {
       for (int q = 0; q < K; q++) {
@@ -297,6 +315,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     if (tprod < 1e-280) {
       tlog -= std::log(tprod);
       tprod = 1.0;
+      set_thr();
     }
     if (c.j == c.l) continue; /* the same particle twice: no pair */
     Sel::species(s, &c);
@@ -316,21 +335,32 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       const double g2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
       if (!(ub * ub < w * w * g2)) continue;
     }
-    const double tc = t_ref + (tlog - std::log(tprod)) * inv_rate;
-    tprod = 1.0;
-    tlog = 0.0;
-    if (tc > t_stop) { /* the collision belongs to a later interval */
+    const double tc = kDisp ? now() : 0.0;
+    if (kDisp ? tc > t_stop : tprod < pthr) { /* the collision belongs to a later interval */
       s->pend_on = 1;
       s->pend_c = c;
-      s->pend_t = tc;
+      s->pend_t = kDisp ? tc : now();
       for (int d = 0; d < 3; d++) s->pend_e[d] = kPaper ? e[d] : 0.0;
+      if (kDisp) {
+        tprod = 1.0;
+        tlog = 0.0;
+        t_ref = s->pend_t;
+      }
       break;
     }
+    if (kDisp) {
+      t_ref = tc;
+      tprod = 1.0;
+      tlog = 0.0;
+    }
     collide(c, tc, e);
-    if (coll >= coll_stop) break;
+    if (coll >= coll_stop) {
+      t_last_coll = kDisp ? tc : now();
+      break;
+    }
   }
   vr->pos = pos;
-  s->t = t_ref > s->t ? t_ref : s->t;
+  if (t_last_coll > s->t) s->t = t_last_coll;
   s->t_ref = t_ref;
   s->tprod = tprod;
   s->tlog = tlog;

@@ -7,8 +7,6 @@
 #include <cfloat>
 #include <cmath>
 
-#include <sys/mman.h>
-
 namespace gran {
 
 namespace {
@@ -43,22 +41,6 @@ int check_options(const gran_dsmc_options *opt) {
                "option 'traj_per_species' must be >= 1 with GRAN_OBSERVE_TRAJECTORIES");
   }
   return GRAN_SUCCESS;
-}
-
-/* The hot loop reads two random particles per trial: with 4 KiB pages nearly every read of a large
- * array also misses the TLB (measured: the prefetches of the velocities took a third of the loop).
- * Ask for transparent huge pages on the arrays, before they are first touched; a hint only. */
-void advise_huge_pages(void *p, size_t bytes) {
-#ifdef MADV_HUGEPAGE
-  const uintptr_t huge = (uintptr_t)1 << 21;
-  if (!p || bytes < 4 * huge) return;
-  const uintptr_t a = ((uintptr_t)p + huge - 1) & ~(huge - 1);
-  const uintptr_t b = ((uintptr_t)p + bytes) & ~(huge - 1);
-  if (b > a) (void)madvise((void *)a, b - a, MADV_HUGEPAGE);
-#else
-  (void)p;
-  (void)bytes;
-#endif
 }
 
 /* Walker's alias table (Vose's construction) for weights w >= 0 with a positive sum: column c is
@@ -284,9 +266,6 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
   /* particles, grouped by species; displacement arrays only when observed */
   const int flags = (opt->observe & (GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_TRAJECTORIES)) ? GRAN_PARTICLES_DISPLACEMENT : 0;
   GRAN_CALL(gran_particles_init(&s->p, N, flags));
-  advise_huge_pages(s->p.v, sizeof(double) * 3 * (size_t)N);
-  advise_huge_pages(s->p.r, sizeof(double) * 3 * (size_t)N);
-  advise_huge_pages(s->p.species, sizeof(int32_t) * (size_t)N);
   s->p.n = N;
   for (int64_t k = 0; k < M; k++)
     for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1]; j++) s->p.species[j] = (int32_t)k;
