@@ -2,9 +2,12 @@
  * into a new engine, advance both to t2, compare velocities, displacements, times of last
  * collision, counters, ledger, collision counts and trajectories with memcmp. Every selector, with
  * and without observables, constant and viscoelastic restitution. Bad files and mismatched
- * mixtures fail with GRAN_ERR_IO / GRAN_ERR_ARG naming the path. */
+ * mixtures fail with GRAN_ERR_IO / GRAN_ERR_ARG naming the path; a damaged state (an index out of
+ * range) is refused with GRAN_ERR_IO. */
 #define _POSIX_C_SOURCE 200809L
 #include <unistd.h>
+
+#include <hdf5.h>
 
 #include "dsmc_util.h"
 
@@ -136,6 +139,20 @@ static void test_checkpoint_errors(void **state) {
   GRAN_ASSERT_OK(gran_mixture_create_powerlaw(5, 2.0, 1.0, 0.1, 3.0, &other));
   GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/run/engine", other, &b), GRAN_ERR_ARG);
   gran_mixture_destroy(&other);
+  /* a damaged state: an index outside its array is refused, not used */
+  {
+    hid_t f = H5Fopen(g_path, H5F_ACC_RDWR, H5P_DEFAULT);
+    assert_true(f >= 0);
+    hid_t ds = H5Dopen2(f, "/run/engine/rng_pos", H5P_DEFAULT);
+    assert_true(ds >= 0);
+    const int64_t bad = 100000;
+    assert_true(H5Dwrite(ds, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, &bad) >= 0);
+    H5Dclose(ds);
+    H5Fclose(f);
+    GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/run/engine", mix, &b), GRAN_ERR_IO);
+    assert_non_null(strstr(gran_last_error_message(), "inconsistent"));
+    assert_null(b);
+  }
   /* a file that is not HDF5 */
   FILE *f = fopen(g_path, "w");
   assert_non_null(f);

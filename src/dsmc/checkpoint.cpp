@@ -164,6 +164,24 @@ int state_io(F &f, D *s) {
   return GRAN_SUCCESS;
 }
 
+/* Indices read from a file are used without further checks by the hot loop: refuse a state
+ * whose indices lie outside their arrays (a damaged or foreign file). */
+int validate_state(const gran_dsmc *s, const char *path) {
+  const int64_t N = s->N, M = s->M;
+  bool ok = s->vrng.pos >= 0 && s->vrng.pos <= kRngBuf && s->cand_head >= 0 && s->cand_head < kDsmcPipe &&
+            (s->cand_count == 0 || s->cand_count == kDsmcPipe) && s->traj_next >= 0 &&
+            s->traj_next <= s->opt.traj_samples && s->collisions >= 0 && s->trials >= s->collisions &&
+            std::isfinite(s->t) && s->tprod > 0 && s->tprod <= 1 && !(s->inv_rate < 0);
+  auto cand_ok = [&](const DsmcCand &c) {
+    return c.j >= 0 && c.j < N && c.l >= 0 && c.l < N && c.i >= 0 && c.i < M && c.k >= 0 && c.k < M;
+  };
+  if (s->cand_count > 0)
+    for (int q = 0; q < kDsmcPipe && ok; q++) ok = cand_ok(s->cand[q]);
+  if (s->pend_on) ok = ok && cand_ok(s->pend_c);
+  GRAN_CHECK(ok, GRAN_ERR_IO, "checkpoint '%s' holds an inconsistent engine state (damaged file?)", path);
+  return GRAN_SUCCESS;
+}
+
 int options_io_write(Writer &w, const gran_dsmc *s) {
   const gran_dsmc_options &o = s->opt;
   int64_t oi[6] = {o.selector, o.observe, o.bound_refresh, o.traj_per_species, o.traj_samples, s->M};
@@ -296,6 +314,7 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
     gran_dsmc *s = new gran_dsmc();
     int ierr = dsmc_alloc(mix, counts.data(), &o, s);
     if (ierr == GRAN_SUCCESS) ierr = state_io(rd, s);
+    if (ierr == GRAN_SUCCESS) ierr = validate_state(s, path);
     if (ierr != GRAN_SUCCESS) {
       gran_dsmc_destroy(&s);
       return ierr;
