@@ -325,9 +325,12 @@ typedef struct gran_dsmc_stats {
 
 GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt);
 /* counts: M particle numbers (NULL: N_k = round(n_k V) with V = opt->volume; given counts with
- * volume <= 0: V = sum N_k / sum n_k); T0: M initial temperatures (NULL: the HCS of the mixture
- * with <T(0)> = 1; T_k = 1 for viscoelastic restitution, which has no HCS). Maxwellian start,
- * zero momentum. The mixture is copied (it may be destroyed afterwards). */
+ * volume <= 0: V = sum of N_k over species with n_k > 0 / sum n_k); T0: M initial temperatures
+ * (NULL: the HCS of the mixture with <T(0)> = 1; T_k = 1 for viscoelastic restitution, which has
+ * no HCS). Maxwellian start, zero momentum of the gas. The mixture is copied (it may be destroyed
+ * afterwards). A species with n_k = 0 and counts[k] > 0 is a tracer (seed 000 Sec. II F): it
+ * collides with the gas at the physical rate, only the tracer's velocity changes, and tracers
+ * never collide with each other. */
 GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts, const double *T0,
                                  const gran_dsmc_options *opt, gran_dsmc **sim);
 GRAN_EXTERN int gran_dsmc_destroy(gran_dsmc **sim);
@@ -338,15 +341,16 @@ GRAN_EXTERN int gran_dsmc_advance_collisions(gran_dsmc *sim, int64_t ncollisions
 GRAN_EXTERN int gran_dsmc_time(const gran_dsmc *sim, double *t);
 GRAN_EXTERN int gran_dsmc_get_stats(const gran_dsmc *sim, gran_dsmc_stats *stats);
 /* Per-species observables are NaN for an empty species. T_k = m_k <|v - u|^2>/3 with u the
- * global mean flow (0 up to rounding). MSD (Eq. 3 total; either output may be NULL) needs
+ * mean flow of the gas (all species but tracers; 0 up to rounding). MSD (Eq. 3 total; either output may be NULL) needs
  * GRAN_OBSERVE_DISPLACEMENT; collision counts (symmetric, [i*M+k]) GRAN_OBSERVE_COLLISION_COUNTS. */
 GRAN_EXTERN int gran_dsmc_counts(const gran_dsmc *sim, int64_t *counts);           /* M */
 GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T);           /* M */
 GRAN_EXTERN int gran_dsmc_msd(const gran_dsmc *sim, double *msd, double *msd_total); /* M, 1 */
 GRAN_EXTERN int gran_dsmc_collision_counts(const gran_dsmc *sim, int64_t *counts);  /* M*M */
 GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2);              /* M */
-/* Kinetic energy now, at the start, dissipated so far (e_initial - e_dissipated == e_kin);
- * any output may be NULL. */
+/* Kinetic energy now, at the start, dissipated so far (e_initial - e_dissipated == e_kin; a
+ * tracer collision books minus the tracer's energy change); any output may be NULL. Momentum:
+ * the total, tracers included (conserved without tracers; with them only the gas's part). */
 GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_initial, double *e_dissipated);
 GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]);
 /* Borrowed view of the particles (species stored contiguously; offsets has M+1 entries). With

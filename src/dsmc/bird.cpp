@@ -4,8 +4,8 @@
 namespace gran {
 
 /** @brief Hot loop of Bird's selector for the given effects. */
-DsmcLoopFn dsmc_bird_loop(int paper, int disp, int counts, int rest) {
-  return paper ? dsmc_pick<SelBird, true>(disp, counts, rest) : dsmc_pick<SelBird, false>(disp, counts, rest);
+DsmcLoopFn dsmc_bird_loop(int paper, int disp, int counts, int rest, int tracers) {
+  return paper ? dsmc_pick<SelBird, true>(disp, counts, rest, tracers) : dsmc_pick<SelBird, false>(disp, counts, rest, tracers);
 }
 
 }  // namespace gran

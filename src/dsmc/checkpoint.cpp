@@ -2,7 +2,9 @@
  * bit for bit: particles, bounds, the tree node arrays as they are, the pre-drawn candidates, RNG
  * state, time and pending trial, counters, the ledger sums with their compensation terms,
  * collision counters, trajectory buffers, options. The mixture is not stored: the reader passes
- * it and it must match (masses, diameters, restitution model; checked). HDF5 errors are silenced
+ * it and it must match (masses, diameters, restitution model, which species are tracers;
+ * checked). The tracer flags are derived from that mixture (n_k = 0) and the stored counts, as at
+ * creation; the stored flags only check them (files without them are accepted). HDF5 errors are silenced
  * and mapped to GRAN_ERR_IO naming the file. */
 #include "dsmc_impl.h"
 
@@ -193,6 +195,10 @@ int options_io_write(Writer &w, const gran_dsmc *s) {
   GRAN_CALL(w.d("mass", s->M, s->mix.m.data()));
   GRAN_CALL(w.d("sigma", s->M, s->mix.sigma.data()));
   GRAN_CALL(w.i1("restitution_model", s->mix.model));
+  /* tracer flags: not needed to restart (derived from the mixture passed to the reader and the
+   * counts), stored to refuse a mixture whose n_k = 0 pattern differs */
+  std::vector<int32_t> trc(s->tracer.begin(), s->tracer.end());
+  GRAN_CALL(w.i32("tracer", s->M, trc.data()));
   return GRAN_SUCCESS;
 }
 
@@ -313,6 +319,17 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
                (int)model);
     gran_dsmc *s = new gran_dsmc();
     int ierr = dsmc_alloc(mix, counts.data(), &o, s);
+    if (ierr == GRAN_SUCCESS && H5Lexists(g.id, "tracer", H5P_DEFAULT) > 0) {
+      std::vector<int32_t> trc((size_t)M);
+      ierr = rd.i32("tracer", M, trc.data());
+      for (int64_t k = 0; k < M && ierr == GRAN_SUCCESS; k++)
+        if ((trc[(size_t)k] != 0) != (s->tracer[(size_t)k] != 0))
+          ierr = GRAN_ERROR(GRAN_ERR_ARG,
+                            "mixture 'mix' does not match checkpoint '%s': species " GRAN_I64_FMT
+                            " is %s in the checkpoint and %s with this mixture (n_k = %g)",
+                            path, k, trc[(size_t)k] ? "a tracer" : "not a tracer",
+                            s->tracer[(size_t)k] ? "a tracer" : "not a tracer", mix->n[(size_t)k]);
+    }
     if (ierr == GRAN_SUCCESS) ierr = state_io(rd, s);
     if (ierr == GRAN_SUCCESS) ierr = validate_state(s, path);
     if (ierr != GRAN_SUCCESS) {

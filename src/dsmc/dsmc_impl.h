@@ -124,6 +124,13 @@ struct gran_dsmc {
   double g2max = 1;              /* rates are scaled by the largest contact value */
   std::vector<gran::DsmcPair> pair; /* M*M for the table modes (empty: scalar / formula) */
   double visco_sqrt_beta0 = -1;  /* viscoelastic with one beta and no table: sqrt(beta) */
+  /* Tracers (seed 000 Sec. II F): species with n_k = 0 in the mixture but N_k > 0 particles.
+   * They collide with the gas (n_k > 0) at the physical rate, only the tracer's velocity changes,
+   * and tracer-tracer candidates are rejected. Derived from mix and counts at creation (so a
+   * checkpoint reader derives it from the mixture it is given; the file stores it for a check). */
+  std::vector<uint8_t> tracer;   /* M: 1 for a tracer species */
+  int has_tracers = 0;           /* any tracer: the loop instantiation with the tracer branch */
+  int64_t n_gas = 0;             /* particles of the non-tracer species */
   double sigma_max = 0;          /* largest diameter among non-empty species (Bird) */
   std::vector<double> bird_w;    /* ((sigma_i + sigma_max)/2)^2 (Bird) */
   int64_t refresh_interval = 0;  /* collisions between tightenings of the bounds */
@@ -186,8 +193,8 @@ int dsmc_check(const gran_dsmc *s, const char *name);
 /* ---- hot loops (lowrank.cpp, bird.cpp) ----
  * Run trials until the pending trial lies beyond t_stop or the collision count reaches coll_stop. */
 typedef void (*DsmcLoopFn)(gran_dsmc *s, double t_stop, int64_t coll_stop);
-DsmcLoopFn dsmc_lowrank_loop(int paper, int disp, int counts, int rest);
-DsmcLoopFn dsmc_bird_loop(int paper, int disp, int counts, int rest);
+DsmcLoopFn dsmc_lowrank_loop(int paper, int disp, int counts, int rest, int tracers);
+DsmcLoopFn dsmc_bird_loop(int paper, int disp, int counts, int rest, int tracers);
 
 /* ---- observables.cpp ---- */
 void dsmc_record_trajectories(gran_dsmc *s);

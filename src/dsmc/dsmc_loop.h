@@ -9,6 +9,11 @@
  *   w |g.e| / B with e uniform (paper variant), where B bounds w |g|; collide (Eq. 41), update
  *   the displacements lazily (Eq. 45), the ledger, the counters and the bounds; draw the time of
  *   the next trial, t += Exp(1) / Lambda (Eq. 38 / 50).
+ * With tracers (kTracer: a species with n_k = 0 and particles, seed 000 Sec. II F) a tracer-tracer
+ * candidate is rejected before the acceptance test (its rate is 0), and a tracer-gas collision
+ * changes only the tracer's velocity (and displacement); the ledger books minus the tracer's
+ * kinetic-energy change as dissipated (energy exchanged with the infinite bath), so
+ * e_initial - e_dissipated == e_kin still holds. Mixtures without tracers run kTracer = false.
  */
 #ifndef GRANARY_DSMC_LOOP_H
 #define GRANARY_DSMC_LOOP_H
@@ -109,7 +114,7 @@ struct SelBird {
   }
 };
 
-template <class Sel, bool kPaper, bool kDisp, bool kCount, int kRest>
+template <class Sel, bool kPaper, bool kDisp, bool kCount, int kRest, bool kTracer>
 void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   constexpr int K = kDsmcPipe;
   DsmcRng *const vr = &s->vrng;
@@ -143,6 +148,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   const double t0 = s->opt.t_start;
   int64_t *const cc = kCount ? s->ccount.data() : nullptr;
   const double *const mass = s->mix.m.data();
+  const uint8_t *const trc = kTracer ? s->tracer.data() : nullptr;
   const int64_t M = s->M;
   const DsmcPair *const pair = s->pair.empty() ? nullptr : s->pair.data();
   double inv_rate = s->inv_rate;
@@ -212,7 +218,25 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     const double mi = mass[c.i], mk = mass[c.k];
     const double inv = 1.0 / (mi + mk);
     const double a = (1.0 + eps) * inv;
-    const double aj = a * mk, al = a * mi;
+    double aj = a * mk, al = a * mi;
+    double ediss = 0.0;
+    bool one_sided = false;
+    if (kTracer) {
+      /* one side is a tracer (tracer-tracer pairs never get here): only it changes, by the same
+       * dv as in the two-sided collision; the ledger books minus its kinetic-energy change,
+       * computed from dv (no cancellation): dE = m a (a g_n^2 -/+ 2 v.g_n) / 2 */
+      if (trc[c.i]) {
+        al = 0.0;
+        one_sided = true;
+        const double vg = vj[0] * gn[0] + vj[1] * gn[1] + vj[2] * gn[2];
+        ediss = -0.5 * mi * aj * (aj * gn2 - 2.0 * vg);
+      } else if (trc[c.k]) {
+        aj = 0.0;
+        one_sided = true;
+        const double vg = vl[0] * gn[0] + vl[1] * gn[1] + vl[2] * gn[2];
+        ediss = -0.5 * mk * al * (al * gn2 + 2.0 * vg);
+      }
+    }
     vj[0] -= aj * gn[0];
     vj[1] -= aj * gn[1];
     vj[2] -= aj * gn[2];
@@ -231,7 +255,8 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       rl[1] -= bl * gn[1];
       rl[2] -= bl * gn[2];
     }
-    neumaier_add(ed, edc, 0.5 * (1.0 - eps * eps) * mi * mk * inv * gn2);
+    if (!kTracer || !one_sided) ediss = 0.5 * (1.0 - eps * eps) * mi * mk * inv * gn2;
+    neumaier_add(ed, edc, ediss);
     if (kCount) {
       const int64_t lo = c.i < c.k ? c.i : c.k, hi = c.i < c.k ? c.k : c.i;
       cc[lo * M + hi]++;
@@ -319,6 +344,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     }
     if (c.j == c.l) continue; /* the same particle twice: no pair */
     Sel::species(s, &c);
+    if (kTracer && (trc[c.i] & trc[c.k])) continue; /* tracer-tracer: rate 0 (Sec. II F) */
     double w;
     const double B = Sel::bound(s, c.i, c.k, &w);
     if (kRest != kRestConst && pair) w *= pair[(size_t)c.i * (size_t)M + (size_t)c.k].g2r;
@@ -373,19 +399,26 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
 }
 
 /* Function pointer for the runtime flags (dispatch once per advance). */
-template <class Sel, bool kPaper, bool kDisp, bool kCount>
+template <class Sel, bool kPaper, bool kDisp, bool kCount, bool kTracer>
 static DsmcLoopFn dsmc_pick_rest(int rest) {
   switch (rest) {
-    case kRestTable: return &dsmc_loop<Sel, kPaper, kDisp, kCount, kRestTable>;
-    case kRestVisco: return &dsmc_loop<Sel, kPaper, kDisp, kCount, kRestVisco>;
-    default: return &dsmc_loop<Sel, kPaper, kDisp, kCount, kRestConst>;
+    case kRestTable: return &dsmc_loop<Sel, kPaper, kDisp, kCount, kRestTable, kTracer>;
+    case kRestVisco: return &dsmc_loop<Sel, kPaper, kDisp, kCount, kRestVisco, kTracer>;
+    default: return &dsmc_loop<Sel, kPaper, kDisp, kCount, kRestConst, kTracer>;
   }
 }
-template <class Sel, bool kPaper>
-static DsmcLoopFn dsmc_pick(int disp, int counts, int rest) {
+template <class Sel, bool kPaper, bool kTracer>
+static DsmcLoopFn dsmc_pick_eff(int disp, int counts, int rest) {
   if (disp)
-    return counts ? dsmc_pick_rest<Sel, kPaper, true, true>(rest) : dsmc_pick_rest<Sel, kPaper, true, false>(rest);
-  return counts ? dsmc_pick_rest<Sel, kPaper, false, true>(rest) : dsmc_pick_rest<Sel, kPaper, false, false>(rest);
+    return counts ? dsmc_pick_rest<Sel, kPaper, true, true, kTracer>(rest)
+                  : dsmc_pick_rest<Sel, kPaper, true, false, kTracer>(rest);
+  return counts ? dsmc_pick_rest<Sel, kPaper, false, true, kTracer>(rest)
+                : dsmc_pick_rest<Sel, kPaper, false, false, kTracer>(rest);
+}
+template <class Sel, bool kPaper>
+static DsmcLoopFn dsmc_pick(int disp, int counts, int rest, int tracers) {
+  return tracers ? dsmc_pick_eff<Sel, kPaper, true>(disp, counts, rest)
+                 : dsmc_pick_eff<Sel, kPaper, false>(disp, counts, rest);
 }
 
 }  // namespace gran

@@ -233,12 +233,17 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
     if (opt->volume > 0) {
       s->volume = opt->volume;
     } else {
-      double ntot = 0;
-      for (double d : mix->n) ntot += d;
+      /* V = (particles of the species with n_k > 0) / sum n_k: tracers (n_k = 0) do not count */
+      double ntot = 0, ngas = 0;
+      for (int64_t k = 0; k < M; k++) {
+        ntot += mix->n[(size_t)k];
+        if (mix->n[(size_t)k] > 0) ngas += (double)counts[k];
+      }
       GRAN_CHECK(ntot > 0, GRAN_ERR_ARG,
                  "option 'volume' = %g <= 0 and the mixture's densities sum to 0: the volume is unknown", opt->volume);
-      s->volume = (double)N / ntot;
-      GRAN_CHECK(s->volume > 0, GRAN_ERR_ARG, "option 'volume' = %g <= 0 and 'counts' are all 0", opt->volume);
+      s->volume = ngas / ntot;
+      GRAN_CHECK(s->volume > 0, GRAN_ERR_ARG,
+                 "option 'volume' = %g <= 0 and 'counts' are 0 for every species with n_k > 0", opt->volume);
     }
   } else {
     GRAN_CHECK(opt->volume > 0, GRAN_ERR_ARG,
@@ -254,6 +259,15 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
   }
   s->N = N;
   s->offset.assign((size_t)M + 1, 0);
+  /* tracers: n_k = 0 with particles (check_mixture guarantees some n_k > 0, the gas) */
+  s->tracer.assign((size_t)M, 0);
+  s->has_tracers = 0;
+  s->n_gas = 0;
+  for (int64_t k = 0; k < M; k++) {
+    s->tracer[(size_t)k] = (uint8_t)(mix->n[(size_t)k] == 0.0 && s->count[(size_t)k] > 0);
+    s->has_tracers |= s->tracer[(size_t)k];
+    if (!s->tracer[(size_t)k]) s->n_gas += s->count[(size_t)k];
+  }
   for (int64_t k = 0; k < M; k++) s->offset[(size_t)k + 1] = s->offset[(size_t)k] + s->count[(size_t)k];
 
   if (opt->observe & GRAN_OBSERVE_COLLISION_COUNTS) {
@@ -341,7 +355,8 @@ GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt) {
 
 /** @brief New engine: N_k particles of each species (counts, or round(n_k V)), Maxwellian
  *  velocities at T0[k] (NULL: the HCS of mix with <T(0)> = 1; T_k = 1 for viscoelastic
- *  restitution, which has no HCS), zero total momentum.
+ *  restitution, which has no HCS), zero momentum of the gas. A species with n_k = 0 and
+ *  particles (explicit counts) is a tracer (seed 000 Sec. II F).
  *  @param[in] mix copied; may be destroyed afterwards  @param[out] sim the new engine */
 GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts, const double *T0,
                                  const gran_dsmc_options *opt, gran_dsmc **sim) {
@@ -371,7 +386,9 @@ GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts,
       gran_dsmc_destroy(&s);
       return ierr;
     }
-    /* Maxwellian per species, then subtract the mass-weighted mean velocity */
+    /* Maxwellian per species, then subtract the mass-weighted mean velocity of the gas (the
+     * species that are not tracers; without tracers: of all particles) from every particle:
+     * tracers are independent samples in the frame of the gas */
     gran_rng_seed(&s->rng, opt->seed);
     for (int l = 0; l < kRngLanes; l++) {
       gran_rng lane;
@@ -383,12 +400,13 @@ GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts,
     double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mtot = 0;
     for (int64_t k = 0; k < M; k++) {
       const double sd = std::sqrt(T[(size_t)k] / s->mix.m[(size_t)k]), mk = s->mix.m[(size_t)k];
+      const bool gas = !s->tracer[(size_t)k];
       for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1]; j++)
         for (int d = 0; d < 3; d++) {
           v[3 * j + d] = sd * rng_normal(&s->rng);
-          neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
+          if (gas) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
         }
-      mtot += mk * (double)s->count[(size_t)k];
+      if (gas) mtot += mk * (double)s->count[(size_t)k];
     }
     if (mtot > 0) {
       const double u[3] = {(P[0] + Pc[0]) / mtot, (P[1] + Pc[1]) / mtot, (P[2] + Pc[2]) / mtot};
@@ -432,8 +450,8 @@ namespace {
 DsmcLoopFn pick_loop(const gran_dsmc *s) {
   const int disp = (s->opt.observe & (GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_TRAJECTORIES)) != 0;
   const int counts = (s->opt.observe & GRAN_OBSERVE_COLLISION_COUNTS) != 0;
-  return s->selector == GRAN_SELECTOR_LOWRANK ? dsmc_lowrank_loop(s->paper, disp, counts, s->rest)
-                                              : dsmc_bird_loop(s->paper, disp, counts, s->rest);
+  return s->selector == GRAN_SELECTOR_LOWRANK ? dsmc_lowrank_loop(s->paper, disp, counts, s->rest, s->has_tracers)
+                                              : dsmc_bird_loop(s->paper, disp, counts, s->rest, s->has_tracers);
 }
 
 /* Run until t_end (time mode) or until `coll_stop` collisions (t_end = DBL_MAX), stopping at every
@@ -485,6 +503,8 @@ GRAN_EXTERN int gran_dsmc_advance_collisions(gran_dsmc *sim, int64_t ncollisions
     GRAN_CHECK(ncollisions >= 0, GRAN_ERR_ARG, "argument 'ncollisions' is negative (" GRAN_I64_FMT ")", ncollisions);
     if (ncollisions == 0) return GRAN_SUCCESS;
     GRAN_CHECK(sim->N >= 2, GRAN_ERR_STATE, "no collision can happen with " GRAN_I64_FMT " particle(s)", sim->N);
+    GRAN_CHECK(sim->n_gas >= 1, GRAN_ERR_STATE,
+               "no collision can happen: only tracers (n_k = 0) have particles, and tracers never collide with each other");
     GRAN_CHECK(ncollisions <= INT64_MAX - sim->collisions, GRAN_ERR_ARG, "argument 'ncollisions' is too large");
     return advance_impl(sim, DBL_MAX, sim->collisions + ncollisions);
   }

@@ -7,11 +7,14 @@ namespace gran {
 
 namespace {
 
-/* Mean flow u = P / sum m (0 up to rounding: the engine conserves momentum). */
+/* Mean flow u = P / sum m of the gas: the species that are not tracers (0 up to rounding: the
+ * engine conserves the gas's momentum; tracers exchange momentum with the bath, their frame is
+ * the gas's). Without tracers: of all particles. */
 void mean_flow(const gran_dsmc *s, double u[3]) {
   double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0;
   const double *v = s->p.v;
   for (int64_t k = 0; k < s->M; k++) {
+    if (s->tracer[(size_t)k]) continue;
     const double mk = s->mix.m[(size_t)k];
     for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1]; j++)
       for (int d = 0; d < 3; d++) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
@@ -39,8 +42,8 @@ void dsmc_record_trajectories(gran_dsmc *s) {
 
 using namespace gran;
 
-/** @brief Partial temperatures T_k = m_k <|v - u|^2> / 3 with u the global mean flow (0 up to
- *  rounding, since the total momentum is conserved); NaN for an empty species. */
+/** @brief Partial temperatures T_k = m_k <|v - u|^2> / 3 with u the mean flow of the gas (all
+ *  species but tracers; 0 up to rounding, since its momentum is conserved); NaN for an empty species. */
 GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
@@ -153,7 +156,9 @@ GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_
   GRAN_CATCH
 }
 
-/** @brief Total momentum sum_j m_j v_j (compensated). */
+/** @brief Total momentum sum_j m_j v_j over all particles, tracers included (compensated).
+ *  Conserved without tracers; a tracer collision changes only the tracer (momentum exchanged
+ *  with the bath), so with tracers only the gas's part is conserved. */
 GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));

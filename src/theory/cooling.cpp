@@ -302,40 +302,11 @@ void cooling_jacobian(const gran_mixture *mix, const double *T, double *xi, doub
 }
 
 int inv_tau_v(const gran_mixture *mix, const double *T, double *inv_tv) {
-  const int64_t M = mix->M;
   if (mix->model == GRAN_RESTITUTION_CONSTANT && mix->g2_mat.empty()) {
     tau_fast(mix, T, inv_tv);
     return GRAN_SUCCESS;
   }
-  const double *m = mix->m.data(), *s = mix->sigma.data(), *n = mix->n.data();
-  const bool visco = mix->model == GRAN_RESTITUTION_VISCOELASTIC;
-  for (int64_t k = 0; k < M; k++) {
-    const double ak = T[k] / m[k], iTk = 1.0 / T[k], mk = m[k], sk = s[k];
-    double acc = 0.0;
-    for (int64_t i = 0; i < M; i++) {
-      if (n[i] == 0.0) continue;
-      const double sg = 0.5 * (sk + s[i]);
-      const double v2 = ak + T[i] / m[i];
-      const double inv = 1.0 / (m[i] + mk);
-      const double mu = m[i] * inv, omu = mk * inv;
-      const double Gam = mu + T[i] * iTk * omu;
-      double f;
-      if (!visco) {
-        const double p = 0.5 * (1.0 + mix_eps(mix, k, i));
-        f = p * p;
-      } else {
-        const double beta = mix_beta(mix, k, i);
-        double q1 = 0.0, q2 = 0.0;
-        if (beta > 0.0) {
-          const double z = std::sqrt(beta) * std::pow(2.0 * v2, 0.05);
-          GRAN_CALL(visco_averages(z, &q1, &q2));
-        }
-        f = 1.0 + q2;
-      }
-      acc += n[i] * sg * sg * mix_g2(mix, k, i) * mu * Gam * std::sqrt(v2) * f;
-    }
-    inv_tv[k] = C15 * acc;
-  }
+  for (int64_t k = 0; k < mix->M; k++) GRAN_CALL(inv_tau_v_one(mix, T, k, &inv_tv[k]));
   return GRAN_SUCCESS;
 }
 
