@@ -63,7 +63,7 @@ module granary
 
   public :: gran_get_version, gran_strerror, gran_last_error_message, gran_check
 
-  ! @@SECTION core-public@@ (rng, segtree, particles: names made public here)
+  ! ---- foundation (rng, segtree, particles, abi) ----
   ! Indices handed across (segment-tree leaves, particle slots) are 1-based in the wrappers; values
   ! stored in arrays (species) are the library's 0-based ones. Seeds and stream ids are the bits of
   ! a uint64_t in an integer(c_int64_t). Vectors are real(c_double) :: v(3, n) (C's interleaved xyz).
@@ -78,8 +78,7 @@ module granary
   public :: gran_particles_view_v, gran_particles_view_species, gran_particles_view_r, &
             gran_particles_view_t_last, gran_particles_view_x, gran_particles_view_mass
   public :: gran_abi_query
-  ! @@END core-public@@
-  ! @@SECTION theory-public@@
+  ! ---- kinetic theory ----
   ! Kinetic theory (include/granary.h, theory section). Mixtures are type(c_ptr) handles. Species
   ! indices are 1-based here (0-based in C); per-species time series are arrays (M, ntimes) and pair
   ! matrices (M, M) (symmetric, so the C row-major layout reads the same).
@@ -99,8 +98,7 @@ module granary
   public :: gran_theory_tamsd, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
   public :: gran_theory_tracer_gamma_approx, gran_theory_tracer_tau_v_hat
   public :: gran_theory_mean_relative_speed, gran_theory_collision_rates, gran_theory_collision_counts
-  ! @@END theory-public@@
-  ! @@SECTION dsmc-public@@
+  ! ---- DSMC engines ----
   ! DSMC engine (include/granary.h, dsmc section). Engines are type(c_ptr) handles; per-species
   ! arrays have M entries, collision counts are (M, M) (symmetric), trajectories (3, nsamples, ntraj).
   ! Species offsets are 0-based particle indices as in C.
@@ -141,8 +139,7 @@ module granary
   public :: gran_dsmc_temperatures, gran_dsmc_msd, gran_dsmc_collision_counts, gran_dsmc_sonine_a2
   public :: gran_dsmc_energy, gran_dsmc_momentum, gran_dsmc_particles, gran_dsmc_species_offsets
   public :: gran_dsmc_trajectories, gran_dsmc_checkpoint_write, gran_dsmc_checkpoint_read
-  ! @@END dsmc-public@@
-  ! @@SECTION analysis-public@@
+  ! ---- analysis ----
   ! A TAMSD plan: the C handle and the trajectory length it was made for (so that the wrappers can
   ! check the shape of the positions they pass).
   type, public :: gran_tamsd_plan
@@ -151,8 +148,7 @@ module granary
   end type gran_tamsd_plan
   public :: gran_tamsd_plan_create, gran_tamsd_plan_destroy, gran_tamsd_plan_execute, gran_tamsd, &
             gran_tamsd_direct, gran_sonine_a2, gran_speed_histogram
-  ! @@END analysis-public@@
-  ! @@SECTION io-public@@
+  ! ---- scenes and runs ----
   ! Scenes and runs. Handles (gran_scene, gran_mixture, gran_dsmc) are type(c_ptr).
   type, bind(C), public :: gran_run_progress
     real(c_double) :: time = 0, t_start = 0, t_end = 0, fraction = 0
@@ -176,7 +172,6 @@ module granary
             gran_scene_sizes, gran_scene_times, gran_scene_lags, gran_scene_mixture, &
             gran_scene_initial_temperatures, gran_scene_dsmc_options, gran_scene_dsmc, gran_scene_run, &
             gran_scene_resume
-  ! @@END io-public@@
 
   ! ---- raw C interfaces ------------------------------------------------------------------------
   interface
@@ -201,7 +196,7 @@ module granary
       type(c_ptr), value :: s
       integer(c_size_t) :: n
     end function c_strlen
-    ! @@SECTION core-interfaces@@
+    ! ---- foundation (rng, segtree, particles, abi) ----
     ! ---- rng
     function c_gran_rng_seed(rng, seed) bind(C, name='gran_rng_seed') result(ierr)
       import :: c_int, c_int64_t, gran_rng
@@ -381,8 +376,7 @@ module granary
       integer(c_int64_t), intent(out) :: value
       integer(c_int) :: ierr
     end function c_gran_abi_query
-    ! @@END core-interfaces@@
-    ! @@SECTION theory-interfaces@@
+    ! ---- kinetic theory ----
     function c_gran_mixture_create(nspecies, mass, sigma, density, mix) &
         bind(C, name='gran_mixture_create') result(ierr)
       import :: c_int, c_int64_t, c_double, c_ptr
@@ -648,8 +642,7 @@ module granary
       real(c_double), intent(out) :: counts(*)
       integer(c_int) :: ierr
     end function c_gran_theory_collision_counts
-    ! @@END theory-interfaces@@
-    ! @@SECTION dsmc-interfaces@@
+    ! ---- DSMC engines ----
     function c_gran_dsmc_options_default(opt) bind(C, name='gran_dsmc_options_default') result(ierr)
       import :: c_int, gran_dsmc_options
       type(gran_dsmc_options), intent(out) :: opt
@@ -764,8 +757,7 @@ module granary
       type(c_ptr), intent(out) :: sim
       integer(c_int) :: ierr
     end function c_gran_dsmc_checkpoint_read
-    ! @@END dsmc-interfaces@@
-    ! @@SECTION analysis-interfaces@@
+    ! ---- analysis ----
     function c_gran_tamsd_plan_create(nsamples, plan) bind(C, name='gran_tamsd_plan_create') result(ierr)
       import :: c_int, c_int64_t, c_ptr
       integer(c_int64_t), value :: nsamples
@@ -818,8 +810,7 @@ module granary
       integer(c_int64_t), intent(out) :: nbeyond
       integer(c_int) :: ierr
     end function c_gran_speed_histogram
-    ! @@END analysis-interfaces@@
-    ! @@SECTION io-interfaces@@
+    ! ---- scenes and runs ----
     function c_gran_scene_load(path, scene) bind(C, name='gran_scene_load') result(ierr)
       import :: c_int, c_char, c_ptr
       character(kind=c_char), intent(in) :: path(*)
@@ -906,7 +897,6 @@ module granary
       type(c_ptr), value :: checkpoint, output, ctl, result
       integer(c_int) :: ierr
     end function c_gran_scene_resume
-    ! @@END io-interfaces@@
   end interface
 
 contains
@@ -966,7 +956,7 @@ contains
     end if
   end subroutine gran_check
 
-  ! @@SECTION core-procedures@@
+  ! ---- foundation (rng, segtree, particles, abi) ----
   !> A wrapper found arrays of inconsistent shapes before calling C: ierr = GRAN_ERR_ARG, or (without
   !> ierr) stop with the message, as gran_check does.
   subroutine gran_core_shape_error(what, ierr)
@@ -1275,8 +1265,7 @@ contains
     value = -huge(value)
     call gran_check(c_gran_abi_query(trim(name) // c_null_char, value), ierr)
   end subroutine gran_abi_query
-  ! @@END core-procedures@@
-  ! @@SECTION theory-procedures@@
+  ! ---- kinetic theory ----
   ! ---- theory: helpers ---------------------------------------------------------------------------
   !> Number of species of mix (0 when the handle is not valid: the C call then reports that).
   function gran_theory_m(mix) result(m)
@@ -1776,8 +1765,7 @@ contains
     end if
     call gran_check(c_gran_theory_collision_counts(mix, t0, volume, size(t, kind=c_int64_t), t, rtol, counts), ierr)
   end subroutine gran_theory_collision_counts
-  ! @@END theory-procedures@@
-  ! @@SECTION dsmc-procedures@@
+  ! ---- DSMC engines ----
   !> Array of the wrong size handed to a DSMC wrapper: ierr = GRAN_ERR_ARG, or stop with the message.
   subroutine gran_dsmc_shape_error(what, ierr)
     character(len=*), intent(in) :: what
@@ -2030,8 +2018,7 @@ contains
     call gran_check(c_gran_dsmc_checkpoint_read(trim(path) // c_null_char, trim(group) // c_null_char, mix, sim), &
                     ierr)
   end subroutine gran_dsmc_checkpoint_read
-  ! @@END dsmc-procedures@@
-  ! @@SECTION analysis-procedures@@
+  ! ---- analysis ----
   !> Plan for trajectories of nsamples samples; release with gran_tamsd_plan_destroy.
   subroutine gran_tamsd_plan_create(nsamples, plan, ierr)
     integer, intent(in) :: nsamples
@@ -2132,8 +2119,7 @@ contains
                                            cmax, hist, nb), ierr)
     if (present(nbeyond)) nbeyond = int(nb)
   end subroutine gran_speed_histogram
-  ! @@END analysis-procedures@@
-  ! @@SECTION io-procedures@@
+  ! ---- scenes and runs ----
   !> Fortran string -> NUL-terminated C characters (private helper).
   subroutine io_to_c(s, c)
     character(len=*), intent(in) :: s
@@ -2331,5 +2317,4 @@ contains
     if (present(result)) pres = c_loc(result)
     call gran_check(c_gran_scene_resume(c_loc(cck), pout, pctl, pres), ierr)
   end subroutine gran_scene_resume
-  ! @@END io-procedures@@
 end module granary

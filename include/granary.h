@@ -176,7 +176,7 @@ GRAN_EXTERN int gran_particles_memory(const gran_particles *p, int64_t *bytes);
  * "GRAN_SELECTOR_BIRD", "GRAN_VERSION_MAJOR", ...). Unknown name: GRAN_ERR_ARG. */
 GRAN_EXTERN int gran_abi_query(const char *name, int64_t *value);
 
-/* @@SECTION theory@@ (owned by the theory module; see src/theory) ----------------------------
+/* ---- Kinetic theory (src/theory) ------------------------------------------------------------
  * Kinetic theory of polydisperse granular gases (seed 000 Sec. II, App. A; seed 002).
  * Species are 0-based in C (species "k" of the paper is index k-1). Arrays of per-species values
  * have length M; time series are row-major [time][species]; pair matrices are row-major M*M
@@ -275,12 +275,11 @@ GRAN_EXTERN int gran_theory_collision_rates(const gran_mixture *mix, const doubl
 GRAN_EXTERN int gran_theory_collision_counts(const gran_mixture *mix, const double *T0, double volume,
                                              int64_t ntimes, const double *t, double rtol, double *counts);
 
-/* @@END theory@@ */
-
-/* @@SECTION dsmc@@ (owned by the DSMC engines; see src/dsmc) -----------------------------------
+/* ---- DSMC engines (src/dsmc) -----------------------------------------------------------------
  * Event-driven DSMC of the homogeneous cooling state (seed 000 Sec. III) with two pair selectors
- * in one engine: the low-rank selector (segment trees over the rank-3 bound) and Bird's selector
- * (one global bound C_max, Eq. 49). Effects and observables that are off cost nothing.
+ * in one engine: the low-rank selector (rank-3 bound: segment trees over the speed-dependent
+ * factors u^(r), alias tables over the constant factors v^(r)) and Bird's selector (one global
+ * bound C_max, Eq. 49). Effects and observables that are off cost nothing.
  * ------------------------------------------------------------------------------------------- */
 typedef struct gran_dsmc gran_dsmc; /* opaque */
 
@@ -369,9 +368,7 @@ GRAN_EXTERN int gran_dsmc_checkpoint_write(const gran_dsmc *sim, const char *pat
 GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, const gran_mixture *mix,
                                           gran_dsmc **sim);
 
-/* @@END dsmc@@ */
-
-/* @@SECTION analysis@@ (owned by src/analysis) ------------------------------------------------
+/* ---- Analysis (src/analysis) -----------------------------------------------------------------
  * Observables from trajectories and velocities. Trajectories: ntraj tracers sampled on a uniform
  * time grid, xyz layout [traj][sample][3] (as gran_dsmc_trajectories hands them out); lags are
  * counted in samples (multiply by the sampling interval). Velocities: 3n doubles, interleaved.
@@ -397,9 +394,7 @@ GRAN_EXTERN int gran_sonine_a2(int64_t n, const double *v, const double *mass, d
 GRAN_EXTERN int gran_speed_histogram(int64_t n, const double *v, double scale, int64_t nbins, double cmax,
                                      double *hist, int64_t *nbeyond);
 
-/* @@END analysis@@ */
-
-/* @@SECTION io@@ (scenes, output; owned by src/io) --------------------------------------------
+/* ---- Scenes, runs, output (src/io) -----------------------------------------------------------
  * Scene files (TOML; every key is listed in README.md with its C API equivalent), runs that write
  * HDF5, and checkpoints that continue a run bit for bit. A scene is validated completely when it
  * is loaded: a bad key fails with GRAN_ERR_PARSE and a message "FILE:LINE: key 'table.key': why".
@@ -476,7 +471,5 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
  * bit for bit. New checkpoints go to the same checkpoint path. */
 GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, const gran_run_control *ctl,
                                   gran_run_result *result);
-
-/* @@END io@@ */
 
 #endif /* GRANARY_H */
