@@ -62,6 +62,8 @@ module granary
   end type gran_particles
 
   public :: gran_get_version, gran_strerror, gran_last_error_message, gran_check
+  public :: gran_get_build_config, gran_clear_error, gran_warning_count, gran_last_warning
+  public :: gran_cuda_compiled, gran_cuda_device_count
 
   ! ---- foundation (rng, segtree, particles, abi) ----
   ! Indices handed across (segment-tree leaves, particle slots) are 1-based in the wrappers; values
@@ -196,6 +198,36 @@ module granary
       type(c_ptr), value :: s
       integer(c_size_t) :: n
     end function c_strlen
+    function c_gran_get_build_config(config) bind(C, name='gran_get_build_config') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), intent(out) :: config
+      integer(c_int) :: ierr
+    end function c_gran_get_build_config
+    function c_gran_clear_error() bind(C, name='gran_clear_error') result(ierr)
+      import :: c_int
+      integer(c_int) :: ierr
+    end function c_gran_clear_error
+    function c_gran_warning_count(count) bind(C, name='gran_warning_count') result(ierr)
+      import :: c_int, c_int64_t
+      integer(c_int64_t), intent(out) :: count
+      integer(c_int) :: ierr
+    end function c_gran_warning_count
+    function c_gran_last_warning_copy(buf, len) bind(C, name='gran_last_warning_copy') result(ierr)
+      import :: c_int, c_int64_t, c_char
+      character(kind=c_char), intent(out) :: buf(*)
+      integer(c_int64_t), value :: len
+      integer(c_int) :: ierr
+    end function c_gran_last_warning_copy
+    function c_gran_cuda_compiled(compiled) bind(C, name='gran_cuda_compiled') result(ierr)
+      import :: c_int
+      integer(c_int), intent(out) :: compiled
+      integer(c_int) :: ierr
+    end function c_gran_cuda_compiled
+    function c_gran_cuda_device_count(count) bind(C, name='gran_cuda_device_count') result(ierr)
+      import :: c_int
+      integer(c_int), intent(out) :: count
+      integer(c_int) :: ierr
+    end function c_gran_cuda_device_count
     ! ---- foundation (rng, segtree, particles, abi) ----
     ! ---- rng
     function c_gran_rng_seed(rng, seed) bind(C, name='gran_rng_seed') result(ierr)
@@ -914,35 +946,100 @@ contains
   function gran_strerror(code) result(msg)
     integer, intent(in) :: code
     character(len=:), allocatable :: msg
-    type(c_ptr) :: p
+    msg = gran_c_string(c_gran_strerror(int(code, c_int)))
+  end function gran_strerror
+
+  !> Copy of a static NUL-terminated C string.
+  function gran_c_string(p) result(str)
+    type(c_ptr), intent(in) :: p
+    character(len=:), allocatable :: str
     character(kind=c_char), pointer :: chars(:)
     integer :: i, n
-    p = c_gran_strerror(int(code, c_int))
     n = int(c_strlen(p))
     call c_f_pointer(p, chars, [n])
-    allocate(character(len=n) :: msg)
+    allocate(character(len=n) :: str)
     do i = 1, n
-      msg(i:i) = chars(i)
+      str(i:i) = chars(i)
     end do
-  end function gran_strerror
+  end function gran_c_string
+
+  !> Build configuration of the linked library (compiler, flags, CUDA).
+  function gran_get_build_config() result(config)
+    character(len=:), allocatable :: config
+    type(c_ptr) :: p
+    if (c_gran_get_build_config(p) /= GRAN_SUCCESS) then
+      config = ''
+    else
+      config = gran_c_string(p)
+    end if
+  end function gran_get_build_config
+
+  !> Forget the last error message of this thread.
+  subroutine gran_clear_error(ierr)
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_clear_error(), ierr)
+  end subroutine gran_clear_error
+
+  !> Number of warnings the library recorded in this thread.
+  subroutine gran_warning_count(count, ierr)
+    integer(c_int64_t), intent(out) :: count
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_warning_count(count), ierr)
+  end subroutine gran_warning_count
+
+  !> Text of the last warning recorded in this thread ('' when none).
+  function gran_last_warning() result(msg)
+    character(len=:), allocatable :: msg
+    character(kind=c_char) :: buf(1024)
+    buf = c_null_char
+    if (c_gran_last_warning_copy(buf, int(size(buf), c_int64_t)) /= 0) buf(1) = c_null_char
+    msg = gran_buffer_string(buf)
+  end function gran_last_warning
+
+  !> Whether the CUDA backend was compiled in (1) or not (0).
+  subroutine gran_cuda_compiled(compiled, ierr)
+    integer, intent(out) :: compiled
+    integer, intent(out), optional :: ierr
+    integer(c_int) :: c
+    c = 0
+    call gran_check(c_gran_cuda_compiled(c), ierr)
+    compiled = int(c)
+  end subroutine gran_cuda_compiled
+
+  !> Number of visible CUDA devices (0 without a GPU or without the CUDA backend).
+  subroutine gran_cuda_device_count(count, ierr)
+    integer, intent(out) :: count
+    integer, intent(out), optional :: ierr
+    integer(c_int) :: c
+    c = 0
+    call gran_check(c_gran_cuda_device_count(c), ierr)
+    count = int(c)
+  end subroutine gran_cuda_device_count
 
   !> Message of the last failure in this thread.
   function gran_last_error_message() result(msg)
     character(len=:), allocatable :: msg
     character(kind=c_char) :: buf(1024)
-    integer :: i, n
     buf = c_null_char
     if (c_gran_last_error_copy(buf, int(size(buf), c_int64_t)) /= 0) buf(1) = c_null_char
+    msg = gran_buffer_string(buf)
+  end function gran_last_error_message
+
+  !> The characters of buf up to its first NUL.
+  function gran_buffer_string(buf) result(str)
+    character(kind=c_char), intent(in) :: buf(:)
+    character(len=:), allocatable :: str
+    integer :: i, n
     n = 0
     do while (n < size(buf))
       if (buf(n + 1) == c_null_char) exit
       n = n + 1
     end do
-    allocate(character(len=n) :: msg)
+    allocate(character(len=n) :: str)
     do i = 1, n
-      msg(i:i) = buf(i)
+      str(i:i) = buf(i)
     end do
-  end function gran_last_error_message
+  end function gran_buffer_string
 
   !> Hand a C status to the optional ierr; without ierr, stop with the message on failure.
   subroutine gran_check(status, ierr)

@@ -1,0 +1,49 @@
+! t001-errors-f.f90 - Fortran twin of t001: version, build configuration, status codes and
+! messages, warnings and the CUDA queries through the module.
+program t001_errors_f
+  use granary
+  use, intrinsic :: iso_c_binding
+  implicit none
+  integer :: major, minor, patch, ierr, compiled, ngpu
+  integer(c_int64_t) :: nwarn
+  type(c_ptr) :: mix
+  character(len=:), allocatable :: cfg
+
+  call gran_get_version(major, minor, patch)
+  call expect(major == GRAN_VERSION_MAJOR .and. minor == GRAN_VERSION_MINOR .and. &
+              patch == GRAN_VERSION_PATCH, 'version matches the module parameters')
+  cfg = gran_get_build_config()
+  call expect(index(cfg, 'cuda=') > 0, 'build configuration names the CUDA setting: ' // cfg)
+  call expect(index(gran_strerror(GRAN_ERR_ARG), 'GRAN_ERR_ARG') == 1, 'strerror names GRAN_ERR_ARG')
+  call expect(index(gran_strerror(12345), 'unknown') > 0, 'strerror of an unknown code')
+
+  ! a failing call hands its status to ierr and leaves a message naming the argument
+  call gran_mixture_create(mix, density=[0.1d0, -1d0], ierr=ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'negative density gives GRAN_ERR_ARG')
+  call expect(index(gran_last_error_message(), 'density') > 0, &
+              'message names density: ' // gran_last_error_message())
+  call gran_clear_error()
+  call expect(len(gran_last_error_message()) == 0, 'clear_error empties the message')
+
+  call gran_warning_count(nwarn)
+  call expect(nwarn >= 0, 'warning count is readable')
+  call expect(len(gran_last_warning()) >= 0, 'last warning is readable')
+
+  call gran_cuda_compiled(compiled)
+  call expect(compiled == 0 .or. compiled == 1, 'cuda_compiled is 0 or 1')
+  call gran_cuda_device_count(ngpu)
+  call expect(ngpu >= 0, 'device count is not negative')
+  print '(a)', 't001-errors-f: all checks passed'
+
+contains
+
+  subroutine expect(ok, what)
+    logical, intent(in) :: ok
+    character(len=*), intent(in) :: what
+    if (.not. ok) then
+      print '(a)', 'FAIL: ' // what
+      error stop 1
+    end if
+    print '(a)', 'ok: ' // what
+  end subroutine expect
+end program t001_errors_f
