@@ -33,6 +33,7 @@ program t001_errors_f
   call expect(compiled == 0 .or. compiled == 1, 'cuda_compiled is 0 or 1')
   call gran_cuda_device_count(ngpu)
   call expect(ngpu >= 0, 'device count is not negative')
+  deallocate(cfg) ! main-program variables are never freed automatically (LeakSanitizer)
   print '(a)', 't001-errors-f: all checks passed'
 
 contains
