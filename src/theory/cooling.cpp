@@ -25,7 +25,6 @@ namespace {
 
 using namespace gran;
 
-const double C15 = 8.0 / 3.0 * 2.5066282746310002; /* (8/3) sqrt(2 pi) */
 
 /* ---- SIMD: std::sqrt does not vectorise under -fmath-errno, so the pair pass uses intrinsics --- */
 #if defined(__AVX512F__)

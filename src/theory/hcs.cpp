@@ -38,7 +38,6 @@ namespace {
 
 using namespace gran;
 
-const double C15 = 8.0 / 3.0 * 2.5066282746310002; /* (8/3) sqrt(2 pi) */
 
 struct Pass {
   std::vector<double> xi, d, l, nu;

@@ -31,6 +31,10 @@ struct gran_mixture {
 
 namespace gran {
 
+/* Prefactor of the cooling rates and velocity correlation times, Eqs. 11 and 15: (8/3) sqrt(2 pi). */
+constexpr double C15 = 8.0 / 3.0 * 2.5066282746310002;
+
+
 /* sigma_ki = (sigma_k + sigma_i)/2 */
 static inline double mix_sigma_pair(const gran_mixture *x, int64_t k, int64_t i) {
   return 0.5 * (x->sigma[(size_t)k] + x->sigma[(size_t)i]);
