@@ -194,49 +194,40 @@ int check_batch(const gran_rng *rng, int64_t n, const void *out, const char *out
 }
 }  // namespace
 
-/** @brief n raw 64-bit outputs.  @param[in,out] rng  @param[in] n >= 0  @param[out] out n values */
-GRAN_EXTERN int gran_rng_u64(gran_rng *rng, int64_t n, uint64_t *out) {
+namespace {
+/* Batch draw: n values of `draw` on a local copy of the state (kept in registers), then stored. */
+template <class T, class Draw> int fill(gran_rng *rng, int64_t n, T *out, Draw draw) {
   GRAN_CALL(check_batch(rng, n, out, "out"));
-  gran_rng g = *rng; /* local copy: the state stays in registers */
-  for (int64_t i = 0; i < n; i++) out[i] = gran::rng_next(&g);
+  gran_rng g = *rng;
+  for (int64_t i = 0; i < n; i++) out[i] = draw(&g);
   *rng = g;
   return GRAN_SUCCESS;
+}
+}  // namespace
+
+/** @brief n raw 64-bit outputs.  @param[in,out] rng  @param[in] n >= 0  @param[out] out n values */
+GRAN_EXTERN int gran_rng_u64(gran_rng *rng, int64_t n, uint64_t *out) {
+  return fill(rng, n, out, [](gran_rng *g) { return gran::rng_next(g); });
 }
 
 /** @brief n uniforms in [0,1): multiples of 2^-53 (the top 53 bits of an output). */
 GRAN_EXTERN int gran_rng_uniform(gran_rng *rng, int64_t n, double *out) {
-  GRAN_CALL(check_batch(rng, n, out, "out"));
-  gran_rng g = *rng;
-  for (int64_t i = 0; i < n; i++) out[i] = gran::rng_uniform(&g);
-  *rng = g;
-  return GRAN_SUCCESS;
+  return fill(rng, n, out, [](gran_rng *g) { return gran::rng_uniform(g); });
 }
 
 /** @brief n uniforms in (0,1]: multiples of 2^-53, never 0 (safe for log). */
 GRAN_EXTERN int gran_rng_uniform_pos(gran_rng *rng, int64_t n, double *out) {
-  GRAN_CALL(check_batch(rng, n, out, "out"));
-  gran_rng g = *rng;
-  for (int64_t i = 0; i < n; i++) out[i] = gran::rng_uniform_pos(&g);
-  *rng = g;
-  return GRAN_SUCCESS;
+  return fill(rng, n, out, [](gran_rng *g) { return gran::rng_uniform_pos(g); });
 }
 
 /** @brief n exponential deviates of mean 1 (-log of a uniform in (0,1]). */
 GRAN_EXTERN int gran_rng_exponential(gran_rng *rng, int64_t n, double *out) {
-  GRAN_CALL(check_batch(rng, n, out, "out"));
-  gran_rng g = *rng;
-  for (int64_t i = 0; i < n; i++) out[i] = gran::rng_exponential(&g);
-  *rng = g;
-  return GRAN_SUCCESS;
+  return fill(rng, n, out, [](gran_rng *g) { return gran::rng_exponential(g); });
 }
 
 /** @brief n standard normal deviates (Marsaglia polar method, one deviate per accepted pair). */
 GRAN_EXTERN int gran_rng_normal(gran_rng *rng, int64_t n, double *out) {
-  GRAN_CALL(check_batch(rng, n, out, "out"));
-  gran_rng g = *rng;
-  for (int64_t i = 0; i < n; i++) out[i] = gran::rng_normal(&g);
-  *rng = g;
-  return GRAN_SUCCESS;
+  return fill(rng, n, out, [](gran_rng *g) { return gran::rng_normal(g); });
 }
 
 /** @brief n unit vectors uniform on the sphere, interleaved xyz (3n doubles). */

@@ -123,29 +123,23 @@ class Tab {
   }
   /* every key not read is unknown; report the one on the first line */
   void finish() const {
-    if (!v_ || !v_->is_table()) return;
-    std::string bad;
-    unsigned bad_line = 0;
-    for (const auto &kv : v_->as_table()) {
-      if (used_.count(kv.first)) continue;
-      unsigned ln = (unsigned)kv.second.location().line();
-      if (bad.empty() || ln < bad_line) {
-        bad = kv.first;
-        bad_line = ln;
-      }
-    }
-    if (!bad.empty())
-      throw scene_error{fmt_line(file_, bad_line) + ": key '" + key(bad) + "': unknown key" + hint(bad)};
+    fail_first_unknown([&](const std::string &k) { return used_.count(k) > 0; });
   }
   /* Declare the keys this table may hold; any other key fails at once (before any "missing key"
    * message, so a misspelt key is reported as such). */
   void set_known(std::vector<std::string> k) {
     known_ = std::move(k);
+    fail_first_unknown([&](const std::string &key_) {
+      return std::find(known_.begin(), known_.end(), key_) != known_.end();
+    });
+  }
+  /* Throw for the key on the earliest line that `accepted` rejects (none: nothing). */
+  template <class Accept> void fail_first_unknown(Accept accepted) const {
     if (!v_ || !v_->is_table()) return;
     std::string bad;
     unsigned bad_line = 0;
     for (const auto &kv : v_->as_table()) {
-      if (std::find(known_.begin(), known_.end(), kv.first) != known_.end()) continue;
+      if (accepted(kv.first)) continue;
       unsigned ln = (unsigned)kv.second.location().line();
       if (bad.empty() || ln < bad_line) {
         bad = kv.first;
