@@ -20,8 +20,8 @@ NVCC    ?= $(firstword $(shell command -v nvcc 2>/dev/null) $(wildcard /usr/loca
 CUDA_HOME ?= $(patsubst %/bin/nvcc,%,$(NVCC))
 CUDA_ARCH ?= -gencode arch=compute_90,code=sm_90 -gencode arch=compute_90,code=compute_90
 
-PKGS     := gsl fftw3 hdf5 cmocka
-DEB_PKGS := pkg-config libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran
+PKGS     := gsl fftw3 hdf5 cmocka zlib
+DEB_PKGS := pkg-config zlib1g-dev libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran
 DEPS_OK   = pkg-config --exists $(PKGS) 2>/dev/null && [ -f /usr/include/toml.hpp ] && command -v $(FC) >/dev/null 2>&1
 
 # ---- configuration, cached in $(BUILD)/config.mk (installs missing packages first) ------------
@@ -36,7 +36,7 @@ $(CONFIG): Makefile
 	@if ! ( $(DEPS_OK) ); then $(MAKE) --no-print-directory deps; fi
 	@( $(DEPS_OK) ) || { echo "granary: dependencies still missing (see 'make deps')" >&2; exit 1; }
 	@echo "PKG_CFLAGS := $$(pkg-config --cflags $(PKGS))" > $@.tmp
-	@echo "PKG_LIBS := $$(pkg-config --libs gsl fftw3 hdf5)" >> $@.tmp
+	@echo "PKG_LIBS := $$(pkg-config --libs gsl fftw3 hdf5 zlib)" >> $@.tmp
 	@echo "CMOCKA_LIBS := $$(pkg-config --libs cmocka)" >> $@.tmp
 	@mv $@.tmp $@
 
@@ -209,4 +209,4 @@ help:
 clean:
 	rm -rf build build-asan
 
--include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD)/obj $(BUILD)/tests $(BUILD)/bench -name "*.d" 2>/dev/null)

@@ -52,6 +52,12 @@ void gran_warning_add(const char *fmt, ...) __attribute__((format(printf, 1, 2))
     return GRAN_ERROR(GRAN_ERR_INTERNAL, "unexpected exception");                    \
   }
 
+/* DSMC engine state into / from a group of an HDF5 file that is already open (the run driver
+ * builds its files in memory: src/io/h5.cpp); `path` names the file in messages. */
+int gran_dsmc_checkpoint_write_h5_(const gran_dsmc *sim, int64_t file_id, const char *group, const char *path);
+int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran_mixture *mix, gran_dsmc **sim,
+                                  const char *path);
+
 /* The FFTW planner is not thread-safe: every plan creation/destruction in the library holds this
  * lock (defined in src/analysis/tamsd.cpp). Execution of a made plan needs no lock. */
 std::mutex &gran_fftw_planner_mutex();

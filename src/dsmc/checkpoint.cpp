@@ -72,7 +72,14 @@ struct Reader {
   int i64(const char *name, int64_t n, int64_t *x) { return get(name, H5T_NATIVE_INT64, n, x); }
   int i32(const char *name, int64_t n, int32_t *x) { return get(name, H5T_NATIVE_INT32, n, x); }
   int u64(const char *name, int64_t n, uint64_t *x) { return get(name, H5T_NATIVE_UINT64, n, x); }
-  int d1(const char *name, double *x) { return d(name, 1, x); }
+  /* number of values of a dataset (-1 when missing): sizes are checked before anything is allocated */
+  int64_t npoints(const char *name) {
+    if (H5Lexists(g, name, H5P_DEFAULT) <= 0) return -1;
+    H5Handle ds(H5Dopen2(g, name, H5P_DEFAULT), H5Dclose);
+    if (ds.id < 0) return -1;
+    H5Handle space(H5Dget_space(ds.id), H5Sclose);
+    return space.id < 0 ? -1 : (int64_t)H5Sget_simple_extent_npoints(space.id);
+  }
   int i1(const char *name, int64_t *x) { return i64(name, 1, x); }
 };
 
@@ -166,21 +173,66 @@ int state_io(F &f, D *s) {
   return GRAN_SUCCESS;
 }
 
-/* Indices read from a file are used without further checks by the hot loop: refuse a state
- * whose indices lie outside their arrays (a damaged or foreign file). */
+/* Everything read from a file is used without further checks by the hot loop: refuse a state
+ * whose indices lie outside their arrays, whose numbers are not finite, or whose trees are not
+ * the sums of their leaves (a damaged or edited file that still passed the file checksum). */
 int validate_state(const gran_dsmc *s, const char *path) {
   const int64_t N = s->N, M = s->M;
-  bool ok = s->vrng.pos >= 0 && s->vrng.pos <= kRngBuf && s->cand_head >= 0 && s->cand_head < kDsmcPipe &&
-            (s->cand_count == 0 || s->cand_count == kDsmcPipe) && s->traj_next >= 0 &&
-            s->traj_next <= s->opt.traj_samples && s->collisions >= 0 && s->trials >= s->collisions &&
-            std::isfinite(s->t) && s->tprod > 0 && s->tprod <= 1 && !(s->inv_rate < 0);
+  const char *bad = nullptr;
+  auto need = [&](bool ok, const char *what) {
+    if (!ok && !bad) bad = what;
+  };
+  need(s->vrng.pos >= 0 && s->vrng.pos <= kRngBuf, "rng_pos");
+  need(s->cand_head >= 0 && s->cand_head < kDsmcPipe && (s->cand_count == 0 || s->cand_count == kDsmcPipe),
+       "candidate pipeline");
+  need(s->traj_next >= 0 && s->traj_next <= s->opt.traj_samples, "trajectory sample index");
+  need(s->collisions >= 0 && s->trials >= s->collisions && s->bound_raises >= 0 && s->bound_tightenings >= 0,
+       "counters");
+  need(s->coll_at_refresh >= 0 && s->coll_at_refresh <= s->collisions && s->trials_at_refresh >= 0 &&
+           s->trials_at_refresh <= s->trials && s->next_refresh >= 0,
+       "refresh counters");
+  need(std::isfinite(s->t) && std::isfinite(s->t_ref), "time");
+  need(s->tprod > 0 && s->tprod <= 1 && std::isfinite(s->tlog) && s->tlog >= 0, "pending trial time");
+  need(!(s->inv_rate < 0) && !std::isnan(s->inv_rate) && std::isfinite(s->rate) && s->rate >= 0, "trial rate");
+  need(std::isfinite(s->cmax) && s->cmax >= 0, "Bird bound C_max");
+  need(std::isfinite(s->e_initial) && s->e_initial >= 0 && std::isfinite(s->e_diss) && std::isfinite(s->e_diss_c),
+       "energy ledger");
+  need(std::isfinite(s->acc_last) && s->acc_last >= 0 && s->acc_last <= 1, "acceptance");
+  need(std::isfinite(s->volume) && s->volume > 0, "volume");
+  need(!s->pend_on || (std::isfinite(s->pend_t) && s->pend_t >= s->t), "pending collision time");
+  for (int d = 0; d < 3; d++) need(std::isfinite(s->pend_e[d]), "pending collision direction");
   auto cand_ok = [&](const DsmcCand &c) {
     return c.j >= 0 && c.j < N && c.l >= 0 && c.l < N && c.i >= 0 && c.i < M && c.k >= 0 && c.k < M;
   };
   if (s->cand_count > 0)
-    for (int q = 0; q < kDsmcPipe && ok; q++) ok = cand_ok(s->cand[q]);
-  if (s->pend_on) ok = ok && cand_ok(s->pend_c);
-  GRAN_CHECK(ok, GRAN_ERR_IO, "checkpoint '%s' holds an inconsistent engine state (damaged file?)", path);
+    for (int q = 0; q < kDsmcPipe; q++) need(cand_ok(s->cand[q]), "candidate pairs");
+  if (s->pend_on) need(cand_ok(s->pend_c), "pending collision");
+  for (int64_t j = 0; j < 3 * N && !bad; j++) need(std::isfinite(s->p.v[j]), "velocities");
+  if (s->p.r)
+    for (int64_t j = 0; j < N && !bad; j++)
+      need(std::isfinite(s->p.r[3 * j]) && std::isfinite(s->p.r[3 * j + 1]) && std::isfinite(s->p.r[3 * j + 2]) &&
+               std::isfinite(s->p.t_last[j]),
+           "displacements");
+  for (int64_t k = 0; k < M && !bad; k++) {
+    const double b = s->bound[(size_t)k];
+    need(std::isfinite(b) && b >= 0 && b == std::sqrt(s->bound2[(size_t)k]), "speed bounds");
+    /* a bound is an upper bound of the speeds of its species */
+    for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1] && !bad; j++) {
+      const double *v = s->p.v + 3 * j;
+      need(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] <= s->bound2[(size_t)k] * (1 + 1e-12), "speed bounds");
+    }
+  }
+  for (int r = 0; r < 3 && !bad; r++) need(std::isfinite(s->uv[r]) && s->uv[r] >= 0, "rank-one weights");
+  if (s->selector == GRAN_SELECTOR_LOWRANK) {
+    for (const gran_segtree *t : {&s->u[0], &s->u[1], &s->u[2], &s->v[0], &s->v[1], &s->v[2]}) {
+      for (int64_t i = t->base; i < 2 * t->base && !bad; i++) need(std::isfinite(t->node[i]) && t->node[i] >= 0, "tree leaves");
+      for (int64_t i = 1; i < t->base && !bad; i++) need(t->node[i] == t->node[2 * i] + t->node[2 * i + 1], "tree sums");
+    }
+  }
+  for (int64_t c : s->ccount) need(c >= 0 && c <= s->collisions, "collision counts");
+  for (double x : s->traj_xyz) need(!std::isinf(x), "trajectories");
+  GRAN_CHECK(!bad, GRAN_ERR_IO, "checkpoint '%s' holds an inconsistent engine state (%s; damaged or edited file?)",
+             path, bad);
   return GRAN_SUCCESS;
 }
 
@@ -212,6 +264,34 @@ bool file_exists(const char *path) {
 
 using namespace gran;
 
+/* The engine state into group `group` of the open HDF5 file `fid` (`path` names it in messages). */
+int gran_dsmc_checkpoint_write_h5_(const gran_dsmc *sim, int64_t file_id, const char *group, const char *path) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    const hid_t fid = (hid_t)file_id;
+    if (H5Lexists(fid, group, H5P_DEFAULT) > 0)
+      GRAN_CHECK(H5Ldelete(fid, group, H5P_DEFAULT) >= 0, GRAN_ERR_IO, "cannot replace group '%s' in '%s'", group,
+                 path);
+    H5Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+    H5Pset_create_intermediate_group(lcpl.id, 1);
+    H5Handle g(H5Gcreate2(fid, group, lcpl.id, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "cannot create group '%s' in '%s'", group, path);
+    {
+      H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+      H5Tset_size(type.id, std::strlen(kFormat));
+      H5Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+      H5Handle at(H5Acreate2(g.id, "format", type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+      GRAN_CHECK(at.id >= 0 && H5Awrite(at.id, type.id, kFormat) >= 0, GRAN_ERR_IO,
+                 "cannot write attribute 'format' in '%s'", path);
+    }
+    Writer w{g.id, path};
+    GRAN_CALL(options_io_write(w, sim));
+    GRAN_CALL(state_io(w, const_cast<gran_dsmc *>(sim))); /* the writer only reads the state */
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
 /** @brief Write the complete engine state into group `group` of the HDF5 file `path` (created if
  *  missing; an existing group of that name is replaced). */
 GRAN_EXTERN int gran_dsmc_checkpoint_write(const gran_dsmc *sim, const char *path, const char *group) {
@@ -232,45 +312,22 @@ GRAN_EXTERN int gran_dsmc_checkpoint_write(const gran_dsmc *sim, const char *pat
     }
     GRAN_CHECK(fid >= 0, GRAN_ERR_IO, "cannot open or create checkpoint file '%s' for writing", path);
     H5Handle file(fid, H5Fclose);
-    if (H5Lexists(fid, group, H5P_DEFAULT) > 0)
-      GRAN_CHECK(H5Ldelete(fid, group, H5P_DEFAULT) >= 0, GRAN_ERR_IO, "cannot replace group '%s' in '%s'", group,
-                 path);
-    H5Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-    H5Pset_create_intermediate_group(lcpl.id, 1);
-    H5Handle g(H5Gcreate2(fid, group, lcpl.id, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-    GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "cannot create group '%s' in '%s'", group, path);
-    {
-      H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-      H5Tset_size(type.id, std::strlen(kFormat));
-      H5Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-      H5Handle at(H5Acreate2(g.id, "format", type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-      GRAN_CHECK(at.id >= 0 && H5Awrite(at.id, type.id, kFormat) >= 0, GRAN_ERR_IO,
-                 "cannot write attribute 'format' in '%s'", path);
-    }
-    Writer w{g.id, path};
-    GRAN_CALL(options_io_write(w, sim));
-    GRAN_CALL(state_io(w, const_cast<gran_dsmc *>(sim))); /* the writer only reads the state */
+    GRAN_CALL(gran_dsmc_checkpoint_write_h5_(sim, fid, group, path));
     GRAN_CHECK(H5Fflush(fid, H5F_SCOPE_LOCAL) >= 0, GRAN_ERR_IO, "cannot flush checkpoint file '%s'", path);
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
 }
 
-/** @brief New engine from the state in group `group` of `path`; `mix` must be the mixture the
- *  state was made with (checked: species count, masses, diameters, restitution model). */
-GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, const gran_mixture *mix,
-                                          gran_dsmc **sim) {
+/* A new engine from group `group` of the open HDF5 file `file_id` (`path` names it in messages). */
+int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran_mixture *mix, gran_dsmc **sim,
+                                  const char *path) {
   GRAN_TRY {
     GRAN_CHECK_PTR(sim);
     *sim = nullptr;
-    GRAN_CHECK_PTR(path);
-    GRAN_CHECK_PTR(group);
     GRAN_CALL(check_mixture(mix, "mix"));
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    GRAN_CHECK(file_exists(path) && H5Fis_hdf5(path) > 0, GRAN_ERR_IO, "checkpoint file '%s' is missing or not HDF5",
-               path);
-    H5Handle file(H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-    GRAN_CHECK(file.id >= 0, GRAN_ERR_IO, "cannot open checkpoint file '%s'", path);
+    H5Handle file(-1, nullptr);
+    file.id = (hid_t)file_id;
     GRAN_CHECK(H5Lexists(file.id, group, H5P_DEFAULT) > 0, GRAN_ERR_IO, "checkpoint file '%s' has no group '%s'", path,
                group);
     H5Handle g(H5Gopen2(file.id, group, H5P_DEFAULT), H5Gclose);
@@ -303,6 +360,11 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
     const int64_t M = oi[5];
     GRAN_CHECK(M == mix->M, GRAN_ERR_ARG,
                "mixture 'mix' has " GRAN_I64_FMT " species, the checkpoint '%s' " GRAN_I64_FMT, mix->M, path, M);
+    GRAN_CHECK(oi[0] >= 0 && oi[0] <= GRAN_SELECTOR_BIRD_PAPER && oi[1] >= 0 && oi[1] <= 7 && oi[2] >= 0 &&
+                   oi[3] >= 0 && oi[4] >= 0 && std::isfinite(od[0]) && std::isfinite(od[1]) && std::isfinite(od[2]),
+               GRAN_ERR_IO, "checkpoint '%s' holds invalid engine options (damaged or edited file?)", path);
+    GRAN_CHECK(rd.npoints("counts") == M, GRAN_ERR_IO, "checkpoint '%s': dataset 'counts' does not have %" PRId64 " values",
+               path, M);
     std::vector<int64_t> counts((size_t)M);
     std::vector<double> mass((size_t)M), sigma((size_t)M);
     int64_t model;
@@ -317,8 +379,30 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
     GRAN_CHECK(model == mix->model, GRAN_ERR_ARG,
                "mixture 'mix' does not match checkpoint '%s': restitution model %d, checkpoint %d", path, mix->model,
                (int)model);
+    /* the particle arrays are allocated from the counts: the counts must match the velocities on
+     * disk before anything is allocated (an edited count asks for memory the file cannot fill) */
+    int64_t N = 0;
+    for (int64_t k = 0; k < M; k++) {
+      GRAN_CHECK(counts[(size_t)k] >= 0 && counts[(size_t)k] <= ((int64_t)1 << 40), GRAN_ERR_IO,
+                 "checkpoint '%s': count of species %" PRId64 " is %" PRId64, path, k, counts[(size_t)k]);
+      N += counts[(size_t)k];
+    }
+    GRAN_CHECK(rd.npoints("v") == 3 * N, GRAN_ERR_IO,
+               "checkpoint '%s': %" PRId64 " velocity values for %" PRId64 " particles (damaged or edited file?)", path,
+               rd.npoints("v"), N);
+    if (o.observe & GRAN_OBSERVE_TRAJECTORIES) {
+      int64_t ntraj = 0;
+      for (int64_t k = 0; k < M; k++) ntraj += std::min(o.traj_per_species, counts[(size_t)k]);
+      GRAN_CHECK(ntraj == 0 || (o.traj_samples <= ((int64_t)1 << 40) / ntraj &&
+                                rd.npoints("trajectories") == 3 * ntraj * o.traj_samples),
+                 GRAN_ERR_IO, "checkpoint '%s': trajectory sizes do not match the stored trajectories", path);
+    }
     gran_dsmc *s = new gran_dsmc();
     int ierr = dsmc_alloc(mix, counts.data(), &o, s);
+    /* the trees over v^(r) depend on the counts only: the file must hold what dsmc_alloc built */
+    std::vector<double> vtree[3];
+    if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK)
+      for (int r = 0; r < 3; r++) vtree[r].assign(s->v[r].node, s->v[r].node + 2 * s->v[r].base);
     if (ierr == GRAN_SUCCESS && H5Lexists(g.id, "tracer", H5P_DEFAULT) > 0) {
       std::vector<int32_t> trc((size_t)M);
       ierr = rd.i32("tracer", M, trc.data());
@@ -332,12 +416,37 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
     }
     if (ierr == GRAN_SUCCESS) ierr = state_io(rd, s);
     if (ierr == GRAN_SUCCESS) ierr = validate_state(s, path);
+    if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK)
+      for (int r = 0; r < 3 && ierr == GRAN_SUCCESS; r++)
+        if (std::memcmp(vtree[r].data(), s->v[r].node, sizeof(double) * vtree[r].size()) != 0)
+          ierr = GRAN_ERROR(GRAN_ERR_IO, "checkpoint '%s': the species trees do not match the counts (damaged file?)",
+                            path);
     if (ierr != GRAN_SUCCESS) {
       gran_dsmc_destroy(&s);
       return ierr;
     }
     *sim = s;
     return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief New engine from the state in group `group` of `path`; `mix` must be the mixture the
+ *  state was made with (checked: species count, masses, diameters, restitution model). */
+GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, const gran_mixture *mix,
+                                          gran_dsmc **sim) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(sim);
+    *sim = nullptr;
+    GRAN_CHECK_PTR(path);
+    GRAN_CHECK_PTR(group);
+    GRAN_CALL(check_mixture(mix, "mix"));
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    GRAN_CHECK(file_exists(path) && H5Fis_hdf5(path) > 0, GRAN_ERR_IO, "checkpoint file '%s' is missing or not HDF5",
+               path);
+    H5Handle file(H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    GRAN_CHECK(file.id >= 0, GRAN_ERR_IO, "cannot open checkpoint file '%s'", path);
+    return gran_dsmc_checkpoint_read_h5_(file.id, group, mix, sim, path);
   }
   GRAN_CATCH
 }

@@ -2,9 +2,14 @@
  * file and the object) and the atomic file commit (fsync + rename + fsync of the folder). */
 #include <hdf5.h>
 
+#include <zlib.h>
+
+#include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "io/io_impl.h"
@@ -110,11 +115,13 @@ static int attr_any(int64_t loc, const char *name, hid_t type, const void *data,
   return GRAN_SUCCESS;
 }
 
+/* Strings are variable-length UTF-8, so that h5py returns str (not bytes). */
 int attr_string(int64_t loc, const char *name, const std::string &value, const char *file) {
   hid_t t = H5Tcopy(H5T_C_S1);
-  H5Tset_size(t, value.size() + 1);
-  H5Tset_strpad(t, H5T_STR_NULLTERM);
-  int st = attr_any(loc, name, t, value.c_str(), file);
+  H5Tset_size(t, H5T_VARIABLE);
+  H5Tset_cset(t, H5T_CSET_UTF8);
+  const char *p = value.c_str();
+  int st = attr_any(loc, name, t, &p, file);
   H5Tclose(t);
   return st;
 }
@@ -132,18 +139,34 @@ int read_attr_string(int64_t loc, const char *name, std::string &value, const ch
   hid_t a = H5Aopen((hid_t)loc, name, H5P_DEFAULT);
   if (a < 0) return GRAN_ERROR(GRAN_ERR_IO, "HDF5: attribute '%s' missing in '%s'", name, file);
   hid_t ft = H5Aget_type(a);
-  int ok = ft >= 0 && H5Tget_class(ft) == H5T_STRING && !H5Tis_variable_str(ft);
-  size_t n = ok ? H5Tget_size(ft) : 0;
+  hid_t sp = H5Aget_space(a);
+  /* a scalar string, fixed or variable length (older files hold fixed-length ASCII) */
+  const int ok = ft >= 0 && sp >= 0 && H5Tget_class(ft) == H5T_STRING && H5Sget_simple_extent_npoints(sp) == 1;
   herr_t st = -1;
-  if (ok) {
+  if (ok && H5Tis_variable_str(ft) > 0) {
     hid_t mt = H5Tcopy(H5T_C_S1);
-    H5Tset_size(mt, n);
-    H5Tset_strpad(mt, H5T_STR_NULLTERM);
-    std::string buf(n, '\0');
-    st = H5Aread(a, mt, &buf[0]);
+    H5Tset_size(mt, H5T_VARIABLE);
+    H5Tset_cset(mt, H5Tget_cset(ft));
+    char *p = nullptr;
+    st = H5Aread(a, mt, &p);
+    if (st >= 0) {
+      value.assign(p ? p : "");
+      H5free_memory(p);
+    }
     H5Tclose(mt);
-    if (st >= 0) value.assign(buf.c_str());
+  } else if (ok) {
+    const size_t n = H5Tget_size(ft);
+    if (n > 0 && n < ((size_t)1 << 30)) {
+      hid_t mt = H5Tcopy(H5T_C_S1);
+      H5Tset_size(mt, n + 1);
+      H5Tset_strpad(mt, H5T_STR_NULLTERM);
+      std::string buf(n + 1, '\0');
+      st = H5Aread(a, mt, &buf[0]);
+      H5Tclose(mt);
+      if (st >= 0) value.assign(buf.c_str());
+    }
   }
+  if (sp >= 0) H5Sclose(sp);
   if (ft >= 0) H5Tclose(ft);
   H5Aclose(a);
   if (st < 0) return GRAN_ERROR(GRAN_ERR_IO, "HDF5: cannot read string attribute '%s' in '%s'", name, file);
@@ -160,6 +183,156 @@ int read_attr_int64(int64_t loc, const char *name, int64_t *value, const char *f
 }
 
 int exists(int64_t loc, const char *name) { return H5Lexists((hid_t)loc, name, H5P_DEFAULT) > 0; }
+
+int describe(int64_t loc, const char *name, const char *units, const char *description, const char *file) {
+  hid_t o = H5Oopen((hid_t)loc, name, H5P_DEFAULT);
+  if (o < 0) return GRAN_ERROR(GRAN_ERR_IO, "HDF5: object '%s' missing in '%s'", name, file);
+  int st = attr_string(o, "units", units, file);
+  if (st == GRAN_SUCCESS) st = attr_string(o, "description", description, file);
+  H5Oclose(o);
+  return st;
+}
+
+}  // namespace gran_h5
+
+/* ---- files built in memory, written with a checksum ------------------------------------------
+ * The HDF5 library never writes to disk itself here: the file is built with the core driver (no
+ * backing store), its image is copied out, the library's handle is closed (in memory: it cannot
+ * fail on a full disk), and the bytes are written by write(2) into PATH.tmp, fsync'ed and renamed.
+ * A full disk is then an ordinary error of ours, reported with every HDF5 object already closed.
+ * The first kUserBlock bytes (an HDF5 user block: HDF5 finds the superblock at offset 512 and
+ * every reader, h5py included, skips what lies before it) hold a text header with the length of the file and the CRC-32 (zlib) of everything after it;
+ * open_verified() checks both before HDF5 parses a single byte of a checkpoint. */
+namespace gran_h5 {
+
+static const size_t kUserBlock = 512;
+static const char kMagic[] = "granary-file 1\n";
+
+int64_t create_memory_file() {
+  quiet();
+  static std::atomic<uint64_t> serial{0};
+  char name[64];
+  std::snprintf(name, sizeof name, "granary-memory-image-%d-%llu", (int)getpid(),
+                (unsigned long long)serial.fetch_add(1));
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  hid_t f = -1;
+  if (fapl >= 0 && H5Pset_fapl_core(fapl, (size_t)1 << 20, 0) >= 0) f = H5Fcreate(name, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  if (fapl >= 0) H5Pclose(fapl);
+  return (int64_t)f;
+}
+
+/* write all of buf to fd; errno describes a failure */
+static bool write_all(int fd, const unsigned char *buf, size_t n) {
+  while (n > 0) {
+    ssize_t w = write(fd, buf, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      if (w == 0) errno = ENOSPC;
+      return false;
+    }
+    buf += w;
+    n -= (size_t)w;
+  }
+  return true;
+}
+
+int commit_memory_file(int64_t *file, const std::string &path, const char *what) {
+  const hid_t f = (hid_t)*file;
+  *file = -1;
+  /* the image of the file as HDF5 built it; the header goes in front of it (HDF5 finds its
+   * superblock at offset 512 and takes that as the base address of the file) */
+  std::vector<unsigned char> img;
+  ssize_t n = H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0 ? H5Fget_file_image(f, nullptr, 0) : -1;
+  if (n > 0) {
+    img.resize(kUserBlock + (size_t)n);
+    if (H5Fget_file_image(f, img.data() + kUserBlock, (size_t)n) != n) n = -1;
+  }
+  const bool closed = H5Fclose(f) >= 0;
+  if (n <= 0 || !closed)
+    return GRAN_ERROR(GRAN_ERR_IO, "HDF5: cannot assemble the %s '%s' in memory", what, path.c_str());
+  uLong c = crc32(0L, Z_NULL, 0);
+  for (size_t off = kUserBlock; off < img.size();) { /* zlib takes uInt lengths */
+    const size_t len = std::min(img.size() - off, (size_t)1 << 30);
+    c = crc32(c, img.data() + off, (uInt)len);
+    off += len;
+  }
+  char head[kUserBlock];
+  std::memset(head, 0, sizeof head);
+  std::snprintf(head, sizeof head, "%slength %zu\ncrc32 %08lx\n", kMagic, img.size(), (unsigned long)c);
+  std::memcpy(img.data(), head, kUserBlock);
+  const std::string tmp = path + ".tmp";
+  int fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) return GRAN_ERROR(GRAN_ERR_IO, "cannot create the %s '%s': %s", what, tmp.c_str(), std::strerror(errno));
+  if (!write_all(fd, img.data(), img.size()) || fsync(fd) != 0) {
+    const int e = errno;
+    close(fd);
+    std::remove(tmp.c_str());
+    return GRAN_ERROR(GRAN_ERR_IO, "cannot write the %s '%s' (%zu bytes): %s; nothing was replaced", what,
+                      tmp.c_str(), img.size(), std::strerror(e));
+  }
+  if (close(fd) != 0) {
+    const int e = errno;
+    std::remove(tmp.c_str());
+    return GRAN_ERROR(GRAN_ERR_IO, "cannot close the %s '%s': %s", what, tmp.c_str(), std::strerror(e));
+  }
+  const int st = gran_io_commit_file_(tmp, path);
+  if (st != GRAN_SUCCESS) std::remove(tmp.c_str());
+  return st;
+}
+
+int verify_file(const char *path, const char *what) {
+  struct stat sb;
+  if (stat(path, &sb) != 0) return GRAN_ERROR(GRAN_ERR_IO, "cannot open the %s '%s': %s", what, path, std::strerror(errno));
+  if (!S_ISREG(sb.st_mode)) return GRAN_ERROR(GRAN_ERR_IO, "the %s '%s' is not a regular file", what, path);
+  int fd = open(path, O_RDONLY);
+  if (fd < 0) return GRAN_ERROR(GRAN_ERR_IO, "cannot open the %s '%s': %s", what, path, std::strerror(errno));
+  std::vector<unsigned char> buf((size_t)1 << 20);
+  size_t got = 0;
+  bool ok = true;
+  while (got < kUserBlock && ok) {
+    ssize_t r = read(fd, buf.data() + got, kUserBlock - got);
+    if (r < 0 && errno == EINTR) continue;
+    ok = r > 0;
+    if (ok) got += (size_t)r;
+  }
+  size_t length = 0;
+  unsigned long want = 0;
+  if (ok) {
+    buf[kUserBlock - 1] = 0;
+    const char *h = (const char *)buf.data();
+    ok = std::strncmp(h, kMagic, sizeof kMagic - 1) == 0 &&
+         std::sscanf(h + sizeof kMagic - 1, "length %zu\ncrc32 %lx\n", &length, &want) == 2;
+  }
+  if (!ok) {
+    close(fd);
+    return GRAN_ERROR(GRAN_ERR_IO, "the %s '%s' has no granary checksum header (not written by granary >= 0.2, or damaged)",
+                      what, path);
+  }
+  if ((uint64_t)sb.st_size != (uint64_t)length) {
+    close(fd);
+    return GRAN_ERROR(GRAN_ERR_IO, "the %s '%s' is damaged: %lld bytes on disk, %zu written", what, path,
+                      (long long)sb.st_size, length);
+  }
+  uLong c = crc32(0L, Z_NULL, 0);
+  size_t total = kUserBlock;
+  for (;;) {
+    ssize_t r = read(fd, buf.data(), buf.size());
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0) {
+      const int e = errno;
+      close(fd);
+      return GRAN_ERROR(GRAN_ERR_IO, "cannot read the %s '%s': %s", what, path, std::strerror(e));
+    }
+    if (r == 0) break;
+    c = crc32(c, buf.data(), (uInt)r);
+    total += (size_t)r;
+  }
+  close(fd);
+  if (total != length || (unsigned long)c != want)
+    return GRAN_ERROR(GRAN_ERR_IO, "the %s '%s' is damaged: checksum mismatch (CRC-32 %08lx, header %08lx)", what, path,
+                      (unsigned long)c, want);
+  return GRAN_SUCCESS;
+}
 
 }  // namespace gran_h5
 

@@ -99,6 +99,15 @@ int attr_uint64(int64_t loc, const char *name, uint64_t value, const char *file)
 int read_attr_string(int64_t loc, const char *name, std::string &value, const char *file);
 int read_attr_int64(int64_t loc, const char *name, int64_t *value, const char *file);
 int exists(int64_t loc, const char *name);
+/* Files built in memory and committed with a checksum (see h5.cpp): create_memory_file() < 0 on
+ * failure; commit_memory_file() closes *file (sets it to -1) and writes PATH.tmp -> PATH;
+ * verify_file() checks the header and checksum before HDF5 reads the file. `what` names the file
+ * in messages ("output file", "checkpoint"). */
+int64_t create_memory_file();
+int commit_memory_file(int64_t *file, const std::string &path, const char *what);
+int verify_file(const char *path, const char *what);
+/* units and description attributes of dataset `name` under `loc` */
+int describe(int64_t loc, const char *name, const char *units, const char *description, const char *file);
 }  // namespace gran_h5
 
 /* Flush a closed file to disk (fsync) and rename it over its final name; then fsync the folder. */

@@ -304,12 +304,11 @@ int write_tamsd(Run &r, int64_t f, const char *file) {
 int write_output(Run &r, const std::string &path) {
   const gran_scene *s = r.s;
   const int64_t M = s->nspecies, nt = (int64_t)s->times.size();
-  const std::string tmp = path + ".tmp";
-  const char *file = tmp.c_str();
+  const char *file = path.c_str();
   {
     H5File f;
-    f.id = gran_h5::create_file(file);
-    GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot create output file '%s'", file);
+    f.id = gran_h5::create_memory_file();
+    GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "HDF5: cannot create the output file '%s' in memory", file);
     GRAN_CALL(write_root_attrs(r, f.id, file, kOutputFormat));
     {
       H5Group g;
@@ -356,22 +355,18 @@ int write_output(Run &r, const std::string &path) {
       GRAN_CALL(write_theory(r, f.id, file, tt));
     }
     if (s->obs_tamsd) GRAN_CALL(write_tamsd(r, f.id, file));
-    herr_t st = H5Fflush((hid_t)f.id, H5F_SCOPE_GLOBAL);
-    GRAN_CHECK(st >= 0, GRAN_ERR_IO, "cannot flush output file '%s'", file);
+    return gran_h5::commit_memory_file(&f.id, path, "output file");
   }
-  return gran_io_commit_file_(tmp, path);
 }
 
 int write_checkpoint(Run &r) {
-  const std::string tmp = r.ckpt + ".tmp";
-  const char *file = tmp.c_str();
-  std::remove(file);
-  /* the engine first (it creates the file), then the observer state beside it */
-  GRAN_CALL(gran_dsmc_checkpoint_write(r.sim, file, "/engine"));
+  const char *file = r.ckpt.c_str();
   {
     H5File f;
-    f.id = gran_h5::open_file(file, 1);
-    GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot reopen checkpoint '%s'", file);
+    f.id = gran_h5::create_memory_file();
+    GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "HDF5: cannot create the checkpoint '%s' in memory", file);
+    /* the engine, then the observer state beside it */
+    GRAN_CALL(gran_dsmc_checkpoint_write_h5_(r.sim, f.id, "/engine", file));
     GRAN_CALL(write_root_attrs(r, f.id, file, kCheckpointFormat));
     GRAN_CALL(gran_h5::attr_string(f.id, "output", r.out, file));
     GRAN_CALL(gran_h5::attr_int64(f.id, "next_index", r.next, file));
@@ -383,8 +378,10 @@ int write_checkpoint(Run &r) {
       if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, nm.c_str(), {total}, b.n.data(), file));
       else GRAN_CALL(gran_h5::write_double(g.id, nm.c_str(), {total}, b.d.data(), file));
     }
+    gran_h5::close_group(g.id);
+    g.id = -1;
+    return gran_h5::commit_memory_file(&f.id, r.ckpt, "checkpoint");
   }
-  return gran_io_commit_file_(tmp, r.ckpt);
 }
 
 int read_checkpoint_observer(Run &r, const char *path) {
@@ -540,6 +537,8 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
   GRAN_TRY {
     Run r;
     std::string text, name, format, out;
+    /* the whole file against its checksum before HDF5 parses any of it */
+    GRAN_CALL(gran_h5::verify_file(checkpoint, "checkpoint"));
     {
       H5File f;
       f.id = gran_h5::open_file(checkpoint, 0);
