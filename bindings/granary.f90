@@ -61,7 +61,7 @@ module granary
     type(c_ptr) :: mass = c_null_ptr
   end type gran_particles
 
-  public :: gran_get_version, gran_strerror, gran_last_error_message, gran_check
+  public :: gran_get_version, gran_strerror, gran_last_error_message, gran_last_error_location, gran_check
   public :: gran_get_build_config, gran_clear_error, gran_warning_count, gran_last_warning
   public :: gran_cuda_compiled, gran_cuda_device_count
 
@@ -193,6 +193,12 @@ module granary
       integer(c_int64_t), value :: len
       integer(c_int) :: ierr
     end function c_gran_last_error_copy
+    function c_gran_last_error_location_copy(buf, len) bind(C, name='gran_last_error_location_copy') result(ierr)
+      import :: c_int, c_int64_t, c_char
+      character(kind=c_char), intent(out) :: buf(*)
+      integer(c_int64_t), value :: len
+      integer(c_int) :: ierr
+    end function c_gran_last_error_location_copy
     function c_strlen(s) bind(C, name='strlen') result(n)
       import :: c_ptr, c_size_t
       type(c_ptr), value :: s
@@ -1024,6 +1030,15 @@ contains
     if (c_gran_last_error_copy(buf, int(size(buf), c_int64_t)) /= 0) buf(1) = c_null_char
     msg = gran_buffer_string(buf)
   end function gran_last_error_message
+
+  !> Where the last failure in this thread was detected (library function and source line).
+  function gran_last_error_location() result(msg)
+    character(len=:), allocatable :: msg
+    character(kind=c_char) :: buf(512)
+    buf = c_null_char
+    if (c_gran_last_error_location_copy(buf, int(size(buf), c_int64_t)) /= 0) buf(1) = c_null_char
+    msg = gran_buffer_string(buf)
+  end function gran_last_error_location
 
   !> The characters of buf up to its first NUL.
   function gran_buffer_string(buf) result(str)

@@ -74,6 +74,9 @@ GRAN_EXTERN const char *gran_strerror(int code);
 GRAN_EXTERN const char *gran_last_error_message(void);
 /* Copy of that message into buf (NUL-terminated, truncated to len); for Fortran. */
 GRAN_EXTERN int gran_last_error_copy(char *buf, int64_t len);
+/* Where that failure was detected: "function (file.cpp:line), GRAN_ERR_...: text" ("" when none);
+ * for bug reports and `granary --verbose`, kept out of the message itself. */
+GRAN_EXTERN int gran_last_error_location_copy(char *buf, int64_t len);
 GRAN_EXTERN int gran_clear_error(void);
 /* Warnings (e.g. a clamped value) are collected per thread; 0 disables printing them to stderr
  * from the command-line driver. The library itself never prints. */

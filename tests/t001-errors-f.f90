@@ -22,8 +22,13 @@ program t001_errors_f
   call expect(ierr == GRAN_ERR_ARG, 'negative density gives GRAN_ERR_ARG')
   call expect(index(gran_last_error_message(), 'density') > 0, &
               'message names density: ' // gran_last_error_message())
+  call expect(index(gran_last_error_message(), '.cpp') == 0, 'message carries no source location')
+  call expect(index(gran_last_error_location(), '.cpp:') > 0 .and. &
+              index(gran_last_error_location(), 'GRAN_ERR_ARG') > 0, &
+              'location names the source line and the code: ' // gran_last_error_location())
   call gran_clear_error()
   call expect(len(gran_last_error_message()) == 0, 'clear_error empties the message')
+  call expect(len(gran_last_error_location()) == 0, 'clear_error empties the location')
 
   call gran_warning_count(nwarn)
   call expect(nwarn >= 0, 'warning count is readable')

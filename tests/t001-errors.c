@@ -26,11 +26,19 @@ static void test_null_argument_named(void **state) {
   (void)state;
   GRAN_ASSERT_ERR(gran_get_version(NULL, NULL, NULL), GRAN_ERR_ARG);
   assert_non_null(strstr(gran_last_error_message(), "major"));
+  /* the message speaks of the argument; the library's function and source line are kept apart */
+  assert_null(strstr(gran_last_error_message(), ".cpp"));
+  char where[256];
+  GRAN_ASSERT_OK(gran_last_error_location_copy(where, (int64_t)sizeof where));
+  assert_non_null(strstr(where, "errors.cpp:"));
+  assert_non_null(strstr(where, "GRAN_ERR_ARG"));
   char buf[8];
   GRAN_ASSERT_OK(gran_last_error_copy(buf, (int64_t)sizeof buf));
   assert_int_equal(strlen(buf), sizeof buf - 1); /* truncated, terminated */
   GRAN_ASSERT_OK(gran_clear_error());
   assert_string_equal(gran_last_error_message(), "");
+  GRAN_ASSERT_OK(gran_last_error_location_copy(where, (int64_t)sizeof where));
+  assert_string_equal(where, "");
   GRAN_ASSERT_ERR(gran_last_error_copy(NULL, 10), GRAN_ERR_ARG);
 }
 

@@ -5,6 +5,12 @@
 #include "cli.h"
 
 int cli_info(int argc, char **argv) {
+  if (argc > 1 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"))) {
+    std::printf("usage: granary info [--gpu-count]\n"
+                "  version, build configuration (compiler, OPT flags, CUDA architectures), CUDA backend\n"
+                "  and visible GPUs; --gpu-count prints only the number of visible GPUs\n");
+    return 0;
+  }
   int ngpu = 0, compiled = 0;
   gran_cuda_device_count(&ngpu);
   gran_cuda_compiled(&compiled);

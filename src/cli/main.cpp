@@ -4,6 +4,19 @@
 
 #include "cli.h"
 
+int cli_verbose = 0;
+
+const char *cli_error(void) {
+  static char buf[2048];
+  char where[512] = "";
+  gran_last_error_location_copy(where, sizeof where);
+  if (cli_verbose && where[0])
+    std::snprintf(buf, sizeof buf, "%s [%s]", gran_last_error_message(), where);
+  else
+    std::snprintf(buf, sizeof buf, "%s", gran_last_error_message());
+  return buf;
+}
+
 static void usage(FILE *f) {
   std::fprintf(f,
                "usage: granary COMMAND [ARGS]\n"
@@ -13,14 +26,24 @@ static void usage(FILE *f) {
                "  theory SCENE [--times t1,...] [--lags l1,...] [--json]\n"
                "                       kinetic theory of the scene's mixture\n"
                "  info [--gpu-count]   version, build configuration, CUDA backend, visible GPUs\n"
-               "  --help               this text\n"
-               "  --version            the library version\n");
+               "  --help               this text (COMMAND --help: its options)\n"
+               "  --version            the library version\n"
+               "  --verbose            (before COMMAND) errors also name the library function and source line\n");
 }
 
 int main(int argc, char **argv) {
   if (argc < 2) {
     usage(stderr);
     return 2;
+  }
+  if (!std::strcmp(argv[1], "--verbose")) {
+    cli_verbose = 1;
+    argv++;
+    argc--;
+    if (argc < 2) {
+      usage(stderr);
+      return 2;
+    }
   }
   const char *cmd = argv[1];
   if (!std::strcmp(cmd, "--help") || !std::strcmp(cmd, "-h") || !std::strcmp(cmd, "help")) {

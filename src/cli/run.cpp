@@ -27,15 +27,19 @@ void on_sigint(int) {
 
 void run_usage(FILE *f) {
   std::fprintf(f,
-               "usage: granary run SCENE [-o FILE] [--checkpoint FILE | --no-checkpoint] [--quiet]\n"
+               "usage: granary run SCENE [-o FILE] [--force] [--checkpoint FILE | --no-checkpoint] [--quiet]\n"
                "       granary run --resume CHECKPOINT [-o FILE] [--quiet]\n"
                "  -o FILE                    HDF5 output (default: the scene's [output] path)\n"
-               "  --checkpoint FILE          checkpoint file (default: the scene's, OUTPUT.ckpt)\n"
+               "  --force                    overwrite an existing output file (refused without it)\n"
+               "  --checkpoint FILE          checkpoint file (default: the scene's [output] checkpoint,\n"
+               "                             else OUTPUT.ckpt next to the output)\n"
                "  --no-checkpoint            write no checkpoints\n"
                "  --resume CHECKPOINT        continue a run from its checkpoint, bit for bit\n"
                "  --stop-after-checkpoints N stop after writing N checkpoints (for testing resume)\n"
                "  --quiet                    no progress line, no summary table\n"
-               "  Ctrl-C stops at the next output time after writing a checkpoint.\n");
+               "  --verbose                  error messages name the function and source line\n"
+               "  Ctrl-C stops at the next output time: the output file then holds the output times\n"
+               "  reached (attribute complete = 0) and a checkpoint lets --resume finish the run.\n");
 }
 
 struct Progress {
@@ -130,7 +134,7 @@ void summary(const std::string &path) {
 }
 
 int fail(const char *what) {
-  std::fprintf(stderr, "granary run: %s: %s\n", what, gran_last_error_message());
+  std::fprintf(stderr, "granary run: %s: %s\n", what, cli_error());
   return 1;
 }
 
@@ -138,7 +142,7 @@ int fail(const char *what) {
 
 int cli_run(int argc, char **argv) {
   const char *scene_path = nullptr, *output = nullptr, *checkpoint = nullptr, *resume = nullptr;
-  bool quiet = false, no_ckpt = false;
+  bool quiet = false, no_ckpt = false, force = false;
   long long stop_after = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -158,6 +162,10 @@ int cli_run(int argc, char **argv) {
       if (!(checkpoint = need(a))) return 2;
     } else if (!std::strcmp(a, "--no-checkpoint")) {
       no_ckpt = true;
+    } else if (!std::strcmp(a, "--force")) {
+      force = true;
+    } else if (!std::strcmp(a, "--verbose")) {
+      cli_verbose = 1;
     } else if (!std::strcmp(a, "--resume")) {
       if (!(resume = need(a))) return 2;
     } else if (!std::strcmp(a, "--quiet") || !std::strcmp(a, "-q")) {
@@ -227,18 +235,28 @@ int cli_run(int argc, char **argv) {
     const char *p = nullptr;
     gran_scene_output_path(scene, &p);
     out_path = output ? output : p;
+    if (!force && access(out_path.c_str(), F_OK) == 0) {
+      std::fprintf(stderr, "granary run: the output file '%s' exists; give --force to overwrite it (or -o FILE)\n",
+                   out_path.c_str());
+      gran_scene_destroy(&scene);
+      return 1;
+    }
     st = gran_scene_run(scene, output, no_ckpt ? "" : checkpoint, &ctl, &res);
     if (st) {
       fail("run failed");
       gran_scene_destroy(&scene);
       return 1;
     }
-    if (!res.finished && !checkpoint && !no_ckpt) checkpoint = scene->checkpoint_path.c_str();
+    std::string ck_default = scene->checkpoint_path;
+    if (output && !scene->checkpoint_explicit && !ck_default.empty()) ck_default = std::string(output) + ".ckpt";
+    if (!res.finished && !checkpoint && !no_ckpt) checkpoint = ck_default.c_str();
     std::string ck = checkpoint ? checkpoint : "";
     gran_scene_destroy(&scene);
     if (!res.finished) {
-      std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s); continue with\n"
-                           "  granary run --resume %s\n", res.time, res.checkpoints, ck.empty() ? "(no checkpoint)" : ck.c_str());
+      std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s)%s%s; continue with\n"
+                           "  granary run --resume %s\n", res.time, res.checkpoints,
+                   g_interrupted ? "; output times reached so far are in " : "", g_interrupted ? out_path.c_str() : "",
+                   ck.empty() ? "(no checkpoint)" : ck.c_str());
       return g_interrupted ? 130 : 0;
     }
   }

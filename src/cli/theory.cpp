@@ -88,7 +88,7 @@ void jmat(std::string &o, const double *x, int64_t rows, int64_t cols) {
 }
 
 int fail(const char *what) {
-  std::fprintf(stderr, "granary theory: %s: %s\n", what, gran_last_error_message());
+  std::fprintf(stderr, "granary theory: %s: %s\n", what, cli_error());
   return 1;
 }
 

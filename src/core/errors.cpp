@@ -10,6 +10,7 @@
 
 namespace {
 thread_local char g_message[1024] = "";
+thread_local char g_location[512] = "";
 thread_local char g_warning[1024] = "";
 thread_local int64_t g_nwarning = 0;
 
@@ -26,9 +27,12 @@ int gran_error_set(int code, const char *file, int line, const char *func, const
   va_start(ap, fmt);
   std::vsnprintf(msg, sizeof msg, fmt, ap);
   va_end(ap);
+  /* the message says what was wrong in the user's terms; where it was found (the library's own
+   * function and source line) is kept apart, for --verbose and bug reports */
   const char *base = std::strrchr(file, '/');
-  std::snprintf(g_message, sizeof g_message, "%s: %s [%s, %s:%d]", func, msg, gran_strerror(code),
-                base ? base + 1 : file, line);
+  std::snprintf(g_message, sizeof g_message, "%s", msg);
+  std::snprintf(g_location, sizeof g_location, "%s (%s:%d), %s", func, base ? base + 1 : file, line,
+                gran_strerror(code));
   return code;
 }
 
@@ -56,8 +60,10 @@ GRAN_EXTERN const char *gran_strerror(int code) {
 
 GRAN_EXTERN const char *gran_last_error_message(void) { return g_message; }
 GRAN_EXTERN int gran_last_error_copy(char *buf, int64_t len) { return copy_out(g_message, buf, len); }
+GRAN_EXTERN int gran_last_error_location_copy(char *buf, int64_t len) { return copy_out(g_location, buf, len); }
 GRAN_EXTERN int gran_clear_error(void) {
   g_message[0] = '\0';
+  g_location[0] = '\0';
   return GRAN_SUCCESS;
 }
 GRAN_EXTERN int gran_warning_count(int64_t *count) {

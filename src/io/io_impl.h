@@ -67,6 +67,7 @@ struct gran_scene {
   /* [output] */
   std::string output_path;
   std::string checkpoint_path; /* "" = none */
+  int checkpoint_explicit = 0;  /* 1: [output] checkpoint was given (else it follows the output path) */
   double checkpoint_interval = 600.0;
   int64_t checkpoint_every = 0;
   int keep_checkpoint = 0;
@@ -109,6 +110,10 @@ int verify_file(const char *path, const char *what);
 /* units and description attributes of dataset `name` under `loc` */
 int describe(int64_t loc, const char *name, const char *units, const char *description, const char *file);
 }  // namespace gran_h5
+
+/* 1 when the two paths name the same file (device and inode when both exist; otherwise the
+ * canonical paths of their folders and their names). */
+int gran_io_same_file_(const std::string &a, const std::string &b);
 
 /* Flush a closed file to disk (fsync) and rename it over its final name; then fsync the folder. */
 int gran_io_commit_file_(const std::string &tmp, const std::string &path);

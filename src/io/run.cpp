@@ -177,6 +177,22 @@ int check_writable(const std::string &path, const char *what) {
   return GRAN_SUCCESS;
 }
 
+/* Output, checkpoint and scene file must be three different files: compared by identity (two
+ * spellings of one file are one file), after the folders exist. */
+int check_distinct(const Run &r) {
+  const std::string &scene = r.s->name;
+  GRAN_CHECK(!gran_io_same_file_(r.out, r.ckpt), GRAN_ERR_ARG,
+             "the output '%s' and the checkpoint '%s' are the same file", r.out.c_str(), r.ckpt.c_str());
+  GRAN_CHECK(!gran_io_same_file_(r.out, scene), GRAN_ERR_ARG,
+             "the output '%s' is the scene file '%s': it would overwrite the scene", r.out.c_str(), scene.c_str());
+  GRAN_CHECK(!gran_io_same_file_(r.ckpt, scene), GRAN_ERR_ARG,
+             "the checkpoint '%s' is the scene file '%s': it would overwrite the scene", r.ckpt.c_str(), scene.c_str());
+  GRAN_CHECK(!gran_io_same_file_(r.out + ".tmp", r.ckpt) && !gran_io_same_file_(r.ckpt + ".tmp", r.out),
+             GRAN_ERR_ARG, "the output '%s' and the checkpoint '%s' collide through their temporary files",
+             r.out.c_str(), r.ckpt.c_str());
+  return GRAN_SUCCESS;
+}
+
 /* ---- HDF5 writing -------------------------------------------------------------------------- */
 
 struct H5File {
@@ -301,15 +317,19 @@ int write_tamsd(Run &r, int64_t f, const char *file) {
   return GRAN_SUCCESS;
 }
 
-int write_output(Run &r, const std::string &path) {
+/* The output file with the first `nt` output times (all of them when the run finished; fewer when
+ * it was stopped: attribute complete = 0, and no TAMSD, whose trajectories are not complete). */
+int write_output(Run &r, const std::string &path, int64_t nt) {
   const gran_scene *s = r.s;
-  const int64_t M = s->nspecies, nt = (int64_t)s->times.size();
+  const int64_t M = s->nspecies;
+  const int complete = nt == (int64_t)s->times.size();
   const char *file = path.c_str();
   {
     H5File f;
     f.id = gran_h5::create_memory_file();
     GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "HDF5: cannot create the output file '%s' in memory", file);
     GRAN_CALL(write_root_attrs(r, f.id, file, kOutputFormat));
+    GRAN_CALL(gran_h5::attr_int64(f.id, "complete", complete, file));
     {
       H5Group g;
       GRAN_CALL(gran_h5::make_group(f.id, "species", &g.id, file));
@@ -354,7 +374,7 @@ int write_output(Run &r, const std::string &path) {
       for (int64_t i = 0; i < nt; i++) tt[(size_t)i] = s->times[(size_t)i] - s->t_start;
       GRAN_CALL(write_theory(r, f.id, file, tt));
     }
-    if (s->obs_tamsd) GRAN_CALL(write_tamsd(r, f.id, file));
+    if (s->obs_tamsd && complete) GRAN_CALL(write_tamsd(r, f.id, file));
     return gran_h5::commit_memory_file(&f.id, path, "output file");
   }
 }
@@ -473,6 +493,7 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
     }
     if (r.next >= nt || r.ckpt.empty()) {
       if (stop) {
+        GRAN_CALL(write_output(r, r.out, r.next)); /* what was recorded so far */
         fill(0);
         return GRAN_SUCCESS;
       }
@@ -485,6 +506,7 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
       w_ckpt = now_s();
       nckpt++;
       if (stop || (ctl && ctl->stop_after_checkpoints > 0 && nckpt >= ctl->stop_after_checkpoints)) {
+        if (stop) GRAN_CALL(write_output(r, r.out, r.next)); /* what was recorded so far */
         fill(0);
         return GRAN_SUCCESS;
       }
@@ -493,7 +515,7 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
   double t = 0;
   GRAN_CALL(gran_dsmc_time(r.sim, &t));
   if (t < s->t_end) GRAN_CALL(gran_dsmc_advance(r.sim, s->t_end));
-  GRAN_CALL(write_output(r, r.out));
+  GRAN_CALL(write_output(r, r.out, nt));
   if (!r.ckpt.empty() && !s->keep_checkpoint) std::remove(r.ckpt.c_str());
   fill(1);
   return GRAN_SUCCESS;
@@ -514,12 +536,15 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
     Run r;
     r.s = scene;
     r.out = output ? output : scene->output_path;
-    r.ckpt = checkpoint ? checkpoint : scene->checkpoint_path;
+    /* the checkpoint follows the output unless the scene or the caller names it */
+    r.ckpt = checkpoint ? checkpoint
+                        : (output && !scene->checkpoint_explicit && !scene->checkpoint_path.empty()) ? r.out + ".ckpt"
+                                                                                                     : scene->checkpoint_path;
     GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");
-    GRAN_CHECK(r.out != r.ckpt, GRAN_ERR_ARG, "arguments 'output' and 'checkpoint' name the same file '%s'", r.out.c_str());
     if (result) *result = gran_run_result{};
     GRAN_CALL(check_writable(r.out, "output file"));
     if (!r.ckpt.empty()) GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
+    GRAN_CALL(check_distinct(r));
     GRAN_CALL(prepare(r));
     GRAN_CALL(gran_scene_dsmc(scene, r.mix, &r.sim));
     return drive(r, ctl, result);
@@ -555,10 +580,10 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
     r.out = output ? output : out;
     r.ckpt = checkpoint;
     GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");
-    GRAN_CHECK(r.out != r.ckpt, GRAN_ERR_ARG, "arguments 'output' and 'checkpoint' name the same file '%s'", r.out.c_str());
     if (result) *result = gran_run_result{};
     GRAN_CALL(check_writable(r.out, "output file"));
     GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
+    GRAN_CALL(check_distinct(r));
     GRAN_CALL(prepare(r));
     GRAN_CALL(read_checkpoint_observer(r, checkpoint));
     GRAN_CALL(gran_dsmc_checkpoint_read(checkpoint, "/engine", r.mix, &r.sim));

@@ -13,6 +13,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <sys/stat.h>
 
 #include "io/io_impl.h"
 
@@ -23,8 +24,124 @@ struct scene_error {
   std::string msg;
 };
 
+/* Line numbers of the text toml11 parsed -> lines of the scene as written (the pre-pass below may
+ * break long lines); empty: the same. Set for the duration of one parse. */
+thread_local const std::vector<unsigned> *t_line_map = nullptr;
+
 std::string fmt_line(const std::string &file, unsigned line) {
+  if (t_line_map && line >= 1 && line <= t_line_map->size()) line = (*t_line_map)[line - 1];
   return file + ":" + std::to_string(line);
+}
+
+/* ---- pre-pass: what toml11 3.7 must never see ------------------------------------------------
+ * toml11 overflows its stack on arrays or inline tables nested a few thousand deep, reads past a
+ * buffer on invalid UTF-8 inside a literal string, and takes time quadratic in the length of a
+ * line (a 1e5-number array on one line: 40 s). One linear scan that knows TOML's strings and
+ * comments checks the encoding (UTF-8, no NUL), bounds the nesting depth, and puts a line break
+ * after every comma of an array that lies outside any inline table (TOML allows newlines there),
+ * keeping a map back to the original line numbers for messages. */
+const size_t kMaxSceneBytes = (size_t)16 << 20;
+const int kMaxNesting = 32;
+
+/* length of the valid UTF-8 sequence at p (1..4), 0 when invalid (overlong, surrogate, > U+10FFFF) */
+size_t utf8_len(const unsigned char *p, const unsigned char *end) {
+  const unsigned c = p[0];
+  if (c < 0x80) return c == 0 ? 0 : 1;
+  size_t n;
+  unsigned cp;
+  if (c >= 0xC2 && c <= 0xDF) n = 2, cp = c & 0x1F;
+  else if (c >= 0xE0 && c <= 0xEF) n = 3, cp = c & 0x0F;
+  else if (c >= 0xF0 && c <= 0xF4) n = 4, cp = c & 0x07;
+  else return 0;
+  if ((size_t)(end - p) < n) return 0;
+  for (size_t i = 1; i < n; i++) {
+    if ((p[i] & 0xC0) != 0x80) return 0;
+    cp = (cp << 6) | (p[i] & 0x3F);
+  }
+  if ((n == 3 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) || (n == 4 && (cp < 0x10000 || cp > 0x10FFFF)))
+    return 0;
+  return n;
+}
+
+void prepass(const std::string &in, const std::string &file, std::string &out, std::vector<unsigned> &line_map) {
+  if (in.size() > kMaxSceneBytes)
+    throw scene_error{file + ": the scene is " + std::to_string(in.size()) + " bytes; the limit is " +
+                      std::to_string(kMaxSceneBytes) + " (16 MiB)"};
+  const unsigned char *p = (const unsigned char *)in.data(), *end = p + in.size();
+  out.clear();
+  out.reserve(in.size() + in.size() / 8);
+  line_map.assign(1, 1);
+  unsigned line = 1;
+  std::vector<char> stack; /* open '[' and '{' */
+  int in_table = 0;        /* '{' on the stack */
+  enum { kNone, kBasic, kLiteral, kMlBasic, kMlLiteral, kComment } st = kNone;
+  auto at_line_start = [&]() {
+    for (size_t i = out.size(); i > 0; i--) {
+      const char c = out[i - 1];
+      if (c == '\n') return true;
+      if (c != ' ' && c != '\t') return false;
+    }
+    return true;
+  };
+  while (p < end) {
+    const size_t n = utf8_len(p, end);
+    if (n == 0) {
+      char b[96];
+      std::snprintf(b, sizeof b, ": %s (byte 0x%02X): scene files are UTF-8 text", *p ? "invalid UTF-8" : "a NUL byte",
+                    (unsigned)*p);
+      throw scene_error{file + ":" + std::to_string(line) + b};
+    }
+    const char c = (char)*p;
+    out.append((const char *)p, n);
+    if (c == '\n') {
+      line++;
+      line_map.push_back(line);
+      if (st == kComment || st == kBasic || st == kLiteral) st = kNone; /* a newline ends them (or is a syntax error) */
+    } else if (st == kComment) {
+    } else if (st == kBasic) {
+      if (c == '\\' && p + 1 < end && p[1] != '\n') out.push_back((char)*++p);
+      else if (c == '"') st = kNone;
+    } else if (st == kLiteral) {
+      if (c == '\'') st = kNone;
+    } else if (st == kMlBasic) {
+      if (c == '\\' && p + 1 < end && p[1] != '\n') out.push_back((char)*++p);
+      else if (c == '"' && end - p >= 3 && p[1] == '"' && p[2] == '"') out.append("\"\""), p += 2, st = kNone;
+    } else if (st == kMlLiteral) {
+      if (c == '\'' && end - p >= 3 && p[1] == '\'' && p[2] == '\'') out.append("''"), p += 2, st = kNone;
+    } else if (c == '#') {
+      st = kComment;
+    } else if (c == '"') {
+      if (end - p >= 3 && p[1] == '"' && p[2] == '"') out.append("\"\""), p += 2, st = kMlBasic;
+      else st = kBasic;
+    } else if (c == '\'') {
+      if (end - p >= 3 && p[1] == '\'' && p[2] == '\'') out.append("''"), p += 2, st = kMlLiteral;
+      else st = kLiteral;
+    } else if (c == '[' || c == '{') {
+      /* a table header [a] / [[a]] at the start of a line is not an array */
+      if (c == '[' && stack.empty() && at_line_start()) {
+        while (p + 1 < end && p[1] != '\n' && p[1] != '#') {
+          ++p;
+          out.push_back((char)*p);
+          if (*p == ']' && !(p + 1 < end && p[1] == ']')) break;
+        }
+      } else {
+        stack.push_back(c);
+        in_table += c == '{';
+        if ((int)stack.size() > kMaxNesting)
+          throw scene_error{file + ":" + std::to_string(line) + ": arrays and inline tables nested deeper than " +
+                            std::to_string(kMaxNesting) + " levels"};
+      }
+    } else if (c == ']' || c == '}') {
+      if (!stack.empty()) {
+        in_table -= stack.back() == '{';
+        stack.pop_back();
+      }
+    } else if (c == ',' && !stack.empty() && stack.back() == '[' && !in_table) {
+      out.push_back('\n');
+      line_map.push_back(line);
+    }
+    p += n;
+  }
 }
 
 /* One TOML table being read: remembers which keys were used. */
@@ -551,6 +668,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   ou.set_known({"path", "checkpoint", "checkpoint_interval", "checkpoint_every", "keep_checkpoint"});
   s.output_path = ou.string("path", stem_of(F) + ".h5");
   require(!s.output_path.empty(), ou, "path", "must not be empty");
+  s.checkpoint_explicit = ou.has("checkpoint");
   s.checkpoint_path = ou.string("checkpoint", s.output_path + ".ckpt");
   s.checkpoint_interval = ou.number("checkpoint_interval", 600.0);
   require(s.checkpoint_interval >= 0, ou, "checkpoint_interval", "must be >= 0 (0: no time-based checkpoints)");
@@ -570,8 +688,15 @@ int gran_scene_parse_text_(const std::string &text, const std::string &name, gra
   gran_scene *s = new gran_scene();
   s->text = text;
   s->name = name;
+  std::vector<unsigned> line_map;
+  struct MapGuard {
+    ~MapGuard() { t_line_map = nullptr; }
+  } guard;
   try {
-    std::istringstream is(text);
+    std::string prepared;
+    prepass(text, name, prepared, line_map);
+    t_line_map = &line_map;
+    std::istringstream is(prepared);
     toml::value root = toml::parse(is, name);
     parse_scene(root, *s);
   } catch (const toml::syntax_error &e) {
@@ -634,12 +759,20 @@ GRAN_EXTERN int gran_scene_load(const char *path, gran_scene **scene) {
   GRAN_CHECK_PTR(scene);
   GRAN_TRY {
     *scene = nullptr;
+    /* only a regular file of bounded size: /dev/zero would be read without end, a FIFO blocks */
+    struct stat sb;
+    GRAN_CHECK(stat(path, &sb) == 0, GRAN_ERR_IO, "cannot open scene file '%s': %s", path, std::strerror(errno));
+    GRAN_CHECK(S_ISREG(sb.st_mode), GRAN_ERR_IO, "scene file '%s' is not a regular file", path);
+    GRAN_CHECK((uint64_t)sb.st_size <= kMaxSceneBytes, GRAN_ERR_PARSE,
+               "scene file '%s' is %lld bytes; the limit is %zu (16 MiB)", path, (long long)sb.st_size, kMaxSceneBytes);
     std::ifstream f(path, std::ios::binary);
     GRAN_CHECK(f.good(), GRAN_ERR_IO, "cannot open scene file '%s': %s", path, std::strerror(errno));
-    std::stringstream ss;
-    ss << f.rdbuf();
-    GRAN_CHECK(!f.bad(), GRAN_ERR_IO, "cannot read scene file '%s'", path);
-    return gran_scene_parse_text_(ss.str(), path, scene);
+    std::string text((size_t)sb.st_size, '\0');
+    f.read(&text[0], (std::streamsize)text.size());
+    GRAN_CHECK(!f.bad() && f.gcount() == (std::streamsize)text.size(), GRAN_ERR_IO, "cannot read scene file '%s'", path);
+    char extra;
+    GRAN_CHECK(!f.read(&extra, 1), GRAN_ERR_IO, "scene file '%s' grew while it was read", path);
+    return gran_scene_parse_text_(text, path, scene);
   }
   GRAN_CATCH
 }
