@@ -224,6 +224,7 @@ static void test_laws_and_grids(void **state) {
   const char *t2 =
       "[mixture]\ndensity = [0.1]\n"
       "[restitution]\nmaterial = { A = 1e-3, Y = 1e5, nu = 0.3 }\n"
+      "[initial]\ntemperatures = \"equal\"\n"
       "[engine]\ncounts = [10]\nt_end = 1000\n"
       "[observables]\ntimes = { log = { start = 0.1, stop = 1000, n = 5 } }\n";
   GRAN_ASSERT_OK(gran_scene_parse(t2, "t2.toml", &s));

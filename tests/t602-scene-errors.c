@@ -84,6 +84,12 @@ static const bad_case kCases[] = {
     {"negative checkpoint interval", 0, NULL, "checkpoint_interval = -1", GRAN_ERR_PARSE, 17, "output.checkpoint_interval", ">= 0"},
     {"viscoelastic without beta", 6, "model = \"viscoelastic\"", NULL, GRAN_ERR_PARSE, 5, "restitution.beta", "missing"},
     {"eps with the viscoelastic model", 5, "[restitution]\nmodel = \"viscoelastic\"\nbeta = 0.1", NULL, GRAN_ERR_PARSE, 0, "restitution.eps", "not used"},
+    {"temperature that overflows", 9, "T_mean = 1e308", NULL, GRAN_ERR_PARSE, 9, "initial.T_mean", "overflow"},
+    {"material whose beta overflows", 6, "material = { A = 1e308, Y = 1e308, nu = 0.3 }", NULL, GRAN_ERR_PARSE, 6, "restitution.material", "overflows"},
+    {"nesting too deep", 4, "density = [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[0.1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]", NULL, GRAN_ERR_PARSE, 4, "nested deeper", ""},
+    {"invalid UTF-8 in a literal string", 0, NULL, "[output2]\nx = 'abc\xff\xfe'", GRAN_ERR_PARSE, 18, "invalid UTF-8", ""},
+    {"memory beyond the limit", 11, "counts = [100000000, 10]\nmax_memory_gb = 0.5", NULL, GRAN_ERR_PARSE, 11, "engine.counts", "max_memory_gb"},
+    {"species beyond the memory", 2, "nspecies = 100000000", NULL, GRAN_ERR_PARSE, 2, "mixture.nspecies", "max_memory_gb"},
     {"Poisson ratio out of range", 6, "material = { A = 1.0, Y = 1.0, nu = 0.7 }", NULL, GRAN_ERR_PARSE, 6, "restitution.material.nu", "Poisson"},
 };
 #define NCASES ((int)(sizeof kCases / sizeof kCases[0]))
@@ -165,6 +171,11 @@ static void test_by_hand(void **state) {
   check_case(&c9, "initial = 3\n[mixture]\ndensity = [0.1]\n[engine]\ncounts = [1]\nt_end = 1.0\n");
   bad_case c10 = {"missing [engine]", 0, NULL, NULL, GRAN_ERR_PARSE, 1, "key 'engine'", "missing"};
   check_case(&c10, "[mixture]\ndensity = [0.1]\n");
+  /* viscoelastic restitution has no HCS: the default (and the explicit) "hcs" start is refused at load */
+  bad_case c11 = {"viscoelastic with the HCS start", 0, NULL, NULL, GRAN_ERR_PARSE, 6, "initial.temperatures", "no homogeneous"};
+  check_case(&c11, "[mixture]\ndensity = [0.1]\n[restitution]\nbeta = 0.1\n[initial]\ntemperatures = \"hcs\"\n[engine]\ncounts = [1]\nt_end = 1.0\n");
+  bad_case c12 = {"viscoelastic without [initial]", 0, NULL, NULL, GRAN_ERR_PARSE, 1, "key 'initial'", "no homogeneous"};
+  check_case(&c12, "[mixture]\ndensity = [0.1]\n[restitution]\nbeta = 0.1\n[engine]\ncounts = [1]\nt_end = 1.0\n");
   bad_case c8 = {"velocity_distribution bins", 0, NULL, NULL, GRAN_ERR_PARSE, 6, "observables.velocity_distribution.bins", "[1, 1e6]"};
   check_case(&c8, "[mixture]\ndensity = [0.1]\n[engine]\ncounts = [1]\n[observables]\nvelocity_distribution = { bins = 0 }\ntimes = [1.0]\n");
 }

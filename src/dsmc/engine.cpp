@@ -421,6 +421,18 @@ GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts,
     }
     s->e_initial = e + ec;
     dsmc_refresh_bounds(s);
+    /* finite inputs can still overflow what is derived from them (T0 = 1e308: v^2 is inf) */
+    bool finite = std::isfinite(s->e_initial) && std::isfinite(s->rate) && std::isfinite(s->cmax);
+    for (int64_t k = 0; k < M && finite; k++) finite = std::isfinite(s->bound2[(size_t)k]);
+    for (int r = 0; r < 3 && finite; r++) finite = std::isfinite(s->uv[r]);
+    if (!finite) {
+      const double rate = s->rate;
+      gran_dsmc_destroy(&s);
+      return GRAN_ERROR(GRAN_ERR_DOMAIN,
+                        "the initial state overflows (kinetic energy %g, collision rate bound %g): the temperatures "
+                        "'T0' are too large for the masses and sizes of this mixture",
+                        e + ec, rate);
+    }
     if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) dsmc_record_trajectories(s);
     *sim = s;
     return GRAN_SUCCESS;

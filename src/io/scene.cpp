@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "io/io_impl.h"
 
@@ -302,6 +303,9 @@ void require(bool ok, Tab &t, const std::string &k, const std::string &why) {
   if (!ok) t.fail(k, why);
 }
 
+double memory_available_bytes();
+std::string gb(double bytes);
+
 /* times = [..] | {linear = {start, stop, n}} | {log = {start, stop, n}} */
 std::vector<double> parse_times(Tab &t, const std::string &k) {
   const toml::value &x = t.get(k);
@@ -328,6 +332,8 @@ std::vector<double> parse_times(Tab &t, const std::string &k) {
     g.finish();
     tt.finish();
     if (n < 1 || n > 100000000) g.fail("n", "number of times must be in [1, 1e8], got " + std::to_string(n));
+    if (8.0 * (double)n > 0.25 * memory_available_bytes())
+      g.fail("n", std::to_string(n) + " output times need " + gb(8.0 * (double)n) + " for the times alone");
     if (n == 1 && a != b) g.fail("n", "n = 1 needs start == stop");
     if (!(b >= a)) g.fail("stop", "stop (" + Tab::num_str(b) + ") is before start (" + Tab::num_str(a) + ")");
     if (!std::strcmp(kind, "log") && !(a > 0)) g.fail("start", "log spacing needs start > 0");
@@ -356,8 +362,93 @@ std::string stem_of(const std::string &name) {
   return b.empty() ? std::string("granary") : b;
 }
 
+/* ---- memory of a run, estimated before anything is allocated ----------------------------------
+ * The limit is MemAvailable of /proc/meminfo (the memory the kernel can hand out without swapping),
+ * or [engine] max_memory_gb when the scene sets it. */
+double memory_available_bytes() {
+  FILE *f = std::fopen("/proc/meminfo", "r");
+  if (f) {
+    char line[256];
+    while (std::fgets(line, sizeof line, f)) {
+      unsigned long long kb = 0;
+      if (std::sscanf(line, "MemAvailable: %llu kB", &kb) == 1) {
+        std::fclose(f);
+        return (double)kb * 1024.0;
+      }
+    }
+    std::fclose(f);
+  }
+  const long pages = sysconf(_SC_AVPHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
+  return pages > 0 && psz > 0 ? (double)pages * (double)psz : 1e18;
+}
+
+/* [engine] max_memory_gb, read before the tables that allocate (validated again with [engine]) */
+double memory_limit_bytes(const toml::value &root) {
+  if (root.is_table() && root.as_table().count("engine")) {
+    const toml::value &en = root.as_table().at("engine");
+    if (en.is_table() && en.as_table().count("max_memory_gb")) {
+      const toml::value &x = en.as_table().at("max_memory_gb");
+      const double g = x.is_floating() ? x.as_floating() : x.is_integer() ? (double)x.as_integer() : NAN;
+      if (std::isfinite(g) && g > 0) return g * 1e9;
+    }
+  }
+  return memory_available_bytes();
+}
+
+std::string gb(double bytes) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g GB", bytes / 1e9);
+  return b;
+}
+
+/* The memory of the run this scene asks for, by part, against the limit: fail naming the key of
+ * the largest part. Per particle: 28 B (+32 B with displacements, gran_particles_memory), twice
+ * over while a checkpoint image is assembled; per species: scene, mixture, engine arrays and six
+ * segment trees; M x M tables where the scene asks for them; the recorded rows of every output
+ * time; trajectories for the TAMSD; the dense theory Jacobian (M <= 2048). */
+void check_memory(const gran_scene &s, double limit, Tab &mx, Tab &en, Tab &ob) {
+  const double M = (double)s.nspecies, nt = (double)s.times.size();
+  double N = 0;
+  for (int64_t k = 0; k < s.nspecies; k++)
+    N += s.counts_kind == 0 ? (double)s.counts[(size_t)k] : std::nearbyint(s.density[(size_t)k] * s.volume);
+  double pow2 = 1;
+  while (pow2 < M) pow2 *= 2;
+  const bool disp = s.obs_msd || s.obs_tamsd;
+  const double per_particle = 28.0 + (disp ? 32.0 : 0.0);
+  struct Part {
+    const char *what;
+    double bytes;
+    Tab *tab;
+    const char *key;
+  } parts[] = {
+      {"particles", N * per_particle * (s.checkpoint_path.empty() ? 1.0 : 2.0), &en,
+       s.counts_kind == 0 ? "counts" : s.counts_kind == 1 ? "N1" : "volume"},
+      {"species arrays and trees", 8.0 * M * 40.0 + 6.0 * 2.0 * pow2 * 8.0, &mx, "nspecies"},
+      {"M x M tables", (s.model == GRAN_RESTITUTION_MATRIX || s.g2_is_matrix || s.visco_kind == 1 ? 40.0 * M * M : 0.0) +
+                           (s.obs_collision_counts ? 8.0 * M * M * (2.0 + nt) : 0.0),
+       &ob, "collision_counts"},
+      {"recorded rows", nt * 8.0 * (10.0 + 4.0 * M + (s.obs_veldist ? M * (double)s.vd_bins : 0.0)), &ob, "times"},
+      {"trajectories", s.obs_tamsd ? 2.0 * 24.0 * (double)s.tamsd_tracers * M * (double)s.tamsd_samples : 0.0, &ob,
+       "tamsd"},
+      {"theory", s.obs_theory ? (M <= 2048 ? 32.0 * M * M : 0.0) + 3.0 * nt * M * 8.0 : 0.0, &ob, "theory"},
+  };
+  double total = 0;
+  const Part *big = &parts[0];
+  for (const Part &p : parts) {
+    total += p.bytes;
+    if (p.bytes > big->bytes) big = &p;
+  }
+  if (total <= limit) return;
+  std::string detail;
+  for (const Part &p : parts)
+    if (p.bytes > 0) detail += (detail.empty() ? "" : ", ") + std::string(p.what) + " " + gb(p.bytes);
+  big->tab->fail(big->key, "the run needs about " + gb(total) + " (" + detail + "), more than the " + gb(limit) +
+                               " available; reduce it, or set [engine] max_memory_gb to allow more");
+}
+
 void parse_scene(const toml::value &root, gran_scene &s) {
   const std::string &F = s.name;
+  const double mem_limit = memory_limit_bytes(root);
   Tab top(&root, "", F);
   top.set_known({"title", "mixture", "restitution", "initial", "engine", "observables", "output"});
   s.title = top.string("title", "");
@@ -372,6 +463,10 @@ void parse_scene(const toml::value &root, gran_scene &s) {
     M = mx.count("nspecies");
     require(M >= 1, mx, "nspecies", "must be >= 1, got " + std::to_string(M));
     require(M <= 100000000, mx, "nspecies", "must be <= 1e8, got " + std::to_string(M));
+    /* every species costs a few hundred bytes in the scene, the mixture, the trees and the engine */
+    require(400.0 * (double)M <= mem_limit, mx, "nspecies",
+            std::to_string(M) + " species need about " + gb(400.0 * (double)M) + ", more than the " + gb(mem_limit) +
+                " available (set [engine] max_memory_gb to allow more)");
     M_from = "nspecies";
   }
   std::vector<double> mass, sigma, density;
@@ -488,6 +583,13 @@ void parse_scene(const toml::value &root, gran_scene &s) {
         require(s.mat_A >= 0, mt, "A", "must be >= 0");
         require(s.mat_Y > 0, mt, "Y", "must be > 0");
         require(s.mat_nu > -1 && s.mat_nu < 0.5, mt, "nu", "Poisson ratio must be in (-1, 0.5)");
+        /* the largest beta_ij (gran_mixture_set_viscoelastic_material) must be finite */
+        double smax = 0, mmin = HUGE_VAL;
+        for (int64_t k = 0; k < M; k++) smax = std::fmax(smax, sigma[(size_t)k]), mmin = std::fmin(mmin, mass[(size_t)k]);
+        const double rho = 2.0 * s.mat_Y / (3.0 * (1.0 - s.mat_nu) * (1.0 + s.mat_nu));
+        const double bmax = 1.5 * s.mat_A * std::pow(rho * std::sqrt(0.5 * smax) / (0.5 * mmin), 0.4);
+        require(std::isfinite(rho) && std::isfinite(bmax), rs, "material",
+                "A and Y give a viscoelastic beta that overflows (" + Tab::num_str(bmax) + ")");
       }
     } else {
       rs.fail("model", "unknown model \"" + model + "\" (constant, matrix or viscoelastic)");
@@ -519,6 +621,10 @@ void parse_scene(const toml::value &root, gran_scene &s) {
         in.fail("temperatures", std::string("expected \"hcs\", \"equal\" or an array, got ") + Tab::type_name(x));
       }
     }
+    if (s.model == GRAN_RESTITUTION_VISCOELASTIC && s.init == SCENE_INIT_HCS)
+      in.fail("temperatures", std::string(in.has("temperatures") ? "\"hcs\"" : "the default \"hcs\"") +
+                                  ": viscoelastic restitution has no homogeneous cooling state with constant "
+                                  "temperature ratios; give temperatures = \"equal\" or a list");
     if (s.init == SCENE_INIT_LIST && (in.has("T_mean") || in.has("T1")))
       in.fail(in.has("T1") ? "T1" : "T_mean", "not used when temperatures are listed");
     if (in.has("T1")) {
@@ -530,13 +636,28 @@ void parse_scene(const toml::value &root, gran_scene &s) {
       s.T_value = in.number("T_mean", 1.0);
       require(s.T_value > 0, in, "T_mean", "must be > 0");
     }
+    /* derived values must stay finite: squared speeds 3 T/m (far tails: x 100) and the energy of
+     * up to 4e9 particles */
+    double mmin = HUGE_VAL, Tmax = s.T_value;
+    for (double m : mass) mmin = std::fmin(mmin, m);
+    for (double T : s.T_list) Tmax = std::fmax(Tmax, T);
+    const char *tk = s.init == SCENE_INIT_LIST ? "temperatures" : in.has("T1") ? "T1" : "T_mean";
+    require(std::isfinite(300.0 * Tmax / mmin) && std::isfinite(1.5 * Tmax * 4e9 * 100.0), in, tk,
+            "temperature " + Tab::num_str(Tmax) + " is too large: speeds and energies would overflow");
     in.finish();
+  } else if (s.model == GRAN_RESTITUTION_VISCOELASTIC) {
+    top.fail_missing("initial", "viscoelastic restitution has no homogeneous cooling state: give [initial] "
+                                "temperatures = \"equal\" or a list");
   }
 
   /* ---- [engine] ---- */
   if (!top.has("engine")) top.fail_missing("engine", "the [engine] table is required");
   Tab en = top.sub("engine");
-  en.set_known({"type", "selector", "seed", "t_end", "counts", "N1", "volume", "bound_refresh"});
+  en.set_known({"type", "selector", "seed", "t_end", "counts", "N1", "volume", "bound_refresh", "max_memory_gb"});
+  if (en.has("max_memory_gb")) {
+    const double g = en.number("max_memory_gb");
+    require(g > 0, en, "max_memory_gb", "must be > 0 (GB of memory the run may use)");
+  }
   std::string type = en.string("type", "dsmc");
   if (type != "dsmc") en.fail("type", "unknown engine \"" + type + "\" (only \"dsmc\" runs scenes so far)");
   std::string sel = en.string("selector", "lowrank");
@@ -678,6 +799,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   if (!s.checkpoint_path.empty() && s.checkpoint_path == s.output_path)
     ou.fail("checkpoint", "must differ from the output path");
   ou.finish();
+  check_memory(s, mem_limit, mx, en, ob);
 
   top.finish();
 }

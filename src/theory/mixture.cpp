@@ -244,6 +244,19 @@ GRAN_EXTERN int gran_mixture_set_viscoelastic_material(gran_mixture *mix, double
     GRAN_CHECK(std::isfinite(Y) && Y > 0.0, GRAN_ERR_ARG, "argument 'Y' = %g must be finite and > 0", Y);
     GRAN_CHECK(std::isfinite(nu) && nu > -1.0 && nu <= 0.5, GRAN_ERR_ARG, "argument 'nu' = %g outside (-1, 0.5]",
                nu);
+    /* beta_ij <= (3/2) A (rho_pref sqrt(max sigma / 2) / (min m / 2))^(2/5) (R_eff <= sigma/2,
+     * m_eff >= m/2): finite inputs whose beta overflows are refused here, not as NaN later */
+    {
+      double smax = 0, mmin = HUGE_VAL;
+      for (int64_t k = 0; k < mix->M; k++) {
+        smax = std::fmax(smax, mix->sigma[(size_t)k]);
+        mmin = std::fmin(mmin, mix->m[(size_t)k]);
+      }
+      const double rho_pref = 2.0 * Y / (3.0 * (1.0 - nu) * (1.0 + nu));
+      const double bmax = 1.5 * A * std::pow(rho_pref * std::sqrt(0.5 * smax) / (0.5 * mmin), 0.4);
+      GRAN_CHECK(std::isfinite(rho_pref) && std::isfinite(bmax), GRAN_ERR_DOMAIN,
+                 "arguments 'A' = %g, 'Y' = %g, 'nu' = %g give a viscoelastic beta that overflows (%g)", A, Y, nu, bmax);
+    }
     mix->model = GRAN_RESTITUTION_VISCOELASTIC;
     mix->visco = GRAN_VISCO_MATERIAL;
     mix->matA = A;

@@ -47,6 +47,14 @@ inline double series_dev(double x) {
 
 /* eps from the [3/6] Pade approximant */
 inline double pade(double x) {
+  if (x > 16.0) {
+    /* the same ratio in powers of y = 1/x: num/den = y^3 (0.141552 + y (0.574198 + ...)) /
+     * (0.235585 + y (0.467273 + ...)) never overflows (x^6 does past 1e51; beta = 1e300 gives x ~ 1e150) */
+    const double y = 1.0 / x;
+    const double num = 0.141552 + y * (0.574198 + y * (1.07232 + y));
+    const double den = 0.235585 + y * (0.467273 + y * (1.19449 + y * (1.37842 + y * (1.72765 + y * (1.07232 + y)))));
+    return y * y * y * (num / den);
+  }
   const double num = 1.0 + x * (1.07232 + x * (0.574198 + x * 0.141552));
   const double den =
       1.0 + x * (1.07232 + x * (1.72765 + x * (1.37842 + x * (1.19449 + x * (0.467273 + x * 0.235585)))));
