@@ -299,6 +299,8 @@ int verify_file(const char *path, const char *what) {
   }
   size_t length = 0;
   unsigned long want = 0;
+  unsigned char first[kUserBlock];
+  std::memcpy(first, buf.data(), kUserBlock);
   if (ok) {
     buf[kUserBlock - 1] = 0;
     const char *h = (const char *)buf.data();
@@ -330,7 +332,11 @@ int verify_file(const char *path, const char *what) {
     total += (size_t)r;
   }
   close(fd);
-  if (total != length || (unsigned long)c != want)
+  /* the header itself, byte for byte (its zero padding included) */
+  char head[kUserBlock];
+  std::memset(head, 0, sizeof head);
+  std::snprintf(head, sizeof head, "%slength %zu\ncrc32 %08lx\n", kMagic, length, want);
+  if (total != length || (unsigned long)c != want || std::memcmp(head, first, kUserBlock) != 0)
     return GRAN_ERROR(GRAN_ERR_IO, "the %s '%s' is damaged: checksum mismatch (CRC-32 %08lx, header %08lx)", what, path,
                       (unsigned long)c, want);
   return GRAN_SUCCESS;
