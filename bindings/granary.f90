@@ -97,7 +97,7 @@ module granary
   public :: gran_viscoelastic_eps, gran_viscoelastic_eps_vn
   public :: gran_theory_cooling_rates, gran_theory_tau_v, gran_theory_diffusion, gran_theory_collision_rate1
   public :: gran_theory_hcs, gran_theory_temperatures, gran_theory_msd_hcs, gran_theory_msd
-  public :: gran_theory_tamsd, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
+  public :: gran_theory_tamsd, gran_theory_tamsd_sampled, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
   public :: gran_theory_tracer_gamma_approx, gran_theory_tracer_tau_v_hat
   public :: gran_theory_mean_relative_speed, gran_theory_collision_rates, gran_theory_collision_counts
   ! ---- DSMC engines ----
@@ -603,6 +603,18 @@ module granary
       real(c_double), intent(out) :: tamsd(*)
       integer(c_int) :: ierr
     end function c_gran_theory_tamsd
+    function c_gran_theory_tamsd_sampled(mix, t0, tau0, dt, nsamples, nlag, lag, rtol, tamsd) &
+        bind(C, name='gran_theory_tamsd_sampled') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      real(c_double), value :: tau0, dt
+      integer(c_int64_t), value :: nsamples, nlag
+      integer(c_int64_t), intent(in) :: lag(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: tamsd(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_tamsd_sampled
     function c_gran_theory_tamsd_parts(mix, t0, tau0, t_meas, nlag, lag, rtol, delta0, xi) &
         bind(C, name='gran_theory_tamsd_parts') result(ierr)
       import :: c_int, c_int64_t, c_double, c_ptr
@@ -1744,6 +1756,24 @@ contains
     end if
     call gran_check(c_gran_theory_tamsd(mix, t0, tau0, t_meas, size(lag, kind=c_int64_t), lag, rtol, tamsd), ierr)
   end subroutine gran_theory_tamsd
+
+  !> The TAMSD on the sample grid j*dt, j = 0..nsamples-1 (lags in samples): tamsd(M, size(lag)).
+  subroutine gran_theory_tamsd_sampled(mix, t0, tau0, dt, nsamples, lag, rtol, tamsd, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), tau0, dt, rtol
+    integer(c_int64_t), intent(in) :: nsamples, lag(:)
+    real(c_double), intent(out) :: tamsd(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_tamsd_sampled: size(t0) < M', ierr)) return
+    if (m > 0 .and. (size(tamsd, 1, kind=c_int64_t) /= m .or. size(tamsd, 2) /= size(lag))) then
+      call gran_theory_shape_error('gran_theory_tamsd_sampled: tamsd must be (M, size(lag))', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_tamsd_sampled(mix, t0, tau0, dt, nsamples, size(lag, kind=c_int64_t), lag, rtol, &
+                    tamsd), ierr)
+  end subroutine gran_theory_tamsd_sampled
 
   !> The two terms of Eq. 27: delta0(M, size(lag)) and xi(M, size(lag)), each optional.
   subroutine gran_theory_tamsd_parts(mix, t0, tau0, t_meas, lag, rtol, delta0, xi, ierr)

@@ -250,6 +250,12 @@ GRAN_EXTERN int gran_theory_msd(const gran_mixture *mix, const double *T0, int64
 /* TAMSD in the HCS (Eq. 27) over measurement time t_meas for nlag lags (tamsd nlag*M). */
 GRAN_EXTERN int gran_theory_tamsd(const gran_mixture *mix, const double *T0, double tau0, double t_meas,
                                   int64_t nlag, const double *lag, double rtol, double *tamsd);
+/* The TAMSD as a simulation measures it: averaged over the sample times j dt, j = 0..nsamples-1
+ * (the discrete sum of Eq. 26 on that grid; Eq. 27 is its limit dt -> 0). Lags in samples,
+ * 0 <= lag < nsamples; tamsd nlag*M. */
+GRAN_EXTERN int gran_theory_tamsd_sampled(const gran_mixture *mix, const double *T0, double tau0, double dt,
+                                          int64_t nsamples, int64_t nlag, const int64_t *lag, double rtol,
+                                          double *tamsd);
 /* The two terms of Eq. 27: delta0 (closed form, no cancellation for lag << t_meas) and Xi (GSL
  * quadrature); delta0 + Xi = tamsd up to cancellation at lags << tau_v. nlag*M each; either may be NULL. */
 GRAN_EXTERN int gran_theory_tamsd_parts(const gran_mixture *mix, const double *T0, double tau0, double t_meas,

@@ -8,6 +8,7 @@ program t401_theory_f
   type(c_ptr) :: mix, mix1, pl
   real(c_double) :: dens(2), mass(2), sig(2), t0(2), tau0, xi(2), tv(2), dd(2), itc, eps, beta, g2
   real(c_double) :: mm(2), ss(2), nn(2), e2(2, 2), temp(2, 3), times(3), msd(2, 3), tot(3), msd4(2, 3)
+  real(c_double) :: tsam(2, 3)
   real(c_double) :: lag(4), tam(2, 4), d0(2, 4), xip(2, 4), msd1(3), tau31, red(2, 3), gam, hat
   real(c_double) :: g(2, 2), rates(2, 2), counts(2, 2, 3), x
   integer(c_int64_t) :: m
@@ -67,6 +68,11 @@ program t401_theory_f
   call gran_theory_tamsd(mix, t0, tau0, 1000.0_c_double, lag, 1e-10_c_double, tam)
   call gran_theory_tamsd_parts(mix, t0, tau0, 1000.0_c_double, lag, 1e-10_c_double, delta0=d0, xi=xip)
   call check('TAMSD positive, increasing', all(tam > 0) .and. all(tam(:, 2:) > tam(:, :3)))
+  ! the same TAMSD on a sample grid (dt = 1e-3: 1e6+1 samples, the Euler-Maclaurin branch) is Eq. 27
+  ! to about dt/tau0
+  call gran_theory_tamsd_sampled(mix, t0, tau0, 1e-3_c_double, 1000001_c_int64_t, &
+                                 [1_c_int64_t, 1000_c_int64_t, 100000_c_int64_t], 1e-10_c_double, tsam)
+  call check('sampled TAMSD -> Eq. 27 as dt -> 0', all(abs(tsam / tam(:, 1:3) - 1) < 1e-3_c_double))
   call check('delta0 + Xi = TAMSD at lag >> tau_v (1e-8)', all(abs((d0(:, 3:) + xip(:, 3:)) / tam(:, 3:) - 1) &
              < 1e-8_c_double))
 

@@ -305,10 +305,14 @@ int write_tamsd(Run &r, int64_t f, const char *file) {
   GRAN_CALL(gran_h5::attr_int64(g.id, "samples", ns, file));
   if (s->obs_theory) {
     std::vector<double> th((size_t)(nl * M));
-    int st = std::isfinite(r.tau0) ? gran_theory_tamsd(r.mix, r.T0.data(), r.tau0, t_meas, nl, lag.data(), s->theory_rtol, th.data())
+    /* the theory averaged over the same sample grid as the simulation (Eq. 27 is its dt -> 0 limit) */
+    int st = std::isfinite(r.tau0) ? gran_theory_tamsd_sampled(r.mix, r.T0.data(), r.tau0, s->tamsd_dt, ns, nl, L.data(),
+                                                               s->theory_rtol, th.data())
                                    : GRAN_ERROR(GRAN_ERR_DOMAIN, "tau0 of the HCS is not finite");
     if (st == GRAN_SUCCESS) {
       GRAN_CALL(gran_h5::write_double(g.id, "tamsd_theory", {nl, M}, th.data(), file));
+      GRAN_CALL(gran_h5::attr_string(g.id, "theory",
+                                     "gran_theory_tamsd_sampled: Eq. 26 summed over the sample times of the simulation", file));
     } else {
       gran_warning_add("no tamsd_theory in the output: %s", gran_last_error_message());
       GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));

@@ -779,6 +779,14 @@ void parse_scene(const toml::value &root, gran_scene &s) {
       require(L >= s.tamsd_dt * (1 - 1e-12) && L < t_meas, ta, "lags",
               "lag " + Tab::num_str(L) + " outside [dt, dt*(samples-1)) = [" + Tab::num_str(s.tamsd_dt) + ", " + Tab::num_str(t_meas) + ")");
     }
+    /* lags are whole sampling intervals: round them, and keep each once */
+    std::vector<double> lags;
+    for (double L : s.tamsd_lags) {
+      const int64_t n = std::max<int64_t>(1, (int64_t)std::llround(L / s.tamsd_dt));
+      const double r = (double)n * s.tamsd_dt;
+      if (lags.empty() || r > lags.back()) lags.push_back(r);
+    }
+    s.tamsd_lags = lags;
     ta.finish();
   }
   ob.finish();

@@ -103,7 +103,94 @@ int check_tamsd_args(const gran_mixture *mix, const double *T0, double tau0, dou
   return GRAN_SUCCESS;
 }
 
+/* Mean squared increment of species k over [t', t' + D] in the HCS (Eq. 4 started at t'). */
+inline double increment(double pref, double beta, double tau0, double tv, double tp, double D) {
+  if (std::isinf(tau0)) return pref * g_fun(D / tv);
+  return pref * g_fun(beta * std::log1p(D / (tau0 + tp)));
+}
+
+/* Direct sums up to this many terms; Euler-Maclaurin beyond (its error there is below 1e-12). */
+const int64_t kDirectMax = 1 << 16;
+
 } // namespace
+
+/**
+ * @brief TAMSD in the HCS as a simulation measures it: averaged over the sample times
+ *        t_j = j dt (j = 0 .. nsamples-1) instead of Eq. 27's integral over t'.
+ *
+ *   <delta^2(L dt)> = 1/(n) sum_{j=0}^{n-1} I(j dt, L dt),  n = nsamples - L,
+ * with I the mean squared increment (see the top of this file). Up to 2^16 terms the sum is taken
+ * as written; beyond, by Euler-Maclaurin: (1/dt) int_0^{(n-1) dt} I + (I_0 + I_{n-1})/2 +
+ * dt/12 (I'_{n-1} - I'_0) (the integral from the same quadrature as gran_theory_tamsd). As dt -> 0 at
+ * fixed t_meas = (nsamples-1) dt it tends to Eq. 27 (the difference is about dt/(2 tau0) at small lags).
+ * @param[in] dt sampling interval > 0; nsamples >= 2; lag nlag lags in samples, 0 <= lag < nsamples
+ * @param[out] tamsd nlag*M, row-major [lag][species]
+ */
+GRAN_EXTERN int gran_theory_tamsd_sampled(const gran_mixture *mix, const double *T0, double tau0, double dt,
+                                          int64_t nsamples, int64_t nlag, const int64_t *lag, double rtol,
+                                          double *tamsd) {
+  GRAN_TRY {
+    gsl_set_error_handler_off();
+    GRAN_CHECK(std::isfinite(dt) && dt > 0.0, GRAN_ERR_ARG, "argument 'dt' = %g must be finite and > 0", dt);
+    GRAN_CHECK(nsamples >= 2, GRAN_ERR_ARG, "argument 'nsamples' = %" PRId64 " must be >= 2", nsamples);
+    const double t_meas = dt * (double)(nsamples - 1);
+    GRAN_CALL(check_tamsd_args(mix, T0, tau0, t_meas, 0, nullptr, rtol));
+    GRAN_CHECK(nlag >= 0, GRAN_ERR_ARG, "argument 'nlag' = %" PRId64 " is negative", nlag);
+    if (nlag == 0) return GRAN_SUCCESS;
+    GRAN_CHECK_PTR(lag);
+    GRAN_CHECK_PTR(tamsd);
+    for (int64_t j = 0; j < nlag; j++)
+      GRAN_CHECK(lag[j] >= 0 && lag[j] < nsamples, GRAN_ERR_ARG,
+                 "argument 'lag[%" PRId64 "]' = %" PRId64 " outside [0, nsamples = %" PRId64 ")", j, lag[j], nsamples);
+    const int64_t M = mix->M;
+    std::vector<double> D((size_t)M), tv((size_t)M);
+    GRAN_CALL(hcs_state(mix, T0, tau0, D.data(), tv.data()));
+    gsl_integration_workspace *w = gsl_integration_workspace_alloc(1000);
+    GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
+    int ret = GRAN_SUCCESS;
+    for (int64_t j = 0; j < nlag && ret == GRAN_SUCCESS; j++) {
+      const int64_t L = lag[j], n = nsamples - L;
+      const double Dl = dt * (double)L, rest = dt * (double)(n - 1);
+      for (int64_t k = 0; k < M && ret == GRAN_SUCCESS; k++) {
+        const double pref = 6.0 * D[(size_t)k] * tv[(size_t)k], tvk = tv[(size_t)k];
+        const double beta = std::isinf(tau0) ? 0.0 : tau0 / tvk;
+        double val = 0.0;
+        if (L == 0) {
+          val = 0.0;
+        } else if (n <= kDirectMax || std::isinf(tau0)) {
+          if (std::isinf(tau0)) {
+            val = increment(pref, beta, tau0, tvk, 0.0, Dl); /* stationary: every term is the same */
+          } else {
+            double sum = 0.0, c = 0.0; /* Neumaier */
+            for (int64_t i = 0; i < n; i++) {
+              const double x = increment(pref, beta, tau0, tvk, dt * (double)i, Dl), t = sum + x;
+              c += std::fabs(sum) >= std::fabs(x) ? (sum - t) + x : (x - t) + sum;
+              sum = t;
+            }
+            val = (sum + c) / (double)n;
+          }
+        } else {
+          TParams P{beta, Dl / tau0, 0};
+          double J = 0.0;
+          ret = integrate(P, std::log1p(rest / tau0), rtol, w, &J);
+          const double integral = pref * tau0 * J; /* int_0^rest I(t', Dl) dt' */
+          const double i0 = increment(pref, beta, tau0, tvk, 0.0, Dl);
+          const double i1 = increment(pref, beta, tau0, tvk, rest, Dl);
+          const double h = 1e-4 * (tau0 + rest);
+          auto dI = [&](double tp) {
+            return (increment(pref, beta, tau0, tvk, tp + h, Dl) - increment(pref, beta, tau0, tvk, std::max(tp - h, 0.0), Dl)) /
+                   (tp + h - std::max(tp - h, 0.0));
+          };
+          val = (integral / dt + 0.5 * (i0 + i1) + dt / 12.0 * (dI(rest) - dI(0.0))) / (double)n;
+        }
+        tamsd[j * M + k] = val;
+      }
+    }
+    gsl_integration_workspace_free(w);
+    return ret;
+  }
+  GRAN_CATCH
+}
 
 /**
  * @brief TAMSD in the HCS (Eq. 26-27) over the measurement time t_meas, for nlag lags.
