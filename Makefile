@@ -78,6 +78,10 @@ FMOD_OBJ := $(BUILD)/obj/bindings/granary.o
 
 LIB_A    := $(BUILD)/libgranary.a
 LIB_SO   := $(BUILD)/libgranary.so
+# Shared library: SONAME libgranary.so.MAJOR, file libgranary.so.MAJOR.MINOR.PATCH (ldconfig style).
+VERSION  := $(shell sed -n 's/^\#define GRAN_VERSION_STRING "\(.*\)"/\1/p' include/granary.h)
+SOMAJOR  := $(firstword $(subst ., ,$(VERSION)))
+SONAME   := libgranary.so.$(SOMAJOR)
 LIBF_A   := $(BUILD)/libgranary_fortran.a
 CLI      := $(BUILD)/granary
 
@@ -119,7 +123,7 @@ $(LIB_A): $(LIB_OBJ)
 	ar rcs $@ $^
 
 $(LIB_SO): $(LIB_OBJ)
-	$(CXX) -shared $(SAN) -o $@ $^ $(LDLIBS)
+	$(CXX) -shared $(SAN) -Wl,-soname,$(SONAME) -o $@ $^ $(LDLIBS)
 
 $(LIBF_A): $(FMOD_OBJ)
 	@rm -f $@
@@ -155,8 +159,13 @@ $(BUILD)/tests/gpu/%: tests/gpu/%.c tests/granary_test.h $(LIB_A)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests $(CFLAGS) -o $@ $< $(LIB_A) $(CMOCKA_LIBS) $(LDLIBS)
 
-test: $(TEST_BIN) $(CLI) check-header
-	@GRAN_SOURCE_DIR=$(CURDIR) GRAN_CLI=$(CURDIR)/$(CLI) sh tests/run-tests.sh $(TEST_BIN)
+# Script tests (tests/tNNN-*.sh) run beside the programs: the install test builds the README's
+# examples against a temporary installation, through pkg-config.
+TEST_SH  := $(sort $(wildcard tests/$(T).sh))
+
+test: $(TEST_BIN) $(CLI) check-header $(LIB_SO) $(LIBF_A)
+	@GRAN_SOURCE_DIR=$(CURDIR) GRAN_BUILD=$(BUILD) GRAN_SAN="$(SAN)" GRAN_OPT="$(OPT)" GRAN_NVCC="$(NVCC)" \
+	  GRAN_CLI=$(CURDIR)/$(CLI) sh tests/run-tests.sh $(TEST_BIN) $(TEST_SH)
 
 # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer, in their own build folder
 # (CUDA off: the CUDA runtime is not built for the sanitizers).
@@ -188,10 +197,13 @@ install: all
 	install -d $(DESTDIR)$(prefix)/include $(DESTDIR)$(prefix)/lib/pkgconfig $(DESTDIR)$(prefix)/bin \
 	  $(DESTDIR)$(prefix)/include/granary
 	install -m 644 include/granary.h $(DESTDIR)$(prefix)/include/
-	install -m 644 $(LIB_A) $(LIB_SO) $(LIBF_A) $(DESTDIR)$(prefix)/lib/
+	install -m 644 $(LIB_A) $(LIBF_A) $(DESTDIR)$(prefix)/lib/
+	install -m 755 $(LIB_SO) $(DESTDIR)$(prefix)/lib/libgranary.so.$(VERSION)
+	ln -sf libgranary.so.$(VERSION) $(DESTDIR)$(prefix)/lib/$(SONAME)
+	ln -sf $(SONAME) $(DESTDIR)$(prefix)/lib/libgranary.so
 	install -m 644 $(BUILD)/mod/granary.mod $(DESTDIR)$(prefix)/include/granary/
 	install -m 755 $(CLI) $(DESTDIR)$(prefix)/bin/
-	sed -e 's|@prefix@|$(prefix)|' -e 's|@version@|$(shell sed -n 's/^#define GRAN_VERSION_STRING "\(.*\)"/\1/p' include/granary.h)|' \
+	sed -e 's|@prefix@|$(prefix)|' -e 's|@version@|$(VERSION)|' \
 	  -e 's|@libs@|$(PKG_LIBS) $(CUDA_LIBS)|' granary.pc.in > $(DESTDIR)$(prefix)/lib/pkgconfig/granary.pc
 
 info:

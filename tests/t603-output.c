@@ -13,6 +13,18 @@ static void expect_dims(hid_t f, const char *name, int rank, hsize_t d0, hsize_t
     if (d[i] != want[i]) fail_msg("%s: dimension %d is %llu, expected %llu", name, i, (unsigned long long)d[i], (unsigned long long)want[i]);
 }
 
+static herr_t doc_cb(hid_t loc, const char *name, const H5O_info_t *info, void *op) {
+  if (info->type != H5O_TYPE_DATASET) return 0;
+  hid_t d = H5Oopen(loc, name, H5P_DEFAULT);
+  char *u = io_h5_attr_string(d, "units"), *w = io_h5_attr_string(d, "description");
+  if (!u || !w || !w[0]) fail_msg("dataset '%s' lacks units or description", name);
+  free(u);
+  free(w);
+  H5Oclose(d);
+  ++*(int *)op;
+  return 0;
+}
+
 static void test_layout_and_values(void **state) {
   (void)state;
   const char *out = io_path("layout.h5");
@@ -64,6 +76,11 @@ static void test_layout_and_values(void **state) {
   expect_dims(f, "tamsd/tamsd", 2, 3, M, 0);
   expect_dims(f, "tamsd/tamsd_theory", 2, 3, M, 0);
   expect_dims(f, "tamsd/tracers", 1, M, 0, 0);
+
+  /* every dataset says what it holds and in which units, as UTF-8 strings (h5py: str) */
+  int ndoc = 0;
+  assert_true(H5Ovisit(f, H5_INDEX_NAME, H5_ITER_NATIVE, doc_cb, &ndoc) >= 0);
+  assert_true(ndoc >= 25);
 
   /* root attributes: the whole scene text, the version, the seed */
   char *a = io_h5_attr_string(f, "scene");

@@ -323,6 +323,64 @@ int write_tamsd(Run &r, int64_t f, const char *file) {
 
 /* The output file with the first `nt` output times (all of them when the run finished; fewer when
  * it was stopped: attribute complete = 0, and no TAMSD, whose trajectories are not complete). */
+/* Units and a description for every dataset of the output file ("group/name"; "*" matches any
+ * group). Units are those of the scene: masses in units of its m, lengths of its sigma, energies
+ * with k_B = 1; time in the unit that follows from them. */
+struct DatasetDoc {
+  const char *path, *units, *description;
+};
+const DatasetDoc kDocs[] = {
+    {"time", "time", "output times (absolute; the run starts at the scene's t_start)"},
+    {"*/time", "time", "output times of the rows of this group"},
+    {"species/mass", "mass", "mass m_k of each species"},
+    {"species/sigma", "length", "diameter sigma_k of each species"},
+    {"species/density", "1/length^3", "number density n_k of each species (0: tracer)"},
+    {"species/counts", "1", "simulated particles N_k of each species"},
+    {"species/T0", "energy (k_B = 1)", "initial temperature T_k(0) of each species"},
+    {"stats/collisions", "1", "accepted collisions since the start [time]"},
+    {"stats/trials", "1", "candidate pairs drawn since the start [time]"},
+    {"temperatures/T", "energy (k_B = 1)", "partial temperature T_k = m_k <|v - u|^2>/3 [time][species] (NaN: empty species)"},
+    {"temperatures/T_theory", "energy (k_B = 1)", "kinetic theory T_k(t), seed 000 Eqs. 14-15 [time][species]"},
+    {"msd/msd", "length^2", "mean squared displacement MSD_k (Eq. 45) [time][species]"},
+    {"msd/msd_total", "length^2", "MSD of all particles, Eq. 3 [time]"},
+    {"msd/msd_theory", "length^2", "kinetic theory MSD_k(t) (Eq. 22 in the HCS, else Eq. 4) [time][species]"},
+    {"msd/msd_total_theory", "length^2", "kinetic theory of the total MSD, Eq. 3 [time]"},
+    {"energy/e_kin", "energy", "total kinetic energy (1/2) sum m v^2 [time]"},
+    {"energy/e_initial", "energy", "kinetic energy at the start [time]"},
+    {"energy/e_dissipated", "energy", "energy dissipated in collisions so far; e_initial - e_dissipated = e_kin [time]"},
+    {"momentum/p", "mass x velocity", "total momentum [time][xyz]"},
+    {"collision_counts/counts", "1", "collisions per species pair since the start, i <= j used [time][i][j]"},
+    {"sonine_a2/a2", "1", "Sonine coefficient a2 = (3/5)<c^4>/<c^2>^2 - 1 per species [time][species]"},
+    {"velocity_distribution/pdf", "1", "density of c = |v - u| / sqrt(2 T_k/m_k) per species [time][species][bin]"},
+    {"velocity_distribution/edges", "1", "bin edges of c"},
+    {"velocity_distribution/pdf_maxwell", "1", "Maxwell density of c averaged over each bin"},
+    {"tamsd/lag", "time", "lags (whole sampling intervals)"},
+    {"tamsd/tamsd", "length^2", "time-averaged MSD over the tracers of each species (Eq. 26 on the sample grid) [lag][species]"},
+    {"tamsd/tamsd_theory", "length^2", "kinetic theory of the TAMSD on the same sample grid [lag][species]"},
+    {"tamsd/tracers", "1", "tracer trajectories averaged per species"},
+};
+
+herr_t annotate_cb(hid_t loc, const char *name, const H5O_info_t *info, void *op) {
+  if (info->type != H5O_TYPE_DATASET) return 0;
+  const char *file = static_cast<const char *>(op);
+  const char *slash = std::strrchr(name, '/');
+  const std::string any = std::string("*/") + (slash ? slash + 1 : name);
+  for (const DatasetDoc &d : kDocs)
+    if (!std::strcmp(d.path, name) || (slash && any == d.path))
+      return gran_h5::describe(loc, name, d.units, d.description, file) == GRAN_SUCCESS ? 0 : -1;
+  gran_error_set(GRAN_ERR_INTERNAL, __FILE__, __LINE__, __func__, "dataset '%s' of '%s' has no description", name, file);
+  return -1;
+}
+
+/* units and description attributes on every dataset (an undocumented dataset is an internal error) */
+int annotate(int64_t f, const char *file) {
+  if (H5Ovisit((hid_t)f, H5_INDEX_NAME, H5_ITER_NATIVE, annotate_cb, (void *)file) < 0) {
+    if (!gran_last_error_message()[0]) return GRAN_ERROR(GRAN_ERR_IO, "HDF5: cannot annotate the datasets of '%s'", file);
+    return GRAN_ERR_INTERNAL;
+  }
+  return GRAN_SUCCESS;
+}
+
 int write_output(Run &r, const std::string &path, int64_t nt) {
   const gran_scene *s = r.s;
   const int64_t M = s->nspecies;
@@ -379,6 +437,8 @@ int write_output(Run &r, const std::string &path, int64_t nt) {
       GRAN_CALL(write_theory(r, f.id, file, tt));
     }
     if (s->obs_tamsd && complete) GRAN_CALL(write_tamsd(r, f.id, file));
+    gran_clear_error();
+    GRAN_CALL(annotate(f.id, file));
     return gran_h5::commit_memory_file(&f.id, path, "output file");
   }
 }
