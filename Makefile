@@ -98,7 +98,7 @@ BENCH_BIN:= $(BENCH_C:bench/%.c=$(BUILD)/bench/%)
 GPU_TEST_C := $(sort $(wildcard tests/gpu/t*.c))
 GPU_TEST_BIN := $(GPU_TEST_C:tests/gpu/%.c=$(BUILD)/tests/gpu/%)
 
-.PHONY: all lib run test test-asan test-gpu bench install deps info clean help check-header
+.PHONY: all lib run test test-asan test-gpu bench install deps info clean help check-header fuzz
 .DEFAULT_GOAL := all
 
 all: $(LIB_A) $(LIB_SO) $(LIBF_A) $(CLI) check-header
@@ -187,6 +187,32 @@ $(BUILD)/bench/%: bench/%.c bench/bench_util.h $(LIB_A)
 bench: $(BENCH_BIN) $(CLI)
 	@for b in $(BENCH_BIN); do echo "== $$b"; GRAN_SOURCE_DIR=$(CURDIR) $$b || exit 1; done
 
+# ---- fuzz -------------------------------------------------------------------------------------
+# libFuzzer harnesses (fuzz/*.c) for the scene parser and the entry points that read files, built
+# with clang (Debian's clang and libclang-rt-dev) under ASan+UBSan in build-fuzz/; each runs for
+# FUZZ_SECONDS from the seed corpus in fuzz/corpus/NAME (new inputs go to build-fuzz/corpus/NAME,
+# crashes to build-fuzz/artifacts/).
+FUZZ_SECONDS ?= 60
+FUZZ_BUILD   := build-fuzz
+FUZZ_SAN     := -fsanitize=address,undefined -fno-sanitize-recover=all
+FUZZ_NAMES   := $(patsubst fuzz/fuzz_%.c,%,$(wildcard fuzz/fuzz_*.c))
+
+fuzz:
+	@command -v clang >/dev/null 2>&1 || { echo "make fuzz needs clang: apt-get install -y clang libclang-rt-dev" >&2; exit 1; }
+	@$(MAKE) --no-print-directory BUILD=$(FUZZ_BUILD) NVCC= CC=clang CXX=clang++ OPT="-O1 -g" \
+	  SAN="$(FUZZ_SAN) -fsanitize=fuzzer-no-link" $(FUZZ_BUILD)/libgranary.a
+	@mkdir -p $(FUZZ_BUILD)/artifacts
+	@set -e; for n in $(FUZZ_NAMES); do \
+	  clang -Iinclude $(FUZZ_SAN) -fsanitize=fuzzer -g -O1 -c fuzz/fuzz_$$n.c -o $(FUZZ_BUILD)/fuzz_$$n.o; \
+	  clang++ $(FUZZ_SAN) -fsanitize=fuzzer $(FUZZ_BUILD)/fuzz_$$n.o $(FUZZ_BUILD)/libgranary.a \
+	    $$(sed -n 's/^PKG_LIBS := //p' $(FUZZ_BUILD)/config.mk) -lm -lpthread -o $(FUZZ_BUILD)/fuzz_$$n; \
+	  mkdir -p $(FUZZ_BUILD)/corpus/$$n; \
+	  echo "== fuzz_$$n for $(FUZZ_SECONDS) s"; \
+	  $(FUZZ_BUILD)/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=30 -rss_limit_mb=4096 -max_len=65536 \
+	    -artifact_prefix=$(FUZZ_BUILD)/artifacts/$$n- -print_final_stats=1 \
+	    $(FUZZ_BUILD)/corpus/$$n fuzz/corpus/$$n 2>&1 | tail -n 25; \
+	done
+
 # ---- run --------------------------------------------------------------------------------------
 run: all
 	@if [ -f scenes/default.toml ] && $(CLI) --help 2>&1 | grep -q '^ *run '; then \
@@ -219,6 +245,6 @@ help:
 	@sed -n '2,7p' Makefile
 
 clean:
-	rm -rf build build-asan
+	rm -rf build build-asan build-fuzz
 
 -include $(shell find $(BUILD)/obj $(BUILD)/tests $(BUILD)/bench -name "*.d" 2>/dev/null)
