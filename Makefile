@@ -216,7 +216,7 @@ fuzz:
 # ---- run --------------------------------------------------------------------------------------
 run: all
 	@if [ -f scenes/default.toml ] && $(CLI) --help 2>&1 | grep -q '^ *run '; then \
-	  $(CLI) run scenes/default.toml; else $(CLI) info; fi
+	  $(CLI) run scenes/default.toml --force; else $(CLI) info; fi
 
 # ---- install ----------------------------------------------------------------------------------
 install: all

@@ -442,10 +442,11 @@ GRAN_EXTERN int gran_scene_dsmc(const gran_scene *scene, const gran_mixture *mix
 typedef struct gran_run_progress {
   double time;           /* simulated time reached */
   double t_start, t_end;
-  double fraction;       /* share of the output times done (0..1) */
+  double fraction;       /* estimated share of the work done (0..1): collisions from the kinetic
+                          * theory's collision rate to the time reached, over those to t_end */
   double wall_seconds;   /* since this process started the run */
   double collisions_per_second; /* in this process */
-  double eta_seconds;    /* estimate; < 0 when unknown */
+  double eta_seconds;    /* wall time per unit of that work so far x the work left; < 0 when unknown */
   int64_t collisions;    /* total, including those before a resume */
   int64_t output_index;  /* output times recorded so far */
   int64_t noutputs;

@@ -110,20 +110,34 @@ void summary(const std::string &path) {
     if (rows.empty() || rows.back() != r) rows.push_back(r);
   }
   const int64_t Mshow = M > 6 ? 6 : M;
-  std::printf("\n%12s %4s | %12s %12s %8s | %12s %12s %8s\n", "time", "k", "T_sim", "T_theory", "dev", "MSD_sim",
-              "MSD_theory", "dev");
+  /* only the columns the run recorded: no MSD columns when MSD was off, no theory when it was off */
+  std::printf("\n%12s %4s", "time", "k");
+  if (haveT) std::printf(" | %12s %12s %8s", "T_sim", haveTth ? "T_theory" : "", haveTth ? "dev" : "");
+  if (haveM) std::printf(" | %12s %12s %8s", "MSD_sim", haveMth ? "MSD_theory" : "", haveMth ? "dev" : "");
+  std::printf("\n");
   auto dev = [](double a, double b) -> std::string {
     char s[32];
     if (!std::isfinite(a) || !std::isfinite(b) || b == 0) return "";
     std::snprintf(s, sizeof s, "%+.2f%%", 100.0 * (a - b) / b);
     return s;
   };
+  auto cell = [](double x) -> std::string {
+    char s[32];
+    if (std::isnan(x)) return "-"; /* an empty species */
+    std::snprintf(s, sizeof s, "%.6g", x);
+    return s;
+  };
   for (int64_t r : rows) {
     for (int64_t k = 0; k < Mshow; k++) {
       const size_t i = (size_t)(r * M + k);
-      double a = haveT ? T[i] : NAN, b = haveTth ? Tth[i] : NAN, c = haveM ? msd[i] : NAN, d = haveMth ? msdth[i] : NAN;
-      std::printf("%12.5g %4" PRId64 " | %12.6g %12.6g %8s | %12.6g %12.6g %8s\n", t[(size_t)r], k + 1, a, b,
-                  dev(a, b).c_str(), c, d, dev(c, d).c_str());
+      std::printf("%12.5g %4" PRId64, t[(size_t)r], k + 1);
+      if (haveT)
+        std::printf(" | %12s %12s %8s", cell(T[i]).c_str(), haveTth ? cell(Tth[i]).c_str() : "",
+                    haveTth ? dev(T[i], Tth[i]).c_str() : "");
+      if (haveM)
+        std::printf(" | %12s %12s %8s", cell(msd[i]).c_str(), haveMth ? cell(msdth[i]).c_str() : "",
+                    haveMth ? dev(msd[i], msdth[i]).c_str() : "");
+      std::printf("\n");
     }
   }
   if (Mshow < M) std::printf("(species 1..%" PRId64 " of %" PRId64 " shown; everything is in %s)\n", Mshow, M, p);
@@ -235,6 +249,28 @@ int cli_run(int argc, char **argv) {
     const char *p = nullptr;
     gran_scene_output_path(scene, &p);
     out_path = output ? output : p;
+    if (!quiet) {
+      /* what is about to run, before any work */
+      int64_t M = 0, nt = 0, nl = 0, c = 0;
+      double t0 = 0, t1 = 0;
+      gran_scene_sizes(scene, &M, &nt, &nl, &t0, &t1);
+      std::vector<int64_t> counts((size_t)M);
+      gran_dsmc_options opt;
+      int64_t N = 0;
+      if (gran_scene_dsmc_options(scene, &opt, counts.data(), nullptr) == GRAN_SUCCESS)
+        for (int64_t x : counts) N += x;
+      (void)c;
+      std::string ck = no_ckpt ? "none" : checkpoint ? checkpoint
+                                        : (output && !scene->checkpoint_explicit && !scene->checkpoint_path.empty())
+                                            ? out_path + ".ckpt"
+                                            : scene->checkpoint_path.empty() ? "none" : scene->checkpoint_path;
+      std::printf("granary run: %s\n", scene->title.empty() ? scene_path : scene->title.c_str());
+      std::printf("  scene %s: %" PRId64 " species, %" PRId64 " particles, %s selector, seed %" PRIu64 "\n", scene_path,
+                  M, N, scene->selector == GRAN_SELECTOR_BIRD ? "Bird" : "low-rank", scene->seed);
+      std::printf("  t = %g .. %g, %" PRId64 " output times%s\n", t0, t1, nt, nl ? ", TAMSD" : "");
+      std::printf("  output %s, checkpoint %s\n", out_path.c_str(), ck.c_str());
+      std::fflush(stdout);
+    }
     if (!force && access(out_path.c_str(), F_OK) == 0) {
       std::fprintf(stderr, "granary run: the output file '%s' exists; give --force to overwrite it (or -o FILE)\n",
                    out_path.c_str());

@@ -162,9 +162,9 @@ int cli_theory(int argc, char **argv) {
   if (gran_theory_tau_v(mix, T0.data(), tv.data())) return fail("gran_theory_tau_v failed");
   if (gran_theory_diffusion(mix, T0.data(), D.data())) return fail("gran_theory_diffusion failed");
   if (gran_theory_collision_rate1(mix, T0.data(), &inv_tc)) return fail("gran_theory_collision_rate1 failed");
-  tau0_hcs = tau0;
   int model = 0;
   gran_mixture_restitution_model(mix, &model);
+  tau0_hcs = model == GRAN_RESTITUTION_VISCOELASTIC ? NAN : tau0; /* no HCS: JSON null */
   const char *model_name = model == GRAN_RESTITUTION_CONSTANT ? "constant" : model == GRAN_RESTITUTION_MATRIX ? "matrix" : "viscoelastic";
 
   /* initial state: the scene's; HCS flag decides which MSD formula applies */
@@ -269,7 +269,10 @@ int cli_theory(int argc, char **argv) {
               scene->init == SCENE_INIT_HCS     ? "in the homogeneous cooling state"
               : scene->init == SCENE_INIT_EQUAL ? "with equal temperatures"
                                                 : "with the listed temperatures");
-  std::printf("tau0 = %.8g   (2/xi_1(0), Eq. 21: the temperature relaxation time of the HCS)\n", tau0_hcs);
+  if (model == GRAN_RESTITUTION_VISCOELASTIC)
+    std::printf("tau0: none (viscoelastic restitution has no homogeneous cooling state; T(t) ~ t^(-5/3) at late times)\n");
+  else
+    std::printf("tau0 = %.8g   (2/xi_1(0), Eq. 21: the temperature relaxation time of the HCS)\n", tau0_hcs);
   std::printf("tau_c(0) = %.8g   (mean collision time of species 1, Eq. 7)\n", 1.0 / inv_tc);
   std::printf("%4s %14s %14s %14s %16s %14s %14s %14s\n", "k", "n_k", "m_k", "sigma_k", "T_k(0)", "gamma_k1",
               "tau_v,k(0)", "D_k(0)");
