@@ -3,9 +3,12 @@
 #   make all     libraries + command-line driver          make test-asan  the tests under ASan+UBSan
 #   make bench   speed / accuracy-versus-cost tables      make test-gpu   GPU tests (needs a GPU)
 #   make install prefix=... DESTDIR=...                   make deps       install Debian packages
-#   make info    show the configuration                   make clean
-# Override OPT (default -O3 -march=native), NVCC (empty disables CUDA), BUILD (build folder),
-# T (test pattern, e.g. make test T='t2*').
+#   make fuzz    libFuzzer harnesses (FUZZ_SECONDS=60)    make doc-numbers  regenerate docs/numbers.md
+#   make info    show the configuration                   make clean      remove build folders
+#   make help    this text
+# Override OPT (default -O3 -march=native: tuned for the building CPU), NVCC (empty disables CUDA),
+# CUDA_ARCH (default sm_90 + compute_90 PTX), BUILD (build folder), T (test pattern: T='t2*').
+# HELP_END
 
 BUILD   ?= build
 prefix  ?= /usr/local
@@ -98,7 +101,7 @@ BENCH_BIN:= $(BENCH_C:bench/%.c=$(BUILD)/bench/%)
 GPU_TEST_C := $(sort $(wildcard tests/gpu/t*.c))
 GPU_TEST_BIN := $(GPU_TEST_C:tests/gpu/%.c=$(BUILD)/tests/gpu/%)
 
-.PHONY: all lib run test test-asan test-gpu bench install deps info clean help check-header fuzz
+.PHONY: all lib run test test-asan test-gpu bench install deps info clean help check-header fuzz doc-numbers
 .DEFAULT_GOAL := all
 
 all: $(LIB_A) $(LIB_SO) $(LIBF_A) $(CLI) check-header
@@ -213,6 +216,10 @@ fuzz:
 	    $(FUZZ_BUILD)/corpus/$$n fuzz/corpus/$$n 2>&1 | tail -n 25; \
 	done
 
+# The measured numbers README and the scene comments quote: docs/numbers.md, from one command.
+doc-numbers: all
+	@GRAN_CLI=$(CLI) sh bench/doc-numbers.sh docs/numbers.md
+
 # ---- run --------------------------------------------------------------------------------------
 run: all
 	@if [ -f scenes/default.toml ] && $(CLI) --help 2>&1 | grep -q '^ *run '; then \
@@ -242,7 +249,7 @@ info:
 	@echo "  sources: $(words $(LIB_SRC)) library, $(words $(CU_SRC)) cuda, $(words $(TEST_C) $(TEST_F)) tests, $(words $(BENCH_C)) benches"
 
 help:
-	@sed -n '2,7p' Makefile
+	@sed -n '2,/^# HELP_END/p' Makefile | grep -v HELP_END
 
 clean:
 	rm -rf build build-asan build-fuzz
