@@ -16,7 +16,7 @@
 namespace gran {
 namespace {
 
-const char *kFormat = "granary-dsmc-state 1";
+const char *kFormat = "granary-dsmc-state 2"; /* 2: the clock counts from t_start */
 
 /* closes an HDF5 handle on scope exit */
 struct H5Handle {

@@ -145,7 +145,10 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   double *const v = s->p.v;
   double *const R = kDisp ? s->p.r : nullptr;
   double *const tl = kDisp ? s->p.t_last : nullptr;
+  /* The engine's clock counts from t_start (t, t_ref, pend_t, t_stop): a run that starts at
+   * t_start = 1e20 keeps the resolution of one that starts at 0. t_last holds absolute times. */
   const double t0 = s->opt.t_start;
+  (void)t0;
   int64_t *const cc = kCount ? s->ccount.data() : nullptr;
   const double *const mass = s->mix.m.data();
   const uint8_t *const trc = kTracer ? s->tracer.data() : nullptr;
@@ -207,13 +210,13 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     }
     if (kDisp && kDispTlast) { /* Eq. 45 literally: r += v (t - t_last), t_last = t */
       double *const rj = R + 3 * c.j, *const rl = R + 3 * c.l;
-      const double dj = t - tl[c.j], dl = t - tl[c.l];
+      const double dj = (t + t0) - tl[c.j], dl = (t + t0) - tl[c.l]; /* t_last: absolute times */
       for (int d = 0; d < 3; d++) {
         rj[d] += vj[d] * dj;
         rl[d] += vl[d] * dl;
       }
-      tl[c.j] = t;
-      tl[c.l] = t;
+      tl[c.j] = t + t0;
+      tl[c.l] = t + t0;
     }
     const double mi = mass[c.i], mk = mass[c.k];
     const double inv = 1.0 / (mi + mk);
@@ -247,7 +250,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       /* Eq. 45 with the reference time fixed at t_start (t_last stays t_start): R(t) = r + v (t - t_start)
        * holds when r absorbs -dv (t - t_start) at each velocity change dv. One array per particle. */
       double *const rj = R + 3 * c.j, *const rl = R + 3 * c.l;
-      const double ts = t - t0, bj = aj * ts, bl = al * ts;
+      const double ts = t, bj = aj * ts, bl = al * ts; /* t: elapsed since t_start */
       rj[0] += bj * gn[0];
       rj[1] += bj * gn[1];
       rj[2] += bj * gn[2];
@@ -276,6 +279,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     if (coll >= s->next_refresh) {
       s->collisions = coll;
       s->trials = trials;
+      if (kDisp) s->t = t; /* the displacements are corrected to the time of this collision */
       dsmc_refresh_bounds(s);
       changed = true;
     }

@@ -28,11 +28,11 @@ void mean_flow(const gran_dsmc *s, double u[3]) {
 void dsmc_record_trajectories(gran_dsmc *s) {
   const int64_t S = s->opt.traj_samples, g = s->traj_next;
   if (g >= S) return;
-  const double t = s->t;
+  const double t = s->t; /* elapsed since t_start (the engine's clock) */
   for (int64_t q = 0; q < s->ntraj; q++) {
     const int64_t j = s->traj_index[(size_t)q];
     double *x = &s->traj_xyz[(size_t)((q * S + g) * 3)];
-    const double dt = t - s->p.t_last[j];
+    const double dt = t - (s->p.t_last[j] - s->opt.t_start);
     for (int d = 0; d < 3; d++) x[d] = s->p.r[3 * j + d] + s->p.v[3 * j + d] * dt;
   }
   s->traj_next = g + 1;
@@ -73,12 +73,12 @@ GRAN_EXTERN int gran_dsmc_msd(const gran_dsmc *sim, double *msd, double *msd_tot
     GRAN_CHECK(msd || msd_total, GRAN_ERR_ARG, "arguments 'msd' and 'msd_total' are both NULL");
     GRAN_CHECK(sim->p.r != nullptr, GRAN_ERR_STATE,
                "MSD needs displacements: create the engine with GRAN_OBSERVE_DISPLACEMENT");
-    const double t = sim->t, *v = sim->p.v, *r = sim->p.r, *tl = sim->p.t_last;
+    const double t = sim->t, t0 = sim->opt.t_start, *v = sim->p.v, *r = sim->p.r, *tl = sim->p.t_last;
     double tot = 0, totc = 0;
     for (int64_t k = 0; k < sim->M; k++) {
       double s2 = 0, c = 0;
       for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++) {
-        const double dt = t - tl[j];
+        const double dt = t - (tl[j] - t0); /* t: elapsed since t_start; t_last: absolute */
         const double a = r[3 * j] + v[3 * j] * dt, b = r[3 * j + 1] + v[3 * j + 1] * dt,
                      e = r[3 * j + 2] + v[3 * j + 2] * dt;
         neumaier_add(s2, c, a * a + b * b + e * e);

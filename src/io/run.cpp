@@ -144,7 +144,22 @@ int record(Run &r, int64_t i) {
       GRAN_CALL(record_veldist(r, d));
     }
   }
-  (void)M;
+  /* a non-finite observable is an error, not a value in the file (NaN is allowed only where it
+   * means "no particles": per-species values of an empty species) */
+  std::vector<int64_t> counts((size_t)M);
+  GRAN_CALL(gran_dsmc_counts(r.sim, counts.data()));
+  for (const auto &b : r.bufs) {
+    if (b.is_int) continue;
+    const double *d = b.d.data() + i * b.row;
+    const bool per_species = !b.row_dims.empty() && b.row_dims[0] == M;
+    for (int64_t e = 0; e < b.row; e++) {
+      if (std::isfinite(d[e])) continue;
+      const int64_t k = per_species ? e / (b.row / M) : -1;
+      if (std::isnan(d[e]) && k >= 0 && counts[(size_t)k] == 0) continue;
+      return GRAN_ERROR(GRAN_ERR_NUMERIC, "observable '%s/%s' is %g at t = %g (element %" PRId64 "): the run stops here",
+                        b.group.c_str(), b.name.c_str(), d[e], r.s->times[(size_t)i], e);
+    }
+  }
   return GRAN_SUCCESS;
 }
 
