@@ -69,6 +69,17 @@ static void test_full_disk(void **state) {
     gran_scene_destroy(&s);
     if (st != GRAN_ERR_IO) _exit(11);
     if (!strstr(gran_last_error_message(), "full.")) _exit(12);
+    /* the public checkpoint writer too (it used to crash at exit) */
+    gran_mixture *mix = NULL;
+    gran_dsmc *sim = NULL;
+    gran_dsmc_options o;
+    double n = 0.1;
+    gran_dsmc_options_default(&o);
+    o.volume = 2e4;
+    if (gran_mixture_create(1, NULL, NULL, &n, &mix) || gran_dsmc_create(mix, NULL, NULL, &o, &sim)) _exit(13);
+    if (gran_dsmc_checkpoint_write(sim, io_path("full-engine.h5"), "/engine") != GRAN_ERR_IO) _exit(14);
+    gran_dsmc_destroy(&sim);
+    gran_mixture_destroy(&mix);
     exit(0); /* through atexit: HDF5's shutdown runs */
   }
   int status = 0;

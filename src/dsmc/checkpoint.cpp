@@ -7,6 +7,7 @@
  * creation; the stored flags only check them (files without them are accepted). HDF5 errors are silenced
  * and mapped to GRAN_ERR_IO naming the file. */
 #include "dsmc_impl.h"
+#include "io/io_impl.h"
 
 #include <hdf5.h>
 #include <sys/stat.h>
@@ -303,18 +304,27 @@ GRAN_EXTERN int gran_dsmc_checkpoint_write(const gran_dsmc *sim, const char *pat
     GRAN_CHECK(group[0] != '\0' && std::strcmp(group, "/") != 0, GRAN_ERR_ARG,
                "argument 'group' = '%s' must name a group below the root", group);
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    /* The file is assembled in memory (an existing one is read in whole by HDF5's core driver)
+     * and written by gran_h5::commit_memory_file: PATH.tmp, fsync, rename, with granary's
+     * checksum header. HDF5 never writes to disk itself, so a full disk is a plain GRAN_ERR_IO
+     * and the previous file stays as it was. */
     hid_t fid;
     if (file_exists(path)) {
       GRAN_CHECK(H5Fis_hdf5(path) > 0, GRAN_ERR_IO, "checkpoint file '%s' exists and is not an HDF5 file", path);
-      fid = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+      H5Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+      H5Pset_fapl_core(fapl.id, (size_t)1 << 20, 0);
+      fid = H5Fopen(path, H5F_ACC_RDWR, fapl.id);
     } else {
-      fid = H5Fcreate(path, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
+      fid = (hid_t)gran_h5::create_memory_file();
     }
     GRAN_CHECK(fid >= 0, GRAN_ERR_IO, "cannot open or create checkpoint file '%s' for writing", path);
-    H5Handle file(fid, H5Fclose);
-    GRAN_CALL(gran_dsmc_checkpoint_write_h5_(sim, fid, group, path));
-    GRAN_CHECK(H5Fflush(fid, H5F_SCOPE_LOCAL) >= 0, GRAN_ERR_IO, "cannot flush checkpoint file '%s'", path);
-    return GRAN_SUCCESS;
+    int64_t f64 = fid;
+    int st = gran_dsmc_checkpoint_write_h5_(sim, fid, group, path);
+    if (st != GRAN_SUCCESS) {
+      H5Fclose(fid);
+      return st;
+    }
+    return gran_h5::commit_memory_file(&f64, path, "checkpoint");
   }
   GRAN_CATCH
 }
@@ -442,8 +452,9 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
     GRAN_CHECK_PTR(group);
     GRAN_CALL(check_mixture(mix, "mix"));
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    GRAN_CHECK(file_exists(path) && H5Fis_hdf5(path) > 0, GRAN_ERR_IO, "checkpoint file '%s' is missing or not HDF5",
-               path);
+    GRAN_CHECK(file_exists(path), GRAN_ERR_IO, "checkpoint file '%s' is missing", path);
+    GRAN_CALL(gran_h5::verify_file_if_marked(path, "checkpoint")); /* before HDF5 parses it */
+    GRAN_CHECK(H5Fis_hdf5(path) > 0, GRAN_ERR_IO, "checkpoint file '%s' is not HDF5", path);
     H5Handle file(H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     GRAN_CHECK(file.id >= 0, GRAN_ERR_IO, "cannot open checkpoint file '%s'", path);
     return gran_dsmc_checkpoint_read_h5_(file.id, group, mix, sim, path);

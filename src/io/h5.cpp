@@ -342,6 +342,16 @@ int verify_file(const char *path, const char *what) {
   return GRAN_SUCCESS;
 }
 
+int verify_file_if_marked(const char *path, const char *what) {
+  char head[sizeof kMagic] = {0};
+  FILE *f = std::fopen(path, "rb");
+  if (!f) return GRAN_SUCCESS; /* the caller reports a missing file in its own words */
+  const size_t got = std::fread(head, 1, sizeof kMagic - 1, f);
+  std::fclose(f);
+  if (got == sizeof kMagic - 1 && std::memcmp(head, kMagic, sizeof kMagic - 1) == 0) return verify_file(path, what);
+  return GRAN_SUCCESS;
+}
+
 }  // namespace gran_h5
 
 /* canonical form of a path that may not exist yet: realpath of the file, or of its folder plus

@@ -107,6 +107,8 @@ int exists(int64_t loc, const char *name);
 int64_t create_memory_file();
 int commit_memory_file(int64_t *file, const std::string &path, const char *what);
 int verify_file(const char *path, const char *what);
+/* verify_file when the file starts with granary's header; other HDF5 files pass unchecked */
+int verify_file_if_marked(const char *path, const char *what);
 /* units and description attributes of dataset `name` under `loc` */
 int describe(int64_t loc, const char *name, const char *units, const char *description, const char *file);
 }  // namespace gran_h5
