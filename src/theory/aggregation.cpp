@@ -21,7 +21,7 @@
  * Rates: collisions per volume n_i n_j pi sigma_ij^2 g2 <|g_ij|> / (1 + delta_ij) (seed 002 Eq. 57).
  * Integrated with GSL odeiv2 (rk8pd); every pair term moves mass from i, j to i + j (or to i + j
  * monomers) in one place, so sum k n_k + overflow mass is a linear invariant of the right-hand side
- * and Runge-Kutta keeps it to rounding. Sizes with n_k <= 1e-200 n_0 are skipped (pairwise, so the
+ * and Runge-Kutta keeps it to rounding. Sizes with n_k <= 1e-40 n_0 are skipped (pairwise, so the
  * invariant is kept). */
 #include "theory_impl.h"
 
@@ -96,7 +96,7 @@ int agg_rhs(double, const double y[], double f[], void *params) {
   std::fill(f, f + 2 * M + 3, 0.0);
   S.act.clear();
   for (int64_t k = 0; k < M; k++) {
-    if (y[k] > 1e-200) S.act.push_back(k);
+    if (y[k] > 1e-40) S.act.push_back(k);
     S.T[(size_t)k] = (ball && y[k] > 0) ? std::max(0.0, y[M + k] * e0 / (1.5 * y[k] * n0)) : 0.0;
   }
   double *dn = f, *de = f + M, *ov = f + 2 * M;
