@@ -197,6 +197,9 @@ static void test_first_rates(void **state) {
   GRAN_ASSERT_REL((0.1 - nn[0]) / t, 2 * rate, 1e-3);
   GRAN_ASSERT_REL(nn[1] / t, rate, 1e-3);
   GRAN_ASSERT_REL(T[1], 2.0, 1e-3);
+  /* hard case: E_agg huge, every collision sticks: dn_1/dt = -n_1^2 K_11 */
+  GRAN_ASSERT_OK(gran_theory_aggregation(mix, T0, 1e12, INFINITY, 0.5, 1, &t, 1e-12, nn, T, NULL));
+  GRAN_ASSERT_REL((0.1 - nn[0]) / t, 0.01 * K, 1e-3);
   gran_mixture_destroy(&mix);
 }
 
