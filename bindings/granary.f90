@@ -100,6 +100,8 @@ module granary
   public :: gran_theory_tamsd, gran_theory_tamsd_sampled, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
   public :: gran_theory_tracer_gamma_approx, gran_theory_tracer_tau_v_hat
   public :: gran_theory_mean_relative_speed, gran_theory_collision_rates, gran_theory_collision_counts
+  ! aggregation and fragmentation kinetics (src/theory/aggregation.cpp)
+  public :: gran_theory_agg_fractions, gran_theory_aggregation, gran_theory_smoluchowski_constant
   ! ---- DSMC engines ----
   ! DSMC engine (include/granary.h, dsmc section). Engines are type(c_ptr) handles; per-species
   ! arrays have M entries, collision counts are (M, M) (symmetric), trajectories (3, nsamples, ntraj).
@@ -692,6 +694,40 @@ module granary
       real(c_double), intent(out) :: counts(*)
       integer(c_int) :: ierr
     end function c_gran_theory_collision_counts
+    ! aggregation and fragmentation kinetics
+    function c_gran_theory_agg_fractions(mi, mj, ti, tj, e_agg, e_frag, f_stick, f_frag) &
+        bind(C, name='gran_theory_agg_fractions') result(ierr)
+      import :: c_int, c_double
+      real(c_double), value :: mi, mj, ti, tj, e_agg, e_frag
+      real(c_double), intent(out) :: f_stick, f_frag
+      integer(c_int) :: ierr
+    end function c_gran_theory_agg_fractions
+    function c_gran_theory_aggregation(mix, t0, e_agg, e_frag, eps_f, ntimes, t, rtol, n, temp, overflow) &
+        bind(C, name='gran_theory_aggregation') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      real(c_double), value :: e_agg, e_frag, eps_f
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: n(*)
+      type(c_ptr), value :: temp, overflow
+      integer(c_int) :: ierr
+    end function c_gran_theory_aggregation
+    function c_gran_theory_smoluchowski_constant(kmax, k, n0, ntimes, t, rtol, n, overflow) &
+        bind(C, name='gran_theory_smoluchowski_constant') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      integer(c_int64_t), value :: kmax
+      real(c_double), value :: k
+      real(c_double), intent(in) :: n0(*)
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: n(*)
+      type(c_ptr), value :: overflow
+      integer(c_int) :: ierr
+    end function c_gran_theory_smoluchowski_constant
     ! ---- DSMC engines ----
     function c_gran_dsmc_options_default(opt) bind(C, name='gran_dsmc_options_default') result(ierr)
       import :: c_int, gran_dsmc_options
@@ -1907,6 +1943,74 @@ contains
     end if
     call gran_check(c_gran_theory_collision_counts(mix, t0, volume, size(t, kind=c_int64_t), t, rtol, counts), ierr)
   end subroutine gran_theory_collision_counts
+
+  ! ---- theory: aggregation and fragmentation kinetics ---------------------------------------------
+  !> Maxwellian fractions of the collisions of a pair (i, j) that stick and that shatter.
+  subroutine gran_theory_agg_fractions(mi, mj, ti, tj, e_agg, e_frag, f_stick, f_frag, ierr)
+    real(c_double), intent(in) :: mi, mj, ti, tj, e_agg, e_frag
+    real(c_double), intent(out) :: f_stick, f_frag
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_theory_agg_fractions(mi, mj, ti, tj, e_agg, e_frag, f_stick, f_frag), ierr)
+  end subroutine gran_theory_agg_fractions
+
+  !> Smoluchowski kinetics with temperatures: n(M, size(t)), optional temp(M, size(t)) and
+  !> overflow(3, size(t)) (number, mass, energy per volume beyond size M). e_frag = huge: none.
+  subroutine gran_theory_aggregation(mix, t0, e_agg, e_frag, eps_f, t, rtol, n, temp, overflow, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), e_agg, e_frag, eps_f, t(:), rtol
+    real(c_double), intent(out) :: n(:, :)
+    real(c_double), intent(out), target, contiguous, optional :: temp(:, :), overflow(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    type(c_ptr) :: pt, po
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_aggregation: size(t0) < M', ierr)) return
+    if (m > 0 .and. (size(n, 1, kind=c_int64_t) /= m .or. size(n, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_aggregation: n must be (M, size(t))', ierr)
+      return
+    end if
+    pt = c_null_ptr
+    po = c_null_ptr
+    if (present(temp)) then
+      if (size(temp, 1, kind=c_int64_t) /= m .or. size(temp, 2) /= size(t)) then
+        call gran_theory_shape_error('gran_theory_aggregation: temp must be (M, size(t))', ierr)
+        return
+      end if
+      pt = c_loc(temp)
+    end if
+    if (present(overflow)) then
+      if (size(overflow, 1) /= 3 .or. size(overflow, 2) /= size(t)) then
+        call gran_theory_shape_error('gran_theory_aggregation: overflow must be (3, size(t))', ierr)
+        return
+      end if
+      po = c_loc(overflow)
+    end if
+    call gran_check(c_gran_theory_aggregation(mix, t0, e_agg, e_frag, eps_f, size(t, kind=c_int64_t), t, rtol, &
+                                              n, pt, po), ierr)
+  end subroutine gran_theory_aggregation
+
+  !> Constant-kernel Smoluchowski equations: n(size(n0), size(t)), optional overflow(3, size(t)).
+  subroutine gran_theory_smoluchowski_constant(k, n0, t, rtol, n, overflow, ierr)
+    real(c_double), intent(in) :: k, n0(:), t(:), rtol
+    real(c_double), intent(out) :: n(:, :)
+    real(c_double), intent(out), target, contiguous, optional :: overflow(:, :)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: po
+    if (size(n, 1) /= size(n0) .or. size(n, 2) /= size(t)) then
+      call gran_theory_shape_error('gran_theory_smoluchowski_constant: n must be (size(n0), size(t))', ierr)
+      return
+    end if
+    po = c_null_ptr
+    if (present(overflow)) then
+      if (size(overflow, 1) /= 3 .or. size(overflow, 2) /= size(t)) then
+        call gran_theory_shape_error('gran_theory_smoluchowski_constant: overflow must be (3, size(t))', ierr)
+        return
+      end if
+      po = c_loc(overflow)
+    end if
+    call gran_check(c_gran_theory_smoluchowski_constant(size(n0, kind=c_int64_t), k, n0, size(t, kind=c_int64_t), &
+                                                        t, rtol, n, po), ierr)
+  end subroutine gran_theory_smoluchowski_constant
   ! ---- DSMC engines ----
   !> Array of the wrong size handed to a DSMC wrapper: ierr = GRAN_ERR_ARG, or stop with the message.
   subroutine gran_dsmc_shape_error(what, ierr)

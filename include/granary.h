@@ -284,6 +284,24 @@ GRAN_EXTERN int gran_theory_collision_rates(const gran_mixture *mix, const doubl
 GRAN_EXTERN int gran_theory_collision_counts(const gran_mixture *mix, const double *T0, double volume,
                                              int64_t ntimes, const double *t, double rtol, double *counts);
 
+/* ---- Aggregation and fragmentation kinetics (src/theory/aggregation.cpp) -------------------
+ * Maxwellian pair (i, j), T_ij = (m_j T_i + m_i T_j)/(m_i + m_j): fraction of collisions that stick
+ * (mu g^2/2 < E_agg) 1 - (1 + q) e^-q, q = E_agg/T_ij, and that shatter (mu g_n^2/2 > E_frag, not
+ * sticking) (1 + L - w) e^-L, w = E_frag/T_ij, L = max(q, w). E_frag = INFINITY: none. */
+GRAN_EXTERN int gran_theory_agg_fractions(double mi, double mj, double Ti, double Tj, double E_agg, double E_frag,
+                                          double *f_stick, double *f_frag);
+/* Temperature-dependent Smoluchowski equations (ballistic kernels) for sizes k = 1..M: species k-1
+ * of mix is the k-mer (m_k = k m_1, checked), initial densities from mix, temperatures T0 (M).
+ * Outputs n, T: ntimes*M; overflow (may be NULL): ntimes*3 = number, mass (monomers) and kinetic
+ * energy per volume of clusters beyond M (truncation: they leave the system). T may be NULL. */
+GRAN_EXTERN int gran_theory_aggregation(const gran_mixture *mix, const double *T0, double E_agg, double E_frag,
+                                        double eps_f, int64_t ntimes, const double *t, double rtol, double *n,
+                                        double *T, double *overflow);
+/* Constant-kernel Smoluchowski equations (rate K n_i n_j/(1 + delta_ij)), sizes 1..kmax, same
+ * truncation; n: ntimes*kmax, overflow ntimes*3 (may be NULL). */
+GRAN_EXTERN int gran_theory_smoluchowski_constant(int64_t kmax, double K, const double *n0, int64_t ntimes,
+                                                  const double *t, double rtol, double *n, double *overflow);
+
 /* ---- DSMC engines (src/dsmc) -----------------------------------------------------------------
  * Event-driven DSMC of the homogeneous cooling state (seed 000 Sec. III) with two pair selectors
  * in one engine: the low-rank selector (rank-3 bound: segment trees over the speed-dependent
