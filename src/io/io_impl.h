@@ -41,6 +41,7 @@ struct gran_scene {
   double t_start = 0.0;
 
   /* [engine] */
+  std::string engine_type = "dsmc"; /* `[engine] type`: the key of the engine table (src/io/engine.cpp) */
   int selector = GRAN_SELECTOR_LOWRANK;
   uint64_t seed = 1;
   double t_end = 0.0;

@@ -3,7 +3,8 @@
  * The engine is only ever advanced to the scene's output times (then to t_end), whether or not a
  * checkpoint is written there, so a run split by checkpoints makes exactly the same calls as an
  * uninterrupted one: resuming is bit for bit. Recorded rows live in named buffers [ntimes x row];
- * the output file and the checkpoint's /observer group are written from the same buffers. */
+ * the output file and the checkpoint's /observer group are written from the same buffers.
+ * Every engine is reached through the interface of engine.h (one adapter per engine). */
 #include <hdf5.h>
 
 #include <cerrno>
@@ -12,7 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "io/io_impl.h"
+#include "io/engine.h"
 
 namespace {
 
@@ -23,129 +24,18 @@ double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-/* One recorded quantity: row `i` belongs to output time i. */
-struct Buf {
-  std::string group, name;
-  int is_int = 0;
-  std::vector<int64_t> row_dims; /* shape of one row */
-  int64_t row = 1;               /* elements per row */
-  std::vector<double> d;
-  std::vector<int64_t> n;
-};
-
 struct Run {
   const gran_scene *s = nullptr;
   gran_scene *owned_scene = nullptr;
-  gran_mixture *mix = nullptr;
-  gran_dsmc *sim = nullptr;
-  std::vector<double> T0;
-  double tau0 = NAN;
-  std::vector<Buf> bufs;
+  std::unique_ptr<gran_engine> eng;
+  std::vector<gran_row_buf> bufs;
   int64_t next = 0; /* output times recorded */
   std::string out, ckpt;
   ~Run() {
-    gran_dsmc_destroy(&sim);
-    gran_mixture_destroy(&mix);
+    eng.reset();
     gran_scene_destroy(&owned_scene);
   }
-  Buf &buf(const char *g, const char *nm) {
-    for (auto &b : bufs)
-      if (b.group == g && b.name == nm) return b;
-    throw std::logic_error("no buffer");
-  }
 };
-
-void add_buf(Run &r, const char *g, const char *nm, int is_int, std::vector<int64_t> row_dims) {
-  Buf b;
-  b.group = g;
-  b.name = nm;
-  b.is_int = is_int;
-  b.row_dims = std::move(row_dims);
-  for (int64_t x : b.row_dims) b.row *= x;
-  const size_t total = (size_t)(b.row * (int64_t)r.s->times.size());
-  if (is_int) b.n.assign(total, 0);
-  else b.d.assign(total, 0.0);
-  r.bufs.push_back(std::move(b));
-}
-
-void setup_buffers(Run &r) {
-  const gran_scene *s = r.s;
-  const int64_t M = s->nspecies;
-  add_buf(r, "stats", "collisions", 1, {});
-  add_buf(r, "stats", "trials", 1, {});
-  if (s->obs_temperatures) add_buf(r, "temperatures", "T", 0, {M});
-  if (s->obs_msd) {
-    add_buf(r, "msd", "msd", 0, {M});
-    add_buf(r, "msd", "msd_total", 0, {});
-  }
-  if (s->obs_energy) {
-    add_buf(r, "energy", "e_kin", 0, {});
-    add_buf(r, "energy", "e_initial", 0, {});
-    add_buf(r, "energy", "e_dissipated", 0, {});
-  }
-  if (s->obs_momentum) add_buf(r, "momentum", "p", 0, {3});
-  if (s->obs_collision_counts) add_buf(r, "collision_counts", "counts", 1, {M, M});
-  if (s->obs_sonine_a2) add_buf(r, "sonine_a2", "a2", 0, {M});
-  if (s->obs_veldist) add_buf(r, "velocity_distribution", "pdf", 0, {M, s->vd_bins});
-}
-
-/* Speed histogram of c = |v - u_k| / sqrt(2 T_k / m_k) per species (gran_speed_histogram),
- * normalised by N_k dc. */
-int record_veldist(Run &r, double *row) {
-  const gran_scene *s = r.s;
-  const int64_t M = s->nspecies, B = s->vd_bins;
-  const gran_particles *p = nullptr;
-  std::vector<int64_t> off((size_t)M + 1);
-  std::vector<double> T((size_t)M);
-  GRAN_CALL(gran_dsmc_particles(r.sim, &p));
-  GRAN_CALL(gran_dsmc_species_offsets(r.sim, off.data()));
-  GRAN_CALL(gran_dsmc_temperatures(r.sim, T.data()));
-  for (int64_t k = 0; k < M; k++) {
-    double *h = row + k * B;
-    std::fill(h, h + B, 0.0);
-    const int64_t n = off[(size_t)k + 1] - off[(size_t)k];
-    if (n <= 0 || !(T[(size_t)k] > 0)) continue;
-    const double scale = std::sqrt(2.0 * T[(size_t)k] / s->mass[(size_t)k]);
-    GRAN_CALL(gran_speed_histogram(n, p->v + 3 * off[(size_t)k], scale, B, s->vd_cmax, h, nullptr));
-  }
-  return GRAN_SUCCESS;
-}
-
-int record(Run &r, int64_t i) {
-  const int64_t M = r.s->nspecies;
-  gran_dsmc_stats st;
-  GRAN_CALL(gran_dsmc_get_stats(r.sim, &st));
-  for (auto &b : r.bufs) {
-    double *d = b.is_int ? nullptr : b.d.data() + i * b.row;
-    int64_t *n = b.is_int ? b.n.data() + i * b.row : nullptr;
-    const std::string &g = b.group, &nm = b.name;
-    if (g == "stats") {
-      n[0] = nm == "collisions" ? st.collisions : st.trials;
-    } else if (g == "temperatures") {
-      GRAN_CALL(gran_dsmc_temperatures(r.sim, d));
-    } else if (g == "msd" && nm == "msd") {
-      double total = 0;
-      GRAN_CALL(gran_dsmc_msd(r.sim, d, &total));
-      r.buf("msd", "msd_total").d[(size_t)i] = total;
-    } else if (g == "energy" && nm == "e_kin") {
-      double e, e0, ed;
-      GRAN_CALL(gran_dsmc_energy(r.sim, &e, &e0, &ed));
-      d[0] = e;
-      r.buf("energy", "e_initial").d[(size_t)i] = e0;
-      r.buf("energy", "e_dissipated").d[(size_t)i] = ed;
-    } else if (g == "momentum") {
-      GRAN_CALL(gran_dsmc_momentum(r.sim, d));
-    } else if (g == "collision_counts") {
-      GRAN_CALL(gran_dsmc_collision_counts(r.sim, n));
-    } else if (g == "sonine_a2") {
-      GRAN_CALL(gran_dsmc_sonine_a2(r.sim, d));
-    } else if (g == "velocity_distribution") {
-      GRAN_CALL(record_veldist(r, d));
-    }
-  }
-  (void)M;
-  return GRAN_SUCCESS;
-}
 
 /* mkdir -p of the folder holding `path` */
 int make_parent(const std::string &path) {
@@ -196,114 +86,25 @@ int write_root_attrs(Run &r, int64_t f, const char *file, const char *format) {
   GRAN_CALL(gran_h5::attr_string(f, "title", s->title, file));
   GRAN_CALL(gran_h5::attr_string(f, "granary_version", GRAN_VERSION_STRING, file));
   GRAN_CALL(gran_h5::attr_uint64(f, "seed", s->seed, file));
-  GRAN_CALL(gran_h5::attr_string(f, "selector", s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", file));
-  GRAN_CALL(gran_h5::attr_int64(f, "nspecies", s->nspecies, file));
+  GRAN_CALL(gran_h5::attr_string(f, "engine", r.eng->type(), file));
   GRAN_CALL(gran_h5::attr_double(f, "t_start", s->t_start, file));
   GRAN_CALL(gran_h5::attr_double(f, "t_end", s->t_end, file));
   return GRAN_SUCCESS;
 }
 
-/* Theory beside the simulation; a theory call that fails leaves a warning and an attribute. */
-int write_theory(Run &r, int64_t f, const char *file, const std::vector<double> &tt) {
-  const gran_scene *s = r.s;
-  const int64_t M = s->nspecies, nt = (int64_t)tt.size();
-  std::vector<int64_t> dims = {nt, M};
-  if (s->obs_temperatures) {
-    H5Group g;
-    g.id = H5Gopen2((hid_t)f, "temperatures", H5P_DEFAULT);
-    std::vector<double> T((size_t)(nt * M));
-    int st = gran_theory_temperatures(r.mix, r.T0.data(), nt, tt.data(), s->theory_rtol, T.data());
-    if (st == GRAN_SUCCESS) {
-      GRAN_CALL(gran_h5::write_double(g.id, "T_theory", dims, T.data(), file));
-    } else {
-      gran_warning_add("no T_theory in the output: %s", gran_last_error_message());
-      GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
-    }
-  }
-  if (s->obs_msd) {
-    H5Group g;
-    g.id = H5Gopen2((hid_t)f, "msd", H5P_DEFAULT);
-    std::vector<double> m((size_t)(nt * M)), mt((size_t)nt);
-    const bool hcs = s->init == SCENE_INIT_HCS && s->model != GRAN_RESTITUTION_VISCOELASTIC && std::isfinite(r.tau0);
-    int st = hcs ? gran_theory_msd_hcs(r.mix, r.T0.data(), r.tau0, nt, tt.data(), m.data(), mt.data())
-                 : gran_theory_msd(r.mix, r.T0.data(), nt, tt.data(), s->theory_rtol, m.data(), mt.data());
-    if (st == GRAN_SUCCESS) {
-      GRAN_CALL(gran_h5::write_double(g.id, "msd_theory", dims, m.data(), file));
-      GRAN_CALL(gran_h5::write_double(g.id, "msd_total_theory", {nt}, mt.data(), file));
-      GRAN_CALL(gran_h5::attr_string(g.id, "theory", hcs ? "gran_theory_msd_hcs (Eq. 22)" : "gran_theory_msd (Eq. 4)", file));
-    } else {
-      gran_warning_add("no msd_theory in the output: %s", gran_last_error_message());
-      GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
-    }
-  }
-  return GRAN_SUCCESS;
-}
-
-/* TAMSD of the recorded tracer trajectories, averaged over the tracers of each species
- * (gran_tamsd_plan_*: delta^2(L) = 1/(S-L) sum_{j<S-L} |R_{j+L} - R_j|^2, Eq. 26 on the grid).
- * Lags are rounded to whole sampling intervals; /tamsd/lag holds the lags used. */
-int write_tamsd(Run &r, int64_t f, const char *file) {
-  const gran_scene *s = r.s;
-  const int64_t M = s->nspecies, nl = (int64_t)s->tamsd_lags.size();
-  int64_t ntraj = 0, ns = 0;
-  const double *xyz = nullptr;
-  const int32_t *sp = nullptr;
-  GRAN_CALL(gran_dsmc_trajectories(r.sim, &ntraj, &ns, &xyz, &sp));
-  std::vector<double> lag((size_t)nl), ta((size_t)(nl * M), 0.0);
-  std::vector<int64_t> L((size_t)nl), ntr((size_t)M, 0);
-  for (int64_t l = 0; l < nl; l++) {
-    L[(size_t)l] = std::max<int64_t>(1, (int64_t)std::llround(s->tamsd_lags[(size_t)l] / s->tamsd_dt));
-    lag[(size_t)l] = (double)L[(size_t)l] * s->tamsd_dt;
-  }
-  int64_t Lmax = 1;
-  for (int64_t x : L) Lmax = std::max(Lmax, x);
-  GRAN_CHECK(Lmax < ns, GRAN_ERR_STATE, "TAMSD lag of %" PRId64 " samples >= the %" PRId64 " recorded samples", Lmax, ns);
-  gran_tamsd_plan *plan = nullptr;
-  GRAN_CALL(gran_tamsd_plan_create(ns, &plan));
-  std::vector<double> xs, full((size_t)Lmax + 1);
-  int st = GRAN_SUCCESS;
-  for (int64_t k = 0; k < M && st == GRAN_SUCCESS; k++) {
-    xs.clear();
-    for (int64_t j = 0; j < ntraj; j++)
-      if (sp[j] == k) {
-        ntr[(size_t)k]++;
-        xs.insert(xs.end(), xyz + j * ns * 3, xyz + (j + 1) * ns * 3);
-      }
-    if (!ntr[(size_t)k]) {
-      for (int64_t l = 0; l < nl; l++) ta[(size_t)(l * M + k)] = NAN;
-      continue;
-    }
-    st = gran_tamsd_plan_execute(plan, ntr[(size_t)k], xs.data(), Lmax + 1, full.data());
-    for (int64_t l = 0; l < nl && st == GRAN_SUCCESS; l++) ta[(size_t)(l * M + k)] = full[(size_t)L[(size_t)l]];
-  }
-  gran_tamsd_plan_destroy(&plan);
-  GRAN_CALL(st);
-  H5Group g;
-  GRAN_CALL(gran_h5::make_group(f, "tamsd", &g.id, file));
-  const double t_meas = s->tamsd_dt * (double)(ns - 1);
-  GRAN_CALL(gran_h5::write_double(g.id, "lag", {nl}, lag.data(), file));
-  GRAN_CALL(gran_h5::write_double(g.id, "tamsd", {nl, M}, ta.data(), file));
-  GRAN_CALL(gran_h5::write_int64(g.id, "tracers", {M}, ntr.data(), file));
-  GRAN_CALL(gran_h5::attr_double(g.id, "t_meas", t_meas, file));
-  GRAN_CALL(gran_h5::attr_double(g.id, "dt", s->tamsd_dt, file));
-  GRAN_CALL(gran_h5::attr_int64(g.id, "samples", ns, file));
-  if (s->obs_theory) {
-    std::vector<double> th((size_t)(nl * M));
-    int st = std::isfinite(r.tau0) ? gran_theory_tamsd(r.mix, r.T0.data(), r.tau0, t_meas, nl, lag.data(), s->theory_rtol, th.data())
-                                   : GRAN_ERROR(GRAN_ERR_DOMAIN, "tau0 of the HCS is not finite");
-    if (st == GRAN_SUCCESS) {
-      GRAN_CALL(gran_h5::write_double(g.id, "tamsd_theory", {nl, M}, th.data(), file));
-    } else {
-      gran_warning_add("no tamsd_theory in the output: %s", gran_last_error_message());
-      GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
-    }
-  }
-  return GRAN_SUCCESS;
+/* units and description attributes of dataset `name` in group `loc` */
+int describe(int64_t loc, const char *name, const std::string &units, const std::string &desc, const char *file) {
+  hid_t d = H5Dopen2((hid_t)loc, name, H5P_DEFAULT);
+  GRAN_CHECK(d >= 0, GRAN_ERR_IO, "cannot open dataset '%s' in '%s'", name, file);
+  int st = gran_h5::attr_string(d, "units", units, file);
+  if (st == GRAN_SUCCESS) st = gran_h5::attr_string(d, "description", desc, file);
+  H5Dclose(d);
+  return st;
 }
 
 int write_output(Run &r, const std::string &path) {
   const gran_scene *s = r.s;
-  const int64_t M = s->nspecies, nt = (int64_t)s->times.size();
+  const int64_t nt = (int64_t)s->times.size();
   const std::string tmp = path + ".tmp";
   const char *file = tmp.c_str();
   {
@@ -311,19 +112,11 @@ int write_output(Run &r, const std::string &path) {
     f.id = gran_h5::create_file(file);
     GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot create output file '%s'", file);
     GRAN_CALL(write_root_attrs(r, f.id, file, kOutputFormat));
-    {
-      H5Group g;
-      GRAN_CALL(gran_h5::make_group(f.id, "species", &g.id, file));
-      std::vector<int64_t> counts((size_t)M);
-      GRAN_CALL(gran_dsmc_counts(r.sim, counts.data()));
-      GRAN_CALL(gran_h5::write_double(g.id, "mass", {M}, s->mass.data(), file));
-      GRAN_CALL(gran_h5::write_double(g.id, "sigma", {M}, s->sigma.data(), file));
-      GRAN_CALL(gran_h5::write_double(g.id, "density", {M}, s->density.data(), file));
-      GRAN_CALL(gran_h5::write_int64(g.id, "counts", {M}, counts.data(), file));
-      GRAN_CALL(gran_h5::write_double(g.id, "T0", {M}, r.T0.data(), file));
-      GRAN_CALL(gran_h5::attr_double(g.id, "tau0", r.tau0, file));
-    }
+    std::string cols;
+    for (const auto &c : r.eng->summary_columns()) cols += c.label + ":" + c.sim + ":" + c.theory + ";";
+    GRAN_CALL(gran_h5::attr_string(f.id, "summary_columns", cols, file));
     GRAN_CALL(gran_h5::write_double(f.id, "time", {nt}, s->times.data(), file));
+    GRAN_CALL(describe(f.id, "time", "time", "the output times", file));
     for (const auto &b : r.bufs) {
       H5Group g;
       if (gran_h5::exists(f.id, b.group.c_str())) {
@@ -331,31 +124,15 @@ int write_output(Run &r, const std::string &path) {
       } else {
         GRAN_CALL(gran_h5::make_group(f.id, b.group.c_str(), &g.id, file));
         GRAN_CALL(gran_h5::write_double(g.id, "time", {nt}, s->times.data(), file));
+        GRAN_CALL(describe(g.id, "time", "time", "the output times (rows of this group's datasets)", file));
       }
       std::vector<int64_t> dims = {nt};
       dims.insert(dims.end(), b.row_dims.begin(), b.row_dims.end());
       if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, b.name.c_str(), dims, b.n.data(), file));
       else GRAN_CALL(gran_h5::write_double(g.id, b.name.c_str(), dims, b.d.data(), file));
+      GRAN_CALL(describe(g.id, b.name.c_str(), b.units, b.description, file));
     }
-    if (s->obs_veldist) {
-      H5Group g;
-      g.id = H5Gopen2((hid_t)f.id, "velocity_distribution", H5P_DEFAULT);
-      const int64_t B = s->vd_bins;
-      const double dc = s->vd_cmax / (double)B;
-      std::vector<double> edges((size_t)B + 1), maxw((size_t)B);
-      auto F = [](double c) { return std::erf(c) - 2.0 * c / std::sqrt(M_PI) * std::exp(-c * c); };
-      for (int64_t b = 0; b <= B; b++) edges[(size_t)b] = dc * (double)b;
-      for (int64_t b = 0; b < B; b++) maxw[(size_t)b] = (F(edges[(size_t)b + 1]) - F(edges[(size_t)b])) / dc;
-      GRAN_CALL(gran_h5::write_double(g.id, "edges", {B + 1}, edges.data(), file));
-      GRAN_CALL(gran_h5::write_double(g.id, "pdf_maxwell", {B}, maxw.data(), file));
-      GRAN_CALL(gran_h5::attr_string(g.id, "variable", "c = |v| / sqrt(2 T_k / m_k)", file));
-    }
-    if (s->obs_theory) {
-      std::vector<double> tt((size_t)nt);
-      for (int64_t i = 0; i < nt; i++) tt[(size_t)i] = s->times[(size_t)i] - s->t_start;
-      GRAN_CALL(write_theory(r, f.id, file, tt));
-    }
-    if (s->obs_tamsd) GRAN_CALL(write_tamsd(r, f.id, file));
+    GRAN_CALL(r.eng->write_output(f.id, file));
     herr_t st = H5Fflush((hid_t)f.id, H5F_SCOPE_GLOBAL);
     GRAN_CHECK(st >= 0, GRAN_ERR_IO, "cannot flush output file '%s'", file);
   }
@@ -367,7 +144,7 @@ int write_checkpoint(Run &r) {
   const char *file = tmp.c_str();
   std::remove(file);
   /* the engine first (it creates the file), then the observer state beside it */
-  GRAN_CALL(gran_dsmc_checkpoint_write(r.sim, file, "/engine"));
+  GRAN_CALL(r.eng->checkpoint_write(file, "/engine"));
   {
     H5File f;
     f.id = gran_h5::open_file(file, 1);
@@ -417,30 +194,34 @@ int read_checkpoint_observer(Run &r, const char *path) {
   return GRAN_SUCCESS;
 }
 
+/* The engine of the scene and its row buffers, sized to the output times. */
 int prepare(Run &r) {
-  const int64_t M = r.s->nspecies;
-  GRAN_CALL(gran_scene_mixture(r.s, &r.mix));
-  r.T0.assign((size_t)M, 0.0);
-  GRAN_CALL(gran_scene_T0_(r.s, r.mix, r.T0.data(), &r.tau0));
-  setup_buffers(r);
+  GRAN_CALL(gran_engine_create_(r.s, r.eng));
+  GRAN_CALL(r.eng->declare(r.bufs));
+  const int64_t nt = (int64_t)r.s->times.size();
+  for (auto &b : r.bufs) {
+    if (b.is_int) b.n.assign((size_t)(b.row * nt), 0);
+    else b.d.assign((size_t)(b.row * nt), 0.0);
+  }
   return GRAN_SUCCESS;
 }
 
-/* The loop shared by run and resume: record rows next..ntimes-1, checkpoint, finish. */
+/* The loop shared by run and resume: record rows next..ntimes-1, checkpoint, finish.
+ * Progress and ETA are weighted by the engine's work estimate to each output time. */
 int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
   const gran_scene *s = r.s;
   const int64_t nt = (int64_t)s->times.size();
   const double w0 = now_s();
   double w_ckpt = w0;
-  gran_dsmc_stats st;
-  GRAN_CALL(gran_dsmc_get_stats(r.sim, &st));
-  const int64_t coll0 = st.collisions;
+  gran_engine_state st;
+  GRAN_CALL(r.eng->state(&st));
+  const int64_t ev0 = st.events;
   int64_t nckpt = 0;
   gran_run_result rr = {};
   auto fill = [&](int finished) {
-    gran_dsmc_stats x;
-    if (gran_dsmc_get_stats(r.sim, &x) == GRAN_SUCCESS) {
-      rr.collisions = x.collisions;
+    gran_engine_state x;
+    if (r.eng->state(&x) == GRAN_SUCCESS) {
+      rr.collisions = x.events;
       rr.time = x.time;
     }
     rr.finished = finished;
@@ -448,27 +229,40 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
     rr.wall_seconds = now_s() - w0;
     if (res) *res = rr;
   };
+  /* work[i]: estimated work from the start to output time i; work[nt]: to t_end */
+  std::vector<double> work, tw(s->times);
+  if (ctl && ctl->progress) {
+    tw.push_back(s->t_end);
+    work.assign(tw.size(), 0.0);
+    GRAN_CALL(r.eng->work((int64_t)tw.size(), tw.data(), work.data()));
+  }
   const int64_t first = r.next;
   while (r.next < nt) {
     const int64_t i = r.next;
-    GRAN_CALL(gran_dsmc_advance(r.sim, s->times[(size_t)i]));
-    GRAN_CALL(record(r, i));
+    GRAN_CALL(r.eng->advance(s->times[(size_t)i]));
+    GRAN_CALL(r.eng->record(r.bufs, i));
     r.next = i + 1;
     int stop = 0;
     if (ctl && ctl->progress) {
-      gran_dsmc_stats x;
-      GRAN_CALL(gran_dsmc_get_stats(r.sim, &x));
+      gran_engine_state x;
+      GRAN_CALL(r.eng->state(&x));
       gran_run_progress p = {};
       const double wall = now_s() - w0;
+      const double W = std::max(work[(size_t)nt], work[(size_t)(nt - 1)]);
+      const double Wa = first > 0 ? work[(size_t)(first - 1)] : 0.0, Wi = work[(size_t)i];
       p.time = x.time;
       p.t_start = s->t_start;
       p.t_end = s->t_end;
-      p.fraction = (double)r.next / (double)nt;
+      p.fraction = W > 0 ? std::min(1.0, Wi / W) : (double)r.next / (double)nt;
       p.wall_seconds = wall;
-      p.collisions = x.collisions;
-      p.collisions_per_second = wall > 0 ? (double)(x.collisions - coll0) / wall : 0.0;
-      const double done = (double)(r.next - first) / (double)(nt - first);
-      p.eta_seconds = done > 0 && wall > 0 ? wall * (1.0 - done) / done : -1.0;
+      p.collisions = x.events;
+      p.collisions_per_second = wall > 0 ? (double)(x.events - ev0) / wall : 0.0;
+      if (W > Wa && Wi > Wa && wall > 0) {
+        p.eta_seconds = wall * std::max(0.0, W - Wi) / (Wi - Wa);
+      } else {
+        const double done = (double)(r.next - first) / (double)(nt - first);
+        p.eta_seconds = done > 0 && wall > 0 ? wall * (1.0 - done) / done : -1.0;
+      }
       p.output_index = r.next;
       p.noutputs = nt;
       p.checkpoints = nckpt;
@@ -493,9 +287,8 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
       }
     }
   }
-  double t = 0;
-  GRAN_CALL(gran_dsmc_time(r.sim, &t));
-  if (t < s->t_end) GRAN_CALL(gran_dsmc_advance(r.sim, s->t_end));
+  GRAN_CALL(r.eng->state(&st));
+  if (st.time < s->t_end) GRAN_CALL(r.eng->advance(s->t_end));
   GRAN_CALL(write_output(r, r.out));
   if (!r.ckpt.empty() && !s->keep_checkpoint) std::remove(r.ckpt.c_str());
   fill(1);
@@ -524,7 +317,7 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
     GRAN_CALL(check_writable(r.out, "output file"));
     if (!r.ckpt.empty()) GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
     GRAN_CALL(prepare(r));
-    GRAN_CALL(gran_scene_dsmc(scene, r.mix, &r.sim));
+    GRAN_CALL(r.eng->start());
     return drive(r, ctl, result);
   }
   GRAN_CATCH
@@ -562,7 +355,7 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
     GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
     GRAN_CALL(prepare(r));
     GRAN_CALL(read_checkpoint_observer(r, checkpoint));
-    GRAN_CALL(gran_dsmc_checkpoint_read(checkpoint, "/engine", r.mix, &r.sim));
+    GRAN_CALL(r.eng->checkpoint_read(checkpoint, "/engine"));
     return drive(r, ctl, result);
   }
   GRAN_CATCH

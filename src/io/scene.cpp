@@ -422,6 +422,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   en.set_known({"type", "selector", "seed", "t_end", "counts", "N1", "volume", "bound_refresh"});
   std::string type = en.string("type", "dsmc");
   if (type != "dsmc") en.fail("type", "unknown engine \"" + type + "\" (only \"dsmc\" runs scenes so far)");
+  s.engine_type = type;
   std::string sel = en.string("selector", "lowrank");
   if (sel == "lowrank") s.selector = GRAN_SELECTOR_LOWRANK;
   else if (sel == "bird") s.selector = GRAN_SELECTOR_BIRD;
