@@ -173,6 +173,20 @@ static inline char *io_h5_attr_string(hid_t f, const char *name) {
   hid_t a = H5Aopen(f, name, H5P_DEFAULT);
   if (a < 0) return NULL;
   hid_t t = H5Aget_type(a);
+  if (H5Tis_variable_str(t) > 0) { /* granary writes variable-length UTF-8 strings */
+    hid_t mt = H5Tcopy(H5T_C_S1);
+    H5Tset_size(mt, H5T_VARIABLE);
+    H5Tset_cset(mt, H5T_CSET_UTF8);
+    char *p = NULL, *s = NULL;
+    if (H5Aread(a, mt, &p) >= 0 && p) {
+      s = strdup(p);
+      H5free_memory(p);
+    }
+    H5Tclose(mt);
+    H5Tclose(t);
+    H5Aclose(a);
+    return s;
+  }
   size_t n = H5Tget_size(t);
   char *s = calloc(n + 1, 1);
   hid_t mt = H5Tcopy(H5T_C_S1);

@@ -5,17 +5,19 @@
  * simulated T_k and MSD_k beside the theory, read back from the output file. */
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
 
 #include "cli.h"
-#include "io/io_impl.h"
+#include "io/engine.h"
 
 namespace {
 
@@ -27,15 +29,17 @@ void on_sigint(int) {
 
 void run_usage(FILE *f) {
   std::fprintf(f,
-               "usage: granary run SCENE [-o FILE] [--checkpoint FILE | --no-checkpoint] [--quiet]\n"
-               "       granary run --resume CHECKPOINT [-o FILE] [--quiet]\n"
+               "usage: granary run SCENE [-o FILE] [--checkpoint FILE | --no-checkpoint] [--force] [--quiet]\n"
+               "       granary run --resume CHECKPOINT [-o FILE] [--force] [--quiet]\n"
                "  -o FILE                    HDF5 output (default: the scene's [output] path)\n"
-               "  --checkpoint FILE          checkpoint file (default: the scene's, OUTPUT.ckpt)\n"
+               "  --checkpoint FILE          checkpoint file (default: the scene's, else OUTPUT.ckpt of -o)\n"
+               "  --force                    overwrite an existing output file (refused otherwise)\n"
                "  --no-checkpoint            write no checkpoints\n"
                "  --resume CHECKPOINT        continue a run from its checkpoint, bit for bit\n"
                "  --stop-after-checkpoints N stop after writing N checkpoints (for testing resume)\n"
                "  --quiet                    no progress line, no summary table\n"
-               "  Ctrl-C stops at the next output time after writing a checkpoint.\n");
+               "  Ctrl-C stops at the next output time after writing a checkpoint; what was recorded\n"
+               "  so far goes to OUTPUT.partial.h5 (root attribute complete = 0).\n");
 }
 
 struct Progress {
@@ -76,28 +80,53 @@ int progress_cb(const gran_run_progress *p, void *params) {
   return g_interrupted ? 1 : 0;
 }
 
-/* The summary: a few output times (spread over the run), simulated beside theory. */
+/* The summary: a few output times (spread over the run), each column pair the engine lists in
+ * the output's `summary_columns` attribute (simulated beside theory, only observables that are on). */
 void summary(const std::string &path) {
   int64_t f = gran_h5::open_file(path.c_str(), 0);
   if (f < 0) return;
-  std::vector<double> t, T, Tth, msd, msdth;
-  std::vector<int64_t> dT, dm;
   const char *p = path.c_str();
-  bool haveT = gran_h5::exists(f, "temperatures") && !gran_h5::read_double(f, "temperatures/T", T, &dT, p);
-  bool haveTth = haveT && gran_h5::exists(f, "temperatures/T_theory") && !gran_h5::read_double(f, "temperatures/T_theory", Tth, nullptr, p);
-  bool haveM = gran_h5::exists(f, "msd") && !gran_h5::read_double(f, "msd/msd", msd, &dm, p);
-  bool haveMth = haveM && gran_h5::exists(f, "msd/msd_theory") && !gran_h5::read_double(f, "msd/msd_theory", msdth, nullptr, p);
+  std::string spec;
+  std::vector<double> t;
+  struct Col {
+    std::string label;
+    std::vector<double> sim, th;
+    int64_t M = 0;
+  };
+  std::vector<Col> cols;
   bool haveTime = !gran_h5::read_double(f, "time", t, nullptr, p);
+  if (!gran_h5::read_attr_string(f, "summary_columns", spec, p)) {
+    size_t at = 0;
+    while (at < spec.size()) {
+      size_t e = spec.find(';', at);
+      if (e == std::string::npos) e = spec.size();
+      std::string item = spec.substr(at, e - at);
+      at = e + 1;
+      size_t c1 = item.find(':'), c2 = item.find(':', c1 == std::string::npos ? 0 : c1 + 1);
+      if (c1 == std::string::npos || c2 == std::string::npos) continue;
+      Col c;
+      c.label = item.substr(0, c1);
+      std::string sim = item.substr(c1 + 1, c2 - c1 - 1), th = item.substr(c2 + 1);
+      std::vector<int64_t> d;
+      if (!gran_h5::exists(f, sim.substr(0, sim.find('/')).c_str()) || gran_h5::read_double(f, sim.c_str(), c.sim, &d, p)) continue;
+      c.M = d.size() > 1 ? d[1] : 1;
+      if (!th.empty() && !gran_h5::exists(f, th.c_str())) th.clear();
+      if (!th.empty() && gran_h5::read_double(f, th.c_str(), c.th, nullptr, p)) c.th.clear();
+      if (c.th.size() != c.sim.size()) c.th.assign(c.sim.size(), NAN);
+      cols.push_back(std::move(c));
+    }
+  }
   std::vector<double> ek, e0;
   std::vector<int64_t> coll;
   bool haveE = gran_h5::exists(f, "energy") && !gran_h5::read_double(f, "energy/e_kin", ek, nullptr, p) &&
                !gran_h5::read_double(f, "energy/e_initial", e0, nullptr, p);
-  bool haveC = !gran_h5::read_int64(f, "stats/collisions", coll, nullptr, p);
+  bool haveC = gran_h5::exists(f, "stats") && !gran_h5::read_int64(f, "stats/collisions", coll, nullptr, p);
   gran_h5::close_file(f);
   gran_clear_error();
-  if (!haveTime || (!haveT && !haveM)) return;
+  if (!haveTime || cols.empty() || t.empty()) return;
   const int64_t nt = (int64_t)t.size();
-  const int64_t M = haveT ? dT[1] : dm[1];
+  int64_t M = 0;
+  for (const auto &c : cols) M = std::max(M, c.M);
   /* rows: about 5 output times spread evenly over the index range (log-spaced times stay log-spaced) */
   std::vector<int64_t> rows;
   const int want = 5;
@@ -106,8 +135,10 @@ void summary(const std::string &path) {
     if (rows.empty() || rows.back() != r) rows.push_back(r);
   }
   const int64_t Mshow = M > 6 ? 6 : M;
-  std::printf("\n%12s %4s | %12s %12s %8s | %12s %12s %8s\n", "time", "k", "T_sim", "T_theory", "dev", "MSD_sim",
-              "MSD_theory", "dev");
+  std::printf("\n%12s %4s", "time", "k");
+  for (const auto &c : cols)
+    std::printf(" | %12s %12s %8s", (c.label + "_sim").c_str(), (c.label + "_theory").c_str(), "dev");
+  std::printf("\n");
   auto dev = [](double a, double b) -> std::string {
     char s[32];
     if (!std::isfinite(a) || !std::isfinite(b) || b == 0) return "";
@@ -116,10 +147,13 @@ void summary(const std::string &path) {
   };
   for (int64_t r : rows) {
     for (int64_t k = 0; k < Mshow; k++) {
-      const size_t i = (size_t)(r * M + k);
-      double a = haveT ? T[i] : NAN, b = haveTth ? Tth[i] : NAN, c = haveM ? msd[i] : NAN, d = haveMth ? msdth[i] : NAN;
-      std::printf("%12.5g %4" PRId64 " | %12.6g %12.6g %8s | %12.6g %12.6g %8s\n", t[(size_t)r], k + 1, a, b,
-                  dev(a, b).c_str(), c, d, dev(c, d).c_str());
+      std::printf("%12.5g %4" PRId64, t[(size_t)r], k + 1);
+      for (const auto &c : cols) {
+        const size_t i = (size_t)(r * c.M + k);
+        const double a = k < c.M ? c.sim[i] : NAN, b = k < c.M ? c.th[i] : NAN;
+        std::printf(" | %12.6g %12.6g %8s", a, b, dev(a, b).c_str());
+      }
+      std::printf("\n");
     }
   }
   if (Mshow < M) std::printf("(species 1..%" PRId64 " of %" PRId64 " shown; everything is in %s)\n", Mshow, M, p);
@@ -127,6 +161,39 @@ void summary(const std::string &path) {
     std::printf("at t = %.6g: total kinetic energy %.6g (initially %.6g)%s", t.back(), ek.back(), e0.back(),
                 haveC && !coll.empty() ? "" : "\n");
   if (haveC && !coll.empty()) std::printf("%s%" PRId64 " collisions\n", haveE ? ", " : "", coll.back());
+}
+
+/* The title and main parameters, printed before the run starts. */
+void header(const gran_scene *s, const std::string &out, const std::string &ck) {
+  std::printf("%s\n", s->title.empty() ? s->name.c_str() : s->title.c_str());
+  int64_t N = 0;
+  for (int64_t c : s->counts) N += c;
+  std::printf("  engine %s (%s), %" PRId64 " species", s->engine_type.c_str(),
+              s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", s->nspecies);
+  if (s->counts_kind == 0) std::printf(", %" PRId64 " particles", N);
+  else if (s->counts_kind == 1) std::printf(", N1 = %.6g", s->N1);
+  else std::printf(", volume %.6g", s->volume);
+  std::printf(", restitution %s", s->model == GRAN_RESTITUTION_VISCOELASTIC ? "viscoelastic" : "constant");
+  if (s->model != GRAN_RESTITUTION_VISCOELASTIC && s->eps_matrix.empty()) std::printf(" eps = %g", s->eps);
+  std::printf("\n  t = %g .. %g, %zu output times, seed %llu\n  output %s, checkpoint %s\n", s->t_start, s->t_end,
+              s->times.size(), (unsigned long long)s->seed, out.c_str(), ck.empty() ? "(none)" : ck.c_str());
+  std::fflush(stdout);
+}
+
+bool file_exists(const std::string &p) {
+  struct stat sb;
+  return stat(p.c_str(), &sb) == 0;
+}
+
+/* A run stopped before its end: what was recorded is in the partial output. */
+int stopped(const gran_run_result &res, const std::string &out, const std::string &ck) {
+  const std::string part = gran_partial_path_(out);
+  std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s); the output times recorded so far are in\n"
+                       "  %s (complete = 0); %s is written when the run finishes.\n", res.time, res.checkpoints,
+               part.c_str(), out.c_str());
+  if (ck.empty()) std::fprintf(stderr, "  No checkpoint was written (--no-checkpoint): the run cannot be continued.\n");
+  else std::fprintf(stderr, "  Continue with: granary run --resume %s\n", ck.c_str());
+  return g_interrupted ? 130 : 0;
 }
 
 int fail(const char *what) {
@@ -138,7 +205,7 @@ int fail(const char *what) {
 
 int cli_run(int argc, char **argv) {
   const char *scene_path = nullptr, *output = nullptr, *checkpoint = nullptr, *resume = nullptr;
-  bool quiet = false, no_ckpt = false;
+  bool quiet = false, no_ckpt = false, force = false;
   long long stop_after = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -156,6 +223,8 @@ int cli_run(int argc, char **argv) {
       if (!(output = need(a))) return 2;
     } else if (!std::strcmp(a, "--checkpoint")) {
       if (!(checkpoint = need(a))) return 2;
+    } else if (!std::strcmp(a, "--force")) {
+      force = true;
     } else if (!std::strcmp(a, "--no-checkpoint")) {
       no_ckpt = true;
     } else if (!std::strcmp(a, "--resume")) {
@@ -219,6 +288,11 @@ int cli_run(int argc, char **argv) {
       gran_h5::close_file(f);
       gran_clear_error();
     }
+    if (!force && !out_path.empty() && file_exists(out_path)) {
+      std::fprintf(stderr, "granary run: output '%s' exists; give --force to overwrite it, or -o another file\n",
+                   out_path.c_str());
+      return 1;
+    }
     st = gran_scene_resume(resume, output, &ctl, &res);
     if (st) return fail("resume failed");
   } else {
@@ -227,26 +301,24 @@ int cli_run(int argc, char **argv) {
     const char *p = nullptr;
     gran_scene_output_path(scene, &p);
     out_path = output ? output : p;
+    if (!force && file_exists(out_path)) {
+      std::fprintf(stderr, "granary run: output '%s' exists; give --force to overwrite it, or -o another file\n",
+                   out_path.c_str());
+      gran_scene_destroy(&scene);
+      return 1;
+    }
+    const std::string ck_path = no_ckpt ? "" : gran_run_checkpoint_path_(scene, output, checkpoint);
+    if (!quiet) header(scene, out_path, ck_path);
     st = gran_scene_run(scene, output, no_ckpt ? "" : checkpoint, &ctl, &res);
     if (st) {
       fail("run failed");
       gran_scene_destroy(&scene);
       return 1;
     }
-    if (!res.finished && !checkpoint && !no_ckpt) checkpoint = scene->checkpoint_path.c_str();
-    std::string ck = checkpoint ? checkpoint : "";
     gran_scene_destroy(&scene);
-    if (!res.finished) {
-      std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s); continue with\n"
-                           "  granary run --resume %s\n", res.time, res.checkpoints, ck.empty() ? "(no checkpoint)" : ck.c_str());
-      return g_interrupted ? 130 : 0;
-    }
+    if (!res.finished) return stopped(res, out_path, ck_path);
   }
-  if (!res.finished) {
-    std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s); continue with\n"
-                         "  granary run --resume %s\n", res.time, res.checkpoints, resume);
-    return g_interrupted ? 130 : 0;
-  }
+  if (!res.finished) return stopped(res, out_path, resume);
   int64_t nwarn = 0;
   gran_warning_count(&nwarn);
   if (nwarn > 0) {

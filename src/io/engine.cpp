@@ -1,5 +1,7 @@
 /* engine.cpp - the engine table (keyed by the scene's `[engine] type`) and the row buffers the
  * engines record into. See engine.h for how a new engine plugs in. */
+#include <hdf5.h>
+
 #include <cstring>
 
 #include "io/engine.h"
@@ -47,4 +49,13 @@ int gran_engine_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out) 
   }
   return GRAN_ERROR(GRAN_ERR_ARG, "scene key 'engine.type': unknown engine \"%s\" (known: %s)", type.c_str(),
                     known.c_str());
+}
+
+int gran_describe_(int64_t loc, const char *name, const char *units, const char *description, const char *file) {
+  hid_t d = H5Dopen2((hid_t)loc, name, H5P_DEFAULT);
+  GRAN_CHECK(d >= 0, GRAN_ERR_IO, "cannot open dataset '%s' in '%s'", name, file);
+  int st = gran_h5::attr_string(d, "units", units, file);
+  if (st == GRAN_SUCCESS) st = gran_h5::attr_string(d, "description", description, file);
+  H5Dclose(d);
+  return st;
 }

@@ -15,7 +15,8 @@
  * run is bit for bit the uninterrupted one):
  *   create (factory) -> declare(bufs) -> start() | checkpoint_read(file, group)
  *   -> for each output time i >= next: advance(t_i), record(bufs, i) [, checkpoint_write(...)]
- *   -> advance(t_end) -> write_output(file): the engine's own groups and the theory beside them.
+ *   -> advance(t_end) -> write_output(file, ntimes): the engine's own groups and the theory.
+ *   A run stopped early (signal, progress callback) writes a partial output: write_output(file, next).
  * An engine never writes the output file's common parts and never prints.
  * Every method returns a granary status (GRAN_ERROR with a named message on failure). */
 #ifndef GRANARY_IO_ENGINE_H
@@ -43,6 +44,9 @@ void gran_row_buf_add(std::vector<gran_row_buf> &bufs, const char *group, const 
                       std::vector<int64_t> row_dims, const char *units, const char *description);
 /* The buffer group/name; nullptr when not declared. */
 gran_row_buf *gran_row_buf_find(std::vector<gran_row_buf> &bufs, const char *group, const char *name);
+
+/* `units` and `description` attributes of dataset `name` in group `loc` (every dataset has both). */
+int gran_describe_(int64_t loc, const char *name, const char *units, const char *description, const char *file);
 
 /* Where the engine stands, for the progress line and the run result. */
 struct gran_engine_state {
@@ -74,8 +78,10 @@ class gran_engine {
   virtual int record(std::vector<gran_row_buf> &bufs, int64_t i) = 0;
   /* The engine's own part of the output file (root attributes such as selector and nspecies, the
    * species table, theory beside the recorded rows, derived analyses). Groups of the declared
-   * buffers already exist (with their /time) when this is called. */
-  virtual int write_output(int64_t file, const char *fname) = 0;
+   * buffers already exist (with their /time) when this is called. nrec: output times recorded
+   * (the scene's count for a finished run; fewer for the partial output of a stopped run, where
+   * analyses that need the whole run are left out). */
+  virtual int write_output(int64_t file, const char *fname, int64_t nrec) = 0;
   /* Engine state into / out of HDF5 group `group` of checkpoint file `file` (the file may not exist
    * yet for write; the driver adds its own parts afterwards). */
   virtual int checkpoint_write(const char *file, const char *group) = 0;
@@ -93,5 +99,10 @@ int gran_engine_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
 
 /* engine_dsmc.cpp */
 int gran_engine_dsmc_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
+
+/* run.cpp: where a stopped run writes what it recorded (OUT.h5 -> OUT.partial.h5), and the
+ * checkpoint path of a run (NULL checkpoint: the scene's; its default OUTPUT.ckpt follows output). */
+std::string gran_partial_path_(const std::string &out);
+std::string gran_run_checkpoint_path_(const gran_scene *s, const char *output, const char *checkpoint);
 
 #endif

@@ -124,9 +124,10 @@ class DsmcEngine : public gran_engine {
     return GRAN_SUCCESS;
   }
 
-  int write_output(int64_t f, const char *file) override {
+  int write_output(int64_t f, const char *file, int64_t nrec) override {
     const gran_scene *s = s_;
-    const int64_t M = s->nspecies, nt = (int64_t)s->times.size();
+    const int64_t M = s->nspecies, nt = nrec;
+    const bool complete = nrec == (int64_t)s->times.size();
     GRAN_CALL(gran_h5::attr_string(f, "selector", s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", file));
     GRAN_CALL(gran_h5::attr_int64(f, "nspecies", M, file));
     {
@@ -135,10 +136,15 @@ class DsmcEngine : public gran_engine {
       std::vector<int64_t> counts((size_t)M);
       GRAN_CALL(gran_dsmc_counts(sim_, counts.data()));
       GRAN_CALL(gran_h5::write_double(g.id, "mass", {M}, s->mass.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "mass", "mass", "particle mass m_k per species", file));
       GRAN_CALL(gran_h5::write_double(g.id, "sigma", {M}, s->sigma.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "sigma", "length", "particle diameter sigma_k per species", file));
       GRAN_CALL(gran_h5::write_double(g.id, "density", {M}, s->density.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "density", "1/length^3", "number density n_k per species", file));
       GRAN_CALL(gran_h5::write_int64(g.id, "counts", {M}, counts.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "counts", "1", "simulated particles N_k per species", file));
       GRAN_CALL(gran_h5::write_double(g.id, "T0", {M}, T0_.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "T0", "energy", "initial partial temperatures T_k(t_start)", file));
       GRAN_CALL(gran_h5::attr_double(g.id, "tau0", tau0_, file));
     }
     if (s->obs_veldist) {
@@ -151,7 +157,9 @@ class DsmcEngine : public gran_engine {
       for (int64_t b = 0; b <= B; b++) edges[(size_t)b] = dc * (double)b;
       for (int64_t b = 0; b < B; b++) maxw[(size_t)b] = (F(edges[(size_t)b + 1]) - F(edges[(size_t)b])) / dc;
       GRAN_CALL(gran_h5::write_double(g.id, "edges", {B + 1}, edges.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "edges", "1", "bin edges of the scaled speed c", file));
       GRAN_CALL(gran_h5::write_double(g.id, "pdf_maxwell", {B}, maxw.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "pdf_maxwell", "1", "the Maxwellian speed distribution integrated over each bin / dc", file));
       GRAN_CALL(gran_h5::attr_string(g.id, "variable", "c = |v| / sqrt(2 T_k / m_k)", file));
     }
     if (s->obs_theory) {
@@ -159,7 +167,7 @@ class DsmcEngine : public gran_engine {
       for (int64_t i = 0; i < nt; i++) tt[(size_t)i] = s->times[(size_t)i] - s->t_start;
       GRAN_CALL(write_theory(f, file, tt));
     }
-    if (s->obs_tamsd) GRAN_CALL(write_tamsd(f, file));
+    if (s->obs_tamsd && complete) GRAN_CALL(write_tamsd(f, file));
     return GRAN_SUCCESS;
   }
 
@@ -220,6 +228,7 @@ class DsmcEngine : public gran_engine {
       int st = gran_theory_temperatures(mix_, T0_.data(), nt, tt.data(), s->theory_rtol, T.data());
       if (st == GRAN_SUCCESS) {
         GRAN_CALL(gran_h5::write_double(g.id, "T_theory", dims, T.data(), file));
+        GRAN_CALL(gran_describe_(g.id, "T_theory", "energy", "partial temperatures from the kinetic theory (Eq. 13) [time][k]", file));
       } else {
         gran_warning_add("no T_theory in the output: %s", gran_last_error_message());
         GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
@@ -234,7 +243,9 @@ class DsmcEngine : public gran_engine {
                    : gran_theory_msd(mix_, T0_.data(), nt, tt.data(), s->theory_rtol, m.data(), mt.data());
       if (st == GRAN_SUCCESS) {
         GRAN_CALL(gran_h5::write_double(g.id, "msd_theory", dims, m.data(), file));
+        GRAN_CALL(gran_describe_(g.id, "msd_theory", "length^2", "mean-squared displacement from the kinetic theory [time][k]", file));
         GRAN_CALL(gran_h5::write_double(g.id, "msd_total_theory", {nt}, mt.data(), file));
+        GRAN_CALL(gran_describe_(g.id, "msd_total_theory", "length^2", "total mean-squared displacement from the kinetic theory", file));
         GRAN_CALL(gran_h5::attr_string(g.id, "theory", hcs ? "gran_theory_msd_hcs (Eq. 22)" : "gran_theory_msd (Eq. 4)", file));
       } else {
         gran_warning_add("no msd_theory in the output: %s", gran_last_error_message());
@@ -287,8 +298,11 @@ class DsmcEngine : public gran_engine {
     GRAN_CALL(gran_h5::make_group(f, "tamsd", &g.id, file));
     const double t_meas = s->tamsd_dt * (double)(ns - 1);
     GRAN_CALL(gran_h5::write_double(g.id, "lag", {nl}, lag.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "lag", "time", "lag times used (whole sampling intervals)", file));
     GRAN_CALL(gran_h5::write_double(g.id, "tamsd", {nl, M}, ta.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "tamsd", "length^2", "time-averaged MSD of the tracers, averaged over the tracers of each species [lag][k]", file));
     GRAN_CALL(gran_h5::write_int64(g.id, "tracers", {M}, ntr.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "tracers", "1", "tracers per species in the TAMSD average", file));
     GRAN_CALL(gran_h5::attr_double(g.id, "t_meas", t_meas, file));
     GRAN_CALL(gran_h5::attr_double(g.id, "dt", s->tamsd_dt, file));
     GRAN_CALL(gran_h5::attr_int64(g.id, "samples", ns, file));
@@ -298,6 +312,7 @@ class DsmcEngine : public gran_engine {
                                     : GRAN_ERROR(GRAN_ERR_DOMAIN, "tau0 of the HCS is not finite");
       if (st == GRAN_SUCCESS) {
         GRAN_CALL(gran_h5::write_double(g.id, "tamsd_theory", {nl, M}, th.data(), file));
+        GRAN_CALL(gran_describe_(g.id, "tamsd_theory", "length^2", "TAMSD from the kinetic theory (Eq. 27) [lag][k]", file));
       } else {
         gran_warning_add("no tamsd_theory in the output: %s", gran_last_error_message());
         GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));

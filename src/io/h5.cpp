@@ -110,11 +110,13 @@ static int attr_any(int64_t loc, const char *name, hid_t type, const void *data,
   return GRAN_SUCCESS;
 }
 
+/* Strings are variable-length UTF-8 (h5py returns them as str, not bytes). */
 int attr_string(int64_t loc, const char *name, const std::string &value, const char *file) {
   hid_t t = H5Tcopy(H5T_C_S1);
-  H5Tset_size(t, value.size() + 1);
-  H5Tset_strpad(t, H5T_STR_NULLTERM);
-  int st = attr_any(loc, name, t, value.c_str(), file);
+  H5Tset_size(t, H5T_VARIABLE);
+  H5Tset_cset(t, H5T_CSET_UTF8);
+  const char *p = value.c_str();
+  int st = attr_any(loc, name, t, &p, file);
   H5Tclose(t);
   return st;
 }
@@ -132,10 +134,20 @@ int read_attr_string(int64_t loc, const char *name, std::string &value, const ch
   hid_t a = H5Aopen((hid_t)loc, name, H5P_DEFAULT);
   if (a < 0) return GRAN_ERROR(GRAN_ERR_IO, "HDF5: attribute '%s' missing in '%s'", name, file);
   hid_t ft = H5Aget_type(a);
-  int ok = ft >= 0 && H5Tget_class(ft) == H5T_STRING && !H5Tis_variable_str(ft);
+  int ok = ft >= 0 && H5Tget_class(ft) == H5T_STRING;
+  const bool vlen = ok && H5Tis_variable_str(ft) > 0;
   size_t n = ok ? H5Tget_size(ft) : 0;
   herr_t st = -1;
-  if (ok) {
+  if (ok && vlen) {
+    hid_t mt = H5Tcopy(H5T_C_S1);
+    H5Tset_size(mt, H5T_VARIABLE);
+    H5Tset_cset(mt, H5Tget_cset(ft));
+    char *p = nullptr;
+    st = H5Aread(a, mt, &p);
+    if (st >= 0) value.assign(p ? p : "");
+    if (p) H5free_memory(p);
+    H5Tclose(mt);
+  } else if (ok) {
     hid_t mt = H5Tcopy(H5T_C_S1);
     H5Tset_size(mt, n);
     H5Tset_strpad(mt, H5T_STR_NULLTERM);

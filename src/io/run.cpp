@@ -11,6 +11,8 @@
 #include <chrono>
 #include <cstdio>
 #include <sys/stat.h>
+#include <climits>
+#include <cstdlib>
 #include <unistd.h>
 
 #include "io/engine.h"
@@ -67,6 +69,38 @@ int check_writable(const std::string &path, const char *what) {
   return GRAN_SUCCESS;
 }
 
+/* Identity of a file: "dev:inode" when it exists, else the real path of its folder plus its name
+ * (two spellings of one file, links and ./ prefixes compare equal). */
+std::string file_identity(const std::string &path) {
+  struct stat sb;
+  if (stat(path.c_str(), &sb) == 0) return "inode " + std::to_string((unsigned long long)sb.st_dev) + ":" +
+                                           std::to_string((unsigned long long)sb.st_ino);
+  size_t sl = path.find_last_of('/');
+  std::string dir = sl == std::string::npos ? "." : (sl == 0 ? "/" : path.substr(0, sl));
+  std::string base = sl == std::string::npos ? path : path.substr(sl + 1);
+  char buf[PATH_MAX];
+  if (realpath(dir.c_str(), buf)) return std::string("path ") + buf + "/" + base;
+  return "path " + path;
+}
+
+/* Refuse two roles for one file (output, checkpoint, scene, partial output), by identity. */
+int check_distinct(const Run &r, const std::string &scene_file) {
+  struct Role {
+    const char *what;
+    std::string path;
+  };
+  std::vector<Role> roles = {{"output", r.out}, {"checkpoint", r.ckpt}, {"scene file", scene_file},
+                             {"partial output", gran_partial_path_(r.out)}};
+  for (size_t a = 0; a < roles.size(); a++)
+    for (size_t b = a + 1; b < roles.size(); b++) {
+      if (roles[a].path.empty() || roles[b].path.empty()) continue;
+      if (file_identity(roles[a].path) == file_identity(roles[b].path))
+        return GRAN_ERROR(GRAN_ERR_ARG, "the %s '%s' and the %s '%s' are the same file", roles[a].what,
+                          roles[a].path.c_str(), roles[b].what, roles[b].path.c_str());
+    }
+  return GRAN_SUCCESS;
+}
+
 /* ---- HDF5 writing -------------------------------------------------------------------------- */
 
 struct H5File {
@@ -92,19 +126,11 @@ int write_root_attrs(Run &r, int64_t f, const char *file, const char *format) {
   return GRAN_SUCCESS;
 }
 
-/* units and description attributes of dataset `name` in group `loc` */
-int describe(int64_t loc, const char *name, const std::string &units, const std::string &desc, const char *file) {
-  hid_t d = H5Dopen2((hid_t)loc, name, H5P_DEFAULT);
-  GRAN_CHECK(d >= 0, GRAN_ERR_IO, "cannot open dataset '%s' in '%s'", name, file);
-  int st = gran_h5::attr_string(d, "units", units, file);
-  if (st == GRAN_SUCCESS) st = gran_h5::attr_string(d, "description", desc, file);
-  H5Dclose(d);
-  return st;
-}
-
-int write_output(Run &r, const std::string &path) {
+/* The output file with the first nrec output times (all of them for a finished run; a stopped
+ * run writes what it recorded, with the root attribute complete = 0). */
+int write_output(Run &r, const std::string &path, int64_t nrec) {
   const gran_scene *s = r.s;
-  const int64_t nt = (int64_t)s->times.size();
+  const int64_t nt = nrec;
   const std::string tmp = path + ".tmp";
   const char *file = tmp.c_str();
   {
@@ -115,8 +141,10 @@ int write_output(Run &r, const std::string &path) {
     std::string cols;
     for (const auto &c : r.eng->summary_columns()) cols += c.label + ":" + c.sim + ":" + c.theory + ";";
     GRAN_CALL(gran_h5::attr_string(f.id, "summary_columns", cols, file));
+    GRAN_CALL(gran_h5::attr_int64(f.id, "complete", nrec == (int64_t)s->times.size(), file));
+    GRAN_CALL(gran_h5::attr_int64(f.id, "recorded", nrec, file));
     GRAN_CALL(gran_h5::write_double(f.id, "time", {nt}, s->times.data(), file));
-    GRAN_CALL(describe(f.id, "time", "time", "the output times", file));
+    GRAN_CALL(gran_describe_(f.id, "time", "time", "the output times", file));
     for (const auto &b : r.bufs) {
       H5Group g;
       if (gran_h5::exists(f.id, b.group.c_str())) {
@@ -124,15 +152,15 @@ int write_output(Run &r, const std::string &path) {
       } else {
         GRAN_CALL(gran_h5::make_group(f.id, b.group.c_str(), &g.id, file));
         GRAN_CALL(gran_h5::write_double(g.id, "time", {nt}, s->times.data(), file));
-        GRAN_CALL(describe(g.id, "time", "time", "the output times (rows of this group's datasets)", file));
+        GRAN_CALL(gran_describe_(g.id, "time", "time", "the output times (rows of this group's datasets)", file));
       }
       std::vector<int64_t> dims = {nt};
       dims.insert(dims.end(), b.row_dims.begin(), b.row_dims.end());
       if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, b.name.c_str(), dims, b.n.data(), file));
       else GRAN_CALL(gran_h5::write_double(g.id, b.name.c_str(), dims, b.d.data(), file));
-      GRAN_CALL(describe(g.id, b.name.c_str(), b.units, b.description, file));
+      GRAN_CALL(gran_describe_(g.id, b.name.c_str(), b.units.c_str(), b.description.c_str(), file));
     }
-    GRAN_CALL(r.eng->write_output(f.id, file));
+    GRAN_CALL(r.eng->write_output(f.id, file, nrec));
     herr_t st = H5Fflush((hid_t)f.id, H5F_SCOPE_GLOBAL);
     GRAN_CHECK(st >= 0, GRAN_ERR_IO, "cannot flush output file '%s'", file);
   }
@@ -269,7 +297,8 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
       stop = ctl->progress(&p, ctl->progress_params) != 0;
     }
     if (r.next >= nt || r.ckpt.empty()) {
-      if (stop) {
+      if (stop && r.next < nt) {
+        GRAN_CALL(write_output(r, gran_partial_path_(r.out), r.next));
         fill(0);
         return GRAN_SUCCESS;
       }
@@ -282,6 +311,7 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
       w_ckpt = now_s();
       nckpt++;
       if (stop || (ctl && ctl->stop_after_checkpoints > 0 && nckpt >= ctl->stop_after_checkpoints)) {
+        GRAN_CALL(write_output(r, gran_partial_path_(r.out), r.next));
         fill(0);
         return GRAN_SUCCESS;
       }
@@ -289,13 +319,27 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
   }
   GRAN_CALL(r.eng->state(&st));
   if (st.time < s->t_end) GRAN_CALL(r.eng->advance(s->t_end));
-  GRAN_CALL(write_output(r, r.out));
+  GRAN_CALL(write_output(r, r.out, nt));
+  std::remove(gran_partial_path_(r.out).c_str());
   if (!r.ckpt.empty() && !s->keep_checkpoint) std::remove(r.ckpt.c_str());
   fill(1);
   return GRAN_SUCCESS;
 }
 
 }  // namespace
+
+std::string gran_partial_path_(const std::string &out) {
+  const size_t n = out.size();
+  if (n > 3 && out.compare(n - 3, 3, ".h5") == 0) return out.substr(0, n - 3) + ".partial.h5";
+  return out + ".partial.h5";
+}
+
+std::string gran_run_checkpoint_path_(const gran_scene *s, const char *output, const char *checkpoint) {
+  if (checkpoint) return checkpoint;
+  /* the default checkpoint (OUTPUT.ckpt) follows -o; a path the scene names stays */
+  if (output && s->checkpoint_path == s->output_path + ".ckpt") return std::string(output) + ".ckpt";
+  return s->checkpoint_path;
+}
 
 /** @brief Run a scene to its end, writing HDF5 output and checkpoints.
  *  @param[in] output     NULL: the scene's [output] path
@@ -310,9 +354,9 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
     Run r;
     r.s = scene;
     r.out = output ? output : scene->output_path;
-    r.ckpt = checkpoint ? checkpoint : scene->checkpoint_path;
+    r.ckpt = gran_run_checkpoint_path_(scene, output, checkpoint);
     GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");
-    GRAN_CHECK(r.out != r.ckpt, GRAN_ERR_ARG, "arguments 'output' and 'checkpoint' name the same file '%s'", r.out.c_str());
+    GRAN_CALL(check_distinct(r, scene->name));
     if (result) *result = gran_run_result{};
     GRAN_CALL(check_writable(r.out, "output file"));
     if (!r.ckpt.empty()) GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
@@ -349,7 +393,7 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
     r.out = output ? output : out;
     r.ckpt = checkpoint;
     GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");
-    GRAN_CHECK(r.out != r.ckpt, GRAN_ERR_ARG, "arguments 'output' and 'checkpoint' name the same file '%s'", r.out.c_str());
+    GRAN_CALL(check_distinct(r, name));
     if (result) *result = gran_run_result{};
     GRAN_CALL(check_writable(r.out, "output file"));
     GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
