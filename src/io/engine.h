@@ -13,11 +13,15 @@
  *
  * The driver's calling sequence (run and resume make exactly the same engine calls, so a resumed
  * run is bit for bit the uninterrupted one):
- *   create (factory) -> declare(bufs) -> start() | checkpoint_read(file, group)
+ *   create (factory) -> declare(bufs) -> memory() -> start(seed) | checkpoint_read(file, group)
  *   -> for each output time i >= next: advance(t_i), record(bufs, i) [, checkpoint_write(...)]
  *   -> advance(t_end) -> write_output(file, ntimes): the engine's own groups and the theory.
  *   A run stopped early (signal, progress callback) writes a partial output: write_output(file, next).
  * An engine never writes the output file's common parts and never prints.
+ * Replicas: the driver creates one engine per replica (`[engine] replicas`), drives them in OpenMP
+ * threads (different engine objects may run concurrently; one object is used by one thread at a
+ * time), reduces the row buffers in replica order (mean and standard error) and calls
+ * write_output on replica 0 only (its theory and species table serve all replicas).
  * Every method returns a granary status (GRAN_ERROR with a named message on failure). */
 #ifndef GRANARY_IO_ENGINE_H
 #define GRANARY_IO_ENGINE_H
@@ -66,8 +70,13 @@ class gran_engine {
   virtual ~gran_engine() = default;
   /* Declare the row buffers of the observables the scene asks for (gran_row_buf_add). */
   virtual int declare(std::vector<gran_row_buf> &bufs) = 0;
-  /* Build the initial state (a fresh run). */
-  virtual int start() = 0;
+  /* Estimated peak bytes of one engine of this scene (before start: the driver refuses a run whose
+   * replicas would not fit in the memory available). */
+  virtual int memory(int64_t *bytes) = 0;
+  /* Build the initial state (a fresh run) from `seed`: the scene's seed for replica 0 (so one
+   * replica is exactly the run without replicas), a seed drawn from RNG stream r of the scene's
+   * seed for replica r >= 1 (gran_rng_stream). Engines use no other source of randomness. */
+  virtual int start(uint64_t seed) = 0;
   /* Advance to simulated time t (>= the current time). */
   virtual int advance(double t) = 0;
   virtual int state(gran_engine_state *st) = 0;

@@ -57,7 +57,29 @@ class DsmcEngine : public gran_engine {
     return GRAN_SUCCESS;
   }
 
-  int start() override { return gran_scene_dsmc(s_, mix_, &sim_); }
+  /* gran_scene_dsmc with the replica's seed */
+  int start(uint64_t seed) override {
+    std::vector<double> T0((size_t)s_->nspecies);
+    GRAN_CALL(gran_scene_initial_temperatures(s_, mix_, T0.data(), nullptr));
+    gran_dsmc_options opt;
+    GRAN_CALL(gran_scene_dsmc_options(s_, &opt, nullptr, nullptr));
+    opt.seed = seed;
+    return gran_dsmc_create(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt, &sim_);
+  }
+  /* particles x (28 B state, +32 B displacement; gran_particles_memory) plus the engine's trees and
+   * speed classes (counted as 24 B per particle) and the trajectories */
+  int memory(int64_t *bytes) override {
+    std::vector<int64_t> c((size_t)s_->nspecies);
+    gran_dsmc_options opt;
+    GRAN_CALL(gran_scene_dsmc_options(s_, &opt, c.data(), nullptr));
+    double N = 0;
+    for (int64_t x : c) N += (double)x;
+    const double per = 28.0 + 24.0 + (s_->obs_msd ? 32.0 : 0.0);
+    double b = N * per + (double)s_->nspecies * (double)s_->nspecies * 64.0;
+    if (s_->obs_tamsd) b += (double)s_->nspecies * (double)s_->tamsd_tracers * (double)s_->tamsd_samples * 24.0;
+    *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
+    return GRAN_SUCCESS;
+  }
   int advance(double t) override { return gran_dsmc_advance(sim_, t); }
   int state(gran_engine_state *st) override {
     gran_dsmc_stats x;

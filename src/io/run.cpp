@@ -7,7 +7,9 @@
  * Every engine is reached through the interface of engine.h (one adapter per engine). */
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <sys/stat.h>
@@ -16,6 +18,10 @@
 #include <unistd.h>
 
 #include "io/engine.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace {
 
@@ -26,18 +32,77 @@ double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+/* One independent run of the scene: its engine and its recorded rows. */
+struct Replica {
+  std::unique_ptr<gran_engine> eng;
+  std::vector<gran_row_buf> bufs;
+};
+
 struct Run {
   const gran_scene *s = nullptr;
   gran_scene *owned_scene = nullptr;
-  std::unique_ptr<gran_engine> eng;
-  std::vector<gran_row_buf> bufs;
-  int64_t next = 0; /* output times recorded */
+  std::vector<Replica> reps; /* R >= 1; replica 0 is the run without replicas */
+  int64_t R = 1;
+  int keep = 0;              /* keep_replicas */
+  int threads = 1;           /* threads used for the replicas */
+  int64_t next = 0;          /* output times recorded */
   std::string out, ckpt;
+  gran_engine *eng() const { return reps[0].eng.get(); }
   ~Run() {
-    eng.reset();
+    reps.clear();
     gran_scene_destroy(&owned_scene);
   }
 };
+
+int g_threads = 0; /* gran_set_threads; 0: the OpenMP default (OMP_NUM_THREADS) */
+
+/* fn(r) for every replica, in `threads` OpenMP threads. Errors are per thread (thread-local
+ * messages): the first failing replica, in replica order, is reported on the calling thread. */
+template <class F>
+int for_replicas(Run &r, F fn) {
+  if (r.R == 1) return fn((int64_t)0);
+  std::vector<int> st((size_t)r.R, GRAN_SUCCESS);
+  std::vector<std::string> msg((size_t)r.R);
+  const int64_t R = r.R;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(r.threads)
+  for (int64_t k = 0; k < R; k++) {
+    int x = GRAN_SUCCESS;
+    try {
+      x = fn(k);
+    } catch (...) {
+      x = GRAN_ERROR(GRAN_ERR_INTERNAL, "exception in replica %" PRId64, k);
+    }
+    st[(size_t)k] = x;
+    if (x != GRAN_SUCCESS) msg[(size_t)k] = gran_last_error_message();
+  }
+  for (int64_t k = 0; k < R; k++)
+    if (st[(size_t)k] != GRAN_SUCCESS)
+      return GRAN_ERROR(st[(size_t)k], "replica %" PRId64 ": %s", k, msg[(size_t)k].c_str());
+  return GRAN_SUCCESS;
+}
+
+/* Seed of replica k: the scene's seed for replica 0, else the first number of RNG stream k. */
+int replica_seed(uint64_t seed, int64_t k, uint64_t *out) {
+  if (k == 0) {
+    *out = seed;
+    return GRAN_SUCCESS;
+  }
+  gran_rng g;
+  GRAN_CALL(gran_rng_stream(seed, (uint64_t)k, &g));
+  return gran_rng_u64(&g, 1, out);
+}
+
+/* MemAvailable of /proc/meminfo in bytes (< 0 when unknown). */
+double memory_available() {
+  FILE *f = std::fopen("/proc/meminfo", "r");
+  if (!f) return -1;
+  char line[256];
+  double kb = -1;
+  while (std::fgets(line, sizeof line, f))
+    if (std::sscanf(line, "MemAvailable: %lf kB", &kb) == 1) break;
+  std::fclose(f);
+  return kb >= 0 ? kb * 1024.0 : -1;
+}
 
 /* mkdir -p of the folder holding `path` */
 int make_parent(const std::string &path) {
@@ -120,9 +185,64 @@ int write_root_attrs(Run &r, int64_t f, const char *file, const char *format) {
   GRAN_CALL(gran_h5::attr_string(f, "title", s->title, file));
   GRAN_CALL(gran_h5::attr_string(f, "granary_version", GRAN_VERSION_STRING, file));
   GRAN_CALL(gran_h5::attr_uint64(f, "seed", s->seed, file));
-  GRAN_CALL(gran_h5::attr_string(f, "engine", r.eng->type(), file));
+  GRAN_CALL(gran_h5::attr_string(f, "engine", r.eng()->type(), file));
   GRAN_CALL(gran_h5::attr_double(f, "t_start", s->t_start, file));
   GRAN_CALL(gran_h5::attr_double(f, "t_end", s->t_end, file));
+  return GRAN_SUCCESS;
+}
+
+/* Buffer q over the replicas, rows 0..dims[0]-1: double rows as the mean and its standard error
+ * (X, X_se); integer rows (event counts) as the sum over replicas (X) and the standard error of
+ * that sum (X_se); the per-replica rows as X_replicas [R][time]... when keep_replicas. Sums run
+ * in replica order, so the result does not depend on how replicas were spread over threads. */
+int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> &dims, const char *file) {
+  const gran_row_buf &b = r.reps[0].bufs[q];
+  const int64_t R = r.R;
+  size_t n = 1;
+  for (int64_t x : dims) n *= (size_t)x;
+  std::vector<double> mean(n, 0.0), se(n, 0.0);
+  auto val = [&](int64_t k, size_t i) -> double {
+    const gran_row_buf &c = r.reps[(size_t)k].bufs[q];
+    return c.is_int ? (double)c.n[i] : c.d[i];
+  };
+  for (int64_t k = 0; k < R; k++)
+    for (size_t i = 0; i < n; i++) mean[i] += val(k, i);
+  for (size_t i = 0; i < n; i++) mean[i] /= (double)R;
+  for (int64_t k = 0; k < R; k++)
+    for (size_t i = 0; i < n; i++) {
+      const double d = val(k, i) - mean[i];
+      se[i] += d * d;
+    }
+  /* sample variance / R: the standard error of the mean; for a sum, R times that */
+  for (size_t i = 0; i < n; i++) se[i] = std::sqrt(se[i] / (double)(R - 1) / (double)R) * (b.is_int ? (double)R : 1.0);
+  const std::string nse = b.name + "_se", nrep = b.name + "_replicas";
+  if (b.is_int) {
+    std::vector<int64_t> sum(n, 0);
+    for (int64_t k = 0; k < R; k++)
+      for (size_t i = 0; i < n; i++) sum[i] += r.reps[(size_t)k].bufs[q].n[i];
+    GRAN_CALL(gran_h5::write_int64(g, b.name.c_str(), dims, sum.data(), file));
+    GRAN_CALL(gran_describe_(g, b.name.c_str(), b.units.c_str(), (b.description + "; summed over the replicas").c_str(), file));
+  } else {
+    GRAN_CALL(gran_h5::write_double(g, b.name.c_str(), dims, mean.data(), file));
+    GRAN_CALL(gran_describe_(g, b.name.c_str(), b.units.c_str(), (b.description + "; mean over the replicas").c_str(), file));
+  }
+  GRAN_CALL(gran_h5::write_double(g, nse.c_str(), dims, se.data(), file));
+  GRAN_CALL(gran_describe_(g, nse.c_str(), b.units.c_str(),
+                           ("standard error of " + b.name + (b.is_int ? " (the sum)" : " (the mean)") + " from the replicas").c_str(), file));
+  if (r.keep) {
+    std::vector<int64_t> rd = {R};
+    rd.insert(rd.end(), dims.begin(), dims.end());
+    if (b.is_int) {
+      std::vector<int64_t> all;
+      for (int64_t k = 0; k < R; k++) all.insert(all.end(), r.reps[(size_t)k].bufs[q].n.begin(), r.reps[(size_t)k].bufs[q].n.begin() + (ptrdiff_t)n);
+      GRAN_CALL(gran_h5::write_int64(g, nrep.c_str(), rd, all.data(), file));
+    } else {
+      std::vector<double> all;
+      for (int64_t k = 0; k < R; k++) all.insert(all.end(), r.reps[(size_t)k].bufs[q].d.begin(), r.reps[(size_t)k].bufs[q].d.begin() + (ptrdiff_t)n);
+      GRAN_CALL(gran_h5::write_double(g, nrep.c_str(), rd, all.data(), file));
+    }
+    GRAN_CALL(gran_describe_(g, nrep.c_str(), b.units.c_str(), (b.description + "; per replica [replica][...]").c_str(), file));
+  }
   return GRAN_SUCCESS;
 }
 
@@ -139,13 +259,14 @@ int write_output(Run &r, const std::string &path, int64_t nrec) {
     GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot create output file '%s'", file);
     GRAN_CALL(write_root_attrs(r, f.id, file, kOutputFormat));
     std::string cols;
-    for (const auto &c : r.eng->summary_columns()) cols += c.label + ":" + c.sim + ":" + c.theory + ";";
+    for (const auto &c : r.eng()->summary_columns()) cols += c.label + ":" + c.sim + ":" + c.theory + ";";
     GRAN_CALL(gran_h5::attr_string(f.id, "summary_columns", cols, file));
     GRAN_CALL(gran_h5::attr_int64(f.id, "complete", nrec == (int64_t)s->times.size(), file));
     GRAN_CALL(gran_h5::attr_int64(f.id, "recorded", nrec, file));
     GRAN_CALL(gran_h5::write_double(f.id, "time", {nt}, s->times.data(), file));
     GRAN_CALL(gran_describe_(f.id, "time", "time", "the output times", file));
-    for (const auto &b : r.bufs) {
+    for (size_t q = 0; q < r.reps[0].bufs.size(); q++) {
+      const gran_row_buf &b = r.reps[0].bufs[q];
       H5Group g;
       if (gran_h5::exists(f.id, b.group.c_str())) {
         g.id = H5Gopen2((hid_t)f.id, b.group.c_str(), H5P_DEFAULT);
@@ -156,23 +277,38 @@ int write_output(Run &r, const std::string &path, int64_t nrec) {
       }
       std::vector<int64_t> dims = {nt};
       dims.insert(dims.end(), b.row_dims.begin(), b.row_dims.end());
-      if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, b.name.c_str(), dims, b.n.data(), file));
-      else GRAN_CALL(gran_h5::write_double(g.id, b.name.c_str(), dims, b.d.data(), file));
-      GRAN_CALL(gran_describe_(g.id, b.name.c_str(), b.units.c_str(), b.description.c_str(), file));
+      if (r.R == 1) {
+        if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, b.name.c_str(), dims, b.n.data(), file));
+        else GRAN_CALL(gran_h5::write_double(g.id, b.name.c_str(), dims, b.d.data(), file));
+        GRAN_CALL(gran_describe_(g.id, b.name.c_str(), b.units.c_str(), b.description.c_str(), file));
+        continue;
+      }
+      GRAN_CALL(write_reduced(r, q, g.id, dims, file));
     }
-    GRAN_CALL(r.eng->write_output(f.id, file, nrec));
+    GRAN_CALL(gran_h5::attr_int64(f.id, "nreplicas", r.R, file));
+    GRAN_CALL(r.eng()->write_output(f.id, file, nrec));
+    if (r.R > 1 && gran_h5::exists(f.id, "tamsd")) {
+      H5Group g;
+      g.id = H5Gopen2((hid_t)f.id, "tamsd", H5P_DEFAULT);
+      GRAN_CALL(gran_h5::attr_string(g.id, "replicas", "from replica 0 only", file));
+    }
     herr_t st = H5Fflush((hid_t)f.id, H5F_SCOPE_GLOBAL);
     GRAN_CHECK(st >= 0, GRAN_ERR_IO, "cannot flush output file '%s'", file);
   }
   return gran_io_commit_file_(tmp, path);
 }
 
+/* Checkpoint groups of replica k: /engine and /observer for replica 0 (a run without replicas
+ * writes exactly these), /replicas/k/engine and /replicas/k/observer for the others. */
+std::string engine_group(int64_t k) { return k == 0 ? "/engine" : "/replicas/" + std::to_string(k) + "/engine"; }
+std::string observer_group(int64_t k) { return k == 0 ? "observer" : "replicas/" + std::to_string(k) + "/observer"; }
+
 int write_checkpoint(Run &r) {
   const std::string tmp = r.ckpt + ".tmp";
   const char *file = tmp.c_str();
   std::remove(file);
-  /* the engine first (it creates the file), then the observer state beside it */
-  GRAN_CALL(r.eng->checkpoint_write(file, "/engine"));
+  /* the engines first (the first creates the file), then the observer state beside them */
+  for (int64_t k = 0; k < r.R; k++) GRAN_CALL(r.reps[(size_t)k].eng->checkpoint_write(file, engine_group(k).c_str()));
   {
     H5File f;
     f.id = gran_h5::open_file(file, 1);
@@ -180,13 +316,17 @@ int write_checkpoint(Run &r) {
     GRAN_CALL(write_root_attrs(r, f.id, file, kCheckpointFormat));
     GRAN_CALL(gran_h5::attr_string(f.id, "output", r.out, file));
     GRAN_CALL(gran_h5::attr_int64(f.id, "next_index", r.next, file));
-    H5Group g;
-    GRAN_CALL(gran_h5::make_group(f.id, "observer", &g.id, file));
-    for (const auto &b : r.bufs) {
-      const std::string nm = b.group + "." + b.name;
-      const int64_t total = b.row * (int64_t)r.s->times.size();
-      if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, nm.c_str(), {total}, b.n.data(), file));
-      else GRAN_CALL(gran_h5::write_double(g.id, nm.c_str(), {total}, b.d.data(), file));
+    GRAN_CALL(gran_h5::attr_int64(f.id, "nreplicas", r.R, file));
+    GRAN_CALL(gran_h5::attr_int64(f.id, "keep_replicas", r.keep, file));
+    for (int64_t k = 0; k < r.R; k++) {
+      H5Group g;
+      GRAN_CALL(gran_h5::make_group(f.id, observer_group(k).c_str(), &g.id, file));
+      for (const auto &b : r.reps[(size_t)k].bufs) {
+        const std::string nm = b.group + "." + b.name;
+        const int64_t total = b.row * (int64_t)r.s->times.size();
+        if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, nm.c_str(), {total}, b.n.data(), file));
+        else GRAN_CALL(gran_h5::write_double(g.id, nm.c_str(), {total}, b.d.data(), file));
+      }
     }
   }
   return gran_io_commit_file_(tmp, r.ckpt);
@@ -201,37 +341,72 @@ int read_checkpoint_observer(Run &r, const char *path) {
   GRAN_CHECK(next >= 0 && next <= (int64_t)r.s->times.size(), GRAN_ERR_IO,
              "checkpoint '%s': next_index %" PRId64 " out of range", path, next);
   r.next = next;
-  H5Group g;
-  g.id = H5Gopen2((hid_t)f.id, "observer", H5P_DEFAULT);
-  GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "checkpoint '%s' has no /observer group", path);
-  for (auto &b : r.bufs) {
-    const std::string nm = b.group + "." + b.name;
-    const size_t total = (size_t)(b.row * (int64_t)r.s->times.size());
-    if (b.is_int) {
-      std::vector<int64_t> v;
-      GRAN_CALL(gran_h5::read_int64(g.id, nm.c_str(), v, nullptr, path));
-      GRAN_CHECK(v.size() == total, GRAN_ERR_IO, "checkpoint '%s': '%s' has the wrong size", path, nm.c_str());
-      b.n = v;
-    } else {
-      std::vector<double> v;
-      GRAN_CALL(gran_h5::read_double(g.id, nm.c_str(), v, nullptr, path));
-      GRAN_CHECK(v.size() == total, GRAN_ERR_IO, "checkpoint '%s': '%s' has the wrong size", path, nm.c_str());
-      b.d = v;
+  for (int64_t k = 0; k < r.R; k++) {
+    const std::string og = observer_group(k);
+    H5Group g;
+    g.id = gran_h5::exists(f.id, og.c_str()) ? H5Gopen2((hid_t)f.id, og.c_str(), H5P_DEFAULT) : -1;
+    GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "checkpoint '%s' has no /%s group", path, og.c_str());
+    for (auto &b : r.reps[(size_t)k].bufs) {
+      const std::string nm = b.group + "." + b.name;
+      const size_t total = (size_t)(b.row * (int64_t)r.s->times.size());
+      if (b.is_int) {
+        std::vector<int64_t> v;
+        GRAN_CALL(gran_h5::read_int64(g.id, nm.c_str(), v, nullptr, path));
+        GRAN_CHECK(v.size() == total, GRAN_ERR_IO, "checkpoint '%s': '%s' has the wrong size", path, nm.c_str());
+        b.n = v;
+      } else {
+        std::vector<double> v;
+        GRAN_CALL(gran_h5::read_double(g.id, nm.c_str(), v, nullptr, path));
+        GRAN_CHECK(v.size() == total, GRAN_ERR_IO, "checkpoint '%s': '%s' has the wrong size", path, nm.c_str());
+        b.d = v;
+      }
     }
   }
   return GRAN_SUCCESS;
 }
 
-/* The engine of the scene and its row buffers, sized to the output times. */
+/* One engine per replica and its row buffers, sized to the output times; refuses before any work
+ * when the replicas would not fit in the memory available. */
 int prepare(Run &r) {
-  GRAN_CALL(gran_engine_create_(r.s, r.eng));
-  GRAN_CALL(r.eng->declare(r.bufs));
   const int64_t nt = (int64_t)r.s->times.size();
-  for (auto &b : r.bufs) {
-    if (b.is_int) b.n.assign((size_t)(b.row * nt), 0);
-    else b.d.assign((size_t)(b.row * nt), 0.0);
+  r.reps.clear();
+  r.reps.resize((size_t)r.R);
+  for (int64_t k = 0; k < r.R; k++) {
+    Replica &p = r.reps[(size_t)k];
+    GRAN_CALL(gran_engine_create_(r.s, p.eng));
+    GRAN_CALL(p.eng->declare(p.bufs));
+    if (k == 0) {
+      int64_t bytes = 0;
+      GRAN_CALL(p.eng->memory(&bytes));
+      double rows = 0;
+      for (const auto &b : p.bufs) rows += (double)b.row * (double)nt * 8.0;
+      const double need = ((double)bytes + rows) * (double)r.R, avail = memory_available();
+      GRAN_CHECK(avail < 0 || need <= avail, GRAN_ERR_NOMEM,
+                 "%" PRId64 " replica(s) of this scene need about %.3g GB (%.3g GB each, all in memory at once), "
+                 "more than the %.3g GB available: lower [engine] replicas (--replicas) or the particle numbers",
+                 r.R, need / 1e9, need / 1e9 / (double)r.R, avail / 1e9);
+    }
+    for (auto &b : p.bufs) {
+      if (b.is_int) b.n.assign((size_t)(b.row * nt), 0);
+      else b.d.assign((size_t)(b.row * nt), 0.0);
+    }
   }
+  int nth = g_threads;
+#ifdef _OPENMP
+  if (nth <= 0) nth = omp_get_max_threads();
+#endif
+  if (nth <= 0) nth = 1;
+  r.threads = (int)std::min<int64_t>(nth, r.R);
   return GRAN_SUCCESS;
+}
+
+/* Replica k from its seed (gran_rng_stream) or from the checkpoint. */
+int start_replicas(Run &r) {
+  return for_replicas(r, [&](int64_t k) {
+    uint64_t seed = 0;
+    GRAN_CALL(replica_seed(r.s->seed, k, &seed));
+    return r.reps[(size_t)k].eng->start(seed);
+  });
 }
 
 /* The loop shared by run and resume: record rows next..ntimes-1, checkpoint, finish.
@@ -241,14 +416,25 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
   const int64_t nt = (int64_t)s->times.size();
   const double w0 = now_s();
   double w_ckpt = w0;
+  /* events summed over the replicas; time: replica 0's */
+  auto state = [&](gran_engine_state *x) -> int {
+    gran_engine_state a, sum;
+    for (int64_t k = 0; k < r.R; k++) {
+      GRAN_CALL(r.reps[(size_t)k].eng->state(&a));
+      if (k == 0) sum.time = a.time;
+      sum.events += a.events;
+    }
+    *x = sum;
+    return GRAN_SUCCESS;
+  };
   gran_engine_state st;
-  GRAN_CALL(r.eng->state(&st));
+  GRAN_CALL(state(&st));
   const int64_t ev0 = st.events;
   int64_t nckpt = 0;
   gran_run_result rr = {};
   auto fill = [&](int finished) {
     gran_engine_state x;
-    if (r.eng->state(&x) == GRAN_SUCCESS) {
+    if (state(&x) == GRAN_SUCCESS) {
       rr.collisions = x.events;
       rr.time = x.time;
     }
@@ -262,18 +448,21 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
   if (ctl && ctl->progress) {
     tw.push_back(s->t_end);
     work.assign(tw.size(), 0.0);
-    GRAN_CALL(r.eng->work((int64_t)tw.size(), tw.data(), work.data()));
+    GRAN_CALL(r.eng()->work((int64_t)tw.size(), tw.data(), work.data())); /* the same for every replica */
   }
   const int64_t first = r.next;
   while (r.next < nt) {
     const int64_t i = r.next;
-    GRAN_CALL(r.eng->advance(s->times[(size_t)i]));
-    GRAN_CALL(r.eng->record(r.bufs, i));
+    GRAN_CALL(for_replicas(r, [&](int64_t k) {
+      Replica &p = r.reps[(size_t)k];
+      GRAN_CALL(p.eng->advance(s->times[(size_t)i]));
+      return p.eng->record(p.bufs, i);
+    }));
     r.next = i + 1;
     int stop = 0;
     if (ctl && ctl->progress) {
       gran_engine_state x;
-      GRAN_CALL(r.eng->state(&x));
+      GRAN_CALL(state(&x));
       gran_run_progress p = {};
       const double wall = now_s() - w0;
       const double W = std::max(work[(size_t)nt], work[(size_t)(nt - 1)]);
@@ -317,8 +506,11 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
       }
     }
   }
-  GRAN_CALL(r.eng->state(&st));
-  if (st.time < s->t_end) GRAN_CALL(r.eng->advance(s->t_end));
+  GRAN_CALL(for_replicas(r, [&](int64_t k) {
+    gran_engine_state x;
+    GRAN_CALL(r.reps[(size_t)k].eng->state(&x));
+    return x.time < s->t_end ? r.reps[(size_t)k].eng->advance(s->t_end) : GRAN_SUCCESS;
+  }));
   GRAN_CALL(write_output(r, r.out, nt));
   std::remove(gran_partial_path_(r.out).c_str());
   if (!r.ckpt.empty() && !s->keep_checkpoint) std::remove(r.ckpt.c_str());
@@ -360,8 +552,10 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
     if (result) *result = gran_run_result{};
     GRAN_CALL(check_writable(r.out, "output file"));
     if (!r.ckpt.empty()) GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
+    r.R = scene->replicas;
+    r.keep = scene->keep_replicas;
     GRAN_CALL(prepare(r));
-    GRAN_CALL(r.eng->start());
+    GRAN_CALL(start_replicas(r));
     return drive(r, ctl, result);
   }
   GRAN_CATCH
@@ -387,6 +581,13 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
       GRAN_CALL(gran_h5::read_attr_string(f.id, "scene", text, checkpoint));
       GRAN_CALL(gran_h5::read_attr_string(f.id, "scene_file", name, checkpoint));
       GRAN_CALL(gran_h5::read_attr_string(f.id, "output", out, checkpoint));
+      if (H5Aexists((hid_t)f.id, "nreplicas") > 0) {
+        GRAN_CALL(gran_h5::read_attr_int64(f.id, "nreplicas", &r.R, checkpoint));
+        int64_t keep = 0;
+        GRAN_CALL(gran_h5::read_attr_int64(f.id, "keep_replicas", &keep, checkpoint));
+        r.keep = keep != 0;
+        GRAN_CHECK(r.R >= 1 && r.R <= 1000000, GRAN_ERR_IO, "checkpoint '%s': nreplicas %" PRId64 " out of range", checkpoint, r.R);
+      }
     }
     GRAN_CALL(gran_scene_parse_text_(text, name, &r.owned_scene));
     r.s = r.owned_scene;
@@ -399,8 +600,52 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
     GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
     GRAN_CALL(prepare(r));
     GRAN_CALL(read_checkpoint_observer(r, checkpoint));
-    GRAN_CALL(r.eng->checkpoint_read(checkpoint, "/engine"));
+    for (int64_t k = 0; k < r.R; k++) GRAN_CALL(r.reps[(size_t)k].eng->checkpoint_read(checkpoint, engine_group(k).c_str()));
     return drive(r, ctl, result);
   }
   GRAN_CATCH
+}
+
+/* ---- replicas and threads ------------------------------------------------------------------ */
+
+/** @brief Set the number of independent replicas of a scene's run ([engine] replicas) and whether
+ *  the output keeps the per-replica rows ([engine] keep_replicas). */
+GRAN_EXTERN int gran_scene_set_replicas(gran_scene *scene, int64_t replicas, int32_t keep_replicas) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK(replicas >= 1 && replicas <= 1000000, GRAN_ERR_ARG, "argument 'replicas' must be in 1..1000000, got %" PRId64,
+             replicas);
+  GRAN_CHECK(keep_replicas == 0 || keep_replicas == 1, GRAN_ERR_ARG, "argument 'keep_replicas' must be 0 or 1, got %d",
+             (int)keep_replicas);
+  scene->replicas = replicas;
+  scene->keep_replicas = keep_replicas;
+  return GRAN_SUCCESS;
+}
+
+/** @brief The scene's replicas and keep_replicas (either output may be NULL). */
+GRAN_EXTERN int gran_scene_replicas(const gran_scene *scene, int64_t *replicas, int32_t *keep_replicas) {
+  GRAN_CHECK_PTR(scene);
+  if (replicas) *replicas = scene->replicas;
+  if (keep_replicas) *keep_replicas = scene->keep_replicas;
+  return GRAN_SUCCESS;
+}
+
+/** @brief Threads over which gran_scene_run / gran_scene_resume spread the replicas of a run
+ *  (process-wide; 0: the OpenMP default, i.e. OMP_NUM_THREADS or the number of cores). */
+GRAN_EXTERN int gran_set_threads(int32_t nthreads) {
+  GRAN_CHECK(nthreads >= 0 && nthreads <= 4096, GRAN_ERR_ARG, "argument 'nthreads' must be in 0..4096, got %d", (int)nthreads);
+  g_threads = nthreads;
+  return GRAN_SUCCESS;
+}
+
+/** @brief The threads a run would use for its replicas (at most the replicas; 1 without OpenMP). */
+GRAN_EXTERN int gran_get_threads(int32_t *nthreads) {
+  GRAN_CHECK_PTR(nthreads);
+  int n = g_threads;
+#ifdef _OPENMP
+  if (n <= 0) n = omp_get_max_threads();
+#else
+  n = 1;
+#endif
+  *nthreads = n > 0 ? n : 1;
+  return GRAN_SUCCESS;
 }

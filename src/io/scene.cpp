@@ -419,7 +419,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   /* ---- [engine] ---- */
   if (!top.has("engine")) top.fail_missing("engine", "the [engine] table is required");
   Tab en = top.sub("engine");
-  en.set_known({"type", "selector", "seed", "t_end", "counts", "N1", "volume", "bound_refresh"});
+  en.set_known({"type", "selector", "seed", "t_end", "counts", "N1", "volume", "bound_refresh", "replicas", "keep_replicas"});
   std::string type = en.string("type", "dsmc");
   if (type != "dsmc") en.fail("type", "unknown engine \"" + type + "\" (only \"dsmc\" runs scenes so far)");
   s.engine_type = type;
@@ -466,6 +466,10 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   }
   s.bound_refresh = en.count("bound_refresh", 0);
   require(s.bound_refresh >= 0, en, "bound_refresh", "must be >= 0");
+  /* replicas (driver: src/io/run.cpp) */
+  s.replicas = en.count("replicas", 1);
+  require(s.replicas >= 1 && s.replicas <= 1000000, en, "replicas", "must be in 1..1000000");
+  s.keep_replicas = en.boolean("keep_replicas", false);
   bool have_tend = en.has("t_end");
   if (have_tend) s.t_end = en.number("t_end");
   en.finish();
