@@ -462,8 +462,10 @@ typedef struct gran_run_result {
 } gran_run_result;
 
 /* Run a scene: output to `output` (NULL: the scene's [output] path), checkpoints to `checkpoint`
- * (NULL: the scene's; "" : none). Both paths are checked for writability before any work.
- * ctl and result may be NULL. */
+ * (NULL: the scene's; its default OUTPUT.ckpt follows `output`; "" : none). Both paths are checked
+ * for writability before any work; output, checkpoint and scene file must be different files
+ * (compared by device and inode / real path; GRAN_ERR_ARG). A run stopped early writes the output
+ * times recorded so far to OUTPUT.partial.h5 (root attribute complete = 0). ctl and result may be NULL. */
 GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, const char *checkpoint,
                                const gran_run_control *ctl, gran_run_result *result);
 /* Continue a run from its checkpoint file (scene text, engine and recorded observables are all
