@@ -69,6 +69,10 @@ FFLAGS     := -std=f2008 $(OPT) $(SAN) -Wall -Wextra -Wno-compare-reals -J$(BUIL
 NVCCFLAGS  := -std=c++17 -O3 $(CUDA_ARCH) -Xcompiler -fPIC,-fvisibility=hidden,-Wall,-Wextra
 CUDA_LIBS  := $(if $(NVCC),-L$(CUDA_HOME)/lib64 -lcudart_static -ldl -lrt -lpthread,)
 LDLIBS      = $(PKG_LIBS) $(CUDA_LIBS) -lstdc++ -lm -lpthread
+# replicas (src/io/run.cpp): OpenMP threads, one engine per thread. `make OMP_FLAG=` builds without.
+OMP_FLAG   ?= -fopenmp
+CXXFLAGS   += $(OMP_FLAG)
+LDLIBS     += $(OMP_FLAG)
 
 # ---- sources ----------------------------------------------------------------------------------
 LIB_SRC  := $(sort $(wildcard src/core/*.cpp src/theory/*.cpp src/dsmc/*.cpp src/analysis/*.cpp src/io/*.cpp))
@@ -237,7 +241,7 @@ install: all
 	install -m 644 $(BUILD)/mod/granary.mod $(DESTDIR)$(prefix)/include/granary/
 	install -m 755 $(CLI) $(DESTDIR)$(prefix)/bin/
 	sed -e 's|@prefix@|$(prefix)|' -e 's|@version@|$(VERSION)|' \
-	  -e 's|@libs@|$(PKG_LIBS) $(CUDA_LIBS)|' granary.pc.in > $(DESTDIR)$(prefix)/lib/pkgconfig/granary.pc
+	  -e 's|@libs@|$(PKG_LIBS) $(CUDA_LIBS) $(OMP_FLAG)|' granary.pc.in > $(DESTDIR)$(prefix)/lib/pkgconfig/granary.pc
 
 info:
 	@echo "granary build configuration"

@@ -176,6 +176,8 @@ module granary
             gran_scene_sizes, gran_scene_times, gran_scene_lags, gran_scene_mixture, &
             gran_scene_initial_temperatures, gran_scene_dsmc_options, gran_scene_dsmc, gran_scene_run, &
             gran_scene_resume
+  ! replicas and threads of a run (src/io/run.cpp)
+  public :: gran_scene_set_replicas, gran_scene_replicas, gran_set_threads, gran_get_threads
 
   ! ---- raw C interfaces ------------------------------------------------------------------------
   interface
@@ -983,6 +985,32 @@ module granary
       type(c_ptr), value :: checkpoint, output, ctl, result
       integer(c_int) :: ierr
     end function c_gran_scene_resume
+    ! replicas and threads (src/io/run.cpp)
+    function c_gran_scene_set_replicas(scene, replicas, keep_replicas) bind(C, name='gran_scene_set_replicas') &
+        result(ierr)
+      import :: c_int, c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: scene
+      integer(c_int64_t), value :: replicas
+      integer(c_int32_t), value :: keep_replicas
+      integer(c_int) :: ierr
+    end function c_gran_scene_set_replicas
+    function c_gran_scene_replicas(scene, replicas, keep_replicas) bind(C, name='gran_scene_replicas') result(ierr)
+      import :: c_int, c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: scene
+      integer(c_int64_t), intent(out) :: replicas
+      integer(c_int32_t), intent(out) :: keep_replicas
+      integer(c_int) :: ierr
+    end function c_gran_scene_replicas
+    function c_gran_set_threads(nthreads) bind(C, name='gran_set_threads') result(ierr)
+      import :: c_int, c_int32_t
+      integer(c_int32_t), value :: nthreads
+      integer(c_int) :: ierr
+    end function c_gran_set_threads
+    function c_gran_get_threads(nthreads) bind(C, name='gran_get_threads') result(ierr)
+      import :: c_int, c_int32_t
+      integer(c_int32_t), intent(out) :: nthreads
+      integer(c_int) :: ierr
+    end function c_gran_get_threads
   end interface
 
 contains
@@ -2563,4 +2591,48 @@ contains
     if (present(result)) pres = c_loc(result)
     call gran_check(c_gran_scene_resume(c_loc(cck), pout, pctl, pres), ierr)
   end subroutine gran_scene_resume
+
+  ! ---- replicas and threads (src/io/run.cpp) ----
+  !> Number of independent replicas of the scene's run and whether the output keeps their rows.
+  subroutine gran_scene_set_replicas(scene, replicas, keep_replicas, ierr)
+    type(c_ptr), intent(in) :: scene
+    integer, intent(in) :: replicas
+    logical, intent(in) :: keep_replicas
+    integer, intent(out), optional :: ierr
+    integer(c_int32_t) :: k
+    k = 0
+    if (keep_replicas) k = 1
+    call gran_check(c_gran_scene_set_replicas(scene, int(replicas, c_int64_t), k), ierr)
+  end subroutine gran_scene_set_replicas
+
+  !> The scene's replicas and keep_replicas.
+  subroutine gran_scene_replicas(scene, replicas, keep_replicas, ierr)
+    type(c_ptr), intent(in) :: scene
+    integer, intent(out) :: replicas
+    logical, intent(out) :: keep_replicas
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: r
+    integer(c_int32_t) :: k
+    r = 0; k = 0
+    call gran_check(c_gran_scene_replicas(scene, r, k), ierr)
+    replicas = int(r)
+    keep_replicas = k /= 0
+  end subroutine gran_scene_replicas
+
+  !> Threads for the replicas of a run (process-wide; 0: OMP_NUM_THREADS or all cores).
+  subroutine gran_set_threads(nthreads, ierr)
+    integer, intent(in) :: nthreads
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_set_threads(int(nthreads, c_int32_t)), ierr)
+  end subroutine gran_set_threads
+
+  !> Threads a run would use for its replicas.
+  subroutine gran_get_threads(nthreads, ierr)
+    integer, intent(out) :: nthreads
+    integer, intent(out), optional :: ierr
+    integer(c_int32_t) :: n
+    n = 0
+    call gran_check(c_gran_get_threads(n), ierr)
+    nthreads = int(n)
+  end subroutine gran_get_threads
 end module granary

@@ -490,8 +490,10 @@ typedef struct gran_run_result {
 } gran_run_result;
 
 /* Run a scene: output to `output` (NULL: the scene's [output] path), checkpoints to `checkpoint`
- * (NULL: the scene's; "" : none). Both paths are checked for writability before any work.
- * ctl and result may be NULL. */
+ * (NULL: the scene's; its default OUTPUT.ckpt follows `output`; "" : none). Both paths are checked
+ * for writability before any work; output, checkpoint and scene file must be different files
+ * (compared by device and inode / real path; GRAN_ERR_ARG). A run stopped early writes the output
+ * times recorded so far to OUTPUT.partial.h5 (root attribute complete = 0). ctl and result may be NULL. */
 GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, const char *checkpoint,
                                const gran_run_control *ctl, gran_run_result *result);
 /* Continue a run from its checkpoint file (scene text, engine and recorded observables are all
@@ -499,5 +501,17 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
  * bit for bit. New checkpoints go to the same checkpoint path. */
 GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, const gran_run_control *ctl,
                                   gran_run_result *result);
+
+/* ---- replicas and threads (src/io/run.cpp) ---------------------------------------------------
+ * A run of R replicas is R independent runs of one scene: replica 0 uses the scene's seed (R = 1 is
+ * the run without replicas, bit for bit), replica r >= 1 the first number of RNG stream r of the
+ * seed (gran_rng_stream). Replicas run in OpenMP threads and are reduced in replica order: the
+ * output (X = mean, X_se = its standard error; event counts summed) is the same for any thread
+ * count. A stopped run's checkpoint holds every replica; resume restores their number. */
+GRAN_EXTERN int gran_scene_set_replicas(gran_scene *scene, int64_t replicas, int32_t keep_replicas);
+GRAN_EXTERN int gran_scene_replicas(const gran_scene *scene, int64_t *replicas, int32_t *keep_replicas);
+/* Threads for the replicas of a run, process-wide; 0 (default): OMP_NUM_THREADS or all cores. */
+GRAN_EXTERN int gran_set_threads(int32_t nthreads);
+GRAN_EXTERN int gran_get_threads(int32_t *nthreads);
 
 #endif /* GRANARY_H */

@@ -205,8 +205,8 @@ static void test_no_half_written_files(void **state) {
   char tmp[700];
   snprintf(tmp, sizeof tmp, "%s.tmp", out);
   rmdir(tmp);
-  /* a run stopped by its callback: checkpoint written, and the output holds the three output
-   * times reached (complete = 0), never a half-written file */
+  /* a run stopped by its callback: checkpoint written, the previous output untouched, and the
+   * three output times reached in OUTPUT.partial.h5 (complete = 0) */
   const char *ck = io_path("precious.ckpt");
   gran_run_control stop = {0, stop_at_3, NULL};
   gran_run_result res;
@@ -214,8 +214,11 @@ static void test_no_half_written_files(void **state) {
   assert_int_equal(res.finished, 0);
   assert_int_equal(res.checkpoints, 2); /* after output 2 (checkpoint_every) and at the stop */
   assert_true(io_exists(ck));
+  c = io_read_file(out);
+  assert_string_equal(c, "OLD CONTENT\n");
+  free(c);
   {
-    hid_t p = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+    hid_t p = H5Fopen(io_path("precious.partial.h5"), H5F_ACC_RDONLY, H5P_DEFAULT);
     assert_true(p >= 0);
     int64_t complete = -1;
     hid_t at = H5Aopen(p, "complete", H5P_DEFAULT);

@@ -5,17 +5,19 @@
  * simulated T_k and MSD_k beside the theory, read back from the output file. */
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
 
 #include "cli.h"
-#include "io/io_impl.h"
+#include "io/engine.h"
 
 namespace {
 
@@ -27,19 +29,21 @@ void on_sigint(int) {
 
 void run_usage(FILE *f) {
   std::fprintf(f,
-               "usage: granary run SCENE [-o FILE] [--force] [--checkpoint FILE | --no-checkpoint] [--quiet]\n"
-               "       granary run --resume CHECKPOINT [-o FILE] [--quiet]\n"
+               "usage: granary run SCENE [-o FILE] [--checkpoint FILE | --no-checkpoint] [--force] [--quiet]\n"
+               "       granary run --resume CHECKPOINT [-o FILE] [--force] [--quiet]\n"
                "  -o FILE                    HDF5 output (default: the scene's [output] path)\n"
-               "  --force                    overwrite an existing output file (refused without it)\n"
-               "  --checkpoint FILE          checkpoint file (default: the scene's [output] checkpoint,\n"
-               "                             else OUTPUT.ckpt next to the output)\n"
+               "  --checkpoint FILE          checkpoint file (default: the scene's, else OUTPUT.ckpt of -o)\n"
+               "  --force                    overwrite an existing output file (refused otherwise)\n"
+               "  --replicas R               R independent runs (default: the scene's [engine] replicas, 1);\n"
+               "                             the output holds the mean X and its standard error X_se\n"
+               "  --threads N                threads for the replicas (default: OMP_NUM_THREADS or all cores)\n"
                "  --no-checkpoint            write no checkpoints\n"
                "  --resume CHECKPOINT        continue a run from its checkpoint, bit for bit\n"
                "  --stop-after-checkpoints N stop after writing N checkpoints (for testing resume)\n"
                "  --quiet                    no progress line, no summary table\n"
-               "  --verbose                  error messages name the function and source line\n"
-               "  Ctrl-C stops at the next output time: the output file then holds the output times\n"
-               "  reached (attribute complete = 0) and a checkpoint lets --resume finish the run.\n");
+               "  --verbose                  error messages name the library function and source line\n"
+               "  Ctrl-C stops at the next output time after writing a checkpoint; what was recorded\n"
+               "  so far goes to OUTPUT.partial.h5 (root attribute complete = 0).\n");
 }
 
 struct Progress {
@@ -80,28 +84,63 @@ int progress_cb(const gran_run_progress *p, void *params) {
   return g_interrupted ? 1 : 0;
 }
 
-/* The summary: a few output times (spread over the run), simulated beside theory. */
+/* The summary: a few output times (spread over the run), each column pair the engine lists in
+ * the output's `summary_columns` attribute (simulated beside theory, only observables that are on). */
 void summary(const std::string &path) {
   int64_t f = gran_h5::open_file(path.c_str(), 0);
   if (f < 0) return;
-  std::vector<double> t, T, Tth, msd, msdth;
-  std::vector<int64_t> dT, dm;
   const char *p = path.c_str();
-  bool haveT = gran_h5::exists(f, "temperatures") && !gran_h5::read_double(f, "temperatures/T", T, &dT, p);
-  bool haveTth = haveT && gran_h5::exists(f, "temperatures/T_theory") && !gran_h5::read_double(f, "temperatures/T_theory", Tth, nullptr, p);
-  bool haveM = gran_h5::exists(f, "msd") && !gran_h5::read_double(f, "msd/msd", msd, &dm, p);
-  bool haveMth = haveM && gran_h5::exists(f, "msd/msd_theory") && !gran_h5::read_double(f, "msd/msd_theory", msdth, nullptr, p);
+  std::string spec;
+  std::vector<double> t;
+  struct Col {
+    std::string label;
+    std::vector<double> sim, se, th;
+    int64_t M = 0;
+  };
+  std::vector<Col> cols;
   bool haveTime = !gran_h5::read_double(f, "time", t, nullptr, p);
-  std::vector<double> ek, e0;
+  if (!gran_h5::read_attr_string(f, "summary_columns", spec, p)) {
+    size_t at = 0;
+    while (at < spec.size()) {
+      size_t e = spec.find(';', at);
+      if (e == std::string::npos) e = spec.size();
+      std::string item = spec.substr(at, e - at);
+      at = e + 1;
+      size_t c1 = item.find(':'), c2 = item.find(':', c1 == std::string::npos ? 0 : c1 + 1);
+      if (c1 == std::string::npos || c2 == std::string::npos) continue;
+      Col c;
+      c.label = item.substr(0, c1);
+      std::string sim = item.substr(c1 + 1, c2 - c1 - 1), th = item.substr(c2 + 1);
+      std::vector<int64_t> d;
+      if (!gran_h5::exists(f, sim.substr(0, sim.find('/')).c_str()) || gran_h5::read_double(f, sim.c_str(), c.sim, &d, p)) continue;
+      c.M = d.size() > 1 ? d[1] : 1;
+      const std::string se = sim + "_se";
+      if (!gran_h5::exists(f, se.c_str()) || gran_h5::read_double(f, se.c_str(), c.se, nullptr, p)) c.se.clear();
+      if (!th.empty() && !gran_h5::exists(f, th.c_str())) th.clear();
+      if (!th.empty() && gran_h5::read_double(f, th.c_str(), c.th, nullptr, p)) c.th.clear();
+      if (c.th.size() != c.sim.size()) c.th.assign(c.sim.size(), NAN);
+      if (c.se.size() != c.sim.size()) c.se.clear();
+      cols.push_back(std::move(c));
+    }
+  }
+  std::vector<double> ek, e0, mass, dens;
   std::vector<int64_t> coll;
   bool haveE = gran_h5::exists(f, "energy") && !gran_h5::read_double(f, "energy/e_kin", ek, nullptr, p) &&
                !gran_h5::read_double(f, "energy/e_initial", e0, nullptr, p);
-  bool haveC = !gran_h5::read_int64(f, "stats/collisions", coll, nullptr, p);
+  bool haveC = gran_h5::exists(f, "stats") && !gran_h5::read_int64(f, "stats/collisions", coll, nullptr, p);
+  if (!gran_h5::exists(f, "species") || gran_h5::read_double(f, "species/mass", mass, nullptr, p) ||
+      gran_h5::read_double(f, "species/density", dens, nullptr, p)) {
+    mass.clear();
+    dens.clear();
+  }
+  int64_t nrep = 1;
+  if (H5Aexists((hid_t)f, "nreplicas") > 0) gran_h5::read_attr_int64(f, "nreplicas", &nrep, p);
   gran_h5::close_file(f);
   gran_clear_error();
-  if (!haveTime || (!haveT && !haveM)) return;
+  if (!haveTime || cols.empty() || t.empty()) return;
   const int64_t nt = (int64_t)t.size();
-  const int64_t M = haveT ? dT[1] : dm[1];
+  int64_t M = 0;
+  for (const auto &c : cols) M = std::max(M, c.M);
   /* rows: about 5 output times spread evenly over the index range (log-spaced times stay log-spaced) */
   std::vector<int64_t> rows;
   const int want = 5;
@@ -110,10 +149,30 @@ void summary(const std::string &path) {
     if (rows.empty() || rows.back() != r) rows.push_back(r);
   }
   const int64_t Mshow = M > 6 ? 6 : M;
-  /* only the columns the run recorded: no MSD columns when MSD was off, no theory when it was off */
+  /* footnotes where the Maxwellian theory is known to be off (PHYSICS-NOTES; seed 000) */
+  const bool mixture = (int64_t)mass.size() == M && M > 1;
+  double mmin = INFINITY, ntot = 0;
+  for (double m : mass) mmin = std::min(mmin, m);
+  for (double n : dens) ntot += n;
+  auto note = [&](const std::string &label, int64_t k) -> const char * {
+    if (!mixture) return "";
+    const double mk = mass[(size_t)k], nk = dens[(size_t)k];
+    /* heavy and dilute (tracer limit): seed 000 Sec. II F, Eq. 35 */
+    if (mk >= 10.0 * mmin && nk <= 0.05 * ntot) return "c";
+    /* light among heavy: the species at least 10x heavier outnumber it */
+    double nheavy = 0;
+    for (int64_t j = 0; j < M; j++)
+      if (mass[(size_t)j] >= 10.0 * mk) nheavy += dens[(size_t)j];
+    if (label == "MSD" && nheavy > nk) return "b";
+    if (label == "T") return "a";
+    return "";
+  };
+  bool used[3] = {false, false, false};
   std::printf("\n%12s %4s", "time", "k");
-  if (haveT) std::printf(" | %12s %12s %8s", "T_sim", haveTth ? "T_theory" : "", haveTth ? "dev" : "");
-  if (haveM) std::printf(" | %12s %12s %8s", "MSD_sim", haveMth ? "MSD_theory" : "", haveMth ? "dev" : "");
+  for (const auto &c : cols) {
+    if (c.se.empty()) std::printf(" | %12s %12s %8s", (c.label + "_sim").c_str(), (c.label + "_theory").c_str(), "dev");
+    else std::printf(" | %12s %10s %12s %8s %8s", (c.label + "_sim").c_str(), "+- se", (c.label + "_theory").c_str(), "dev", "dev/se");
+  }
   std::printf("\n");
   auto dev = [](double a, double b) -> std::string {
     char s[32];
@@ -121,30 +180,81 @@ void summary(const std::string &path) {
     std::snprintf(s, sizeof s, "%+.2f%%", 100.0 * (a - b) / b);
     return s;
   };
-  auto cell = [](double x) -> std::string {
-    char s[32];
-    if (std::isnan(x)) return "-"; /* an empty species */
-    std::snprintf(s, sizeof s, "%.6g", x);
-    return s;
-  };
   for (int64_t r : rows) {
     for (int64_t k = 0; k < Mshow; k++) {
-      const size_t i = (size_t)(r * M + k);
       std::printf("%12.5g %4" PRId64, t[(size_t)r], k + 1);
-      if (haveT)
-        std::printf(" | %12s %12s %8s", cell(T[i]).c_str(), haveTth ? cell(Tth[i]).c_str() : "",
-                    haveTth ? dev(T[i], Tth[i]).c_str() : "");
-      if (haveM)
-        std::printf(" | %12s %12s %8s", cell(msd[i]).c_str(), haveMth ? cell(msdth[i]).c_str() : "",
-                    haveMth ? dev(msd[i], msdth[i]).c_str() : "");
+      for (const auto &c : cols) {
+        const size_t i = (size_t)(r * c.M + k);
+        const double a = k < c.M ? c.sim[i] : NAN, b = k < c.M ? c.th[i] : NAN;
+        const char *n = k < c.M && std::isfinite(b) ? note(c.label, k) : "";
+        if (*n) used[*n - 'a'] = true;
+        if (c.se.empty()) {
+          std::printf(" | %12.6g %12.6g %8s", a, b, dev(a, b).c_str());
+        } else {
+          const double e = k < c.M ? c.se[i] : NAN;
+          char z[32] = "";
+          if (std::isfinite(a) && std::isfinite(b) && e > 0) std::snprintf(z, sizeof z, "%+.1f%s", (a - b) / e, n);
+          std::printf(" | %12.6g %10.3g %12.6g %8s %8s", a, e, b, dev(a, b).c_str(), z);
+        }
+      }
       std::printf("\n");
     }
   }
   if (Mshow < M) std::printf("(species 1..%" PRId64 " of %" PRId64 " shown; everything is in %s)\n", Mshow, M, p);
+  if (nrep > 1) {
+    std::printf("mean over %" PRId64 " replicas +- its standard error; dev/se: (sim - theory) / se\n", nrep);
+    if (used[0])
+      std::printf("  a: the Maxwellian theory of T_k in a mixture is off by about 0.6-1.2 %% (first Sonine correction)\n");
+    if (used[1])
+      std::printf("  b: light species among heavy ones diffuse 10-14 %% faster than Eq. 4 predicts (Lorentz gas: 32/(9 pi))\n");
+    if (used[2])
+      std::printf("  c: a heavy, dilute species (tracer limit, seed 000 Eq. 35) runs hotter than the Maxwellian theory:\n"
+                  "     near or in the ordered phase of Santos and Dufty (b > 1) T_k/T_1 is well above it (physics, not noise)\n");
+  }
   if (haveE && !ek.empty())
     std::printf("at t = %.6g: total kinetic energy %.6g (initially %.6g)%s", t.back(), ek.back(), e0.back(),
                 haveC && !coll.empty() ? "" : "\n");
-  if (haveC && !coll.empty()) std::printf("%s%" PRId64 " collisions\n", haveE ? ", " : "", coll.back());
+  if (haveC && !coll.empty())
+    std::printf("%s%" PRId64 " collisions%s\n", haveE ? ", " : "", coll.back(), nrep > 1 ? " (all replicas)" : "");
+}
+
+/* The title and main parameters, printed before the run starts. */
+void header(const gran_scene *s, const std::string &out, const std::string &ck) {
+  std::printf("%s\n", s->title.empty() ? s->name.c_str() : s->title.c_str());
+  int64_t N = 0;
+  for (int64_t c : s->counts) N += c;
+  std::printf("  engine %s (%s), %" PRId64 " species", s->engine_type.c_str(),
+              s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", s->nspecies);
+  if (s->counts_kind == 0) std::printf(", %" PRId64 " particles", N);
+  else if (s->counts_kind == 1) std::printf(", N1 = %.6g", s->N1);
+  else std::printf(", volume %.6g", s->volume);
+  std::printf(", restitution %s", s->model == GRAN_RESTITUTION_VISCOELASTIC ? "viscoelastic" : "constant");
+  if (s->model != GRAN_RESTITUTION_VISCOELASTIC && s->eps_matrix.empty()) std::printf(" eps = %g", s->eps);
+  std::printf("\n  t = %g .. %g, %zu output times, seed %llu", s->t_start, s->t_end, s->times.size(),
+              (unsigned long long)s->seed);
+  if (s->replicas > 1) {
+    int32_t th = 1;
+    gran_get_threads(&th);
+    std::printf(", %" PRId64 " replicas on %d thread(s)", s->replicas, (int)std::min<int64_t>(th, s->replicas));
+  }
+  std::printf("\n  output %s, checkpoint %s\n", out.c_str(), ck.empty() ? "(none)" : ck.c_str());
+  std::fflush(stdout);
+}
+
+bool file_exists(const std::string &p) {
+  struct stat sb;
+  return stat(p.c_str(), &sb) == 0;
+}
+
+/* A run stopped before its end: what was recorded is in the partial output. */
+int stopped(const gran_run_result &res, const std::string &out, const std::string &ck) {
+  const std::string part = gran_partial_path_(out);
+  std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s); the output times recorded so far are in\n"
+                       "  %s (complete = 0); %s is written when the run finishes.\n", res.time, res.checkpoints,
+               part.c_str(), out.c_str());
+  if (ck.empty()) std::fprintf(stderr, "  No checkpoint was written (--no-checkpoint): the run cannot be continued.\n");
+  else std::fprintf(stderr, "  Continue with: granary run --resume %s\n", ck.c_str());
+  return g_interrupted ? 130 : 0;
 }
 
 int fail(const char *what) {
@@ -157,7 +267,7 @@ int fail(const char *what) {
 int cli_run(int argc, char **argv) {
   const char *scene_path = nullptr, *output = nullptr, *checkpoint = nullptr, *resume = nullptr;
   bool quiet = false, no_ckpt = false, force = false;
-  long long stop_after = 0;
+  long long stop_after = 0, replicas = 0, threads = -1;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     auto need = [&](const char *opt) -> const char * {
@@ -174,12 +284,23 @@ int cli_run(int argc, char **argv) {
       if (!(output = need(a))) return 2;
     } else if (!std::strcmp(a, "--checkpoint")) {
       if (!(checkpoint = need(a))) return 2;
-    } else if (!std::strcmp(a, "--no-checkpoint")) {
-      no_ckpt = true;
-    } else if (!std::strcmp(a, "--force")) {
-      force = true;
+    } else if (!std::strcmp(a, "--replicas") || !std::strcmp(a, "--threads")) {
+      const char *v = need(a);
+      if (!v) return 2;
+      char *end = nullptr;
+      long long x = std::strtoll(v, &end, 10);
+      const bool rep = a[2] == 'r';
+      if (*end || x < (rep ? 1 : 0) || x > (rep ? 1000000 : 4096)) {
+        std::fprintf(stderr, "granary run: %s '%s': expected an integer in %s\n", a, v, rep ? "1..1000000" : "0..4096");
+        return 2;
+      }
+      (rep ? replicas : threads) = x;
     } else if (!std::strcmp(a, "--verbose")) {
       cli_verbose = 1;
+    } else if (!std::strcmp(a, "--force")) {
+      force = true;
+    } else if (!std::strcmp(a, "--no-checkpoint")) {
+      no_ckpt = true;
     } else if (!std::strcmp(a, "--resume")) {
       if (!(resume = need(a))) return 2;
     } else if (!std::strcmp(a, "--quiet") || !std::strcmp(a, "-q")) {
@@ -218,6 +339,11 @@ int cli_run(int argc, char **argv) {
     return 2;
   }
 
+  if (resume && replicas) {
+    std::fprintf(stderr, "granary run: --resume continues with the replicas of the checkpoint (no --replicas)\n");
+    return 2;
+  }
+  if (threads >= 0 && gran_set_threads((int32_t)threads)) return fail("--threads");
   Progress pr;
   pr.tty = isatty(2);
   pr.quiet = quiet;
@@ -241,66 +367,41 @@ int cli_run(int argc, char **argv) {
       gran_h5::close_file(f);
       gran_clear_error();
     }
+    if (!force && !out_path.empty() && file_exists(out_path)) {
+      std::fprintf(stderr, "granary run: output '%s' exists; give --force to overwrite it, or -o another file\n",
+                   out_path.c_str());
+      return 1;
+    }
     st = gran_scene_resume(resume, output, &ctl, &res);
     if (st) return fail("resume failed");
   } else {
     gran_scene *scene = nullptr;
     if (gran_scene_load(scene_path, &scene)) return fail("invalid scene");
+    if (replicas && gran_scene_set_replicas(scene, replicas, scene->keep_replicas)) {
+      gran_scene_destroy(&scene);
+      return fail("--replicas");
+    }
     const char *p = nullptr;
     gran_scene_output_path(scene, &p);
     out_path = output ? output : p;
-    if (!quiet) {
-      /* what is about to run, before any work */
-      int64_t M = 0, nt = 0, nl = 0, c = 0;
-      double t0 = 0, t1 = 0;
-      gran_scene_sizes(scene, &M, &nt, &nl, &t0, &t1);
-      std::vector<int64_t> counts((size_t)M);
-      gran_dsmc_options opt;
-      int64_t N = 0;
-      if (gran_scene_dsmc_options(scene, &opt, counts.data(), nullptr) == GRAN_SUCCESS)
-        for (int64_t x : counts) N += x;
-      (void)c;
-      std::string ck = no_ckpt ? "none" : checkpoint ? checkpoint
-                                        : (output && !scene->checkpoint_explicit && !scene->checkpoint_path.empty())
-                                            ? out_path + ".ckpt"
-                                            : scene->checkpoint_path.empty() ? "none" : scene->checkpoint_path;
-      std::printf("granary run: %s\n", scene->title.empty() ? scene_path : scene->title.c_str());
-      std::printf("  scene %s: %" PRId64 " species, %" PRId64 " particles, %s selector, seed %" PRIu64 "\n", scene_path,
-                  M, N, scene->selector == GRAN_SELECTOR_BIRD ? "Bird" : "low-rank", scene->seed);
-      std::printf("  t = %g .. %g, %" PRId64 " output times%s\n", t0, t1, nt, nl ? ", TAMSD" : "");
-      std::printf("  output %s, checkpoint %s\n", out_path.c_str(), ck.c_str());
-      std::fflush(stdout);
-    }
-    if (!force && access(out_path.c_str(), F_OK) == 0) {
-      std::fprintf(stderr, "granary run: the output file '%s' exists; give --force to overwrite it (or -o FILE)\n",
+    if (!force && file_exists(out_path)) {
+      std::fprintf(stderr, "granary run: output '%s' exists; give --force to overwrite it, or -o another file\n",
                    out_path.c_str());
       gran_scene_destroy(&scene);
       return 1;
     }
+    const std::string ck_path = no_ckpt ? "" : gran_run_checkpoint_path_(scene, output, checkpoint);
+    if (!quiet) header(scene, out_path, ck_path);
     st = gran_scene_run(scene, output, no_ckpt ? "" : checkpoint, &ctl, &res);
     if (st) {
       fail("run failed");
       gran_scene_destroy(&scene);
       return 1;
     }
-    std::string ck_default = scene->checkpoint_path;
-    if (output && !scene->checkpoint_explicit && !ck_default.empty()) ck_default = std::string(output) + ".ckpt";
-    if (!res.finished && !checkpoint && !no_ckpt) checkpoint = ck_default.c_str();
-    std::string ck = checkpoint ? checkpoint : "";
     gran_scene_destroy(&scene);
-    if (!res.finished) {
-      std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s)%s%s; continue with\n"
-                           "  granary run --resume %s\n", res.time, res.checkpoints,
-                   g_interrupted ? "; output times reached so far are in " : "", g_interrupted ? out_path.c_str() : "",
-                   ck.empty() ? "(no checkpoint)" : ck.c_str());
-      return g_interrupted ? 130 : 0;
-    }
+    if (!res.finished) return stopped(res, out_path, ck_path);
   }
-  if (!res.finished) {
-    std::fprintf(stderr, "granary run: stopped at t = %.6g after %" PRId64 " checkpoint(s); continue with\n"
-                         "  granary run --resume %s\n", res.time, res.checkpoints, resume);
-    return g_interrupted ? 130 : 0;
-  }
+  if (!res.finished) return stopped(res, out_path, resume);
   int64_t nwarn = 0;
   gran_warning_count(&nwarn);
   if (nwarn > 0) {

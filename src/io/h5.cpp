@@ -354,26 +354,6 @@ int verify_file_if_marked(const char *path, const char *what) {
 
 }  // namespace gran_h5
 
-/* canonical form of a path that may not exist yet: realpath of the file, or of its folder plus
- * its name ("" when the folder does not exist either) */
-static std::string canonical(const std::string &p) {
-  char buf[PATH_MAX];
-  if (realpath(p.c_str(), buf)) return buf;
-  const size_t s = p.find_last_of('/');
-  const std::string dir = s == std::string::npos ? "." : (s == 0 ? "/" : p.substr(0, s));
-  const std::string base = s == std::string::npos ? p : p.substr(s + 1);
-  if (!realpath(dir.c_str(), buf)) return "";
-  return std::string(buf) + "/" + base;
-}
-
-int gran_io_same_file_(const std::string &a, const std::string &b) {
-  if (a.empty() || b.empty()) return 0;
-  struct stat sa, sb;
-  if (stat(a.c_str(), &sa) == 0 && stat(b.c_str(), &sb) == 0) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-  const std::string ca = canonical(a), cb = canonical(b);
-  return ca.empty() || cb.empty() ? a == b : ca == cb;
-}
-
 int gran_io_commit_file_(const std::string &tmp, const std::string &path) {
   int fd = open(tmp.c_str(), O_RDONLY);
   if (fd < 0) return GRAN_ERROR(GRAN_ERR_IO, "cannot reopen '%s' to flush it: %s", tmp.c_str(), std::strerror(errno));

@@ -41,6 +41,7 @@ struct gran_scene {
   double t_start = 0.0;
 
   /* [engine] */
+  std::string engine_type = "dsmc"; /* `[engine] type`: the key of the engine table (src/io/engine.cpp) */
   int selector = GRAN_SELECTOR_LOWRANK;
   uint64_t seed = 1;
   double t_end = 0.0;
@@ -49,6 +50,8 @@ struct gran_scene {
   double N1 = 0.0;
   double volume = 0.0;
   int64_t bound_refresh = 0;
+  int64_t replicas = 1;   /* independent runs (run.cpp); replica r draws from RNG stream r of seed */
+  int keep_replicas = 0;  /* also write the per-replica rows */
 
   /* [observables] */
   std::vector<double> times;
@@ -112,10 +115,6 @@ int verify_file_if_marked(const char *path, const char *what);
 /* units and description attributes of dataset `name` under `loc` */
 int describe(int64_t loc, const char *name, const char *units, const char *description, const char *file);
 }  // namespace gran_h5
-
-/* 1 when the two paths name the same file (device and inode when both exist; otherwise the
- * canonical paths of their folders and their names). */
-int gran_io_same_file_(const std::string &a, const std::string &b);
 
 /* Flush a closed file to disk (fsync) and rename it over its final name; then fsync the folder. */
 int gran_io_commit_file_(const std::string &tmp, const std::string &path);

@@ -653,13 +653,15 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   /* ---- [engine] ---- */
   if (!top.has("engine")) top.fail_missing("engine", "the [engine] table is required");
   Tab en = top.sub("engine");
-  en.set_known({"type", "selector", "seed", "t_end", "counts", "N1", "volume", "bound_refresh", "max_memory_gb"});
+  en.set_known({"type", "selector", "seed", "t_end", "counts", "N1", "volume", "bound_refresh", "replicas",
+                "keep_replicas", "max_memory_gb"});
   if (en.has("max_memory_gb")) {
     const double g = en.number("max_memory_gb");
     require(g > 0, en, "max_memory_gb", "must be > 0 (GB of memory the run may use)");
   }
   std::string type = en.string("type", "dsmc");
   if (type != "dsmc") en.fail("type", "unknown engine \"" + type + "\" (only \"dsmc\" runs scenes so far)");
+  s.engine_type = type;
   std::string sel = en.string("selector", "lowrank");
   if (sel == "lowrank") s.selector = GRAN_SELECTOR_LOWRANK;
   else if (sel == "bird") s.selector = GRAN_SELECTOR_BIRD;
@@ -703,6 +705,10 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   }
   s.bound_refresh = en.count("bound_refresh", 0);
   require(s.bound_refresh >= 0, en, "bound_refresh", "must be >= 0");
+  /* replicas (driver: src/io/run.cpp) */
+  s.replicas = en.count("replicas", 1);
+  require(s.replicas >= 1 && s.replicas <= 1000000, en, "replicas", "must be in 1..1000000");
+  s.keep_replicas = en.boolean("keep_replicas", false);
   bool have_tend = en.has("t_end");
   if (have_tend) s.t_end = en.number("t_end");
   en.finish();

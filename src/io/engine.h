@@ -1,0 +1,118 @@
+/* engine.h - the one interface between the run driver (src/io/run.cpp) and the engines.
+ *
+ * HOW A NEW ENGINE PLUGS IN
+ *   1. Write src/<engine>/... as usual (its own public gran_<engine>_* API), then one adapter file
+ *      src/io/engine_<type>.cpp with a class derived from gran_engine (below) and a factory
+ *        int gran_engine_<type>_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
+ *   2. Add one line {"<type>", gran_engine_<type>_create_} to the table in src/io/engine.cpp.
+ *      The table is keyed by the scene's `[engine] type` (gran_scene::engine_type, default "dsmc").
+ *   3. That is all: the driver writes the output file (root attributes, /time, one group per row
+ *      buffer, units/description attributes), checkpoints (engine state in a group the driver
+ *      names, the recorded rows in /observer), resume, the progress line (ETA from work()) and the
+ *      end-of-run summary (from summary_columns()) for every engine.
+ *
+ * The driver's calling sequence (run and resume make exactly the same engine calls, so a resumed
+ * run is bit for bit the uninterrupted one):
+ *   create (factory) -> declare(bufs) -> memory() -> start(seed) | checkpoint_read(file, group)
+ *   -> for each output time i >= next: advance(t_i), record(bufs, i) [, checkpoint_write(...)]
+ *   -> advance(t_end) -> write_output(file, ntimes): the engine's own groups and the theory.
+ *   A run stopped early (signal, progress callback) writes a partial output: write_output(file, next).
+ * An engine never writes the output file's common parts and never prints.
+ * Replicas: the driver creates one engine per replica (`[engine] replicas`), drives them in OpenMP
+ * threads (different engine objects may run concurrently; one object is used by one thread at a
+ * time), reduces the row buffers in replica order (mean and standard error) and calls
+ * write_output on replica 0 only (its theory and species table serve all replicas).
+ * Every method returns a granary status (GRAN_ERROR with a named message on failure). */
+#ifndef GRANARY_IO_ENGINE_H
+#define GRANARY_IO_ENGINE_H
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/io_impl.h"
+
+/* One recorded quantity: row i belongs to output time i; the buffer holds [ntimes x row]. */
+struct gran_row_buf {
+  std::string group, name;       /* HDF5 dataset group/name in the output file */
+  int is_int = 0;                /* int64 rows (n) or double rows (d) */
+  std::vector<int64_t> row_dims; /* shape of one row ({} for a scalar) */
+  int64_t row = 1;               /* elements per row (product of row_dims) */
+  std::string units, description;/* written as the dataset's `units` and `description` attributes */
+  std::vector<double> d;
+  std::vector<int64_t> n;
+};
+
+/* Declare a buffer (the driver sizes it to the scene's output times). */
+void gran_row_buf_add(std::vector<gran_row_buf> &bufs, const char *group, const char *name, int is_int,
+                      std::vector<int64_t> row_dims, const char *units, const char *description);
+/* The buffer group/name; nullptr when not declared. */
+gran_row_buf *gran_row_buf_find(std::vector<gran_row_buf> &bufs, const char *group, const char *name);
+
+/* `units` and `description` attributes of dataset `name` in group `loc` (every dataset has both). */
+int gran_describe_(int64_t loc, const char *name, const char *units, const char *description, const char *file);
+
+/* Where the engine stands, for the progress line and the run result. */
+struct gran_engine_state {
+  double time = 0.0;   /* simulated time reached */
+  int64_t events = 0;  /* engine events so far (DSMC: accepted collisions), including before a resume */
+};
+
+/* One column pair of the end-of-run summary: simulated dataset beside its theory ([ntimes x M]). */
+struct gran_summary_column {
+  std::string label;   /* short header, e.g. "T" or "MSD" */
+  std::string sim;     /* dataset path in the output, e.g. "temperatures/T" */
+  std::string theory;  /* dataset path of the theory ("" when none) */
+};
+
+class gran_engine {
+ public:
+  virtual ~gran_engine() = default;
+  /* Declare the row buffers of the observables the scene asks for (gran_row_buf_add). */
+  virtual int declare(std::vector<gran_row_buf> &bufs) = 0;
+  /* Estimated peak bytes of one engine of this scene (before start: the driver refuses a run whose
+   * replicas would not fit in the memory available). */
+  virtual int memory(int64_t *bytes) = 0;
+  /* Build the initial state (a fresh run) from `seed`: the scene's seed for replica 0 (so one
+   * replica is exactly the run without replicas), a seed drawn from RNG stream r of the scene's
+   * seed for replica r >= 1 (gran_rng_stream). Engines use no other source of randomness. */
+  virtual int start(uint64_t seed) = 0;
+  /* Advance to simulated time t (>= the current time). */
+  virtual int advance(double t) = 0;
+  virtual int state(gran_engine_state *st) = 0;
+  /* Estimated work (any unit, monotone in t) from the scene's start to time t: the progress line's
+   * fraction and ETA are work-weighted. DSMC: the theory's expected collision count. */
+  virtual int work(int64_t n, const double *t, double *w) = 0; /* w[i] for each t[i] */
+  /* Fill row i of every buffer this engine declared. */
+  virtual int record(std::vector<gran_row_buf> &bufs, int64_t i) = 0;
+  /* The engine's own part of the output file (root attributes such as selector and nspecies, the
+   * species table, theory beside the recorded rows, derived analyses). Groups of the declared
+   * buffers already exist (with their /time) when this is called. nrec: output times recorded
+   * (the scene's count for a finished run; fewer for the partial output of a stopped run, where
+   * analyses that need the whole run are left out). */
+  virtual int write_output(int64_t file, const char *fname, int64_t nrec) = 0;
+  /* Engine state into / out of HDF5 group `group` of the open checkpoint file `file` (`fname`
+   * names it in messages). The driver builds the file in memory and writes it with its checksum
+   * (gran_h5::commit_memory_file), and verifies that checksum before a read. */
+  virtual int checkpoint_write(int64_t file, const char *fname, const char *group) = 0;
+  virtual int checkpoint_read(int64_t file, const char *fname, const char *group) = 0;
+  /* Columns of the end-of-run summary (simulated beside theory), only of observables that are on. */
+  virtual std::vector<gran_summary_column> summary_columns() const = 0;
+  /* Short name ("dsmc") written as the output's `engine` attribute. */
+  virtual const char *type() const = 0;
+};
+
+typedef int (*gran_engine_factory)(const gran_scene *s, std::unique_ptr<gran_engine> &out);
+
+/* The engine of the scene's `[engine] type`; named error for an unknown type. */
+int gran_engine_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
+
+/* engine_dsmc.cpp */
+int gran_engine_dsmc_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
+
+/* run.cpp: where a stopped run writes what it recorded (OUT.h5 -> OUT.partial.h5), and the
+ * checkpoint path of a run (NULL checkpoint: the scene's; its default OUTPUT.ckpt follows output). */
+std::string gran_partial_path_(const std::string &out);
+std::string gran_run_checkpoint_path_(const gran_scene *s, const char *output, const char *checkpoint);
+
+#endif

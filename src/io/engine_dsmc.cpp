@@ -1,0 +1,373 @@
+/* engine_dsmc.cpp - the DSMC engine (src/dsmc) behind the run driver's engine interface
+ * (engine.h): its observables, its species table and the kinetic theory written beside them. */
+#include <hdf5.h>
+
+#include <cmath>
+
+#include "io/engine.h"
+
+namespace {
+
+struct H5Group {
+  int64_t id = -1;
+  ~H5Group() { gran_h5::close_group(id); }
+};
+
+class DsmcEngine : public gran_engine {
+ public:
+  explicit DsmcEngine(const gran_scene *s) : s_(s) {}
+  ~DsmcEngine() override {
+    gran_dsmc_destroy(&sim_);
+    gran_mixture_destroy(&mix_);
+  }
+  int prepare() {
+    GRAN_CALL(gran_scene_mixture(s_, &mix_));
+    T0_.assign((size_t)s_->nspecies, 0.0);
+    return gran_scene_T0_(s_, mix_, T0_.data(), &tau0_);
+  }
+  const char *type() const override { return "dsmc"; }
+
+  int declare(std::vector<gran_row_buf> &b) override {
+    const gran_scene *s = s_;
+    const int64_t M = s->nspecies;
+    gran_row_buf_add(b, "stats", "collisions", 1, {}, "1", "accepted collisions since the start of the run");
+    gran_row_buf_add(b, "stats", "trials", 1, {}, "1", "candidate pairs drawn since the start of the run");
+    if (s->obs_temperatures)
+      gran_row_buf_add(b, "temperatures", "T", 0, {M}, "energy",
+                       "partial temperature T_k = m_k <|v - u|^2> / 3 per species [time][k]");
+    if (s->obs_msd) {
+      gran_row_buf_add(b, "msd", "msd", 0, {M}, "length^2", "mean-squared displacement per species [time][k]");
+      gran_row_buf_add(b, "msd", "msd_total", 0, {}, "length^2", "mean-squared displacement of all particles (Eq. 3)");
+    }
+    if (s->obs_energy) {
+      gran_row_buf_add(b, "energy", "e_kin", 0, {}, "energy", "total kinetic energy sum m v^2 / 2");
+      gran_row_buf_add(b, "energy", "e_initial", 0, {}, "energy", "total kinetic energy at the start");
+      gran_row_buf_add(b, "energy", "e_dissipated", 0, {}, "energy", "energy dissipated in collisions so far");
+    }
+    if (s->obs_momentum)
+      gran_row_buf_add(b, "momentum", "p", 0, {3}, "mass*length/time", "total momentum (x, y, z) of the gas");
+    if (s->obs_collision_counts)
+      gran_row_buf_add(b, "collision_counts", "counts", 1, {M, M}, "1",
+                       "accepted collisions between species i and j since the start [time][i][j], symmetric");
+    if (s->obs_sonine_a2)
+      gran_row_buf_add(b, "sonine_a2", "a2", 0, {M}, "1", "Sonine coefficient a2 = 3 <c^4>/5 <c^2>^2 - 1 per species");
+    if (s->obs_veldist)
+      gran_row_buf_add(b, "velocity_distribution", "pdf", 0, {M, s->vd_bins}, "1",
+                       "speed histogram of c = |v - u_k| / sqrt(2 T_k / m_k), normalised by N_k dc [time][k][bin]");
+    return GRAN_SUCCESS;
+  }
+
+  /* gran_scene_dsmc with the replica's seed */
+  int start(uint64_t seed) override {
+    std::vector<double> T0((size_t)s_->nspecies);
+    GRAN_CALL(gran_scene_initial_temperatures(s_, mix_, T0.data(), nullptr));
+    gran_dsmc_options opt;
+    GRAN_CALL(gran_scene_dsmc_options(s_, &opt, nullptr, nullptr));
+    opt.seed = seed;
+    return gran_dsmc_create(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt, &sim_);
+  }
+  /* particles x (28 B state, +32 B displacement; gran_particles_memory) plus the engine's trees and
+   * speed classes (counted as 24 B per particle) and the trajectories */
+  int memory(int64_t *bytes) override {
+    std::vector<int64_t> c((size_t)s_->nspecies);
+    gran_dsmc_options opt;
+    GRAN_CALL(gran_scene_dsmc_options(s_, &opt, c.data(), nullptr));
+    double N = 0;
+    for (int64_t x : c) N += (double)x;
+    const double per = 28.0 + 24.0 + (s_->obs_msd ? 32.0 : 0.0);
+    double b = N * per + (double)s_->nspecies * (double)s_->nspecies * 64.0;
+    if (s_->obs_tamsd) b += (double)s_->nspecies * (double)s_->tamsd_tracers * (double)s_->tamsd_samples * 24.0;
+    *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
+    return GRAN_SUCCESS;
+  }
+  int advance(double t) override { return gran_dsmc_advance(sim_, t); }
+  int state(gran_engine_state *st) override {
+    gran_dsmc_stats x;
+    GRAN_CALL(gran_dsmc_get_stats(sim_, &x));
+    st->time = x.time;
+    st->events = x.collisions;
+    return GRAN_SUCCESS;
+  }
+
+  /* The theory's expected collision count from t_start to each t (gran_theory_collision_counts);
+   * where the theory cannot say (it fails or is not finite), the simulated time span. */
+  int work(int64_t n, const double *t, double *w) override {
+    const int64_t M = s_->nspecies;
+    gran_dsmc_stats x;
+    GRAN_CALL(gran_dsmc_get_stats(sim_, &x));
+    std::vector<double> tt((size_t)n), c((size_t)(n * M * M));
+    for (int64_t i = 0; i < n; i++) tt[(size_t)i] = std::max(0.0, t[i] - s_->t_start);
+    bool ok = gran_theory_collision_counts(mix_, T0_.data(), x.volume, n, tt.data(), 1e-6, c.data()) == GRAN_SUCCESS;
+    for (int64_t i = 0; i < n && ok; i++) {
+      double sum = 0;
+      for (int64_t a = 0; a < M; a++)
+        for (int64_t b = a; b < M; b++) sum += c[(size_t)((i * M + a) * M + b)];
+      w[i] = sum;
+      ok = std::isfinite(sum);
+    }
+    if (!ok) {
+      gran_clear_error();
+      for (int64_t i = 0; i < n; i++) w[i] = tt[(size_t)i];
+    }
+    return GRAN_SUCCESS;
+  }
+
+  int record(std::vector<gran_row_buf> &bufs, int64_t i) override {
+    gran_dsmc_stats st;
+    GRAN_CALL(gran_dsmc_get_stats(sim_, &st));
+    for (auto &b : bufs) {
+      double *d = b.is_int ? nullptr : b.d.data() + i * b.row;
+      int64_t *n = b.is_int ? b.n.data() + i * b.row : nullptr;
+      const std::string &g = b.group, &nm = b.name;
+      if (g == "stats") {
+        n[0] = nm == "collisions" ? st.collisions : st.trials;
+      } else if (g == "temperatures") {
+        GRAN_CALL(gran_dsmc_temperatures(sim_, d));
+      } else if (g == "msd" && nm == "msd") {
+        double total = 0;
+        GRAN_CALL(gran_dsmc_msd(sim_, d, &total));
+        gran_row_buf_find(bufs, "msd", "msd_total")->d[(size_t)i] = total;
+      } else if (g == "energy" && nm == "e_kin") {
+        double e, e0, ed;
+        GRAN_CALL(gran_dsmc_energy(sim_, &e, &e0, &ed));
+        d[0] = e;
+        gran_row_buf_find(bufs, "energy", "e_initial")->d[(size_t)i] = e0;
+        gran_row_buf_find(bufs, "energy", "e_dissipated")->d[(size_t)i] = ed;
+      } else if (g == "momentum") {
+        GRAN_CALL(gran_dsmc_momentum(sim_, d));
+      } else if (g == "collision_counts") {
+        GRAN_CALL(gran_dsmc_collision_counts(sim_, n));
+      } else if (g == "sonine_a2") {
+        GRAN_CALL(gran_dsmc_sonine_a2(sim_, d));
+      } else if (g == "velocity_distribution") {
+        GRAN_CALL(record_veldist(d));
+      }
+    }
+    /* a non-finite observable is an error, not a value in the file (NaN is allowed only where it
+     * means "no particles": per-species values of an empty species) */
+    const int64_t M = s_->nspecies;
+    std::vector<int64_t> counts((size_t)M);
+    GRAN_CALL(gran_dsmc_counts(sim_, counts.data()));
+    for (const auto &b : bufs) {
+      if (b.is_int) continue;
+      const double *d = b.d.data() + i * b.row;
+      const bool per_species = !b.row_dims.empty() && b.row_dims[0] == M;
+      for (int64_t e = 0; e < b.row; e++) {
+        if (std::isfinite(d[e])) continue;
+        const int64_t k = per_species ? e / (b.row / M) : -1;
+        if (std::isnan(d[e]) && k >= 0 && counts[(size_t)k] == 0) continue;
+        return GRAN_ERROR(GRAN_ERR_NUMERIC, "observable '%s/%s' is %g at t = %g (element %" PRId64 "): the run stops here",
+                          b.group.c_str(), b.name.c_str(), d[e], s_->times[(size_t)i], e);
+      }
+    }
+    return GRAN_SUCCESS;
+  }
+
+  int write_output(int64_t f, const char *file, int64_t nrec) override {
+    const gran_scene *s = s_;
+    const int64_t M = s->nspecies, nt = nrec;
+    const bool complete = nrec == (int64_t)s->times.size();
+    GRAN_CALL(gran_h5::attr_string(f, "selector", s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", file));
+    GRAN_CALL(gran_h5::attr_int64(f, "nspecies", M, file));
+    {
+      H5Group g;
+      GRAN_CALL(gran_h5::make_group(f, "species", &g.id, file));
+      std::vector<int64_t> counts((size_t)M);
+      GRAN_CALL(gran_dsmc_counts(sim_, counts.data()));
+      GRAN_CALL(gran_h5::write_double(g.id, "mass", {M}, s->mass.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "mass", "mass", "particle mass m_k per species", file));
+      GRAN_CALL(gran_h5::write_double(g.id, "sigma", {M}, s->sigma.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "sigma", "length", "particle diameter sigma_k per species", file));
+      GRAN_CALL(gran_h5::write_double(g.id, "density", {M}, s->density.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "density", "1/length^3", "number density n_k per species", file));
+      GRAN_CALL(gran_h5::write_int64(g.id, "counts", {M}, counts.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "counts", "1", "simulated particles N_k per species", file));
+      GRAN_CALL(gran_h5::write_double(g.id, "T0", {M}, T0_.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "T0", "energy", "initial partial temperatures T_k(t_start)", file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "tau0", tau0_, file));
+    }
+    if (s->obs_veldist) {
+      H5Group g;
+      g.id = H5Gopen2((hid_t)f, "velocity_distribution", H5P_DEFAULT);
+      const int64_t B = s->vd_bins;
+      const double dc = s->vd_cmax / (double)B;
+      std::vector<double> edges((size_t)B + 1), maxw((size_t)B);
+      auto F = [](double c) { return std::erf(c) - 2.0 * c / std::sqrt(M_PI) * std::exp(-c * c); };
+      for (int64_t b = 0; b <= B; b++) edges[(size_t)b] = dc * (double)b;
+      for (int64_t b = 0; b < B; b++) maxw[(size_t)b] = (F(edges[(size_t)b + 1]) - F(edges[(size_t)b])) / dc;
+      GRAN_CALL(gran_h5::write_double(g.id, "edges", {B + 1}, edges.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "edges", "1", "bin edges of the scaled speed c", file));
+      GRAN_CALL(gran_h5::write_double(g.id, "pdf_maxwell", {B}, maxw.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "pdf_maxwell", "1", "the Maxwellian speed distribution integrated over each bin / dc", file));
+      GRAN_CALL(gran_h5::attr_string(g.id, "variable", "c = |v| / sqrt(2 T_k / m_k)", file));
+    }
+    if (s->obs_theory) {
+      std::vector<double> tt((size_t)nt);
+      for (int64_t i = 0; i < nt; i++) tt[(size_t)i] = s->times[(size_t)i] - s->t_start;
+      GRAN_CALL(write_theory(f, file, tt));
+    }
+    if (s->obs_tamsd && complete) GRAN_CALL(write_tamsd(f, file));
+    return GRAN_SUCCESS;
+  }
+
+  int checkpoint_write(int64_t file, const char *fname, const char *group) override {
+    return gran_dsmc_checkpoint_write_h5_(sim_, file, group, fname);
+  }
+  int checkpoint_read(int64_t file, const char *fname, const char *group) override {
+    gran_dsmc_destroy(&sim_);
+    return gran_dsmc_checkpoint_read_h5_(file, group, mix_, &sim_, fname);
+  }
+
+  std::vector<gran_summary_column> summary_columns() const override {
+    std::vector<gran_summary_column> c;
+    const bool th = s_->obs_theory;
+    if (s_->obs_temperatures) c.push_back({"T", "temperatures/T", th ? "temperatures/T_theory" : ""});
+    if (s_->obs_msd) c.push_back({"MSD", "msd/msd", th ? "msd/msd_theory" : ""});
+    return c;
+  }
+
+ private:
+  const gran_scene *s_;
+  gran_mixture *mix_ = nullptr;
+  gran_dsmc *sim_ = nullptr;
+  std::vector<double> T0_;
+  double tau0_ = NAN;
+
+  /* Speed histogram of c = |v - u_k| / sqrt(2 T_k / m_k) per species (gran_speed_histogram),
+   * normalised by N_k dc. */
+  int record_veldist(double *row) {
+    const gran_scene *s = s_;
+    const int64_t M = s->nspecies, B = s->vd_bins;
+    const gran_particles *p = nullptr;
+    std::vector<int64_t> off((size_t)M + 1);
+    std::vector<double> T((size_t)M);
+    GRAN_CALL(gran_dsmc_particles(sim_, &p));
+    GRAN_CALL(gran_dsmc_species_offsets(sim_, off.data()));
+    GRAN_CALL(gran_dsmc_temperatures(sim_, T.data()));
+    for (int64_t k = 0; k < M; k++) {
+      double *h = row + k * B;
+      std::fill(h, h + B, 0.0);
+      const int64_t n = off[(size_t)k + 1] - off[(size_t)k];
+      if (n <= 0 || !(T[(size_t)k] > 0)) continue;
+      const double scale = std::sqrt(2.0 * T[(size_t)k] / s->mass[(size_t)k]);
+      GRAN_CALL(gran_speed_histogram(n, p->v + 3 * off[(size_t)k], scale, B, s->vd_cmax, h, nullptr));
+    }
+    return GRAN_SUCCESS;
+  }
+
+  /* Theory beside the simulation; a theory call that fails leaves a warning and an attribute. */
+  int write_theory(int64_t f, const char *file, const std::vector<double> &tt) {
+    const gran_scene *s = s_;
+    const int64_t M = s->nspecies, nt = (int64_t)tt.size();
+    std::vector<int64_t> dims = {nt, M};
+    if (s->obs_temperatures) {
+      H5Group g;
+      g.id = H5Gopen2((hid_t)f, "temperatures", H5P_DEFAULT);
+      std::vector<double> T((size_t)(nt * M));
+      int st = gran_theory_temperatures(mix_, T0_.data(), nt, tt.data(), s->theory_rtol, T.data());
+      if (st == GRAN_SUCCESS) {
+        GRAN_CALL(gran_h5::write_double(g.id, "T_theory", dims, T.data(), file));
+        GRAN_CALL(gran_describe_(g.id, "T_theory", "energy", "partial temperatures from the kinetic theory (Eq. 13) [time][k]", file));
+      } else {
+        gran_warning_add("no T_theory in the output: %s", gran_last_error_message());
+        GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
+      }
+    }
+    if (s->obs_msd) {
+      H5Group g;
+      g.id = H5Gopen2((hid_t)f, "msd", H5P_DEFAULT);
+      std::vector<double> m((size_t)(nt * M)), mt((size_t)nt);
+      const bool hcs = s->init == SCENE_INIT_HCS && s->model != GRAN_RESTITUTION_VISCOELASTIC && std::isfinite(tau0_);
+      int st = hcs ? gran_theory_msd_hcs(mix_, T0_.data(), tau0_, nt, tt.data(), m.data(), mt.data())
+                   : gran_theory_msd(mix_, T0_.data(), nt, tt.data(), s->theory_rtol, m.data(), mt.data());
+      if (st == GRAN_SUCCESS) {
+        GRAN_CALL(gran_h5::write_double(g.id, "msd_theory", dims, m.data(), file));
+        GRAN_CALL(gran_describe_(g.id, "msd_theory", "length^2", "mean-squared displacement from the kinetic theory [time][k]", file));
+        GRAN_CALL(gran_h5::write_double(g.id, "msd_total_theory", {nt}, mt.data(), file));
+        GRAN_CALL(gran_describe_(g.id, "msd_total_theory", "length^2", "total mean-squared displacement from the kinetic theory", file));
+        GRAN_CALL(gran_h5::attr_string(g.id, "theory", hcs ? "gran_theory_msd_hcs (Eq. 22)" : "gran_theory_msd (Eq. 4)", file));
+      } else {
+        gran_warning_add("no msd_theory in the output: %s", gran_last_error_message());
+        GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
+      }
+    }
+    return GRAN_SUCCESS;
+  }
+
+  /* TAMSD of the recorded tracer trajectories, averaged over the tracers of each species
+   * (gran_tamsd_plan_*: delta^2(L) = 1/(S-L) sum_{j<S-L} |R_{j+L} - R_j|^2, Eq. 26 on the grid).
+   * Lags are rounded to whole sampling intervals; /tamsd/lag holds the lags used. */
+  int write_tamsd(int64_t f, const char *file) {
+    const gran_scene *s = s_;
+    const int64_t M = s->nspecies, nl = (int64_t)s->tamsd_lags.size();
+    int64_t ntraj = 0, ns = 0;
+    const double *xyz = nullptr;
+    const int32_t *sp = nullptr;
+    GRAN_CALL(gran_dsmc_trajectories(sim_, &ntraj, &ns, &xyz, &sp));
+    std::vector<double> lag((size_t)nl), ta((size_t)(nl * M), 0.0);
+    std::vector<int64_t> L((size_t)nl), ntr((size_t)M, 0);
+    for (int64_t l = 0; l < nl; l++) {
+      L[(size_t)l] = std::max<int64_t>(1, (int64_t)std::llround(s->tamsd_lags[(size_t)l] / s->tamsd_dt));
+      lag[(size_t)l] = (double)L[(size_t)l] * s->tamsd_dt;
+    }
+    int64_t Lmax = 1;
+    for (int64_t x : L) Lmax = std::max(Lmax, x);
+    GRAN_CHECK(Lmax < ns, GRAN_ERR_STATE, "TAMSD lag of %" PRId64 " samples >= the %" PRId64 " recorded samples", Lmax, ns);
+    gran_tamsd_plan *plan = nullptr;
+    GRAN_CALL(gran_tamsd_plan_create(ns, &plan));
+    std::vector<double> xs, full((size_t)Lmax + 1);
+    int st = GRAN_SUCCESS;
+    for (int64_t k = 0; k < M && st == GRAN_SUCCESS; k++) {
+      xs.clear();
+      for (int64_t j = 0; j < ntraj; j++)
+        if (sp[j] == k) {
+          ntr[(size_t)k]++;
+          xs.insert(xs.end(), xyz + j * ns * 3, xyz + (j + 1) * ns * 3);
+        }
+      if (!ntr[(size_t)k]) {
+        for (int64_t l = 0; l < nl; l++) ta[(size_t)(l * M + k)] = NAN;
+        continue;
+      }
+      st = gran_tamsd_plan_execute(plan, ntr[(size_t)k], xs.data(), Lmax + 1, full.data());
+      for (int64_t l = 0; l < nl && st == GRAN_SUCCESS; l++) ta[(size_t)(l * M + k)] = full[(size_t)L[(size_t)l]];
+    }
+    gran_tamsd_plan_destroy(&plan);
+    GRAN_CALL(st);
+    H5Group g;
+    GRAN_CALL(gran_h5::make_group(f, "tamsd", &g.id, file));
+    const double t_meas = s->tamsd_dt * (double)(ns - 1);
+    GRAN_CALL(gran_h5::write_double(g.id, "lag", {nl}, lag.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "lag", "time", "lag times used (whole sampling intervals)", file));
+    GRAN_CALL(gran_h5::write_double(g.id, "tamsd", {nl, M}, ta.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "tamsd", "length^2", "time-averaged MSD of the tracers, averaged over the tracers of each species [lag][k]", file));
+    GRAN_CALL(gran_h5::write_int64(g.id, "tracers", {M}, ntr.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "tracers", "1", "tracers per species in the TAMSD average", file));
+    GRAN_CALL(gran_h5::attr_double(g.id, "t_meas", t_meas, file));
+    GRAN_CALL(gran_h5::attr_double(g.id, "dt", s->tamsd_dt, file));
+    GRAN_CALL(gran_h5::attr_int64(g.id, "samples", ns, file));
+    if (s->obs_theory) {
+      std::vector<double> th((size_t)(nl * M));
+      /* the theory averaged over the same sample grid as the simulation (Eq. 27 is its dt -> 0 limit) */
+      int st = std::isfinite(tau0_) ? gran_theory_tamsd_sampled(mix_, T0_.data(), tau0_, s->tamsd_dt, ns, nl, L.data(),
+                                                                 s->theory_rtol, th.data())
+                                    : GRAN_ERROR(GRAN_ERR_DOMAIN, "tau0 of the HCS is not finite");
+      if (st == GRAN_SUCCESS) {
+        GRAN_CALL(gran_h5::write_double(g.id, "tamsd_theory", {nl, M}, th.data(), file));
+        GRAN_CALL(gran_describe_(g.id, "tamsd_theory", "length^2", "TAMSD from the kinetic theory: Eq. 26 summed over the simulation's sample times (gran_theory_tamsd_sampled) [lag][k]", file));
+      } else {
+        gran_warning_add("no tamsd_theory in the output: %s", gran_last_error_message());
+        GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
+      }
+    }
+    return GRAN_SUCCESS;
+  }
+};
+
+}  // namespace
+
+int gran_engine_dsmc_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out) {
+  std::unique_ptr<DsmcEngine> e(new DsmcEngine(s));
+  GRAN_CALL(e->prepare());
+  out = std::move(e);
+  return GRAN_SUCCESS;
+}
