@@ -199,12 +199,122 @@ static void accuracy(double N1max) {
   gran_mixture_destroy(&mix);
 }
 
+/* ---- speed branch (issue 11, issue 7 item 15): three systems, interleaved repetitions ----
+ * For each system the methods run one after the other, REPS times in turn (the machine may be
+ * shared: the minimum CPU time of the advance call per method is reported, and the ratios are of
+ * those minima, all from this run). A method that cannot finish the system in reasonable time
+ * (Bird on the 1e4-species mixture: a global bound over sigma_k up to 21.5) runs a shorter time t,
+ * printed in its row, and is compared by its rate (collisions per CPU second), never extrapolated. */
+typedef struct {
+  const char *name;
+  gran_mixture *mix;
+  int64_t *counts; /* NULL: round(n_k V) */
+  double volume, t_end, t_bird;
+} speed_sys;
+
+static void speed_system(const speed_sys *sy, int reps) {
+  const struct { const char *name; int sel, obs; } ms[] = {
+      {"low-rank", GRAN_SELECTOR_LOWRANK, 0},
+      {"low-rank + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT},
+      {"low-rank, paper's rule", GRAN_SELECTOR_LOWRANK_PAPER, 0},
+      {"low-rank paper + MSD", GRAN_SELECTOR_LOWRANK_PAPER, GRAN_OBSERVE_DISPLACEMENT},
+      {"Bird", GRAN_SELECTOR_BIRD, 0},
+  };
+  enum { NM = 5 };
+  int64_t M;
+  BENCH_CHECK(gran_mixture_nspecies(sy->mix, &M));
+  double *T0 = malloc(sizeof(double) * (size_t)M);
+  for (int64_t k = 0; k < M; k++) T0[k] = 1.0;
+  double cmin[NM], wmin[NM], rate[NM];
+  long long coll[NM], npart = 0;
+  double acc[NM];
+  for (int q = 0; q < NM; q++) cmin[q] = wmin[q] = INFINITY;
+  for (int r = 0; r < reps; r++)
+    for (int q = 0; q < NM; q++) {
+      gran_dsmc_options o;
+      BENCH_CHECK(gran_dsmc_options_default(&o));
+      o.selector = ms[q].sel;
+      o.observe = ms[q].obs;
+      o.volume = sy->volume;
+      o.seed = 2024;
+      gran_dsmc *sim;
+      BENCH_CHECK(gran_dsmc_create(sy->mix, sy->counts, T0, &o, &sim));
+      const double te = ms[q].sel == GRAN_SELECTOR_BIRD ? sy->t_bird : sy->t_end;
+      const double w0 = bench_now(), c0 = cpu_now();
+      BENCH_CHECK(gran_dsmc_advance(sim, te));
+      const double wall = bench_now() - w0, cpu = cpu_now() - c0;
+      gran_dsmc_stats st;
+      BENCH_CHECK(gran_dsmc_get_stats(sim, &st));
+      if (cpu < cmin[q]) cmin[q] = cpu;
+      if (wall < wmin[q]) wmin[q] = wall;
+      coll[q] = (long long)st.collisions;
+      acc[q] = (double)st.collisions / (double)st.trials;
+      npart = (long long)st.nparticles;
+      gran_dsmc_destroy(&sim);
+    }
+  printf("\n%s: %lld species, N = %lld, t = %g; %d interleaved repetitions, min times\n", sy->name, (long long)M, npart,
+         sy->t_end, reps);
+  printf("%-24s %8s %12s %9s %9s %11s %8s %12s\n", "method", "t", "collisions", "wall [s]", "cpu [s]", "coll/s(cpu)",
+         "accept", "/ paper rule");
+  for (int q = 0; q < NM; q++) rate[q] = (double)coll[q] / cmin[q];
+  for (int q = 0; q < NM; q++) {
+    const double te = ms[q].sel == GRAN_SELECTOR_BIRD ? sy->t_bird : sy->t_end;
+    printf("%-24s %8.4g %12lld %9.2f %9.2f %11.3e %8.4f %12.2f\n", ms[q].name, te, coll[q], wmin[q], cmin[q], rate[q],
+           acc[q], rate[q] / rate[ms[q].obs ? 3 : 2]);
+  }
+  printf("  low-rank / paper's rule: %.2f without displacements, %.2f with (issue 11 targets 5.3 and 4.2); "
+         "low-rank / Bird: %.2f (rates)\n",
+         rate[0] / rate[2], rate[1] / rate[3], rate[0] / rate[4]);
+  fflush(stdout);
+  free(T0);
+}
+
+static void speed_tables(double N1, int reps) {
+  printf("\nSpeed of the low-rank selector against the paper's rule and Bird, measured side by side\n");
+  speed_sys sy;
+  /* Table I */
+  const int M1 = table1_species(N1);
+  BENCH_CHECK(gran_mixture_create_powerlaw(M1, 1.0, 1.0, 0.1, 3.0, &sy.mix));
+  BENCH_CHECK(gran_mixture_set_restitution(sy.mix, 0.5));
+  sy.name = "Table I";
+  sy.counts = NULL;
+  sy.volume = N1 / 0.1;
+  sy.t_end = sy.t_bird = 100.0;
+  speed_system(&sy, reps);
+  gran_mixture_destroy(&sy.mix);
+  /* monodisperse, N = N_1 */
+  {
+    double m = 1, sg = 1, n = 0.1;
+    BENCH_CHECK(gran_mixture_create(1, &m, &sg, &n, &sy.mix));
+  }
+  BENCH_CHECK(gran_mixture_set_restitution(sy.mix, 0.5));
+  sy.name = "Monodisperse (n = 0.1, eps = 0.5, T(0) = 1)";
+  speed_system(&sy, reps);
+  gran_mixture_destroy(&sy.mix);
+  /* 1e4-species power law theta = 3: N_k = max(1, round(N_1 k^-3)) */
+  const int64_t M = 10000;
+  BENCH_CHECK(gran_mixture_create_powerlaw(M, 1.0, 1.0, 0.1, 3.0, &sy.mix));
+  BENCH_CHECK(gran_mixture_set_restitution(sy.mix, 0.5));
+  sy.counts = malloc(sizeof(int64_t) * (size_t)M);
+  for (int64_t k = 0; k < M; k++) {
+    const long long c = llround(N1 * pow((double)(k + 1), -3.0));
+    sy.counts[k] = c > 1 ? c : 1;
+  }
+  sy.name = "Power law theta = 3, 1e4 species (N_k = max(1, round(N_1 k^-3)), eps = 0.5, T(0) = 1)";
+  sy.t_end = 10.0;
+  sy.t_bird = 1.0;
+  speed_system(&sy, reps);
+  free(sy.counts);
+  gran_mixture_destroy(&sy.mix);
+}
+
 int main(void) {
   const int quick = bench_quick();
   const double N1 = quick ? 1e5 : 1e6;
   printf("b501-dsmc: DSMC engine%s\n", quick ? " (BENCH_QUICK=1: reduced sizes)" : "");
   memory(N1);
   table1(N1);
+  speed_tables(N1, quick ? 2 : 3);
   accuracy(quick ? 1e5 : 1e6);
   return 0;
 }

@@ -30,6 +30,13 @@ constexpr bool kDispTlast = GRAN_DSMC_DISP_TLAST != 0;
 #define GRAN_DSMC_PREFETCH_R 1
 #endif
 constexpr bool kPrefetchR = GRAN_DSMC_PREFETCH_R != 0;
+/* 1: one 64-bit word per trial gives both the uniform of the trial time (high 32 bits) and the
+ * acceptance uniform (low 32 bits) instead of one word each (issue 11, "fewer draws"; measured in
+ * the report of the speed branch: see README, DSMC performance). */
+#ifndef GRAN_DSMC_RNG_SPLIT
+#define GRAN_DSMC_RNG_SPLIT 0
+#endif
+constexpr bool kRngSplit = GRAN_DSMC_RNG_SPLIT != 0;
 
 static inline void prefetch_particle(const double *v, int64_t j) {
   __builtin_prefetch(v + 3 * j);
@@ -340,7 +347,9 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       prefetch_particle(R, s->cand[head].l);
     }
     head = (head + 1) & (K - 1);
-    tprod *= u64_uniform_pos(buf[pos++]);
+    const uint64_t wsplit = kRngSplit ? buf[pos] : 0;
+    tprod *= kRngSplit ? ((double)(wsplit >> 32) + 1.0) * 0x1.0p-32 : u64_uniform_pos(buf[pos]);
+    pos++;
     if (tprod < 1e-280) {
       tlog -= std::log(tprod);
       tprod = 1.0;
@@ -355,7 +364,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     const double *const vj = v + 3 * c.j;
     const double *const vl = v + 3 * c.l;
     const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
-    const double ub = u64_uniform(buf[pos++]) * B;
+    const double ub = (kRngSplit ? (double)(wsplit & 0xffffffffu) * 0x1.0p-32 : u64_uniform(buf[pos++])) * B;
     double e[3];
     if (kPaper) {
       unit3(e);
