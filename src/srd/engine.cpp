@@ -135,8 +135,8 @@ void do_steps(gran_srd *s, int64_t nsteps) {
 
   for (int64_t st = 0; st < nsteps; ++st) {
     srd_geom gm = s->gm;
-    if (LE) {
-      double dx = std::fmod(o.shear_rate * gm.box[1] * s->time, gm.box[0]);
+    if (LE) { /* offset at the end of the step: exact for a crossing at any time inside it */
+      double dx = std::fmod(o.shear_rate * gm.box[1] * (s->time + dt), gm.box[0]);
       if (dx < 0) dx += gm.box[0];
       gm.le_dx = dx;
     }
@@ -201,11 +201,6 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       }
     }
     s->time += dt;
-    if (LE) {
-      double dx = std::fmod(o.shear_rate * gm.box[1] * s->time, gm.box[0]);
-      if (dx < 0) dx += gm.box[0];
-      gm.le_dx = dx;
-    }
     /* (2) shift */
     for (int k = 0; k < 3; ++k) s->shift[k] = k < DIM ? srd_rng_uniform(&s->shift_rng) * o.a : 0.0;
     const double sh[3] = {s->shift[0], s->shift[1], s->shift[2]};
