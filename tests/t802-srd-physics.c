@@ -93,7 +93,7 @@ static void test_poiseuille(void **state) {
   GRAN_ASSERT_OK(gran_srd_options_default(&o));
   o.dim = 2;
   const int H = 20;
-  o.cells[0] = SAN ? 4 : 6;
+  o.cells[0] = SAN ? 4 : 12;
   o.cells[1] = H;
   o.n0 = 10;
   o.alpha_deg = 90;
@@ -107,7 +107,7 @@ static void test_poiseuille(void **state) {
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, SAN ? 100 : 1500)); /* viscous time H^2 / nu ~ 3000 */
   double vs[20] = {0}, cnt[20] = {0};
-  const int nsamp = SAN ? 50 : 800;
+  const int nsamp = SAN ? 50 : 1000;
   for (int t = 0; t < nsamp; ++t) {
     GRAN_ASSERT_OK(gran_srd_advance(s, 1));
     int64_t n;
