@@ -53,6 +53,7 @@ static void viscosity_case(int dim, int64_t L, double alpha, int64_t nblk, int64
   o.thermostat = 1;
   o.shear_rate = dim == 2 ? 0.04 : 0.04;
   o.seed = 2024 + (uint64_t)alpha;
+  o.threads = 1; /* small systems: no OpenMP barriers on a loaded 2-core machine */
   gran_srd *s = NULL;
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, SAN ? 50 : 100));
@@ -103,6 +104,7 @@ static void test_poiseuille(void **state) {
   const double nu = nu_theory(2, o.n0, o.alpha_deg);
   o.accel[0] = 0.1 * 8 * nu / (H * H); /* centre velocity ~ 0.1 */
   o.seed = 77;
+  o.threads = 1; /* small systems: no OpenMP barriers on a loaded 2-core machine */
   gran_srd *s = NULL;
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, SAN ? 100 : 1500)); /* viscous time H^2 / nu ~ 3000 */
@@ -158,6 +160,7 @@ static void test_haff(void **state) {
   const double c = 0.01; /* (1 - eps^2) sigma^2 n0 sqrt(T0) dt */
   o.sigma = sqrt(c / ((1 - o.eps * o.eps) * o.n0));
   o.seed = 5;
+  o.threads = 1; /* small systems: no OpenMP barriers on a loaded 2-core machine */
   gran_srd *s = NULL;
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   gran_srd_obs ob;
