@@ -69,13 +69,14 @@ FFLAGS     := -std=f2008 $(OPT) $(SAN) -Wall -Wextra -Wno-compare-reals -J$(BUIL
 NVCCFLAGS  := -std=c++17 -O3 $(CUDA_ARCH) -Xcompiler -fPIC,-fvisibility=hidden,-Wall,-Wextra
 CUDA_LIBS  := $(if $(NVCC),-L$(CUDA_HOME)/lib64 -lcudart_static -ldl -lrt -lpthread,)
 LDLIBS      = $(PKG_LIBS) $(CUDA_LIBS) -lstdc++ -lm -lpthread
-# replicas (src/io/run.cpp): OpenMP threads, one engine per thread. `make OMP_FLAG=` builds without.
+# OpenMP: the replicas of the run driver (src/io/run.cpp) and the GSRD engine (src/srd/).
+# `make OMP_FLAG=` builds without (one thread).
 OMP_FLAG   ?= -fopenmp
 CXXFLAGS   += $(OMP_FLAG)
 LDLIBS     += $(OMP_FLAG)
 
 # ---- sources ----------------------------------------------------------------------------------
-LIB_SRC  := $(sort $(wildcard src/core/*.cpp src/theory/*.cpp src/dsmc/*.cpp src/analysis/*.cpp src/io/*.cpp))
+LIB_SRC  := $(sort $(wildcard src/core/*.cpp src/theory/*.cpp src/dsmc/*.cpp src/analysis/*.cpp src/io/*.cpp src/srd/*.cpp))
 CLI_SRC  := $(sort $(wildcard src/cli/*.cpp))
 CU_SRC   := $(if $(NVCC),$(sort $(wildcard cuda/*.cu)),cuda/stub.cpp)
 LIB_OBJ  := $(LIB_SRC:%.cpp=$(BUILD)/obj/%.o) $(patsubst %,$(BUILD)/obj/%.o,$(basename $(CU_SRC)))

@@ -1013,6 +1013,100 @@ module granary
     end function c_gran_get_threads
   end interface
 
+  ! ---- GSRD (granular stochastic rotation dynamics, src/srd/) ----
+  type, bind(C), public :: gran_srd_options
+    integer(c_int32_t) :: dim = 3
+    integer(c_int32_t) :: wall_axis = -1       ! -1: periodic; 0-based axis with walls
+    integer(c_int32_t) :: wall_rule = 1        ! 1 no-slip, 2 slip
+    integer(c_int32_t) :: thermostat = 0
+    integer(c_int64_t) :: cells(3) = 16
+    real(c_double) :: a = 1, n0 = 10, dt = 1, alpha_deg = 130, eps = 1, sigma = 0, T0 = 1
+    real(c_double) :: shear_rate = 0
+    real(c_double) :: accel(3) = 0
+    real(c_double) :: vib_amp = 0, vib_omega = 0, wall_T = 0
+    integer(c_int64_t) :: seed = 1             ! uint64_t in C
+    integer(c_int32_t) :: sort_every = 50
+    integer(c_int32_t) :: threads = 0
+  end type gran_srd_options
+
+  type, bind(C), public :: gran_srd_obs
+    real(c_double) :: time = 0
+    integer(c_int64_t) :: steps = 0, n = 0
+    real(c_double) :: temperature = 0, theta_cells = 0, energy = 0, e_initial = 0, e_collisions = 0
+    real(c_double) :: e_external = 0, ledger_error = 0, momentum(3) = 0, e_kin = 0, mach = 0
+    real(c_double) :: sigma_rho = 0, a2 = 0
+    integer(c_int64_t) :: clamped = 0
+    real(c_double) :: dt_max = 0, stress_xy = 0, stress_kin = 0
+  end type gran_srd_obs
+
+  public :: gran_srd_options_default, gran_srd_create, gran_srd_destroy, gran_srd_advance, gran_srd_observe
+  public :: gran_srd_stress_reset, gran_srd_particles, gran_srd_structure_factor
+  public :: gran_srd_checkpoint_write, gran_srd_checkpoint_read
+
+  interface
+    function c_gran_srd_options_default(opt) bind(C, name='gran_srd_options_default') result(ierr)
+      import :: c_int, gran_srd_options
+      type(gran_srd_options), intent(out) :: opt
+      integer(c_int) :: ierr
+    end function c_gran_srd_options_default
+    function c_gran_srd_create(opt, srd) bind(C, name='gran_srd_create') result(ierr)
+      import :: c_int, c_ptr, gran_srd_options
+      type(gran_srd_options), intent(in) :: opt
+      type(c_ptr), intent(out) :: srd
+      integer(c_int) :: ierr
+    end function c_gran_srd_create
+    function c_gran_srd_destroy(srd) bind(C, name='gran_srd_destroy') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), intent(inout) :: srd
+      integer(c_int) :: ierr
+    end function c_gran_srd_destroy
+    function c_gran_srd_advance(srd, steps) bind(C, name='gran_srd_advance') result(ierr)
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: srd
+      integer(c_int64_t), value :: steps
+      integer(c_int) :: ierr
+    end function c_gran_srd_advance
+    function c_gran_srd_observe(srd, obs) bind(C, name='gran_srd_observe') result(ierr)
+      import :: c_int, c_ptr, gran_srd_obs
+      type(c_ptr), value :: srd
+      type(gran_srd_obs), intent(out) :: obs
+      integer(c_int) :: ierr
+    end function c_gran_srd_observe
+    function c_gran_srd_stress_reset(srd) bind(C, name='gran_srd_stress_reset') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: srd
+      integer(c_int) :: ierr
+    end function c_gran_srd_stress_reset
+    function c_gran_srd_particles(srd, n, x, y, z, vx, vy, vz) bind(C, name='gran_srd_particles') result(ierr)
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: srd
+      integer(c_int64_t), intent(out) :: n
+      type(c_ptr), intent(out) :: x, y, z, vx, vy, vz
+      integer(c_int) :: ierr
+    end function c_gran_srd_particles
+    function c_gran_srd_structure_factor(srd, nbins, k, s, count) bind(C, name='gran_srd_structure_factor') &
+        result(ierr)
+      import :: c_int, c_ptr, c_int64_t, c_double
+      type(c_ptr), value :: srd
+      integer(c_int64_t), value :: nbins
+      real(c_double), intent(out) :: k(*), s(*)
+      integer(c_int64_t), intent(out) :: count(*)
+      integer(c_int) :: ierr
+    end function c_gran_srd_structure_factor
+    function c_gran_srd_checkpoint_write(srd, path) bind(C, name='gran_srd_checkpoint_write') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: srd, path
+      integer(c_int) :: ierr
+    end function c_gran_srd_checkpoint_write
+    function c_gran_srd_checkpoint_read(path, srd) bind(C, name='gran_srd_checkpoint_read') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: path
+      type(c_ptr), intent(out) :: srd
+      integer(c_int) :: ierr
+    end function c_gran_srd_checkpoint_read
+  end interface
+  ! ---- end GSRD ----
+
 contains
 
   !> Version of the linked library.
@@ -2635,4 +2729,94 @@ contains
     call gran_check(c_gran_get_threads(n), ierr)
     nthreads = int(n)
   end subroutine gran_get_threads
+  ! ---- GSRD wrappers ----
+  subroutine gran_srd_options_default(opt, ierr)
+    type(gran_srd_options), intent(out) :: opt
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_srd_options_default(opt), ierr)
+  end subroutine gran_srd_options_default
+
+  subroutine gran_srd_create(opt, srd, ierr)
+    type(gran_srd_options), intent(in) :: opt
+    type(c_ptr), intent(out) :: srd
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_srd_create(opt, srd), ierr)
+  end subroutine gran_srd_create
+
+  subroutine gran_srd_destroy(srd, ierr)
+    type(c_ptr), intent(inout) :: srd
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_srd_destroy(srd), ierr)
+  end subroutine gran_srd_destroy
+
+  subroutine gran_srd_advance(srd, steps, ierr)
+    type(c_ptr), intent(in) :: srd
+    integer(c_int64_t), intent(in) :: steps
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_srd_advance(srd, steps), ierr)
+  end subroutine gran_srd_advance
+
+  subroutine gran_srd_observe(srd, obs, ierr)
+    type(c_ptr), intent(in) :: srd
+    type(gran_srd_obs), intent(out) :: obs
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_srd_observe(srd, obs), ierr)
+  end subroutine gran_srd_observe
+
+  subroutine gran_srd_stress_reset(srd, ierr)
+    type(c_ptr), intent(in) :: srd
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_srd_stress_reset(srd), ierr)
+  end subroutine gran_srd_stress_reset
+
+  !> Borrowed views of the particle arrays (z, vz unassociated in 2-D).
+  subroutine gran_srd_particles(srd, x, y, z, vx, vy, vz, ierr)
+    type(c_ptr), intent(in) :: srd
+    real(c_double), pointer, intent(out) :: x(:), y(:), z(:), vx(:), vy(:), vz(:)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: px, py, pz, pvx, pvy, pvz
+    integer(c_int64_t) :: n
+    integer :: e
+    nullify(x, y, z, vx, vy, vz)
+    e = c_gran_srd_particles(srd, n, px, py, pz, pvx, pvy, pvz)
+    call gran_check(e, ierr)
+    if (e /= 0) return
+    call c_f_pointer(px, x, [n])
+    call c_f_pointer(py, y, [n])
+    call c_f_pointer(pvx, vx, [n])
+    call c_f_pointer(pvy, vy, [n])
+    if (c_associated(pz)) call c_f_pointer(pz, z, [n])
+    if (c_associated(pvz)) call c_f_pointer(pvz, vz, [n])
+  end subroutine gran_srd_particles
+
+  subroutine gran_srd_structure_factor(srd, k, s, count, ierr)
+    type(c_ptr), intent(in) :: srd
+    real(c_double), intent(out) :: k(:), s(:)
+    integer(c_int64_t), intent(out) :: count(:)
+    integer, intent(out), optional :: ierr
+    if (size(s) < size(k) .or. size(count) < size(k)) then
+      call gran_check(c_gran_srd_structure_factor(srd, 0_c_int64_t, k, s, count), ierr)
+      return
+    end if
+    call gran_check(c_gran_srd_structure_factor(srd, int(size(k), c_int64_t), k, s, count), ierr)
+  end subroutine gran_srd_structure_factor
+
+  subroutine gran_srd_checkpoint_write(srd, path, ierr)
+    type(c_ptr), intent(in) :: srd
+    character(len=*), intent(in) :: path
+    integer, intent(out), optional :: ierr
+    character(kind=c_char), allocatable, target :: cp(:)
+    call io_to_c(path, cp)
+    call gran_check(c_gran_srd_checkpoint_write(srd, c_loc(cp)), ierr)
+  end subroutine gran_srd_checkpoint_write
+
+  subroutine gran_srd_checkpoint_read(path, srd, ierr)
+    character(len=*), intent(in) :: path
+    type(c_ptr), intent(out) :: srd
+    integer, intent(out), optional :: ierr
+    character(kind=c_char), allocatable, target :: cp(:)
+    call io_to_c(path, cp)
+    call gran_check(c_gran_srd_checkpoint_read(c_loc(cp), srd), ierr)
+  end subroutine gran_srd_checkpoint_read
+  ! ---- end GSRD wrappers ----
 end module granary

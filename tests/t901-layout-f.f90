@@ -11,6 +11,8 @@ program t901_layout_f
   type(gran_run_progress) :: progress
   type(gran_run_control) :: control
   type(gran_run_result) :: result
+  type(gran_srd_options) :: srd_opt ! GSRD
+  type(gran_srd_obs) :: srd_obs     ! GSRD
   integer(c_int64_t) :: value
   integer :: nfail = 0, ierr
 
@@ -20,6 +22,8 @@ program t901_layout_f
   call check('sizeof(gran_run_progress)', c_sizeof(progress))
   call check('sizeof(gran_run_control)', c_sizeof(control))
   call check('sizeof(gran_run_result)', c_sizeof(result))
+  call check('sizeof(gran_srd_options)', c_sizeof(srd_opt))
+  call check('sizeof(gran_srd_obs)', c_sizeof(srd_obs))
 
   call check('GRAN_VERSION_MAJOR', int(GRAN_VERSION_MAJOR, c_size_t))
   call check('GRAN_VERSION_MINOR', int(GRAN_VERSION_MINOR, c_size_t))

@@ -22,6 +22,8 @@ static void test_struct_sizes(void **state) {
   EXPECT_SIZE(gran_run_progress);
   EXPECT_SIZE(gran_run_control);
   EXPECT_SIZE(gran_run_result);
+  EXPECT_SIZE(gran_srd_options); /* GSRD */
+  EXPECT_SIZE(gran_srd_obs);     /* GSRD */
   /* the plain structs have the documented sizes (Fortran mirrors rely on them) */
   assert_int_equal(sizeof(gran_rng), 32);
   assert_int_equal(sizeof(gran_segtree), 32);

@@ -24,6 +24,8 @@ const AbiEntry kAbi[] = {
     GRAN_ABI_SIZE(gran_run_progress)
     GRAN_ABI_SIZE(gran_run_control)
     GRAN_ABI_SIZE(gran_run_result)
+    GRAN_ABI_SIZE(gran_srd_options) /* GSRD */
+    GRAN_ABI_SIZE(gran_srd_obs)     /* GSRD */
     /* version */
     GRAN_ABI_CONST(GRAN_VERSION_MAJOR)
     GRAN_ABI_CONST(GRAN_VERSION_MINOR)

@@ -1,0 +1,88 @@
+/* b801-srd.c - GSRD speed: particle-steps per second for 3-D, n0 = 10, boxes of 32^3 .. 128^3
+ * cells (BENCH_QUICK: 32^3 only), on 1 thread and on all threads; bytes moved per particle-step
+ * (a model count of the passes, stated below) against a memory-copy roofline measured in the same
+ * run; the cost of each effect on/off (32^3); memory per particle; the set-up time of the per-cell
+ * RNG streams. Anchor: HOOMD-blue MPCD ~7e6 particle-steps/s per CPU core; target 2e7 per core.
+ * Bytes per particle-step of the model: stream r+w 48+48, bin r 24 w 4, sums r 4+24 (+cell),
+ * collide r 4+24 (+cell) w 24 -> about 204 B. */
+#include "bench_util.h"
+
+
+static double copy_bw(size_t bytes) {
+  double *a = malloc(bytes), *b = malloc(bytes);
+  size_t n = bytes / sizeof(double);
+  for (size_t i = 0; i < n; ++i) a[i] = (double)i;
+  memcpy(b, a, bytes);
+  double t0 = bench_now();
+  int reps = 5;
+  for (int r = 0; r < reps; ++r) {
+    memcpy(b, a, bytes);
+    a[r] = b[n - 1 - r];
+  }
+  double t = bench_now() - t0;
+  free(a);
+  free(b);
+  return 2.0 * (double)bytes * reps / t; /* read + write */
+}
+
+static double rate(gran_srd_options o, int threads, int steps, double *setup) {
+  o.threads = threads;
+  gran_srd *s = NULL;
+  double t0 = bench_now();
+  BENCH_CHECK(gran_srd_create(&o, &s));
+  if (setup) *setup = bench_now() - t0;
+  BENCH_CHECK(gran_srd_advance(s, 2));
+  t0 = bench_now();
+  BENCH_CHECK(gran_srd_advance(s, steps));
+  double t = bench_now() - t0;
+  gran_srd_obs ob;
+  BENCH_CHECK(gran_srd_observe(s, &ob));
+  BENCH_CHECK(gran_srd_destroy(&s));
+  return (double)ob.n * steps / t;
+}
+
+int main(void) {
+  const int quick = bench_quick();
+  gran_srd_options o;
+  BENCH_CHECK(gran_srd_options_default(&o));
+  o.n0 = 10;
+  const double bw = copy_bw((size_t)1 << 28);
+  const double model_bytes = 204.0;
+  printf("b801-srd: GSRD 3-D, n0 = 10 (machine may be shared: compare ratios within this run)\n");
+  printf("memory copy: %.3g GB/s (read + write); roofline at %.0f B/particle-step: %.3g particle-steps/s\n",
+         bw * 1e-9, model_bytes, bw / model_bytes);
+  const int nmax = 0; /* 0: all threads (OpenMP default) */
+  const int sizes[3] = {32, 64, 128};
+  for (int k = 0; k < (quick ? 1 : 2); ++k) {
+    o.cells[0] = o.cells[1] = o.cells[2] = sizes[k];
+    const int steps = sizes[k] == 32 ? 10 : 3;
+    double setup;
+    const double r1 = rate(o, 1, steps, &setup), rn = rate(o, nmax, steps, NULL);
+    printf("%4d^3: set-up %.3f s; 1 thread %.3g, all threads %.3g particle-steps/s (%.2f of roofline); "
+           "per core vs HOOMD 7e6: %.2f\n",
+           sizes[k], setup, r1, rn, rn / (bw / model_bytes), r1 / 7e6);
+  }
+  o.cells[0] = o.cells[1] = o.cells[2] = 32;
+  const double base = rate(o, nmax, 10, NULL);
+  struct {
+    const char *name;
+    gran_srd_options o;
+  } eff[5];
+  for (int i = 0; i < 5; ++i) eff[i].o = o;
+  eff[0].name = "eps = 0.9";
+  eff[0].o.eps = 0.9;
+  eff[0].o.sigma = 0.1;
+  eff[1].name = "Lees-Edwards";
+  eff[1].o.shear_rate = 0.01;
+  eff[2].name = "walls (no-slip)";
+  eff[2].o.wall_axis = 2;
+  eff[3].name = "gravity";
+  eff[3].o.accel[2] = -0.001;
+  eff[4].name = "thermostat";
+  eff[4].o.thermostat = 1;
+  printf("effects at 32^3 (all threads), time relative to none (%.3g particle-steps/s):\n", base);
+  for (int i = 0; i < 5; ++i) printf("  %-16s %.2f\n", eff[i].name, base / rate(eff[i].o, nmax, 10, NULL));
+  printf("memory per particle: 48 B state + 4 B cell index + 160 B per cell / n0 = %.0f B\n", 52.0 + 160.0 / 10);
+  printf("peak RSS %.3g MB\n", bench_peak_rss() / 1e6);
+  return 0;
+}
