@@ -156,6 +156,27 @@ __global__ void k_moments(const Soa<T> d, int64_t n, int dim, double *__restrict
   }
 }
 
+/* Device-side random state (x, v, cell_rng all NULL at create; benches): uniform positions, unit
+ * normal velocities, per-cell states from splitmix64 of the cell index (not the CPU's streams). */
+template <class T>
+__global__ void k_random(Soa<T> d, int64_t n, srd_geom gm, gran_rng *__restrict__ rng, int64_t ncell) {
+  for (int64_t i = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; i < n || i < ncell; i += (int64_t)gridDim.x * blockDim.x) {
+    gran_rng r;
+    uint64_t z = 0x9e3779b97f4a7c15ull * (uint64_t)(i + 1);
+    for (int k = 0; k < 4; ++k) r.s[k] = gran::splitmix64(&z);
+    if (i < ncell) {
+      rng[i] = r;
+      srd_rng_next(&r);
+    }
+    if (i < n)
+      for (int k = 0; k < gm.dim; ++k) {
+        double x = gm.box[k] * srd_rng_uniform(&r);
+        d.x[k][i] = (T)(x < gm.box[k] ? x : 0.0);
+        d.v[k][i] = (T)srd_rng_normal(&r);
+      }
+  }
+}
+
 __global__ void k_touch(char *p, size_t n) {
   for (size_t i = (size_t)blockIdx.x * blockDim.x + threadIdx.x; i < n; i += (size_t)gridDim.x * blockDim.x) p[i] = 0;
 }
@@ -305,10 +326,9 @@ GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *p, const double
   GRAN_CHECK_PTR(out);
   *out = nullptr;
   GRAN_CALL(check_params(p));
-  GRAN_CHECK_PTR(x);
-  GRAN_CHECK_PTR(v);
-  GRAN_CHECK_PTR(cell_rng);
-  for (int k = 0; k < p->geom.dim; ++k)
+  GRAN_CHECK((x == nullptr) == (v == nullptr) && (x == nullptr) == (cell_rng == nullptr), GRAN_ERR_ARG,
+             "x, v and cell_rng must be all given or all NULL (device-side random state)");
+  for (int k = 0; x && k < p->geom.dim; ++k)
     GRAN_CHECK(p->n == 0 || (x[k] && v[k]), GRAN_ERR_ARG, "x[%d] or v[%d] is NULL", k, k);
   GRAN_TRY {
     GRAN_CUDA_REQUIRE_DEVICE();
@@ -348,7 +368,7 @@ GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *p, const double
     GRAN_CUDA_CALL(cudaMalloc(&h->vref, nc * 3 * sizeof(double)));
     GRAN_CUDA_CALL(cudaMemset(h->vref, 0, nc * 3 * sizeof(double)));
     GRAN_CUDA_CALL(cudaMalloc(&h->rng, nc * sizeof(gran_rng)));
-    GRAN_CUDA_CALL(cudaMemcpy(h->rng, cell_rng, nc * sizeof(gran_rng), cudaMemcpyHostToDevice));
+    if (cell_rng) GRAN_CUDA_CALL(cudaMemcpy(h->rng, cell_rng, nc * sizeof(gran_rng), cudaMemcpyHostToDevice));
     GRAN_CUDA_CALL(cudaMalloc(&h->rot, nc * sizeof(CellRot)));
     GRAN_CUDA_CALL(cudaMalloc(&h->stat, 8 * sizeof(unsigned long long)));
     GRAN_CUDA_CALL(cudaMemset(h->stat, 0, 8 * sizeof(unsigned long long)));
@@ -357,7 +377,7 @@ GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *p, const double
     char *stage = static_cast<char *>(std::malloc(chunk * h->real));
     GRAN_CHECK(stage != nullptr, GRAN_ERR_NOMEM, "host staging buffer of %zu bytes", chunk * h->real);
     int rc = GRAN_SUCCESS;
-    for (int a = 0; a < 2 * dim && rc == GRAN_SUCCESS; ++a) {
+    for (int a = 0; x && a < 2 * dim && rc == GRAN_SUCCESS; ++a) {
       const double *src = a < dim ? x[a] : v[a - dim];
       char *dst = static_cast<char *>(a < dim ? h->x[a] : h->v[a - dim]);
       for (size_t i0 = 0; i0 < n && rc == GRAN_SUCCESS; i0 += chunk) {
@@ -376,6 +396,13 @@ GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *p, const double
     if (rc) return rc;
     h->grid_p = grid_for(p->n);
     h->grid_c = grid_for(h->ncell);
+    if (!x) {
+      if (h->real == 4)
+        k_random<float><<<h->grid_p, kThreads>>>(soa<float>(h), p->n, p->geom, h->rng, h->ncell);
+      else
+        k_random<double><<<h->grid_p, kThreads>>>(soa<double>(h), p->n, p->geom, h->rng, h->ncell);
+      GRAN_CUDA_CALL(cudaGetLastError());
+    }
     GRAN_CUDA_CALL(cudaDeviceSynchronize());
     *out = h;
     g.h = nullptr;

@@ -39,7 +39,8 @@ typedef struct gran_cuda_srd_params {
 /* Device bytes the state of p needs (particles, cells, sort buffers, CUB scratch estimate). */
 GRAN_EXTERN int gran_cuda_srd_bytes(const gran_cuda_srd_params *p, size_t *bytes);
 /* Copy a CPU state to the device. x,v: 3 host arrays of n doubles each (unused axes may be NULL in
- * 2-D); cell_rng: one state per cell of the binning grid (nc0 nc1 nc2). Checks cudaMemGetInfo
+ * 2-D); cell_rng: one state per cell of the binning grid (nc0 nc1 nc2). x, v, cell_rng all NULL:
+ * a random state made on the device (uniform positions, unit-normal velocities; benches). Checks cudaMemGetInfo
  * against gran_cuda_srd_bytes first: GRAN_ERR_NOMEM naming both numbers if it does not fit. */
 GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *p, const double *const x[3],
                                      const double *const v[3], const gran_rng *cell_rng,
