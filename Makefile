@@ -73,11 +73,12 @@ CFLAGS     := -std=c99 $(OPT) $(SAN) $(WARN) -MMD -MP
 FFLAGS     := -std=f2008 $(OPT) $(SAN) -Wall -Wextra -Wno-compare-reals -J$(BUILD)/mod -I$(BUILD)/mod
 NVCCFLAGS  := -std=c++17 -O3 $(CUDA_GENCODE) -Xcompiler -fPIC,-fvisibility=hidden,-Wall,-Wextra
 CUDA_LIBS  := $(if $(NVCC),-L$(CUDA_HOME)/lib64 -lcudart_static -ldl -lrt -lpthread,)
-LDLIBS      = $(PKG_LIBS) $(CUDA_LIBS) -lstdc++ -lm -lpthread
+LDLIBS      = $(PKG_LIBS) $(CUDA_LIBS) -lstdc++ -lm -lpthread -lgomp
+# GSRD engine (src/srd/): OpenMP only there
+$(BUILD)/obj/src/srd/%.o: CXXFLAGS += -fopenmp
 
 # ---- sources ----------------------------------------------------------------------------------
-LIB_SRC  := $(sort $(wildcard src/core/*.cpp src/theory/*.cpp src/dsmc/*.cpp src/analysis/*.cpp src/io/*.cpp))
-LIB_SRC  := $(sort $(LIB_SRC) src/srd/device_cuda.cpp) # CUDA block: GSRD device selection
+LIB_SRC  := $(sort $(wildcard src/core/*.cpp src/theory/*.cpp src/dsmc/*.cpp src/analysis/*.cpp src/io/*.cpp src/srd/*.cpp))
 CLI_SRC  := $(sort $(wildcard src/cli/*.cpp))
 CU_SRC   := $(if $(NVCC),$(sort $(wildcard cuda/*.cu)),cuda/stub.cpp)
 LIB_OBJ  := $(LIB_SRC:%.cpp=$(BUILD)/obj/%.o) $(patsubst %,$(BUILD)/obj/%.o,$(basename $(CU_SRC)))

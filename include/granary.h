@@ -472,4 +472,74 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
 GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, const gran_run_control *ctl,
                                   gran_run_result *result);
 
+/* ---------------------------------------------------------------------------------------------
+ * GSRD: granular stochastic rotation dynamics (seed 004), CPU engine (src/srd/).
+ * Units: particle mass m = 1, k_B = 1. Point particles in a box of cells[0] x cells[1] (x cells[2])
+ * cells of size a; periodic except on wall_axis; Lees-Edwards shear (flow x, gradient y) when
+ * shear_rate != 0. Every effect is off unless its option is set, and then costs nothing.
+ * ------------------------------------------------------------------------------------------- */
+typedef struct gran_srd gran_srd; /* opaque */
+
+typedef struct gran_srd_options {
+  int32_t dim;          /* 2 or 3 */
+  int32_t wall_axis;    /* -1: periodic everywhere; 0..dim-1: walls at 0 and cells[wall_axis]*a */
+  int32_t wall_rule;    /* 1: no-slip (bounce-back + virtual particles), 2: slip (specular) */
+  int32_t thermostat;   /* 1: cell-level Maxwell-Boltzmann thermostat at temperature T0 */
+  int64_t cells[3];     /* cells per axis (cells[2] ignored in 2-D) */
+  double a;             /* cell size (> 0) */
+  double n0;            /* mean particles per cell (> 0); N = round(n0 * cells) */
+  double dt;            /* time step (> 0) */
+  double alpha_deg;     /* rotation angle in degrees, (0, 180] */
+  double eps;           /* coefficient of restitution, [0, 1]; 1 = standard SRD */
+  double sigma;         /* particle diameter in Eq. 2.1 */
+  double T0;            /* initial (and thermostat) temperature (> 0) */
+  double shear_rate;    /* Lees-Edwards shear rate (0: off); flow x, gradient y */
+  double accel[3];      /* uniform acceleration: gravity + body force per mass (0: off) */
+  double vib_amp;       /* vibrating lower wall: velocity amplitude * sin(omega t) = vib_amp omega cos */
+  double vib_omega;     /* angular frequency of the lower wall (0: at rest) */
+  double wall_T;        /* temperature of the virtual particles in cut cells (0: T0) */
+  uint64_t seed;        /* RNG seed (streams: 0 grid shift, c + 1 cell c, long jump: init) */
+  int32_t sort_every;   /* sort particles by cell every this many steps (0: never) */
+  int32_t threads;      /* OpenMP threads (0: all); results do not depend on it */
+} gran_srd_options;
+
+typedef struct gran_srd_obs {
+  double time;          /* simulated time */
+  int64_t steps;        /* steps done */
+  int64_t n;            /* particles */
+  double temperature;   /* sum |v - <v>|^2 / (d N) (global mean removed) */
+  double theta_cells;   /* mean thermal temperature over particles of the unshifted cells */
+  double energy;        /* sum |v|^2 / 2 */
+  double e_initial;     /* energy at creation */
+  double e_collisions;  /* energy change in collisions: dissipation, thermostat, virtual particles */
+  double e_external;    /* work of walls, Lees-Edwards boundary, forces (incl. potential) */
+  double ledger_error;  /* (e_initial + e_collisions + e_external - energy - potential) / e_initial */
+  double momentum[3];   /* sum v */
+  double e_kin;         /* convective kinetic energy, Eq. 3.1: (1/N) sum_cells n V^2 */
+  double mach;          /* global Mach number sqrt(e_kin / theta_cells) */
+  double sigma_rho;     /* standard deviation of the cell number density (unshifted cells) */
+  double a2;            /* Sonine coefficient of v relative to the cell means */
+  int64_t clamped;      /* eps_eff clamps since the last call (a warning is recorded) */
+  double dt_max;        /* largest dt that would have avoided them (inf: none) */
+  double stress_xy;     /* Lees-Edwards: -(momentum flux), kinetic + collisional, since reset */
+  double stress_kin;    /* its kinetic (streaming) part */
+} gran_srd_obs;
+
+GRAN_EXTERN int gran_srd_options_default(gran_srd_options *opt);
+GRAN_EXTERN int gran_srd_create(const gran_srd_options *opt, gran_srd **srd);
+GRAN_EXTERN int gran_srd_destroy(gran_srd **srd); /* NULL-safe, NULLs the handle */
+GRAN_EXTERN int gran_srd_advance(gran_srd *srd, int64_t steps);
+GRAN_EXTERN int gran_srd_observe(gran_srd *srd, gran_srd_obs *obs);
+/* Reset the Lees-Edwards stress accumulators (start of a measurement window). */
+GRAN_EXTERN int gran_srd_stress_reset(gran_srd *srd);
+/* Borrowed pointers to the particle arrays (length *n, valid until the next advance/destroy;
+ * z and vz are NULL in 2-D). The caller may modify velocities between steps. */
+GRAN_EXTERN int gran_srd_particles(gran_srd *srd, int64_t *n, double **x, double **y, double **z,
+                                   double **vx, double **vy, double **vz);
+/* Density structure factor S(k) of the unshifted cell counts (FFTW r2c), radially averaged in
+ * nbins shells of width 2 pi / (L a), k = 0 removed; k[i], s[i] and the mode count per shell. */
+GRAN_EXTERN int gran_srd_structure_factor(gran_srd *srd, int64_t nbins, double *k, double *s, int64_t *count);
+GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *srd, const char *path);
+GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **srd);
+
 #endif /* GRANARY_H */
