@@ -21,7 +21,15 @@ SAN     ?=
 # CUDA: probe nvcc on PATH, then in /usr/local/cuda/bin. `make NVCC=` builds without CUDA.
 NVCC    ?= $(firstword $(shell command -v nvcc 2>/dev/null) $(wildcard /usr/local/cuda/bin/nvcc))
 CUDA_HOME ?= $(patsubst %/bin/nvcc,%,$(NVCC))
-CUDA_ARCH ?= -gencode arch=compute_90,code=sm_90 -gencode arch=compute_90,code=compute_90
+# ---- CUDA block (owner: cuda backend) ----
+# CUDA_ARCH: SM numbers to build cubins for (A100 = 80, H100/H200 = 90, B200 = 100, RTX PRO/50xx =
+# 120); CUDA_PTX: the one whose PTX is embedded for JIT on later GPUs. `make CUDA_ARCH=90 CUDA_PTX=90`
+# builds for one GPU only (faster compile).
+CUDA_ARCH ?= 80 90 100 120
+CUDA_PTX  ?= 120
+CUDA_GENCODE := $(foreach a,$(CUDA_ARCH),-gencode arch=compute_$(a),code=sm_$(a)) \
+                $(foreach a,$(CUDA_PTX),-gencode arch=compute_$(a),code=compute_$(a))
+# ---- end CUDA block ----
 
 PKGS     := gsl fftw3 hdf5 cmocka zlib
 DEB_PKGS := pkg-config zlib1g-dev libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran
@@ -66,7 +74,7 @@ CPPFLAGS   := -Iinclude -Isrc $(CUDA_FLAG)
 CXXFLAGS   := -std=c++17 $(OPT) $(SAN) $(WARN) -fPIC -fvisibility=hidden -MMD -MP
 CFLAGS     := -std=c99 $(OPT) $(SAN) $(WARN) -MMD -MP
 FFLAGS     := -std=f2008 $(OPT) $(SAN) -Wall -Wextra -Wno-compare-reals -J$(BUILD)/mod -I$(BUILD)/mod
-NVCCFLAGS  := -std=c++17 -O3 $(CUDA_ARCH) -Xcompiler -fPIC,-fvisibility=hidden,-Wall,-Wextra
+NVCCFLAGS  := -std=c++17 -O3 $(CUDA_GENCODE) -Xcompiler -fPIC,-fvisibility=hidden,-Wall,-Wextra
 CUDA_LIBS  := $(if $(NVCC),-L$(CUDA_HOME)/lib64 -lcudart_static -ldl -lrt -lpthread,)
 LDLIBS      = $(PKG_LIBS) $(CUDA_LIBS) -lstdc++ -lm -lpthread
 # OpenMP: the replicas of the run driver (src/io/run.cpp) and the GSRD engine (src/srd/).
@@ -106,7 +114,7 @@ BENCH_BIN:= $(BENCH_C:bench/%.c=$(BUILD)/bench/%)
 GPU_TEST_C := $(sort $(wildcard tests/gpu/t*.c))
 GPU_TEST_BIN := $(GPU_TEST_C:tests/gpu/%.c=$(BUILD)/tests/gpu/%)
 
-.PHONY: all lib run test test-asan test-gpu bench install deps info clean help check-header fuzz doc-numbers
+.PHONY: all lib run test test-asan test-gpu bench-gpu bench install deps info clean help check-header fuzz doc-numbers
 .DEFAULT_GOAL := all
 
 all: $(LIB_A) $(LIB_SO) $(LIBF_A) $(CLI) check-header
@@ -118,7 +126,7 @@ $(BUILD)/obj/%.o: %.cpp $(CONFIG)
 
 $(BUILD)/obj/src/core/errors.o: CPPFLAGS += -DGRAN_BUILD_CONFIG='"$(BUILD_CONFIG_STR)"'
 
-$(BUILD)/obj/cuda/%.o: cuda/%.cu $(CONFIG) include/granary.h src/granary_impl.h
+$(BUILD)/obj/cuda/%.o: cuda/%.cu $(CONFIG) include/granary.h src/granary_impl.h $(wildcard cuda/*.h src/srd/*.h)
 	@mkdir -p $(@D)
 	$(NVCC) $(CPPFLAGS) $(NVCCFLAGS) -c $< -o $@
 
@@ -149,7 +157,7 @@ $(BUILD)/check/header-c99.o: include/granary.h $(CONFIG)
 # ---- tests ------------------------------------------------------------------------------------
 $(BUILD)/tests/%: tests/%.c tests/granary_test.h $(LIB_A)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests $(CFLAGS) -o $@ $< $(LIB_A) $(CMOCKA_LIBS) $(LDLIBS)
+	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests -Icuda $(CFLAGS) -o $@ $< $(LIB_A) $(CMOCKA_LIBS) $(LDLIBS)
 
 $(BUILD)/tests/%-f: tests/%-f.f90 $(LIBF_A) $(LIB_A)
 	@mkdir -p $(@D)
@@ -165,7 +173,7 @@ $(BUILD)/tests/example-f-%: bindings/examples/%.f90 $(LIBF_A) $(LIB_A)
 
 $(BUILD)/tests/gpu/%: tests/gpu/%.c tests/granary_test.h $(LIB_A)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests $(CFLAGS) -o $@ $< $(LIB_A) $(CMOCKA_LIBS) $(LDLIBS)
+	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests -Icuda $(CFLAGS) -o $@ $< $(LIB_A) $(CMOCKA_LIBS) $(LDLIBS)
 
 # Script tests (tests/tNNN-*.sh) run beside the programs: the install test builds the README's
 # examples against a temporary installation, through pkg-config.
@@ -181,11 +189,26 @@ test-asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan NVCC= OPT="-O1 -g -fno-omit-frame-pointer" \
 	  SAN="-fsanitize=address,undefined -fno-sanitize-recover=all" test
 
+# test-gpu / bench-gpu (CUDA block): one command each; output also in $(BUILD)/gpu-results/*.txt.
 test-gpu: $(GPU_TEST_BIN) $(CLI)
-	@n=0; [ -x $(CLI) ] && n=$$($(CLI) info --gpu-count 2>/dev/null || echo 0); \
-	if [ "$(NVCC)" = "" ]; then echo "test-gpu: CUDA was not compiled (no nvcc); nothing to run"; \
-	elif [ "$$n" = "0" ]; then echo "test-gpu: no GPU visible on this machine; nothing to run"; \
-	else GRAN_SOURCE_DIR=$(CURDIR) sh tests/run-tests.sh $(GPU_TEST_BIN); fi
+	@mkdir -p $(BUILD)/gpu-results; n=0; [ -x $(CLI) ] && n=$$($(CLI) info --gpu-count 2>/dev/null || echo 0); \
+	if [ "$(NVCC)" = "" ]; then echo "test-gpu: CUDA was not compiled (no nvcc); nothing to run" | tee $(BUILD)/gpu-results/test-gpu.txt; \
+	elif [ "$$n" = "0" ]; then echo "test-gpu: no GPU visible on this machine; nothing to run" | tee $(BUILD)/gpu-results/test-gpu.txt; \
+	else GRAN_SOURCE_DIR=$(CURDIR) sh tests/run-tests.sh $(GPU_TEST_BIN) > $(BUILD)/gpu-results/test-gpu.txt 2>&1; rc=$$?; \
+	  cat $(BUILD)/gpu-results/test-gpu.txt; exit $$rc; fi
+
+GPU_BENCH_C   := $(sort $(wildcard bench/gpu/b*.c))
+GPU_BENCH_BIN := $(GPU_BENCH_C:bench/gpu/%.c=$(BUILD)/bench/gpu/%)
+$(BUILD)/bench/gpu/%: bench/gpu/%.c bench/bench_util.h $(LIB_A)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Ibench -Icuda $(CFLAGS) -o $@ $< $(LIB_A) $(LDLIBS)
+
+bench-gpu: $(GPU_BENCH_BIN) $(CLI)
+	@mkdir -p $(BUILD)/gpu-results; n=0; [ -x $(CLI) ] && n=$$($(CLI) info --gpu-count 2>/dev/null || echo 0); \
+	if [ "$(NVCC)" = "" ]; then echo "bench-gpu: CUDA was not compiled (no nvcc); nothing to run" | tee $(BUILD)/gpu-results/bench-gpu.txt; \
+	elif [ "$$n" = "0" ]; then echo "bench-gpu: no GPU visible on this machine; nothing to run" | tee $(BUILD)/gpu-results/bench-gpu.txt; \
+	else rc=0; for b in $(GPU_BENCH_BIN); do echo "== $$b"; GRAN_SOURCE_DIR=$(CURDIR) $$b || { rc=1; break; }; done \
+	  > $(BUILD)/gpu-results/bench-gpu.txt 2>&1; cat $(BUILD)/gpu-results/bench-gpu.txt; exit $$rc; fi
 
 # ---- bench ------------------------------------------------------------------------------------
 $(BUILD)/bench/%: bench/%.c bench/bench_util.h $(LIB_A)

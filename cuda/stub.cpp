@@ -23,3 +23,29 @@ GRAN_EXTERN int gran_cuda_rng_uniform(const gran_rng *states, int64_t nstreams, 
   (void)out;
   return GRAN_ERROR(GRAN_ERR_UNSUPPORTED, "the CUDA backend was not compiled (no nvcc)");
 }
+
+/* cuda/srd.cu: the GSRD launchers (cuda/srd_cuda.h) */
+#include "../cuda/srd_cuda.h"
+
+#define GRAN_NO_CUDA_ GRAN_ERROR(GRAN_ERR_UNSUPPORTED, "the CUDA backend was not compiled (no nvcc)")
+
+GRAN_EXTERN int gran_cuda_srd_bytes(const gran_cuda_srd_params *, size_t *) { return GRAN_NO_CUDA_; }
+GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *, const double *const[3], const double *const[3],
+                                     const gran_rng *, gran_cuda_srd **out) {
+  if (out) *out = nullptr;
+  return GRAN_NO_CUDA_;
+}
+GRAN_EXTERN int gran_cuda_srd_step(gran_cuda_srd *, const srd_geom *, const double[3], int64_t *, double *) {
+  return GRAN_NO_CUDA_;
+}
+GRAN_EXTERN int gran_cuda_srd_sort(gran_cuda_srd *) { return GRAN_NO_CUDA_; }
+GRAN_EXTERN int gran_cuda_srd_download(const gran_cuda_srd *, double *const[3], double *const[3], gran_rng *) {
+  return GRAN_NO_CUDA_;
+}
+GRAN_EXTERN int gran_cuda_srd_moments(const gran_cuda_srd *, double[3], double *) { return GRAN_NO_CUDA_; }
+GRAN_EXTERN int gran_cuda_copy_bandwidth(size_t, int, double *) { return GRAN_NO_CUDA_; }
+GRAN_EXTERN int gran_cuda_srd_time_steps(gran_cuda_srd *, int, gran_rng *, double *) { return GRAN_NO_CUDA_; }
+GRAN_EXTERN int gran_cuda_srd_destroy(gran_cuda_srd **h) {
+  if (h) *h = nullptr;
+  return GRAN_SUCCESS;
+}

@@ -1,0 +1,80 @@
+/* b850-srd-gpu.c - GSRD on the GPU: particle-steps per second for 3-D, n0 = 10, 64^3 .. 512^3 cells
+ * (float and double storage), bytes moved per particle-step (model: pass 1 reads and writes x, v;
+ * pass 2 reads x, v and writes v; cell arrays not counted), and the fraction of the device-to-device
+ * memcpy bandwidth measured in the same run. Also the device memory a 512^3 x 10 run needs and
+ * whether it fits the free memory. BENCH_QUICK=1: 64^3 and 128^3 only. */
+#include "bench_util.h"
+#include "srd_cuda.h"
+
+static gran_cuda_srd_params params(int64_t L, int precision) {
+  gran_cuda_srd_params p;
+  memset(&p, 0, sizeof p);
+  p.geom.dim = 3;
+  p.geom.wall_axis = -1;
+  p.geom.a = p.geom.inv_a = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    p.geom.L[k] = p.geom.nc[k] = L;
+    p.geom.box[k] = (double)L;
+  }
+  p.n = L * L * L * 10;
+  p.precision = precision;
+  p.dissip = 0;
+  p.dt = 0.1;
+  p.alpha = 130.0 * 3.14159265358979323846 / 180.0;
+  return p;
+}
+
+int main(void) {
+  for (int prec = 1; prec >= 0; --prec) {
+    for (int64_t L = 512; L >= 64; L /= 2) {
+      gran_cuda_srd_params p = params(L, prec);
+      size_t need = 0;
+      const int e = gran_cuda_srd_bytes(&p, &need);
+      if (e) {
+        printf("bench-gpu: %s\n", gran_last_error_message());
+        return e == GRAN_ERR_UNSUPPORTED ? 0 : 1;
+      }
+      printf("%-6s %3lld^3 n0=10: %.3g particles, device memory %.1f GB (%.0f B/particle)\n",
+             prec ? "float" : "double", (long long)L, (double)p.n, 1e-9 * (double)need, (double)need / (double)p.n);
+    }
+  }
+  double bw = 0.0;
+  int rc = gran_cuda_copy_bandwidth((size_t)1 << 30, 20, &bw);
+  if (rc) {
+    printf("bench-gpu: %s\n", gran_last_error_message());
+    return rc == GRAN_ERR_UNSUPPORTED ? 0 : 1;
+  }
+  printf("device-to-device memcpy: %.1f GB/s (read + write, 1 GiB x 20)\n", 1e-9 * bw);
+  const int64_t Lmax = bench_quick() ? 128 : 512;
+  printf("\n%-6s %6s %12s %14s %10s %10s %8s\n", "prec", "cells", "particles", "p-steps/s", "B/p-step", "GB/s", "of copy");
+  for (int prec = 1; prec >= 0; --prec) {
+    const size_t real = prec ? 4 : 8;
+    const double bytes_ps = (double)(12 * real + 9 * real); /* pass 1: x, v read + written; pass 2: x, v read, v written */
+    for (int64_t L = 64; L <= Lmax; L *= 2) {
+      gran_cuda_srd_params p = params(L, prec);
+      gran_rng shift;
+      gran_rng_stream(1, 0, &shift);
+      gran_cuda_srd *h = NULL;
+      rc = gran_cuda_srd_create(&p, NULL, NULL, NULL, &h); /* random state made on the device */
+      if (rc) {
+        printf("%-6s %4lld^3: %s\n", prec ? "float" : "double", (long long)L, gran_last_error_message());
+        continue;
+      }
+      double t = 0.0;
+      if (gran_cuda_srd_sort(h) || gran_cuda_srd_time_steps(h, 2, &shift, &t)) return 1; /* warm-up */
+      const int nsteps = L >= 256 ? 10 : 50;
+      if (gran_cuda_srd_time_steps(h, nsteps, &shift, &t)) return 1;
+      const double ps = (double)p.n * nsteps / t;
+      double ts = 0.0, t0 = bench_now();
+      if (gran_cuda_srd_sort(h)) return 1;
+      double mom[3], ek;
+      gran_cuda_srd_moments(h, mom, &ek); /* synchronises */
+      ts = bench_now() - t0;
+      printf("%-6s %4lld^3 %12.4g %14.4g %10.0f %10.1f %7.1f%%   (sort %.3g s = %.2g steps)\n", prec ? "float" : "double",
+             (long long)L, (double)p.n, ps, bytes_ps, 1e-9 * ps * bytes_ps, 100.0 * ps * bytes_ps / bw, ts,
+             ts / (t / nsteps));
+      gran_cuda_srd_destroy(&h);
+    }
+  }
+  return 0;
+}

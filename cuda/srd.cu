@@ -1,0 +1,562 @@
+/* srd.cu - the GSRD engine on one NVIDIA GPU: kernels that call the shared per-particle and per-cell
+ * functions of src/srd/srd_kernels.h, and the extern "C" launchers of cuda/srd_cuda.h. */
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include <cub/cub.cuh>
+
+#include "cuda_impl.h"
+#include "srd_cuda.h"
+
+namespace {
+
+/* per-cell collision record: the shared srd_cell_rot plus whether the cell collides (n >= 2) */
+struct CellRot {
+  srd_cell_rot rot;
+  int32_t active;
+};
+
+template <class T> struct Soa {
+  T *x[3];
+  T *v[3];
+};
+
+__device__ inline void atomic_add_f64(double *a, double v) { atomicAdd(a, v); }
+
+/* Pass 1: stream + wall + wrap + bin under the shift + cell sums relative to Vref. */
+template <class T, bool ACCEL>
+__global__ void k_stream_bin(Soa<T> d, int64_t n, srd_geom gm, double sx, double sy, double sz, double dt,
+                             double gx, double gy, double gz, const double *__restrict__ vref,
+                             srd_cell_sum *__restrict__ sums) {
+  const int dim = gm.dim;
+  const double s[3] = {sx, sy, sz}, g[3] = {gx, gy, gz};
+  for (int64_t i = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; i < n; i += (int64_t)gridDim.x * blockDim.x) {
+    double p[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+    for (int k = 0; k < dim; ++k) {
+      p[k] = (double)d.x[k][i];
+      v[k] = (double)d.v[k][i];
+    }
+    srd_stream(p, v, dt, g, dim, ACCEL);
+    if (gm.wall_axis >= 0) {
+      double dp[3];
+      srd_wall_reflect(&gm, p, v, dp);
+    }
+    srd_wrap(&gm, p, v);
+    for (int k = 0; k < dim; ++k) {
+      d.x[k][i] = (T)p[k];
+      d.v[k][i] = (T)v[k];
+      p[k] = (double)d.x[k][i]; /* bin what is stored (float rounding) */
+    }
+    double dvx;
+    const int64_t c = srd_bin(&gm, s, p, &dvx);
+    double vv[3] = {(double)d.v[0][i] + dvx, (double)d.v[1][i], dim == 3 ? (double)d.v[2][i] : 0.0};
+    double q = 0.0;
+    srd_cell_sum *cs = sums + c;
+    for (int k = 0; k < dim; ++k) {
+      const double u = vv[k] - vref[3 * c + k];
+      atomic_add_f64(&cs->S[k], u);
+      q += u * u;
+    }
+    atomic_add_f64(&cs->Q, q);
+    atomicAdd(reinterpret_cast<unsigned long long *>(&cs->n), 1ull);
+  }
+}
+
+/* Per cell: moments, random axis from the cell's stream, eps_eff; new reference; sums cleared. */
+template <bool DISSIP>
+__global__ void k_cells(int64_t ncell, int dim, double inv_vol, double coef, double dt, srd_cell_sum *__restrict__ sums,
+                        double *__restrict__ vref, gran_rng *__restrict__ rng, CellRot *__restrict__ rot,
+                        unsigned long long *__restrict__ nclamp, double *__restrict__ dtmax_inv) {
+  for (int64_t c = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; c < ncell; c += (int64_t)gridDim.x * blockDim.x) {
+    srd_cell_sum cs = sums[c];
+    CellRot cr;
+    cr.active = cs.n >= 2;
+    cr.rot.f = 1.0;
+    cr.rot.g = 1.0;
+    cr.rot.r[0] = cr.rot.r[1] = cr.rot.r[2] = 0.0;
+    double ref[3] = {vref[3 * c], vref[3 * c + 1], vref[3 * c + 2]}, theta;
+    srd_cell_moments(&cs, ref, dim, cr.rot.V, &theta);
+    if (cs.n > 0)
+      for (int k = 0; k < 3; ++k) vref[3 * c + k] = cr.rot.V[k];
+    if (cr.active) {
+      gran_rng r = rng[c];
+      srd_draw_axis(&r, dim, cr.rot.r);
+      rng[c] = r;
+      if (DISSIP) {
+        int cl;
+        const double rho = (double)cs.n * inv_vol;
+        cr.rot.f = srd_eps_eff(coef, rho, theta, &cl);
+        if (cl) {
+          atomicAdd(nclamp, 1ull);
+          /* 1/dt_max = dt * (1-eps^2) sigma^2 rho sqrt(theta) / dt: keep the largest (atomicMax on
+           * the bit pattern of a nonnegative double is order-preserving) */
+          const double inv = coef * rho * sqrt(theta) / dt;
+          atomicMax(reinterpret_cast<unsigned long long *>(dtmax_inv), (unsigned long long)__double_as_longlong(inv));
+        }
+      }
+    }
+    rot[c] = cr;
+    srd_sum_clear(&sums[c]);
+  }
+}
+
+/* Pass 2: rotate-and-scale each particle in its (recomputed) cell. */
+template <class T, bool DISSIP>
+__global__ void k_rotate(Soa<T> d, int64_t n, srd_geom gm, double sx, double sy, double sz, double ca, double sa,
+                         const CellRot *__restrict__ rot) {
+  const int dim = gm.dim;
+  const double s[3] = {sx, sy, sz};
+  for (int64_t i = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; i < n; i += (int64_t)gridDim.x * blockDim.x) {
+    double p[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+    for (int k = 0; k < dim; ++k) p[k] = (double)d.x[k][i];
+    double dvx;
+    const int64_t c = srd_bin(&gm, s, p, &dvx);
+    const CellRot cr = rot[c];
+    if (!cr.active) continue;
+    for (int k = 0; k < dim; ++k) v[k] = (double)d.v[k][i];
+    v[0] += dvx;
+    srd_rotate(v, &cr.rot, ca, sa, dim, DISSIP);
+    v[0] -= dvx;
+    for (int k = 0; k < dim; ++k) d.v[k][i] = (T)v[k];
+  }
+}
+
+template <class T>
+__global__ void k_keys(const Soa<T> d, int64_t n, srd_geom gm, uint32_t *__restrict__ key, uint32_t *__restrict__ idx) {
+  const double s0[3] = {0, 0, 0};
+  for (int64_t i = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; i < n; i += (int64_t)gridDim.x * blockDim.x) {
+    double p[3] = {0, 0, 0}, dvx;
+    for (int k = 0; k < gm.dim; ++k) p[k] = (double)d.x[k][i];
+    key[i] = (uint32_t)srd_bin(&gm, s0, p, &dvx);
+    idx[i] = (uint32_t)i;
+  }
+}
+
+template <class T>
+__global__ void k_gather(const T *__restrict__ in, T *__restrict__ out, const uint32_t *__restrict__ idx, int64_t n) {
+  for (int64_t i = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; i < n; i += (int64_t)gridDim.x * blockDim.x)
+    out[i] = in[idx[i]];
+}
+
+template <class T>
+__global__ void k_moments(const Soa<T> d, int64_t n, int dim, double *__restrict__ acc) {
+  double m[4] = {0, 0, 0, 0};
+  for (int64_t i = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; i < n; i += (int64_t)gridDim.x * blockDim.x)
+    for (int k = 0; k < dim; ++k) {
+      const double v = (double)d.v[k][i];
+      m[k] += v;
+      m[3] += 0.5 * v * v;
+    }
+  for (int j = 0; j < 4; ++j) {
+    double x = m[j];
+    for (int o = 16; o > 0; o >>= 1) x += __shfl_down_sync(0xffffffffu, x, o);
+    if ((threadIdx.x & 31) == 0) atomicAdd(&acc[j], x);
+  }
+}
+
+/* Device-side random state (x, v, cell_rng all NULL at create; benches): uniform positions, unit
+ * normal velocities, per-cell states from splitmix64 of the cell index (not the CPU's streams). */
+template <class T>
+__global__ void k_random(Soa<T> d, int64_t n, srd_geom gm, gran_rng *__restrict__ rng, int64_t ncell) {
+  for (int64_t i = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; i < n || i < ncell; i += (int64_t)gridDim.x * blockDim.x) {
+    gran_rng r;
+    uint64_t z = 0x9e3779b97f4a7c15ull * (uint64_t)(i + 1);
+    for (int k = 0; k < 4; ++k) r.s[k] = gran::splitmix64(&z);
+    if (i < ncell) {
+      rng[i] = r;
+      srd_rng_next(&r);
+    }
+    if (i < n)
+      for (int k = 0; k < gm.dim; ++k) {
+        double x = gm.box[k] * srd_rng_uniform(&r);
+        d.x[k][i] = (T)(x < gm.box[k] ? x : 0.0);
+        d.v[k][i] = (T)srd_rng_normal(&r);
+      }
+  }
+}
+
+__global__ void k_touch(char *p, size_t n) {
+  for (size_t i = (size_t)blockIdx.x * blockDim.x + threadIdx.x; i < n; i += (size_t)gridDim.x * blockDim.x) p[i] = 0;
+}
+
+constexpr int kThreads = 256;
+
+}  // namespace
+
+struct gran_cuda_srd {
+  gran_cuda_srd_params p{};
+  int64_t ncell = 0;
+  size_t real = 8;
+  void *x[3] = {nullptr, nullptr, nullptr}, *v[3] = {nullptr, nullptr, nullptr};
+  void *tmp = nullptr;                        /* gather buffer, n reals */
+  uint32_t *key[2] = {nullptr, nullptr}, *idx[2] = {nullptr, nullptr};
+  void *cub_tmp = nullptr;
+  size_t cub_bytes = 0;
+  srd_cell_sum *sums = nullptr;
+  double *vref = nullptr;
+  gran_rng *rng = nullptr;
+  CellRot *rot = nullptr;
+  unsigned long long *stat = nullptr;         /* [0] clamped cells, [1] bits of max 1/dt_max, [2..5] moments */
+  unsigned grid_p = 1, grid_c = 1;
+  int key_bits = 32;
+};
+
+namespace {
+
+int64_t cells_of(const srd_geom &g) { return g.nc[0] * g.nc[1] * g.nc[2]; }
+
+unsigned grid_for(int64_t n) {
+  int dev = 0, sms = 80;
+  if (cudaGetDevice(&dev) == cudaSuccess) cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, dev);
+  (void)cudaGetLastError();
+  const int64_t want = (n + kThreads - 1) / kThreads, cap = (int64_t)sms * 32;
+  return (unsigned)(want < 1 ? 1 : want > cap ? cap : want);
+}
+
+int check_params(const gran_cuda_srd_params *p) {
+  GRAN_CHECK_PTR(p);
+  const srd_geom &g = p->geom;
+  GRAN_CHECK(g.dim == 2 || g.dim == 3, GRAN_ERR_ARG, "geom.dim = %d: must be 2 or 3", (int)g.dim);
+  GRAN_CHECK(p->n >= 0, GRAN_ERR_ARG, "n = " GRAN_I64_FMT " is negative", p->n);
+  GRAN_CHECK(p->precision == 0 || p->precision == 1, GRAN_ERR_ARG, "precision = %d: must be 0 (double) or 1 (float)",
+             (int)p->precision);
+  GRAN_CHECK(p->dt > 0.0 && std::isfinite(p->dt), GRAN_ERR_ARG, "dt = %g must be positive", p->dt);
+  GRAN_CHECK(g.a > 0.0, GRAN_ERR_ARG, "geom.a = %g must be positive", g.a);
+  for (int k = 0; k < 3; ++k)
+    GRAN_CHECK(g.nc[k] >= 1 && g.L[k] >= 1, GRAN_ERR_ARG, "geom.nc[%d] / geom.L[%d] must be >= 1", k, k);
+  GRAN_CHECK(p->n <= (int64_t)UINT32_MAX, GRAN_ERR_UNSUPPORTED,
+             "n = " GRAN_I64_FMT " particles: the GPU sort keys hold at most 2^32 - 1", p->n);
+  GRAN_CHECK(cells_of(g) <= (int64_t)UINT32_MAX, GRAN_ERR_UNSUPPORTED,
+             "binning grid of " GRAN_I64_FMT " cells: the GPU sort keys hold at most 2^32 - 1", cells_of(g));
+  GRAN_CHECK(g.wall_axis < 0, GRAN_ERR_UNSUPPORTED,
+             "walls (virtual particles in cut cells) are not implemented on the GPU yet; use device = \"cpu\"");
+  return GRAN_SUCCESS;
+}
+
+size_t bytes_of(const gran_cuda_srd_params *p) {
+  const size_t n = (size_t)p->n, nc = (size_t)cells_of(p->geom), real = p->precision ? 4 : 8;
+  const size_t part = n * (2 * (size_t)p->geom.dim * real + real + 4 * sizeof(uint32_t));
+  const size_t cell = nc * (sizeof(srd_cell_sum) + 3 * sizeof(double) + sizeof(gran_rng) + sizeof(CellRot));
+  const size_t scratch = n / 64 + (size_t)(64u << 20); /* CUB onesweep histograms + slack */
+  return part + cell + scratch;
+}
+
+template <class T> Soa<T> soa(const gran_cuda_srd *h) {
+  Soa<T> s;
+  for (int k = 0; k < 3; ++k) {
+    s.x[k] = static_cast<T *>(h->x[k]);
+    s.v[k] = static_cast<T *>(h->v[k]);
+  }
+  return s;
+}
+
+template <class T> int step_t(gran_cuda_srd *h, const srd_geom &gm, const double s[3]) {
+  const gran_cuda_srd_params &p = h->p;
+  const bool accel = p.g[0] != 0.0 || p.g[1] != 0.0 || p.g[2] != 0.0;
+  const Soa<T> d = soa<T>(h);
+  if (accel)
+    k_stream_bin<T, true><<<h->grid_p, kThreads>>>(d, p.n, gm, s[0], s[1], s[2], p.dt, p.g[0], p.g[1], p.g[2], h->vref, h->sums);
+  else
+    k_stream_bin<T, false><<<h->grid_p, kThreads>>>(d, p.n, gm, s[0], s[1], s[2], p.dt, 0, 0, 0, h->vref, h->sums);
+  GRAN_CUDA_CALL(cudaGetLastError());
+  const double inv_vol = 1.0 / (gm.dim == 2 ? gm.a * gm.a : gm.a * gm.a * gm.a);
+  if (p.dissip)
+    k_cells<true><<<h->grid_c, kThreads>>>(h->ncell, gm.dim, inv_vol, p.coef, p.dt, h->sums, h->vref, h->rng, h->rot,
+                                           h->stat, reinterpret_cast<double *>(h->stat + 1));
+  else
+    k_cells<false><<<h->grid_c, kThreads>>>(h->ncell, gm.dim, inv_vol, p.coef, p.dt, h->sums, h->vref, h->rng, h->rot,
+                                            h->stat, reinterpret_cast<double *>(h->stat + 1));
+  GRAN_CUDA_CALL(cudaGetLastError());
+  const double ca = cos(p.alpha), sa = sin(p.alpha);
+  if (p.dissip)
+    k_rotate<T, true><<<h->grid_p, kThreads>>>(d, p.n, gm, s[0], s[1], s[2], ca, sa, h->rot);
+  else
+    k_rotate<T, false><<<h->grid_p, kThreads>>>(d, p.n, gm, s[0], s[1], s[2], ca, sa, h->rot);
+  GRAN_CUDA_CALL(cudaGetLastError());
+  return GRAN_SUCCESS;
+}
+
+template <class T> int sort_t(gran_cuda_srd *h) {
+  const int64_t n = h->p.n;
+  if (n < 2) return GRAN_SUCCESS;
+  k_keys<T><<<h->grid_p, kThreads>>>(soa<T>(h), n, h->p.geom, h->key[0], h->idx[0]);
+  GRAN_CUDA_CALL(cudaGetLastError());
+  cub::DoubleBuffer<uint32_t> keys(h->key[0], h->key[1]), vals(h->idx[0], h->idx[1]);
+  size_t bytes = h->cub_bytes;
+  GRAN_CUDA_CALL(cub::DeviceRadixSort::SortPairs(h->cub_tmp, bytes, keys, vals, n, 0, h->key_bits));
+  const uint32_t *perm = vals.Current();
+  for (int k = 0; k < 2 * h->p.geom.dim; ++k) {
+    void **arr = k < h->p.geom.dim ? &h->x[k] : &h->v[k - h->p.geom.dim];
+    k_gather<T><<<h->grid_p, kThreads>>>(static_cast<const T *>(*arr), static_cast<T *>(h->tmp), perm, n);
+    GRAN_CUDA_CALL(cudaGetLastError());
+    void *t = *arr; /* swap buffers: no copy back */
+    *arr = h->tmp;
+    h->tmp = t;
+  }
+  return GRAN_SUCCESS;
+}
+
+void release(gran_cuda_srd *h) {
+  if (!h) return;
+  void *ptrs[] = {h->x[0], h->x[1], h->x[2], h->v[0], h->v[1], h->v[2], h->tmp, h->key[0], h->key[1], h->idx[0],
+                  h->idx[1], h->cub_tmp, h->sums, h->vref, h->rng, h->rot, h->stat};
+  for (void *q : ptrs)
+    if (q) cudaFree(q);
+  delete h;
+}
+
+struct Guard {
+  gran_cuda_srd *h;
+  ~Guard() { release(h); }
+};
+
+}  // namespace
+
+GRAN_EXTERN int gran_cuda_srd_bytes(const gran_cuda_srd_params *p, size_t *bytes) {
+  GRAN_CHECK_PTR(bytes);
+  GRAN_CALL(check_params(p));
+  *bytes = bytes_of(p);
+  return GRAN_SUCCESS;
+}
+
+GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *p, const double *const x[3], const double *const v[3],
+                                     const gran_rng *cell_rng, gran_cuda_srd **out) {
+  GRAN_CHECK_PTR(out);
+  *out = nullptr;
+  GRAN_CALL(check_params(p));
+  GRAN_CHECK((x == nullptr) == (v == nullptr) && (x == nullptr) == (cell_rng == nullptr), GRAN_ERR_ARG,
+             "x, v and cell_rng must be all given or all NULL (device-side random state)");
+  for (int k = 0; x && k < p->geom.dim; ++k)
+    GRAN_CHECK(p->n == 0 || (x[k] && v[k]), GRAN_ERR_ARG, "x[%d] or v[%d] is NULL", k, k);
+  GRAN_TRY {
+    GRAN_CUDA_REQUIRE_DEVICE();
+    const size_t need = bytes_of(p);
+    size_t freeb = 0, total = 0;
+    GRAN_CUDA_CALL(cudaMemGetInfo(&freeb, &total));
+    GRAN_CHECK(need <= freeb, GRAN_ERR_NOMEM,
+               "the run needs %.3g GB of device memory, %.3g GB of %.3g GB are free (use precision = float, fewer "
+               "particles, or device = \"cpu\")",
+               1e-9 * (double)need, 1e-9 * (double)freeb, 1e-9 * (double)total);
+    Guard g{new gran_cuda_srd};
+    gran_cuda_srd *h = g.h;
+    h->p = *p;
+    h->ncell = cells_of(p->geom);
+    h->real = p->precision ? 4 : 8;
+    const size_t n = (size_t)p->n, nb = (n ? n : 1) * h->real;
+    const int dim = p->geom.dim;
+    for (int k = 0; k < dim; ++k) {
+      GRAN_CUDA_CALL(cudaMalloc(&h->x[k], nb));
+      GRAN_CUDA_CALL(cudaMalloc(&h->v[k], nb));
+    }
+    GRAN_CUDA_CALL(cudaMalloc(&h->tmp, nb));
+    for (int b = 0; b < 2; ++b) {
+      GRAN_CUDA_CALL(cudaMalloc(&h->key[b], (n ? n : 1) * 4));
+      GRAN_CUDA_CALL(cudaMalloc(&h->idx[b], (n ? n : 1) * 4));
+    }
+    h->key_bits = 1;
+    while (h->key_bits < 32 && ((int64_t)1 << h->key_bits) < h->ncell) ++h->key_bits;
+    {
+      cub::DoubleBuffer<uint32_t> keys(h->key[0], h->key[1]), vals(h->idx[0], h->idx[1]);
+      GRAN_CUDA_CALL(cub::DeviceRadixSort::SortPairs(nullptr, h->cub_bytes, keys, vals, (int64_t)n, 0, h->key_bits));
+      GRAN_CUDA_CALL(cudaMalloc(&h->cub_tmp, h->cub_bytes ? h->cub_bytes : 1));
+    }
+    const size_t nc = (size_t)h->ncell;
+    GRAN_CUDA_CALL(cudaMalloc(&h->sums, nc * sizeof(srd_cell_sum)));
+    GRAN_CUDA_CALL(cudaMemset(h->sums, 0, nc * sizeof(srd_cell_sum)));
+    GRAN_CUDA_CALL(cudaMalloc(&h->vref, nc * 3 * sizeof(double)));
+    GRAN_CUDA_CALL(cudaMemset(h->vref, 0, nc * 3 * sizeof(double)));
+    GRAN_CUDA_CALL(cudaMalloc(&h->rng, nc * sizeof(gran_rng)));
+    if (cell_rng) GRAN_CUDA_CALL(cudaMemcpy(h->rng, cell_rng, nc * sizeof(gran_rng), cudaMemcpyHostToDevice));
+    GRAN_CUDA_CALL(cudaMalloc(&h->rot, nc * sizeof(CellRot)));
+    GRAN_CUDA_CALL(cudaMalloc(&h->stat, 8 * sizeof(unsigned long long)));
+    GRAN_CUDA_CALL(cudaMemset(h->stat, 0, 8 * sizeof(unsigned long long)));
+    /* upload, converting to the device precision on the host in chunks */
+    const size_t chunk = 1u << 22;
+    char *stage = static_cast<char *>(std::malloc(chunk * h->real));
+    GRAN_CHECK(stage != nullptr, GRAN_ERR_NOMEM, "host staging buffer of %zu bytes", chunk * h->real);
+    int rc = GRAN_SUCCESS;
+    for (int a = 0; x && a < 2 * dim && rc == GRAN_SUCCESS; ++a) {
+      const double *src = a < dim ? x[a] : v[a - dim];
+      char *dst = static_cast<char *>(a < dim ? h->x[a] : h->v[a - dim]);
+      for (size_t i0 = 0; i0 < n && rc == GRAN_SUCCESS; i0 += chunk) {
+        const size_t m = n - i0 < chunk ? n - i0 : chunk;
+        if (h->real == 4)
+          for (size_t i = 0; i < m; ++i) reinterpret_cast<float *>(stage)[i] = (float)src[i0 + i];
+        else
+          std::memcpy(stage, src + i0, m * 8);
+        cudaError_t e = cudaMemcpy(dst + i0 * h->real, stage, m * h->real, cudaMemcpyHostToDevice);
+        if (e != cudaSuccess)
+          rc = GRAN_ERROR(GRAN_ERR_CUDA, "cudaMemcpy(particles, cudaMemcpyHostToDevice) failed: %s (%s)",
+                          cudaGetErrorName(e), cudaGetErrorString(e));
+      }
+    }
+    std::free(stage);
+    if (rc) return rc;
+    h->grid_p = grid_for(p->n);
+    h->grid_c = grid_for(h->ncell);
+    if (!x) {
+      if (h->real == 4)
+        k_random<float><<<h->grid_p, kThreads>>>(soa<float>(h), p->n, p->geom, h->rng, h->ncell);
+      else
+        k_random<double><<<h->grid_p, kThreads>>>(soa<double>(h), p->n, p->geom, h->rng, h->ncell);
+      GRAN_CUDA_CALL(cudaGetLastError());
+    }
+    GRAN_CUDA_CALL(cudaDeviceSynchronize());
+    *out = h;
+    g.h = nullptr;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_cuda_srd_step(gran_cuda_srd *h, const srd_geom *gm, const double s[3], int64_t *n_clamped,
+                                   double *dt_max) {
+  GRAN_CHECK_PTR(h);
+  GRAN_CHECK_PTR(gm);
+  GRAN_CHECK_PTR(s);
+  GRAN_CHECK(gm->dim == h->p.geom.dim && gm->nc[0] == h->p.geom.nc[0] && gm->nc[1] == h->p.geom.nc[1] &&
+                 gm->nc[2] == h->p.geom.nc[2] && gm->wall_axis == h->p.geom.wall_axis,
+             GRAN_ERR_ARG, "gm: dimension, grid or walls differ from the state's");
+  for (int k = 0; k < gm->dim; ++k)
+    GRAN_CHECK(s[k] >= 0.0 && s[k] < gm->a, GRAN_ERR_ARG, "shift s[%d] = %g outside [0, a)", k, s[k]);
+  GRAN_TRY {
+    h->p.geom = *gm;
+    GRAN_CALL(h->real == 4 ? step_t<float>(h, *gm, s) : step_t<double>(h, *gm, s));
+    if (n_clamped || dt_max) {
+      unsigned long long st[2];
+      GRAN_CUDA_CALL(cudaMemcpy(st, h->stat, sizeof st, cudaMemcpyDeviceToHost));
+      GRAN_CUDA_CALL(cudaMemset(h->stat, 0, sizeof st));
+      if (n_clamped) *n_clamped += (int64_t)st[0];
+      double inv;
+      std::memcpy(&inv, &st[1], sizeof inv);
+      if (dt_max && inv > 0.0 && 1.0 / inv < *dt_max) *dt_max = 1.0 / inv;
+    }
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_cuda_srd_sort(gran_cuda_srd *h) {
+  GRAN_CHECK_PTR(h);
+  GRAN_TRY { return h->real == 4 ? sort_t<float>(h) : sort_t<double>(h); }
+  GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_cuda_srd_download(const gran_cuda_srd *h, double *const x[3], double *const v[3],
+                                       gran_rng *cell_rng) {
+  GRAN_CHECK_PTR(h);
+  GRAN_TRY {
+    GRAN_CUDA_CALL(cudaDeviceSynchronize());
+    const size_t n = (size_t)h->p.n;
+    const int dim = h->p.geom.dim;
+    std::vector<float> stage(h->real == 4 ? n : 0);
+    for (int a = 0; a < 2 * dim; ++a) {
+      double *dst = a < dim ? (x ? x[a] : nullptr) : (v ? v[a - dim] : nullptr);
+      if (!dst || n == 0) continue;
+      const void *src = a < dim ? h->x[a] : h->v[a - dim];
+      if (h->real == 8) {
+        GRAN_CUDA_CALL(cudaMemcpy(dst, src, n * 8, cudaMemcpyDeviceToHost));
+      } else {
+        GRAN_CUDA_CALL(cudaMemcpy(stage.data(), src, n * 4, cudaMemcpyDeviceToHost));
+        for (size_t i = 0; i < n; ++i) dst[i] = (double)stage[i];
+      }
+    }
+    if (cell_rng)
+      GRAN_CUDA_CALL(cudaMemcpy(cell_rng, h->rng, (size_t)h->ncell * sizeof(gran_rng), cudaMemcpyDeviceToHost));
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_cuda_srd_moments(const gran_cuda_srd *h, double mom[3], double *ekin) {
+  GRAN_CHECK_PTR(h);
+  GRAN_CHECK_PTR(mom);
+  GRAN_CHECK_PTR(ekin);
+  GRAN_TRY {
+    double *acc = reinterpret_cast<double *>(h->stat + 2);
+    GRAN_CUDA_CALL(cudaMemset(acc, 0, 4 * sizeof(double)));
+    if (h->real == 4)
+      k_moments<float><<<h->grid_p, kThreads>>>(soa<float>(h), h->p.n, h->p.geom.dim, acc);
+    else
+      k_moments<double><<<h->grid_p, kThreads>>>(soa<double>(h), h->p.n, h->p.geom.dim, acc);
+    GRAN_CUDA_CALL(cudaGetLastError());
+    double r[4];
+    GRAN_CUDA_CALL(cudaMemcpy(r, acc, sizeof r, cudaMemcpyDeviceToHost));
+    for (int k = 0; k < 3; ++k) mom[k] = r[k];
+    *ekin = r[3];
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_cuda_srd_time_steps(gran_cuda_srd *h, int nsteps, gran_rng *shift_rng, double *seconds) {
+  GRAN_CHECK_PTR(h);
+  GRAN_CHECK_PTR(shift_rng);
+  GRAN_CHECK_PTR(seconds);
+  GRAN_CHECK(nsteps >= 1, GRAN_ERR_ARG, "nsteps = %d must be >= 1", nsteps);
+  GRAN_TRY {
+    cudaEvent_t e0, e1;
+    GRAN_CUDA_CALL(cudaEventCreate(&e0));
+    GRAN_CUDA_CALL(cudaEventCreate(&e1));
+    GRAN_CUDA_CALL(cudaEventRecord(e0));
+    int rc = GRAN_SUCCESS;
+    for (int t = 0; t < nsteps && rc == GRAN_SUCCESS; ++t) {
+      double s[3] = {0, 0, 0};
+      for (int k = 0; k < h->p.geom.dim; ++k) s[k] = h->p.geom.a * srd_rng_uniform(shift_rng);
+      rc = gran_cuda_srd_step(h, &h->p.geom, s, nullptr, nullptr);
+    }
+    GRAN_CUDA_CALL(cudaEventRecord(e1));
+    GRAN_CUDA_CALL(cudaEventSynchronize(e1));
+    float ms = 0.f;
+    GRAN_CUDA_CALL(cudaEventElapsedTime(&ms, e0, e1));
+    cudaEventDestroy(e0);
+    cudaEventDestroy(e1);
+    *seconds = 1e-3 * (double)ms;
+    return rc;
+  }
+  GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_cuda_copy_bandwidth(size_t bytes, int repeats, double *bytes_per_s) {
+  GRAN_CHECK_PTR(bytes_per_s);
+  GRAN_CHECK(bytes > 0 && repeats >= 1, GRAN_ERR_ARG, "bytes = %zu and repeats = %d must be positive", bytes, repeats);
+  GRAN_TRY {
+    GRAN_CUDA_REQUIRE_DEVICE();
+    void *a = nullptr, *b = nullptr;
+    GRAN_CUDA_CALL(cudaMalloc(&a, bytes));
+    cudaError_t e = cudaMalloc(&b, bytes);
+    if (e != cudaSuccess) {
+      cudaFree(a);
+      GRAN_CUDA_CALL(e);
+    }
+    k_touch<<<grid_for((int64_t)bytes), kThreads>>>(static_cast<char *>(a), bytes);
+    cudaEvent_t e0, e1;
+    cudaEventCreate(&e0);
+    cudaEventCreate(&e1);
+    cudaMemcpy(b, a, bytes, cudaMemcpyDeviceToDevice); /* warm-up */
+    cudaEventRecord(e0);
+    for (int r = 0; r < repeats; ++r) cudaMemcpy(b, a, bytes, cudaMemcpyDeviceToDevice);
+    cudaEventRecord(e1);
+    e = cudaEventSynchronize(e1);
+    float ms = 0.f;
+    if (e == cudaSuccess) e = cudaEventElapsedTime(&ms, e0, e1);
+    cudaEventDestroy(e0);
+    cudaEventDestroy(e1);
+    cudaFree(a);
+    cudaFree(b);
+    GRAN_CUDA_CALL(e);
+    *bytes_per_s = 2.0 * (double)bytes * repeats / (1e-3 * (double)ms);
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_cuda_srd_destroy(gran_cuda_srd **h) {
+  if (h && *h) {
+    release(*h);
+    *h = nullptr;
+  }
+  return GRAN_SUCCESS;
+}
