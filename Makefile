@@ -5,7 +5,7 @@
 #   make install prefix=... DESTDIR=...                   make deps       install Debian packages
 #   make fuzz    libFuzzer harnesses (FUZZ_SECONDS=60)    make doc-numbers  regenerate docs/numbers.md
 #   make info    show the configuration                   make clean      remove build folders
-#   make help    this text
+#   make help    this text                                make figures    seed figures as PNG (QUICK=1)
 # Override OPT (default -O3 -march=native: tuned for the building CPU), NVCC (empty disables CUDA),
 # CUDA_ARCH (default sm_90 + compute_90 PTX), BUILD (build folder), T (test pattern: T='t2*').
 # HELP_END
@@ -247,6 +247,35 @@ fuzz:
 # The measured numbers README and the scene comments quote: docs/numbers.md, from one command.
 doc-numbers: all
 	@GRAN_CLI=$(CLI) sh bench/doc-numbers.sh docs/numbers.md
+
+# ---- figures ----------------------------------------------------------------------------------
+# `make figures` regenerates seed 000 Figs. 1-8 and Table I as PNG in build/figures/ (QUICK=1: the
+# reduced scenes of scenes/quick/, a few minutes). Plotting needs Debian's python3-matplotlib and
+# python3-h5py (FIG_DEB_PKGS, installed by `make deps` when possible and by `make figures`); they
+# are not needed to build or test granary (the reader test skips without h5py). Debian's
+# /usr/bin/python3 is used on purpose: another python3 on PATH may lack Debian's modules.
+FIG_DEB_PKGS := python3-matplotlib python3-h5py python3-numpy
+FIG_PYTHON   ?= /usr/bin/python3
+FIG_OUT      ?= $(BUILD)/figures
+FIG_OK        = $(FIG_PYTHON) -c 'import matplotlib, h5py, numpy' >/dev/null 2>&1
+FIG_INSTALL   = if [ "$$(id -u)" = 0 ]; then SUDO=; elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then SUDO=sudo; \
+	  else echo "figures need: sudo apt-get install -y $(FIG_DEB_PKGS)" >&2; exit 1; fi; \
+	  echo "figures-deps: installing $(FIG_DEB_PKGS)"; \
+	  $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(FIG_DEB_PKGS) >/dev/null || \
+	  { $$SUDO apt-get update -q >/dev/null && $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(FIG_DEB_PKGS) >/dev/null; }
+
+.PHONY: figures figures-deps figures-deps-soft
+figures: figures-deps all
+	$(FIG_PYTHON) figures/make_figures.py $(if $(QUICK),--quick) --granary $(CLI) --out $(FIG_OUT)
+
+figures-deps:
+	@if ! ( $(FIG_OK) ); then $(FIG_INSTALL); fi
+	@( $(FIG_OK) ) || { echo "figures: $(FIG_PYTHON) cannot import matplotlib, h5py, numpy ($(FIG_DEB_PKGS))" >&2; exit 1; }
+
+# `make deps` also tries the plotting packages, without failing when it cannot install them.
+deps: figures-deps-soft
+figures-deps-soft:
+	@if ! ( $(FIG_OK) ); then ( $(FIG_INSTALL) ) || echo "deps: plotting packages not installed (only make figures needs them)"; fi
 
 # ---- run --------------------------------------------------------------------------------------
 run: all

@@ -1,0 +1,339 @@
+#!/usr/bin/python3
+"""Regenerate seed 000 Figs. 1-8 and Table I as PNG files (`make figures`).
+
+Each figure runs one scene of scenes/ with `granary run` (scenes/quick/ with --quick, and the
+reduced scenes/reduced/fig4.toml instead of the 10-20 min scenes/fig4.toml otherwise), reads the
+HDF5 output through granary_h5 only, and draws DSMC (symbols, error bars = one standard error
+over replicas where the file has X_se) with the kinetic theory the run wrote (lines).
+
+    /usr/bin/python3 figures/make_figures.py [--quick] [--granary build/granary]
+                                             [--out build/figures] [--only fig1,table1] [--replot]
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import time
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from granary_h5 import Output  # noqa: E402
+
+# figure -> the scenes it needs (full mode, quick mode)
+SCENES = {
+    "fig1": ["fig1"], "fig2": ["fig2"], "fig3": ["fig3"], "fig4": ["fig4"], "fig5": ["fig5"],
+    "fig6": ["table1", "fig6"], "table1": ["table1", "fig6"], "fig7": ["fig7"], "fig8": ["fig8"],
+}
+FULL_PATH = {"fig4": "scenes/reduced/fig4.toml"}
+COLORS = ["C0", "C3", "C2", "C1", "C4", "C5", "C6"]
+
+THEORY_OFF = ("Maxwellian theory known to be off (PHYSICS-NOTES): ")
+
+
+def scene_path(name, quick):
+    if quick:
+        return "scenes/quick/%s.toml" % name
+    return FULL_PATH.get(name, "scenes/%s.toml" % name)
+
+
+def run_scene(args, name, walls):
+    """Run a scene once per invocation; return its output path."""
+    out = os.path.join(args.out, "data", ("quick-" if args.quick else "") + name + ".h5")
+    if args.replot and os.path.exists(out):
+        return out
+    if out in walls:
+        return out
+    src = scene_path(name, args.quick)
+    t0 = time.time()
+    cmd = [args.granary, "run", src, "-o", out, "--force", "--no-checkpoint", "--quiet"]
+    print("figures: %s" % " ".join(cmd), flush=True)
+    subprocess.run(cmd, check=True)
+    walls[out] = time.time() - t0
+    return out
+
+
+def size_text(o):
+    n = o.species("counts")
+    nz = n[n > 0]
+    if len(n) <= 3:
+        s = "N = " + " + ".join("%.3g" % c for c in n)
+    else:
+        s = "N_1 = %.3g, %d species with particles (N = %.4g)" % (n[0], len(nz), n.sum())
+    R = o.nreplicas
+    s += ", R = %d replica%s" % (R, "" if R == 1 else "s")
+    if o.se("msd/msd") is None and o.se("temperatures/T") is None:
+        s += " (no error bars: one replica)"
+    else:
+        s += " (error bars: 1 s.e.)"
+    return s
+
+
+def points(ax, x, y, se, color, label, marker="o"):
+    """DSMC symbols, with error bars when the file has them."""
+    good = np.isfinite(y) & (y > 0)
+    if se is not None:
+        ax.errorbar(x[good], y[good], yerr=se[good], fmt=marker, ms=4, mfc="none", color=color,
+                    capsize=2, lw=0.8, label=label)
+    else:
+        ax.plot(x[good], y[good], marker, ms=4, mfc="none", color=color, label=label)
+
+
+def col(a, k):
+    return None if a is None else a[:, k]
+
+
+def finish(fig, ax, o, fname, args, caption, top=0.88):
+    fig.text(0.5, 0.94, size_text(o), ha="center", va="top", fontsize=8, color="0.25")
+    text = "\n".join(textwrap.wrap(caption, 120))
+    fig.text(0.01, 0.01, text, fontsize=7.5, va="bottom", ha="left")
+    nlines = text.count("\n") + 1
+    fig.subplots_adjust(bottom=0.1 + 0.028 * nlines, top=top)
+    path = os.path.join(args.out, fname)
+    fig.savefig(path, dpi=args.dpi)
+    plt.close(fig)
+    print("figures: wrote %s" % path, flush=True)
+
+
+def msd_figure(args, o, fname, title, caption, total=False, species_names=None):
+    t = o.times("msd")
+    msd, se, th = o.msd(), o.msd_se(), o.msd_theory()
+    m = o.species("mass")
+    fig, ax = plt.subplots(figsize=(7, 5.6))
+    for k in range(o.nspecies):
+        c = COLORS[k % len(COLORS)]
+        lab = "m_%d = %g" % (k + 1, m[k])
+        points(ax, t, msd[:, k], col(se, k), c, "DSMC, " + lab)
+        if th is not None:
+            ax.plot(t, th[:, k], "-", color=c, lw=1.2, label="theory, " + lab)
+    if total:
+        points(ax, t, o.msd_total(), o.msd_total_se(), "k", "DSMC, total MSD (Eq. 3)", "s")
+        if o.msd_total_theory() is not None:
+            ax.plot(t, o.msd_total_theory(), "k--", lw=1.2, label="theory, total MSD (Eq. 3)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("t [%s]" % o.units("msd/time"))
+    ax.set_ylabel("<R_k^2(t)> [%s]" % o.units("msd/msd"))
+    fig.suptitle(title, fontsize=10)
+    ax.legend(fontsize=7, loc="lower right")
+    theory = o.attr("theory", "", "msd")
+    finish(fig, ax, o, fname, args, caption + " Theory: %s." % theory)
+
+
+def fig1(args, f):
+    with Output(f["fig1"]) as o:
+        msd_figure(args, o, "fig1.png", "seed 000 Fig. 1: binary mixture from equipartition",
+                   "Partial MSDs, eps = 0.5, n_1 = n_2 = 0.1, m = (1, 100), sigma_1 = sigma_2 = 1, "
+                   "T_1(0) = T_2(0) = 1; plotted against t (the paper uses tau_1). Ballistic "
+                   "(~t^2) at short, diffusive at long times. " + THEORY_OFF +
+                   "the temperature ratio by 0.6-1.2 % (first Sonine correction).")
+
+
+def fig2(args, f):
+    with Output(f["fig2"]) as o:
+        msd_figure(args, o, "fig2.png", "seed 000 Fig. 2: binary mixture in the HCS, eps = 0.5",
+                   "n = (0.1, 0.001), m = (1, 100), sigma_2 = 100^(1/3), T(0) = (0.554, 45.58755), "
+                   "tau0 = %.4g (caption: 19.258). " % o.tau0 + THEORY_OFF +
+                   "heavy intruders among light particles run a few % hotter than the Maxwellian "
+                   "theory (towards the Santos-Dufty ordered phase of Fig. 5), so their MSD can lie "
+                   "slightly above the line at long times.")
+
+
+def fig3(args, f):
+    with Output(f["fig3"]) as o:
+        msd_figure(args, o, "fig3.png", "seed 000 Fig. 3: ternary mixture in the HCS, eps = 0.5",
+                   "m = (1, 100, 500), sigma_k = m_k^(1/3), n_k = 0.1, HCS start (caption: "
+                   "T(0) = (0.048, 1.1, 1.845) at <T> = 1); tau0 = %.4g (caption: 1.83). Dashed: "
+                   "total MSD, Eq. 3. " % o.tau0 + THEORY_OFF +
+                   "temperature ratios by about 1 % (first Sonine correction).", total=True)
+
+
+def fig4(args, f):
+    with Output(f["fig4"]) as o:
+        t = o.times("msd")
+        msd, se, th = o.msd(), o.msd_se(), o.msd_theory()
+        n = o.species("counts")
+        fig, ax = plt.subplots(figsize=(7, 5.6))
+        ks = [k for k in (2, 3, 5, 10, 20, 50, 100) if k <= len(n) and n[k - 1] >= 50]
+        for i, k in enumerate(ks):
+            c = "C%d" % (i % 10)
+            r = msd[:, k - 1] / msd[:, 0]
+            rse = None
+            if se is not None:
+                rse = r * np.hypot(se[:, k - 1] / msd[:, k - 1], se[:, 0] / msd[:, 0])
+            points(ax, t, r, rse, c, "DSMC, k = %d (N_k = %d)" % (k, n[k - 1]))
+            if th is not None:
+                ax.plot(t, th[:, k - 1] / th[:, 0], "-", color=c, lw=1.2)
+        ax.plot([], [], "k-", label="theory (Eq. 4)")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("t [%s]" % o.units("msd/time"))
+        ax.set_ylabel("<R_k^2> / <R_1^2>")
+        fig.suptitle("seed 000 Fig. 4: n_k = 0.1 k^-3, 100 species, MSD ratios", fontsize=10)
+        ax.legend(fontsize=7, loc="lower right")
+        finish(fig, ax, o, "fig4.png", args,
+               "m_k = k, sigma_k = k^(1/3), eps = 0.5, equal initial temperatures. The ratio first "
+               "falls, then rises as T_k/T_1 grows towards ~k^(5/3). Species with fewer than 50 "
+               "particles are not shown (the paper: N_1 = 1e7). " + THEORY_OFF +
+               "heavy species among light ones run hotter than the Maxwellian theory (as the heavy "
+               "tracers of Fig. 5), so their ratio ends above the line at long times; the light "
+               "species' own diffusion is up to 10-14 % faster than Eq. 4.")
+
+
+def fig5(args, f):
+    with Output(f["fig5"]) as o:
+        fig, axs = plt.subplots(1, 2, figsize=(10, 5.2))
+        t = o.times("msd")
+        msd, se, th = o.msd(), o.msd_se(), o.msd_theory()
+        lag = o.lags()
+        ta, tase, tath = o.tamsd(), o.tamsd_se(), o.tamsd_theory()
+        m = o.species("mass")
+        for k in range(o.nspecies):
+            c = COLORS[k]
+            lab = "m_%d = %g%s" % (k + 1, m[k], " (tracer)" if o.species("density")[k] == 0 else "")
+            points(axs[0], t, msd[:, k], col(se, k), c, "DSMC, " + lab)
+            axs[0].plot(t, th[:, k], "-", color=c, lw=1.2, label="theory, " + lab)
+            if ta is not None:
+                points(axs[1], lag, ta[:, k], col(tase, k), c, "DSMC, " + lab, "s")
+                if tath is not None:
+                    axs[1].plot(lag, tath[:, k], "-", color=c, lw=1.2, label="theory, " + lab)
+        for ax, xl, yl in ((axs[0], "t", "MSD <R_k^2(t)>"), (axs[1], "lag Delta", "TAMSD")):
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel(xl + " [time]")
+            ax.set_ylabel(yl + " [length^2]")
+            ax.legend(fontsize=7, loc="lower right")
+        axs[1].set_title("TAMSD, t_meas = %g, %d tracers/species"
+                         % (o.attr("t_meas", 0, "tamsd"), o.get("tamsd/tracers")[1]), fontsize=9)
+        fig.suptitle("seed 000 Fig. 5: tracer limit n_2 = 0, MSD and TAMSD", fontsize=10)
+        axs[0].set_title("MSD", fontsize=9)
+        finish(fig, axs[0], o, "fig5.png", args,
+               "n = (0.1, 0), m = (1, 100), T(0) = (1, 412.93), tau0 = %.4g (caption: 11.3). TAMSD "
+               "theory: Eq. 26 on the simulation's sample grid. " % o.tau0 + THEORY_OFF +
+               "heavy tracers (b > 1 in Eq. 35) are in the ordered phase of Santos and Dufty: "
+               "T_2/T_1 is about 1.53x the Maxwellian value, so the tracers' MSD and TAMSD lie "
+               "above the theory (the difference is physics, not noise).")
+
+
+def fig6(args, f):
+    with Output(f["table1"]) as lo, Output(f["fig6"]) as bo:
+        fig, ax = plt.subplots(figsize=(7, 5.6))
+        k = np.arange(1, lo.nspecies + 1)
+        for o, mk, c, lab in ((lo, "o", "C0", "low-rank DSMC"), (bo, "x", "C3", "Bird's DSMC")):
+            T = o.T()[-1]
+            Tse = o.T_se()
+            n = o.species("counts")
+            sel = n > 0
+            points(ax, k[sel], T[sel], None if Tse is None else Tse[-1][sel], c, lab, mk)
+        th = lo.T_theory()
+        if th is not None:
+            ax.plot(k, th[-1], "k-", lw=1, label="theory (Eqs. 14-15)")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("k = m_k / m_1")
+        ax.set_ylabel("T_k(t = %g) [%s]" % (lo.times("temperatures")[-1],
+                                             lo.units("temperatures/T")))
+        fig.suptitle("seed 000 Fig. 6: T_k at t = 100, low-rank and Bird's DSMC", fontsize=10)
+        ax.legend(fontsize=8, loc="lower right")
+        finish(fig, ax, lo, "fig6.png", args,
+               "n_k = 0.1 k^-3 (125 species, N_k = round(n_k V)), eps = 0.5, T(0) = 1. Species with "
+               "no particles are left out; the heaviest have few particles, hence the scatter. The "
+               "two selectors agree within noise. " + THEORY_OFF +
+               "temperature ratios by about 1 % (first Sonine correction).")
+
+
+def table1(args, f, walls):
+    rows = []
+    scale = None
+    for name, method, paper in (("table1", "Low-rank DSMC", (12072722, 1.233e4, 28)),
+                                ("fig6", "Bird DSMC", (12067760, 1.235e4, 1128))):
+        with Output(f[name]) as o:
+            N1 = o.species("counts")[0]
+            scale = N1 / 1e6
+            coll = o.collisions()[-1]
+            cse = o.collisions_se()
+            e = o.energy()[-1]
+            ese = o.energy_se()
+            wall = walls.get(f[name])
+            rows.append([method,
+                         "%d" % coll + ("" if cse is None else " +- %.0f" % cse[-1]),
+                         "%.4g" % e + ("" if ese is None else " +- %.2g" % ese[-1]),
+                         "-" if wall is None else "%.1f" % wall,
+                         "%.4g" % (paper[0] * scale), "%.4g" % (paper[1] * scale), "%d" % paper[2]])
+            size = size_text(o)
+    fig, ax = plt.subplots(figsize=(10, 3.4))
+    ax.axis("off")
+    cols = ["method", "collisions", "E_kin(t = 100)", "wall s\n(here)",
+            "paper collisions\nx N_1/1e6", "paper E_kin\nx N_1/1e6", "paper s\n(their machine)"]
+    tab = ax.table(cellText=rows, colLabels=cols, loc="center", cellLoc="center")
+    tab.auto_set_font_size(False)
+    tab.set_fontsize(8)
+    tab.scale(1, 2.0)
+    fig.text(0.5, 0.8, size, ha="center", fontsize=8, color="0.25")
+    ax.set_title("seed 000 Table I: low-rank against Bird's DSMC, n_k = 0.1 k^-3, eps = 0.5, t = 100",
+                 fontsize=10)
+    cap = ("The paper's energy column is corrected: its 1.233e5 is a misprinted exponent "
+           "(E_kin = (1/2) sum m v^2 = 1.233e4 at N_1 = 1e6, PHYSICS-NOTES Sec. 1). Paper values "
+           "are scaled by N_1/1e6 = %g for comparison; its run times were measured on the "
+           "authors' machine, ours on a loaded 2-core machine (wall time of `granary run`, "
+           "'-' when the figure was only replotted)." % scale)
+    fig.text(0.01, 0.02, "\n".join(textwrap.wrap(cap, 140)), fontsize=7.5, va="bottom")
+    path = os.path.join(args.out, "table1.png")
+    fig.savefig(path, dpi=args.dpi)
+    plt.close(fig)
+    with open(os.path.join(args.out, "table1.json"), "w") as fp:
+        json.dump({"columns": cols, "rows": rows}, fp, indent=1)
+    print("figures: wrote %s" % path, flush=True)
+
+
+def fig7(args, f):
+    with Output(f["fig7"]) as o:
+        msd_figure(args, o, "fig7.png", "seed 000 Fig. 7: binary mixture, viscoelastic restitution",
+                   "A kappa^(2/5) = 0.09, m = (1, 100), sigma_2 = 100^(1/3), n_1 = n_2 = 0.1, "
+                   "equipartition at t = 0; ballistic at short times, ~t^(1/6) at long times. " +
+                   THEORY_OFF + "the light species among heavy ones diffuses 10-14 % faster than "
+                   "Eq. 4 predicts (Lorentz-gas ratio 32/(9 pi) = 1.13), visible at long times.")
+
+
+def fig8(args, f):
+    with Output(f["fig8"]) as o:
+        msd_figure(args, o, "fig8.png", "seed 000 Fig. 8: ternary mixture, viscoelastic restitution",
+                   "A kappa^(2/5) = 0.09, m = (1, 100, 500), sigma_k = m_k^(1/3), n_k = 0.1, "
+                   "equipartition at t = 0. " + THEORY_OFF + "the light species among heavy ones "
+                   "diffuses 10-14 % faster than Eq. 4 predicts (Lorentz-gas ratio 32/(9 pi) = "
+                   "1.13), visible at long times.")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="reduced scenes (scenes/quick)")
+    ap.add_argument("--granary", default="build/granary")
+    ap.add_argument("--out", default="build/figures")
+    ap.add_argument("--only", default="", help="comma-separated subset, e.g. fig1,table1")
+    ap.add_argument("--replot", action="store_true", help="reuse existing outputs, run nothing new")
+    ap.add_argument("--dpi", type=int, default=110)
+    args = ap.parse_args()
+    os.makedirs(os.path.join(args.out, "data"), exist_ok=True)
+    todo = [s for s in args.only.split(",") if s] or list(SCENES)
+    for s in todo:
+        if s not in SCENES:
+            ap.error("unknown figure '%s' (known: %s)" % (s, ", ".join(SCENES)))
+    walls = {}
+    t0 = time.time()
+    for fig in todo:
+        files = {name: run_scene(args, name, walls) for name in SCENES[fig]}
+        if fig == "table1":
+            table1(args, files, walls)
+        else:
+            globals()[fig](args, files)
+    print("figures: %d figure(s) in %s (%.0f s)" % (len(todo), args.out, time.time() - t0))
+
+
+if __name__ == "__main__":
+    main()
