@@ -1,5 +1,5 @@
 #!/bin/sh
-# t801-figures-reader.sh - the figures' reader module (figures/granary_h5.py) on a tiny run of the
+# t004-figures-reader.sh - the figures' reader module (figures/granary_h5.py) on a tiny run of the
 # command-line driver: datasets, units, attributes (str and bytes), the replica layout (X, X_se,
 # X_replicas, nreplicas) read from a copy of the file with those added, and the ballistic MSD
 # against theory. Skipped (exit 0, with a message) when Debian's /usr/bin/python3 lacks h5py.
