@@ -126,7 +126,7 @@ $(BUILD)/obj/%.o: %.cpp $(CONFIG)
 
 $(BUILD)/obj/src/core/errors.o: CPPFLAGS += -DGRAN_BUILD_CONFIG='"$(BUILD_CONFIG_STR)"'
 
-$(BUILD)/obj/cuda/%.o: cuda/%.cu $(CONFIG) include/granary.h src/granary_impl.h $(wildcard cuda/*.h src/srd/*.h)
+$(BUILD)/obj/cuda/%.o: cuda/%.cu $(CONFIG) include/granary.h src/granary_impl.h src/core/xoshiro.h $(wildcard cuda/*.h src/srd/*.h)
 	@mkdir -p $(@D)
 	$(NVCC) $(CPPFLAGS) $(NVCCFLAGS) -c $< -o $@
 

@@ -74,15 +74,10 @@ template <class T> static inline T *gran_calloc(int64_t n) {
 
 /* ---- RNG core (inline, for hot loops; the public gran_rng_* functions wrap these) ----------- */
 /* GRAN_HD: the RNG core is __host__ __device__ under nvcc, so CUDA kernels draw the same bits
- * (cuda/rng.cu); plain host code elsewhere. */
-#if defined(__CUDACC__)
-#define GRAN_HD __host__ __device__
-#else
-#define GRAN_HD
-#endif
+ * (cuda/rng.cu); plain host code elsewhere. The draws themselves are in core/xoshiro.h (plain C,
+ * shared with the GSRD kernels). */
+#include "core/xoshiro.h"
 namespace gran {
-
-GRAN_HD static inline uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
 GRAN_HD static inline uint64_t splitmix64(uint64_t *x) {
   uint64_t z = (*x += 0x9e3779b97f4a7c15ULL);
@@ -91,51 +86,12 @@ GRAN_HD static inline uint64_t splitmix64(uint64_t *x) {
   return z ^ (z >> 31);
 }
 
-/* xoshiro256** 1.0 (Blackman & Vigna). */
-GRAN_HD static inline uint64_t rng_next(gran_rng *r) {
-  uint64_t *s = r->s;
-  const uint64_t result = rotl(s[1] * 5, 7) * 9;
-  const uint64_t t = s[1] << 17;
-  s[2] ^= s[0];
-  s[3] ^= s[1];
-  s[1] ^= s[2];
-  s[0] ^= s[3];
-  s[2] ^= t;
-  s[3] = rotl(s[3], 45);
-  return result;
-}
-
-/* uniform in [0,1): top 53 bits */
-GRAN_HD static inline double rng_uniform(gran_rng *r) { return (double)(rng_next(r) >> 11) * 0x1.0p-53; }
-/* uniform in (0,1] */
-GRAN_HD static inline double rng_uniform_pos(gran_rng *r) { return ((double)(rng_next(r) >> 11) + 1.0) * 0x1.0p-53; }
+GRAN_HD static inline uint64_t rng_next(gran_rng *r) { return gran_xo_next(r); }
+GRAN_HD static inline double rng_uniform(gran_rng *r) { return gran_xo_uniform(r); }         /* [0,1) */
+GRAN_HD static inline double rng_uniform_pos(gran_rng *r) { return gran_xo_uniform_pos(r); } /* (0,1] */
 GRAN_HD static inline double rng_exponential(gran_rng *r) { return -std::log(rng_uniform_pos(r)); }
-
-/* Standard normal by the polar (Marsaglia) method, returning one deviate per call and
- * discarding the second so the four state words describe the stream completely. */
-GRAN_HD static inline double rng_normal(gran_rng *r) {
-  double u, v, s;
-  do {
-    u = 2.0 * rng_uniform(r) - 1.0;
-    v = 2.0 * rng_uniform(r) - 1.0;
-    s = u * u + v * v;
-  } while (s >= 1.0 || s == 0.0);
-  return u * std::sqrt(-2.0 * std::log(s) / s);
-}
-
-/* Uniform direction on the unit sphere (Marsaglia 1972). */
-GRAN_HD static inline void rng_unit3(gran_rng *r, double e[3]) {
-  double u, v, s;
-  do {
-    u = 2.0 * rng_uniform(r) - 1.0;
-    v = 2.0 * rng_uniform(r) - 1.0;
-    s = u * u + v * v;
-  } while (s >= 1.0);
-  const double f = 2.0 * std::sqrt(1.0 - s);
-  e[0] = u * f;
-  e[1] = v * f;
-  e[2] = 1.0 - 2.0 * s;
-}
+GRAN_HD static inline double rng_normal(gran_rng *r) { return gran_xo_normal(r); }
+GRAN_HD static inline void rng_unit3(gran_rng *r, double e[3]) { gran_xo_unit3(r, e); }
 
 GRAN_HD static inline void rng_unit2(gran_rng *r, double e[2]) {
   double u, v, s;

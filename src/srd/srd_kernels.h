@@ -34,7 +34,8 @@
 #include <math.h>
 #include <stdint.h>
 
-#include "granary.h" /* gran_rng (POD of four uint64_t) */
+#include "granary.h"      /* gran_rng (POD of four uint64_t) */
+#include "core/xoshiro.h" /* the RNG draws, shared with the core */
 
 #ifndef GRAN_HD
 #if defined(__CUDACC__)
@@ -80,45 +81,11 @@ typedef struct srd_cell_rot {
   double g;    /* factor on the parallel thermal part (thermostat scale; 1 otherwise) */
 } srd_cell_rot;
 
-/* ---- RNG: xoshiro256** step, identical to the core (src/granary_impl.h) -------------------- */
-GRAN_HD static inline uint64_t srd_rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-GRAN_HD static inline uint64_t srd_rng_next(gran_rng *r) {
-  uint64_t *s = r->s;
-  const uint64_t result = srd_rotl(s[1] * 5, 7) * 9;
-  const uint64_t t = s[1] << 17;
-  s[2] ^= s[0];
-  s[3] ^= s[1];
-  s[1] ^= s[2];
-  s[0] ^= s[3];
-  s[2] ^= t;
-  s[3] = srd_rotl(s[3], 45);
-  return result;
-}
-/* uniform in [0, 1): top 53 bits */
-GRAN_HD static inline double srd_rng_uniform(gran_rng *r) { return (double)(srd_rng_next(r) >> 11) * 0x1.0p-53; }
-/* standard normal, polar method, one deviate per call (the second is discarded) */
-GRAN_HD static inline double srd_rng_normal(gran_rng *r) {
-  double u, v, s;
-  do {
-    u = 2.0 * srd_rng_uniform(r) - 1.0;
-    v = 2.0 * srd_rng_uniform(r) - 1.0;
-    s = u * u + v * v;
-  } while (s >= 1.0 || s == 0.0);
-  return u * sqrt(-2.0 * log(s) / s);
-}
-/* uniform on the unit sphere (Marsaglia 1972), same arithmetic as the core's rng_unit3 */
-GRAN_HD static inline void srd_rng_unit3(gran_rng *r, double e[3]) {
-  double u, v, s;
-  do {
-    u = 2.0 * srd_rng_uniform(r) - 1.0;
-    v = 2.0 * srd_rng_uniform(r) - 1.0;
-    s = u * u + v * v;
-  } while (s >= 1.0);
-  const double f = 2.0 * sqrt(1.0 - s);
-  e[0] = u * f;
-  e[1] = v * f;
-  e[2] = 1.0 - 2.0 * s;
-}
+/* ---- RNG: the core's xoshiro256** draws (src/core/xoshiro.h), so CPU and GPU draw the same bits */
+GRAN_HD static inline uint64_t srd_rng_next(gran_rng *r) { return gran_xo_next(r); }
+GRAN_HD static inline double srd_rng_uniform(gran_rng *r) { return gran_xo_uniform(r); }
+GRAN_HD static inline double srd_rng_normal(gran_rng *r) { return gran_xo_normal(r); }
+GRAN_HD static inline void srd_rng_unit3(gran_rng *r, double e[3]) { gran_xo_unit3(r, e); }
 /* Gamma(k, 1) for k >= 1 (Marsaglia-Tsang), used by the cell-level MB thermostat. */
 GRAN_HD static inline double srd_rng_gamma(gran_rng *r, double k) {
   const double d = k - 1.0 / 3.0, c = 1.0 / sqrt(9.0 * d);
