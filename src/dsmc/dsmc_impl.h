@@ -198,6 +198,8 @@ DsmcLoopFn dsmc_bird_loop(int paper, int disp, int counts, int rest, int tracers
 
 /* ---- observables.cpp ---- */
 void dsmc_record_trajectories(gran_dsmc *s);
+/* Mean flow of the gas (species that are not tracers), Neumaier-summed; 0 without gas. */
+void dsmc_mean_flow(const gran_dsmc *s, double u[3]);
 
 }  // namespace gran
 

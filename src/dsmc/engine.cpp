@@ -178,16 +178,8 @@ void dsmc_selector_rebuild(gran_dsmc *s) {
 static void remove_mean_flow(gran_dsmc *s) {
   if (s->n_gas == 0) return;
   double *v = s->p.v;
-  double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0;
-  for (int64_t k = 0; k < s->M; k++) {
-    if (s->tracer[(size_t)k]) continue;
-    const double mk = s->mix.m[(size_t)k];
-    for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1]; j++)
-      for (int d = 0; d < 3; d++) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
-    mt += mk * (double)s->count[(size_t)k];
-  }
-  if (!(mt > 0)) return;
-  const double u[3] = {(P[0] + Pc[0]) / mt, (P[1] + Pc[1]) / mt, (P[2] + Pc[2]) / mt};
+  double u[3];
+  dsmc_mean_flow(s, u);
   if (u[0] == 0 && u[1] == 0 && u[2] == 0) return;
   double de = 0, dec = 0; /* E_after - E_before = sum m (|v - u|^2 - |v|^2)/2 = sum m u.(u/2 - v) */
   for (int64_t k = 0; k < s->M; k++) {

@@ -5,12 +5,10 @@
 
 namespace gran {
 
-namespace {
-
 /* Mean flow u = P / sum m of the gas: the species that are not tracers (0 up to rounding: the
  * engine conserves the gas's momentum; tracers exchange momentum with the bath, their frame is
  * the gas's). Without tracers: of all particles. */
-void mean_flow(const gran_dsmc *s, double u[3]) {
+void dsmc_mean_flow(const gran_dsmc *s, double u[3]) {
   double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0;
   const double *v = s->p.v;
   for (int64_t k = 0; k < s->M; k++) {
@@ -22,8 +20,6 @@ void mean_flow(const gran_dsmc *s, double u[3]) {
   }
   for (int d = 0; d < 3; d++) u[d] = mt > 0 ? (P[d] + Pc[d]) / mt : 0.0;
 }
-
-}  // namespace
 
 void dsmc_record_trajectories(gran_dsmc *s) {
   const int64_t S = s->opt.traj_samples, g = s->traj_next;
@@ -49,7 +45,7 @@ GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T) {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(T);
     double u[3];
-    mean_flow(sim, u);
+    dsmc_mean_flow(sim, u);
     const double *v = sim->p.v;
     for (int64_t k = 0; k < sim->M; k++) {
       double s2 = 0, c = 0;
@@ -115,7 +111,7 @@ GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2) {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(a2);
     double u[3];
-    mean_flow(sim, u);
+    dsmc_mean_flow(sim, u);
     const double *v = sim->p.v;
     for (int64_t k = 0; k < sim->M; k++) {
       double s2 = 0, c2 = 0, s4 = 0, c4 = 0;

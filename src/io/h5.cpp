@@ -20,11 +20,6 @@ namespace gran_h5 {
 
 static void quiet() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
-int64_t create_file(const char *path) {
-  quiet();
-  return (int64_t)H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-}
-
 int64_t open_file(const char *path, int readwrite) {
   quiet();
   return (int64_t)H5Fopen(path, readwrite ? H5F_ACC_RDWR : H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -185,15 +180,6 @@ int read_attr_int64(int64_t loc, const char *name, int64_t *value, const char *f
 }
 
 int exists(int64_t loc, const char *name) { return H5Lexists((hid_t)loc, name, H5P_DEFAULT) > 0; }
-
-int describe(int64_t loc, const char *name, const char *units, const char *description, const char *file) {
-  hid_t o = H5Oopen((hid_t)loc, name, H5P_DEFAULT);
-  if (o < 0) return GRAN_ERROR(GRAN_ERR_IO, "HDF5: object '%s' missing in '%s'", name, file);
-  int st = attr_string(o, "units", units, file);
-  if (st == GRAN_SUCCESS) st = attr_string(o, "description", description, file);
-  H5Oclose(o);
-  return st;
-}
 
 }  // namespace gran_h5
 

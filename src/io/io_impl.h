@@ -83,7 +83,6 @@ int gran_scene_T0_(const gran_scene *s, const gran_mixture *mix, double *T0, dou
 
 /* h5.cpp: thin helpers. Every function returns a granary status; the file name goes in messages. */
 namespace gran_h5 {
-int64_t create_file(const char *path);                /* truncating create; < 0 on failure */
 int64_t open_file(const char *path, int readwrite);   /* < 0 on failure */
 void close_file(int64_t f);
 int write_double(int64_t loc, const char *name, const std::vector<int64_t> &dims, const double *data,
@@ -112,8 +111,6 @@ int commit_memory_file(int64_t *file, const std::string &path, const char *what)
 int verify_file(const char *path, const char *what);
 /* verify_file when the file starts with granary's header; other HDF5 files pass unchecked */
 int verify_file_if_marked(const char *path, const char *what);
-/* units and description attributes of dataset `name` under `loc` */
-int describe(int64_t loc, const char *name, const char *units, const char *description, const char *file);
 }  // namespace gran_h5
 
 /* Flush a closed file to disk (fsync) and rename it over its final name; then fsync the folder. */
