@@ -32,7 +32,7 @@ CUDA_GENCODE := $(foreach a,$(CUDA_ARCH),-gencode arch=compute_$(a),code=sm_$(a)
 # ---- end CUDA block ----
 
 PKGS     := gsl fftw3 hdf5 cmocka zlib
-DEB_PKGS := pkg-config zlib1g-dev libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran
+DEB_PKGS := pkg-config zlib1g-dev libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran libopenmpi-dev openmpi-bin
 DEPS_OK   = pkg-config --exists $(PKGS) 2>/dev/null && [ -f /usr/include/toml.hpp ] && command -v $(FC) >/dev/null 2>&1
 
 # ---- configuration, cached in $(BUILD)/config.mk (installs missing packages first) ------------
@@ -276,6 +276,38 @@ figures-deps:
 deps: figures-deps-soft
 figures-deps-soft:
 	@if ! ( $(FIG_OK) ); then ( $(FIG_INSTALL) ) || echo "deps: plotting packages not installed (only make figures needs them)"; fi
+
+# ---- MPI block (owner: replicas over MPI, issue 9) ---------------------------------------------
+# build/granary-mpi: the same driver compiled by mpicxx with -DGRAN_MPI (src/cli/mpi.cpp), built
+# when an MPI compiler wrapper is found (Debian: libopenmpi-dev openmpi-bin; `make deps` tries
+# them). `mpirun -n P build/granary-mpi run SCENE` spreads the replicas over P processes. The
+# libraries and build/granary never link MPI (src/io/run_comm.h says how). `make MPICXX=` skips it.
+MPI_DEB_PKGS := libopenmpi-dev openmpi-bin
+MPICXX   ?= $(shell command -v mpicxx 2>/dev/null)
+CLI_MPI  := $(if $(MPICXX),$(BUILD)/granary-mpi,)
+CLI_MPI_OBJ := $(CLI_SRC:%.cpp=$(BUILD)/obj-mpi/%.o)
+$(BUILD)/obj-mpi/%.o: %.cpp $(CONFIG)
+	@mkdir -p $(@D)
+	$(MPICXX) -DGRAN_MPI -DOMPI_SKIP_MPICXX=1 -DMPICH_SKIP_MPICXX=1 $(CPPFLAGS) $(PKG_CFLAGS) $(CXXFLAGS) -c $< -o $@
+$(BUILD)/granary-mpi: $(CLI_MPI_OBJ) $(LIB_A)
+	$(MPICXX) $(SAN) -o $@ $(CLI_MPI_OBJ) $(LIB_A) $(LDLIBS)
+all: $(CLI_MPI)
+test: $(CLI_MPI)
+bench: $(CLI_MPI)
+install: install-mpi
+.PHONY: install-mpi mpi-deps-soft
+install-mpi: all
+	$(if $(CLI_MPI),install -d $(DESTDIR)$(prefix)/bin && install -m 755 $(CLI_MPI) $(DESTDIR)$(prefix)/bin/,@true)
+deps: mpi-deps-soft
+mpi-deps-soft:
+	@if ! command -v mpicxx >/dev/null 2>&1; then \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=; elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then SUDO=sudo; \
+	  else echo "deps: MPI not installed (only build/granary-mpi needs it): sudo apt-get install -y $(MPI_DEB_PKGS)"; exit 0; fi; \
+	  echo "deps: installing $(MPI_DEB_PKGS)"; \
+	  $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(MPI_DEB_PKGS) >/dev/null || \
+	  echo "deps: MPI not installed (only build/granary-mpi needs it)"; fi
+-include $(shell find $(BUILD)/obj-mpi -name "*.d" 2>/dev/null)
+# ---- end MPI block ----
 
 # ---- run --------------------------------------------------------------------------------------
 run: all
