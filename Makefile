@@ -294,6 +294,7 @@ $(BUILD)/granary-mpi: $(CLI_MPI_OBJ) $(LIB_A)
 all: $(CLI_MPI)
 test: $(CLI_MPI)
 bench: $(CLI_MPI)
+bench: export GRAN_MPI_CLI := $(if $(CLI_MPI),$(CURDIR)/$(CLI_MPI),)
 install: install-mpi
 .PHONY: install-mpi mpi-deps-soft
 install-mpi: all
