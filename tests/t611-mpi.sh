@@ -21,6 +21,7 @@ trap 'rm -rf "$tmp"' EXIT
 # OpenMPI in containers and CI: as root, shared memory without ptrace, no network probing
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_btl=self,vader OMPI_MCA_rmaps_base_oversubscribe=1
+export OMPI_MCA_mpi_yield_when_idle=1
 export OMP_NUM_THREADS=1
 # the sanitizer build: OpenMPI's own allocations are not ours to report
 export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
