@@ -53,7 +53,7 @@ static void test_bad_scenes(void **state) {
       {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 3\ndevice = \"gpu\"\n", "bad.toml:5: key 'engine.device'"},
       {"[engine]\ntype = \"srd\"\ncells = [4, 4]\nsteps = 3\n", "bad.toml:3: key 'engine.cells'"},
       {"[engine]\ntype = \"srd\"\ncells = 4\ndt = 0.5\nt_end = 1.2\n", "bad.toml:5: key 'engine.t_end'"},
-      {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 10\n[observables]\nevery = 5\nsnapshots = {times = [3.0]}\n",
+      {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 10\n[observables]\nevery = 5\nsnapshots = {times = [3.0, 12.0]}\n",
        "bad.toml:7: key 'observables.snapshots.times'"},
       {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 10\n[observables]\nstress = true\n", "bad.toml:6: key 'observables.stress'"},
       {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 10\n[boundaries]\nwalls = {axis = \"z\"}\n[observables]\n"
@@ -406,7 +406,7 @@ static void test_snapshots(void **state) {
     snprintf(text, sizeof text,
              "[engine]\ntype = \"srd\"\ndimension = %d\ncells = %s\nn0 = 7\neps = 0.9\nsigma = 0.1\nsteps = 30\nseed = 12\n"
              "[boundaries]\nlees_edwards = {shear_rate = 0.05}\n"
-             "[observables]\ntimes = [0, 10, 20, 30]\nsnapshots = {times = [0, 20]}\n[output]\npath = \"%s\"\n",
+             "[observables]\ntimes = [0, 10, 20, 30]\nsnapshots = {times = [0, 15]}\n[output]\npath = \"%s\"\n",
              dim, dim == 2 ? "[10, 6]" : "[5, 4, 3]", out);
     gran_scene *s = NULL;
     GRAN_ASSERT_OK(gran_scene_parse(text, "snap.toml", &s));
@@ -428,10 +428,11 @@ static void test_snapshots(void **state) {
     const int nc = dim == 2 ? 60 : 60;
     const double N = 7.0 * nc;
     size_t n;
-    double *p = rd(f, "momentum/p", NULL), *ek = rd(f, "energy/e_kin", NULL), *idx = NULL;
-    (void)idx;
+    double *p = rd(f, "momentum/p", NULL), *ek = rd(f, "energy/e_kin", NULL), *tt = rd(f, "time", &n);
+    assert_true(n == 5 && tt[2] == 15.0); /* the snapshot time joined the output times */
+    free(tt);
     const char *snaps[2] = {"/fields/snap_000000", "/fields/snap_000002"};
-    const int row[2] = {0, 2};
+    const int row[2] = {0, 2}; /* t = 15 joined the output times 0, 10, 20, 30 as row 2 */
     for (int j = 0; j < 2; j++) {
       char nm[128];
       snprintf(nm, sizeof nm, "%s/count", snaps[j]);

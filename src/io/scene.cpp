@@ -709,8 +709,8 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   }
   if (s.srd.obs_sk && s.srd.sk_bins == 0) s.srd.sk_bins = std::max<int64_t>(1, o.cells[0] / 2);
   if (s.srd.obs_sk && o.wall_axis >= 0) ob.fail("structure_factor", "S(k) needs a periodic box (no [boundaries] walls)");
-  const int64_t nt = (int64_t)os.size();
   if (ob.has("snapshots")) {
+    const int64_t nt = (int64_t)os.size();
     const toml::value &x = ob.get("snapshots");
     if (x.is_boolean()) {
       if (x.as_boolean())
@@ -724,12 +724,21 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
         require(e >= 1, sn, "every", "must be >= 1 (output times between snapshots)");
         for (int64_t i = 0; i < nt; i += e) s.srd.snap_index.push_back(i);
       } else {
+        /* snapshot times (rounded to the step grid) join the output times */
+        std::vector<int64_t> ks;
         for (double t : parse_times(sn, "times")) {
           const int64_t k = srd_step_of(t, o.dt);
-          auto it = std::lower_bound(os.begin(), os.end(), k);
-          if (it == os.end() || *it != k)
-            sn.fail("times", "snapshot time " + Tab::num_str(t) + " (step " + std::to_string(k) + ") is not an output time");
-          const int64_t i = it - os.begin();
+          if (t < 0 || k > steps)
+            sn.fail("times", "snapshot time " + Tab::num_str(t) + " is outside the run (0 .. " +
+                                 Tab::num_str((double)steps * o.dt) + ")");
+          ks.push_back(k);
+        }
+        std::vector<int64_t> merged(os.size() + ks.size());
+        std::merge(os.begin(), os.end(), ks.begin(), ks.end(), merged.begin());
+        merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
+        os.swap(merged);
+        for (int64_t k : ks) {
+          const int64_t i = std::lower_bound(os.begin(), os.end(), k) - os.begin();
           if (s.srd.snap_index.empty() || i > s.srd.snap_index.back()) s.srd.snap_index.push_back(i);
         }
       }
@@ -739,6 +748,8 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
     }
   }
   ob.finish();
+  s.srd.out_steps = os;
+  const int64_t nt = (int64_t)os.size();
   s.times.resize((size_t)nt);
   for (int64_t i = 0; i < nt; i++) s.times[(size_t)i] = (double)os[(size_t)i] * o.dt;
   s.t_start = 0.0;
