@@ -176,9 +176,11 @@ def srd_clustering(args, f):
 def srd_a2(args, f):
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
     o0 = None
+    mins = []
     for k, e in enumerate(A2_EFF):
         o = Output(f["a2-eff" + e])
         t, a2 = o.times("sonine_a2"), o.get("sonine_a2/a2")
+        mins.append("%s: %.3f at t = %g" % (e, a2.min(), t[np.argmin(a2)]))
         ax.plot(t, a2, "o-", ms=3, mfc="none", color="C%d" % k, label="eps_eff(t0) = %s (eps = %.6g)" % (e, o.attr("eps", 1, "srd")))
         if o0 is None:
             o0 = o
@@ -191,9 +193,11 @@ def srd_a2(args, f):
     ax.legend(fontsize=7.5)
     fig.suptitle("Second Sonine coefficient of the freely cooling GSRD gas (thesis Fig. 3.15, reduced)", fontsize=10)
     finish(fig, o0, "srd-a2.png", args,
-           "a2 first decreases, then returns towards zero, as in the thesis; no theory is drawn (PHYSICS-NOTES: in "
+           "a2 first decreases, then returns towards zero, as in the thesis. Minima (eps_eff(t0): a2): %s; the thesis "
+           "reports lower minima for higher eps_eff(t0), here the order is the reverse, within about twice the "
+           "scatter of one run (one replica each, not investigated further). No theory is drawn (PHYSICS-NOTES: in "
            "GSRD a2 comes from cell-to-cell fluctuations and is an observable, not a test). eps differs between the "
-           "four runs, the line above names the first.")
+           "four runs, the line above names the first." % "; ".join(mins))
     o0.close()
 
 
