@@ -5,7 +5,8 @@
  *  - device = "cuda" without a GPU is GRAN_ERR_UNSUPPORTED, "auto" runs on the CPU with a warning;
  *  - the observables written by gran_scene_run equal those of the same engine driven through the
  *    C API (gran_srd_create/advance/observe, bit for bit), the energy ledger closes to 1e-12, the
- *    momentum stays zero, Haff's law beside it (T_theory);
+ *    momentum stays zero, Haff's law beside it (T_theory); eps_eff clamps are counted per output
+ *    interval with dt_max and a warning;
  *  - a run stopped after a checkpoint and resumed writes the same output file, dataset for dataset,
  *    bit for bit, as the uninterrupted run (Lees-Edwards stress, snapshots, S(k) included);
  *  - replicas: R = 3 gives X and X_se, replica 0 is the R = 1 run, the mean is the mean of the kept
@@ -65,6 +66,7 @@ static void test_bad_scenes(void **state) {
       {"[engine]\ntype = \"srd\"\ndimension = 2\ncells = 4\nsteps = 10\n[forces]\ngravity = [0, -1, 0]\n",
        "bad.toml:7: key 'forces.gravity'"},
       {"[engine]\ntype = \"srd\"\ncells = 4\n", "key 'engine.steps' is missing"},
+      {"[engine]\ntype = \"srd\"\ncells = 1048576\nn0 = 1e-9\nsteps = 1\n", "bad.toml:3: key 'engine.cells'"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     gran_scene *s = NULL;
@@ -82,6 +84,11 @@ static void test_bad_scenes(void **state) {
   double t0 = -1, t1 = -1;
   GRAN_ASSERT_OK(gran_scene_sizes(s, NULL, &nt, NULL, &t0, &t1));
   assert_true(nt == 4 && t0 == 0.0 && t1 == 3.0); /* every = max(1, steps / 50): steps 0..3 */
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_ERR(gran_scene_mixture(s, &mix), GRAN_ERR_ARG); /* DSMC-only functions refuse a GSRD scene */
+  assert_non_null(strstr(gran_last_error_message(), "GSRD scene"));
+  gran_dsmc_options dop;
+  GRAN_ASSERT_ERR(gran_scene_dsmc_options(s, &dop, NULL, NULL), GRAN_ERR_ARG);
   GRAN_ASSERT_OK(gran_scene_destroy(&s));
 }
 
@@ -183,6 +190,42 @@ static void test_against_api(void **state) {
   free(eng);
   H5Fclose(f);
   GRAN_ASSERT_OK(gran_srd_destroy(&e));
+}
+
+
+/* ---- eps_eff clamps: counted per output interval, dt_max recorded, a warning naming it ------ */
+static void test_clamps(void **state) {
+  (void)state;
+  const char *out = io_path("clamp.h5");
+  char text[512];
+  snprintf(text, sizeof text,
+           "[engine]\ntype = \"srd\"\ndimension = 2\ncells = 8\nn0 = 10\ndt = 1.0\neps = 0.5\nsigma = 0.5\nsteps = 6\n"
+           "[observables]\nevery = 3\n[output]\npath = \"%s\"\n", out);
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(text, "clamp.toml", &s));
+  int64_t w0 = 0, w1 = 0;
+  GRAN_ASSERT_OK(gran_warning_count(&w0));
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, "", NULL, NULL));
+  GRAN_ASSERT_OK(gran_warning_count(&w1));
+  GRAN_ASSERT_OK(gran_scene_destroy(&s));
+  assert_true(w1 > w0);
+  char msg[512];
+  GRAN_ASSERT_OK(gran_last_warning_copy(msg, sizeof msg));
+  assert_non_null(strstr(msg, "dt <="));
+  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  int64_t cnt[3] = {-1, -1, -1};
+  hid_t d = H5Dopen2(f, "clamps/count", H5P_DEFAULT);
+  assert_true(d >= 0 && H5Dread(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, cnt) >= 0);
+  H5Dclose(d);
+  size_t n;
+  double *dtm = rd(f, "clamps/dt_max", &n), *led = rd(f, "energy/ledger_error", NULL);
+  assert_int_equal(n, 3);
+  /* 1 - eps_eff = (1 - eps^2) sigma^2 n sqrt(theta) dt = 1.9 at the start: every cell of >= 2 particles clamps */
+  assert_true(cnt[0] == 0 && cnt[1] > 0);
+  assert_true(isinf(dtm[0]) && dtm[1] > 0 && dtm[1] < 1.0);
+  for (size_t i = 0; i < n; i++) GRAN_ASSERT_ABS(led[i], 0.0, 1e-12);
+  free(dtm), free(led);
+  H5Fclose(f);
 }
 
 /* ---- checkpoint / resume bit for bit ------------------------------------------------------- */
@@ -557,7 +600,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_bad_scenes), cmocka_unit_test(test_device),   cmocka_unit_test(test_against_api),
       cmocka_unit_test(test_resume),     cmocka_unit_test(test_replicas), cmocka_unit_test(test_snapshots),
-      cmocka_unit_test(test_vibrated_bed), cmocka_unit_test(test_shipped_scenes),
+      cmocka_unit_test(test_vibrated_bed), cmocka_unit_test(test_shipped_scenes), cmocka_unit_test(test_clamps),
   };
   return cmocka_run_group_tests(tests, NULL, teardown);
 }

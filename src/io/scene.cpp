@@ -555,6 +555,8 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   }
   double ncell = 1;
   for (int k = 0; k < dim; k++) ncell *= (double)o.cells[k];
+  require(ncell * 2.0 < 4294967295.0, en, en.has("cells") ? "cells" : "box",
+          Tab::num_str(ncell) + " cells: the engine indexes cells with 32 bits (at most about 2^31 cells)");
   if (en.has("n0") && en.has("particles_per_cell")) en.fail("particles_per_cell", "give either 'n0' or 'particles_per_cell', not both");
   const char *nk = en.has("particles_per_cell") ? "particles_per_cell" : "n0";
   o.n0 = en.number(nk, 10.0);
@@ -1320,6 +1322,8 @@ GRAN_EXTERN int gran_scene_lags(const gran_scene *scene, double *lags) {
 GRAN_EXTERN int gran_scene_mixture(const gran_scene *scene, gran_mixture **mix) {
   GRAN_CHECK_PTR(scene);
   GRAN_CHECK_PTR(mix);
+  GRAN_CHECK(scene->engine_type != "srd", GRAN_ERR_ARG, /* GSRD scenes set their gas in [engine] */
+             "scene '%s' is a GSRD scene ([engine] type = \"srd\"): it has no mixture", scene->name.c_str());
   GRAN_TRY {
     const gran_scene *s = scene;
     gran_mixture *m = nullptr;
@@ -1366,6 +1370,8 @@ GRAN_EXTERN int gran_scene_dsmc_options(const gran_scene *scene, gran_dsmc_optio
                                         int *have_counts) {
   GRAN_CHECK_PTR(scene);
   GRAN_CHECK_PTR(opt);
+  GRAN_CHECK(scene->engine_type != "srd", GRAN_ERR_ARG, /* GSRD scenes run through gran_scene_run */
+             "scene '%s' is a GSRD scene ([engine] type = \"srd\"): it has no DSMC options", scene->name.c_str());
   GRAN_TRY {
     const gran_scene *s = scene;
     GRAN_CALL(gran_dsmc_options_default(opt));
