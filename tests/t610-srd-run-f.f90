@@ -47,6 +47,7 @@ program t610_srd_run_f
   call gran_srd_fields(srd, nc, temperature=th, ierr=ierr)
   call expect(ierr == GRAN_SUCCESS, 'fields: only the temperature')
   call gran_srd_destroy(srd)
+  deallocate(cnt, vel, th, short)
 
   call gran_scene_parse('[engine]' // nl_ // 'type = "srd"' // nl_ // 'dimension = 2' // nl_ // 'cells = 8' // nl_ // &
                         'dt = 0.5' // nl_ // 'steps = 20' // nl_ // '[observables]' // nl_ // 'every = 5' // nl_ // &
@@ -68,6 +69,7 @@ program t610_srd_run_f
   call expect(ierr == GRAN_ERR_PARSE, 'bad scene: GRAN_ERR_PARSE')
   call expect(index(msg, "bad.toml:4: key 'engine.alpha'") > 0, 'bad scene: alpha named with its line')
 
+  deallocate(msg)
   if (failures > 0) error stop 1
   write(*, '(a)') 't610-srd-run-f: all checks passed'
 contains

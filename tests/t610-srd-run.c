@@ -177,11 +177,13 @@ static void test_against_api(void **state) {
     assert_true(T[i] == ob.temperature && ek[i] == ob.energy && Ek[i] == ob.e_kin && ma[i] == ob.mach &&
                 sr[i] == ob.sigma_rho && a2[i] == ob.a2 && led[i] == ob.ledger_error);
     for (int b = 0; b < 5; b++) assert_true(c[b] == 0 ? isnan(S[i * 5 + b]) : S[i * 5 + b] == sk[b]);
-    /* physics: ledger closed, momentum zero, Haff's law within 5 % over this short run */
+    /* physics: ledger closed, momentum zero, Haff's law */
     GRAN_ASSERT_ABS(led[i], 0.0, 1e-12);
     for (int k3 = 0; k3 < 3; k3++) GRAN_ASSERT_ABS(p[3 * i + k3], 0.0, 1e-12 * N * sqrt(2.0));
     GRAN_ASSERT_REL(Th[i], 2.0 / ((1 + rate * t[i]) * (1 + rate * t[i])), 1e-14);
-    GRAN_ASSERT_REL(T[i], Th[i], 0.05);
+    /* relative to the sampled T(0) (the Maxwellian draw of N particles is off T0 by ~sqrt(1/N)): the
+     * mean-field rate is about 2 % slow (README), the rest is noise of the ratio (< 1 % at N = 512) */
+    GRAN_ASSERT_REL(T[i] / T[0], Th[i] / 2.0, 0.05);
   }
   assert_true(T[n - 1] < 0.7 * T[0]); /* it did cool */
   free(t), free(T), free(Th), free(ek), free(led), free(p), free(Ek), free(ma), free(sr), free(a2), free(S);
