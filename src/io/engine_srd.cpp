@@ -414,18 +414,21 @@ class SrdEngine : public gran_engine {
                fname, group, fmt.c_str());
     std::vector<unsigned char> blob;
     GRAN_CALL(read_u8(g.id, "state", blob, fname));
+    /* the options in the state's header (after its 8-byte magic) must be the scene's before the
+     * engine allocates anything from them */
+    gran_srd_options c;
+    GRAN_CHECK(blob.size() >= 8 + sizeof c, GRAN_ERR_IO, "checkpoint '%s': the GSRD state in '%s' is truncated", fname, group);
+    std::memcpy(&c, blob.data() + 8, sizeof c);
+    GRAN_CHECK(c.dim == o_.dim && c.cells[0] == o_.cells[0] && c.cells[1] == o_.cells[1] &&
+                   (o_.dim == 2 || c.cells[2] == o_.cells[2]) && c.n0 == o_.n0 && c.dt == o_.dt,
+               GRAN_ERR_IO, "checkpoint '%s': the GSRD state in '%s' does not match the scene (dimension, cells, n0, dt)",
+               fname, group);
     {
       TmpFile tmp;
       GRAN_CALL(tmp.make(fname));
       GRAN_CALL(spill(tmp.path, blob));
       GRAN_CALL(gran_srd_checkpoint_read(tmp.path.c_str(), &srd_));
     }
-    /* the scene (from the checkpoint's text) must describe the same run */
-    const gran_srd_options c = gran_srd_options_of_(srd_);
-    GRAN_CHECK(c.dim == o_.dim && c.cells[0] == o_.cells[0] && c.cells[1] == o_.cells[1] &&
-                   (o_.dim == 2 || c.cells[2] == o_.cells[2]) && c.n0 == o_.n0 && c.dt == o_.dt,
-               GRAN_ERR_IO, "checkpoint '%s': the GSRD state in '%s' does not match the scene (dimension, cells, n0, dt)",
-               fname, group);
     GRAN_CHECK(H5Aexists(g.id, "stress_t0") > 0, GRAN_ERR_IO, "checkpoint '%s': '%s' has no stress_t0", fname, group);
     H5Obj a(H5Aopen(g.id, "stress_t0", H5P_DEFAULT), H5Aclose);
     GRAN_CHECK(a.id >= 0 && H5Aread(a.id, H5T_NATIVE_DOUBLE, &stress_t0_) >= 0, GRAN_ERR_IO,

@@ -10,8 +10,6 @@
 
 int64_t gran_srd_steps_(const gran_srd *srd) { return srd->step; }
 
-gran_srd_options gran_srd_options_of_(const gran_srd *srd) { return srd->opt; }
-
 /** @brief Cell fields of the unshifted lattice of cells[0] x cells[1] (x cells[2]) cells, cell
  *  (i, j, k) at index i + cells[0] (j + cells[1] k), x fastest. count: particles per cell;
  *  velocity: mean velocity [cell][3] (the third component 0 in 2-D); temperature: thermal

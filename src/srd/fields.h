@@ -8,7 +8,5 @@
 /* Steps done so far (what gran_srd_observe reports, without its side effects on the clamp
  * counters). */
 int64_t gran_srd_steps_(const gran_srd *srd);
-/* The options the engine runs with (a copy). */
-gran_srd_options gran_srd_options_of_(const gran_srd *srd);
 
 #endif
