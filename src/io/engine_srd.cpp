@@ -239,7 +239,7 @@ class SrdEngine : public gran_engine {
     GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: state before start");
     const int64_t k = gran_srd_steps_(srd_);
     st->time = (double)k * o_.dt;
-    st->events = k * N_;
+    st->events = N_ > 0 && k > INT64_MAX / N_ ? INT64_MAX : k * N_;
     return GRAN_SUCCESS;
   }
 
