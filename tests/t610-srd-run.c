@@ -15,7 +15,8 @@
  *    with cell-centred attributes, and every HDF reference names an existing dataset of the
  *    stated shape; the fields sum to N, to the total momentum and to twice the kinetic energy;
  *  - a vibrated bed (walls, gravity, vibrating bottom wall) runs with its ledger closed;
- *  - every shipped scene of scenes/srd/ parses, and scenes/srd/vibrated-bed.toml runs in full.
+ *  - every shipped scene of scenes/srd/ parses, and scenes/srd/vibrated-bed.toml runs in full;
+ *  - `granary run` prints the GSRD header and the summary (T beside Haff's law, Mach).
  * Sizes are reduced under the sanitizers. */
 #include "io_test_util.h"
 
@@ -591,6 +592,30 @@ static void test_shipped_scenes(void **state) {
   H5Fclose(f);
 }
 
+
+/* ---- the command line: `granary run` prints the GSRD header, progress and the summary -------- */
+static void test_cli(void **state) {
+  (void)state;
+  const char *cli = getenv("GRAN_CLI") ? getenv("GRAN_CLI") : "build/granary";
+  const char *sc = io_path("cli.toml"), *out = io_path("cli.h5");
+  io_write_file(sc, "title = \"t610 cli\"\n[engine]\ntype = \"srd\"\ndimension = 2\ncells = 8\nn0 = 5\neps = 0.9\n"
+                    "sigma = 0.2\nsteps = 40\n[observables]\nevery = 10\n");
+  char cmd[2048], buf[8192] = "";
+  snprintf(cmd, sizeof cmd, "%s run %s -o %s --no-checkpoint 2>&1", cli, sc, out);
+  FILE *p = popen(cmd, "r");
+  assert_non_null(p);
+  size_t n = fread(buf, 1, sizeof buf - 1, p);
+  buf[n] = '\0';
+  const int st = pclose(p);
+  if (st != 0) fprintf(stderr, "%s\n", buf);
+  assert_int_equal(st, 0);
+  assert_non_null(strstr(buf, "t610 cli"));
+  assert_non_null(strstr(buf, "engine srd (cpu), 2-D, 64 cells of a = 1, 320 particles"));
+  assert_non_null(strstr(buf, "T_theory")); /* the summary: T beside Haff's law */
+  assert_non_null(strstr(buf, "Mach_sim"));
+  assert_true(io_exists(out));
+}
+
 static int teardown(void **state) {
   (void)state;
   io_tmp_cleanup();
@@ -603,6 +628,7 @@ int main(void) {
       cmocka_unit_test(test_bad_scenes), cmocka_unit_test(test_device),   cmocka_unit_test(test_against_api),
       cmocka_unit_test(test_resume),     cmocka_unit_test(test_replicas), cmocka_unit_test(test_snapshots),
       cmocka_unit_test(test_vibrated_bed), cmocka_unit_test(test_shipped_scenes), cmocka_unit_test(test_clamps),
+      cmocka_unit_test(test_cli),
   };
   return cmocka_run_group_tests(tests, NULL, teardown);
 }
