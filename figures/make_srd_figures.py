@@ -194,8 +194,9 @@ def srd_a2(args, f):
     fig.suptitle("Second Sonine coefficient of the freely cooling GSRD gas (thesis Fig. 3.15, reduced)", fontsize=10)
     finish(fig, o0, "srd-a2.png", args,
            "a2 first decreases, then returns towards zero, as in the thesis. Minima (eps_eff(t0): a2): %s; the thesis "
-           "reports lower minima for higher eps_eff(t0), here the order is the reverse, within about twice the "
-           "scatter of one run (one replica each, not investigated further). No theory is drawn (PHYSICS-NOTES: in "
+           "reports lower minima for higher eps_eff(t0); here the order is the reverse (the four runs share their seed, "
+           "so the order is not noise; the box, n0 = 5 against 25 and the eps values differ from the thesis; not "
+           "investigated further). No theory is drawn (PHYSICS-NOTES: in "
            "GSRD a2 comes from cell-to-cell fluctuations and is an observable, not a test). eps differs between the "
            "four runs, the line above names the first." % "; ".join(mins))
     o0.close()
