@@ -11,8 +11,8 @@
  * output under /fields with an XDMF sidecar (OUTPUT.xmf) that ParaView opens, and kept in the
  * checkpoint so that a resumed run writes the same file.
  * Checkpoint: the engine's own binary checkpoint (gran_srd_checkpoint_write: every particle, RNG
- * state and ledger) stored byte for byte as a uint8 dataset, through a temporary file next to the
- * checkpoint. */
+ * state and ledger) stored byte for byte as a uint8 dataset, through a temporary file in $TMPDIR
+ * (else /tmp). */
 #include <hdf5.h>
 
 #include <algorithm>
@@ -68,21 +68,33 @@ int read_u8(hid_t loc, const char *name, std::vector<unsigned char> &b, const ch
   return GRAN_SUCCESS;
 }
 
-/* A temporary file next to `near` (mkstemp); removed by the destructor. */
+/* A temporary file (mkstemp) in $TMPDIR (else /tmp; else next to `near`, the checkpoint): local to
+ * the process, also on an MPI rank that does not see the checkpoint's folder. Removed by the
+ * destructor. */
 struct TmpFile {
   std::string path;
   ~TmpFile() {
     if (!path.empty()) std::remove(path.c_str());
   }
   int make(const char *near) {
-    std::string tpl = std::string(near) + ".srd-XXXXXX";
-    std::vector<char> b(tpl.begin(), tpl.end());
-    b.push_back('\0');
-    const int fd = mkstemp(b.data());
-    GRAN_CHECK(fd >= 0, GRAN_ERR_IO, "cannot create a temporary file next to '%s': %s", near, std::strerror(errno));
-    close(fd);
-    path = b.data();
-    return GRAN_SUCCESS;
+    const char *td = std::getenv("TMPDIR");
+    const std::string dirs[3] = {td && *td ? td : "/tmp", "/tmp", ""};
+    int err = 0;
+    for (const std::string &d : dirs) {
+      std::string tpl = d.empty() ? std::string(near) + ".srd-XXXXXX" : d + "/granary-srd-XXXXXX";
+      std::vector<char> b(tpl.begin(), tpl.end());
+      b.push_back('\0');
+      const int fd = mkstemp(b.data());
+      if (fd < 0) {
+        err = errno;
+        continue;
+      }
+      close(fd);
+      path = b.data();
+      return GRAN_SUCCESS;
+    }
+    return GRAN_ERROR(GRAN_ERR_IO, "cannot create a temporary file in $TMPDIR, /tmp or next to '%s': %s", near,
+                      std::strerror(err));
   }
 };
 
