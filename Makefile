@@ -267,6 +267,7 @@ FIG_INSTALL   = if [ "$$(id -u)" = 0 ]; then SUDO=; elif command -v sudo >/dev/n
 .PHONY: figures figures-deps figures-deps-soft
 figures: figures-deps all
 	$(FIG_PYTHON) figures/make_figures.py $(if $(QUICK),--quick) --granary $(CLI) --out $(FIG_OUT)
+	$(FIG_PYTHON) figures/make_srd_figures.py $(if $(QUICK),--quick) --granary $(CLI) --out $(FIG_OUT)
 
 figures-deps:
 	@if ! ( $(FIG_OK) ); then $(FIG_INSTALL); fi

@@ -1107,6 +1107,17 @@ module granary
   end interface
   ! ---- end GSRD ----
 
+  ! ---- GSRD cell fields (src/srd/fields.cpp) ----
+  public :: gran_srd_fields
+  interface
+    function c_gran_srd_fields(srd, count, velocity, temperature) bind(C, name='gran_srd_fields') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: srd, count, velocity, temperature
+      integer(c_int) :: ierr
+    end function c_gran_srd_fields
+  end interface
+  ! ---- end GSRD cell fields ----
+
 contains
 
   !> Version of the linked library.
@@ -2818,5 +2829,39 @@ contains
     call io_to_c(path, cp)
     call gran_check(c_gran_srd_checkpoint_read(c_loc(cp), srd), ierr)
   end subroutine gran_srd_checkpoint_read
+
+  !> Cell fields of the unshifted lattice (cells(1) x cells(2) (x cells(3)), x fastest):
+  !> particles per cell, mean velocity (3, cells) and temperature. Each output is optional;
+  !> a given one must hold at least the number of cells (velocity: 3 x cells), else GRAN_ERR_ARG.
+  subroutine gran_srd_fields(srd, ncells, count, velocity, temperature, ierr)
+    type(c_ptr), intent(in) :: srd
+    integer(c_int64_t), intent(in) :: ncells
+    real(c_double), intent(out), optional, target :: count(:), velocity(:, :), temperature(:)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pc, pv, pt
+    pc = c_null_ptr; pv = c_null_ptr; pt = c_null_ptr
+    if (present(count)) then
+      if (size(count, kind=c_int64_t) < ncells) then
+        call gran_core_shape_error('gran_srd_fields: count has fewer than ncells elements', ierr)
+        return
+      end if
+      pc = c_loc(count)
+    end if
+    if (present(velocity)) then
+      if (size(velocity, 1) /= 3 .or. size(velocity, 2, kind=c_int64_t) < ncells) then
+        call gran_core_shape_error('gran_srd_fields: velocity must be (3, >= ncells)', ierr)
+        return
+      end if
+      pv = c_loc(velocity)
+    end if
+    if (present(temperature)) then
+      if (size(temperature, kind=c_int64_t) < ncells) then
+        call gran_core_shape_error('gran_srd_fields: temperature has fewer than ncells elements', ierr)
+        return
+      end if
+      pt = c_loc(temperature)
+    end if
+    call gran_check(c_gran_srd_fields(srd, pc, pv, pt), ierr)
+  end subroutine gran_srd_fields
   ! ---- end GSRD wrappers ----
 end module granary

@@ -582,5 +582,11 @@ GRAN_EXTERN int gran_srd_particles(gran_srd *srd, int64_t *n, double **x, double
 GRAN_EXTERN int gran_srd_structure_factor(gran_srd *srd, int64_t nbins, double *k, double *s, int64_t *count);
 GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *srd, const char *path);
 GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **srd);
+/* ---- GSRD cell fields (src/srd/fields.cpp; snapshots of `granary run`) ----------------------
+ * Fields of the unshifted lattice, cells[0] x cells[1] (x cells[2]) cells, cell (i, j, k) at index
+ * i + cells[0] (j + cells[1] k): particles per cell (count), mean velocity [cell][3] (third
+ * component 0 in 2-D) and temperature sum |v - V|^2 / (d n); empty cells give 0. Any output may
+ * be NULL. Sum of count = N; sum of count x velocity = total momentum. */
+GRAN_EXTERN int gran_srd_fields(gran_srd *srd, double *count, double *velocity, double *temperature);
 
 #endif /* GRANARY_H */

@@ -221,6 +221,19 @@ void summary(const std::string &path) {
 /* The title and main parameters, printed before the run starts. */
 void header(const gran_scene *s, const std::string &out, const std::string &ck) {
   std::printf("%s\n", s->title.empty() ? s->name.c_str() : s->title.c_str());
+  if (s->engine_type == "srd") { /* GSRD scene (src/io/engine_srd.cpp): its own parameters */
+    const gran_srd_options &o = s->srd.opt;
+    double nc = 1;
+    for (int k = 0; k < o.dim; k++) nc *= (double)o.cells[k];
+    std::printf("  engine srd (%s), %d-D, %.0f cells of a = %g, %.0f particles, dt = %g, alpha = %g, eps = %g\n",
+                s->srd.device.c_str(), (int)o.dim, nc, o.a, std::floor(o.n0 * nc + 0.5), o.dt, o.alpha_deg, o.eps);
+    std::printf("  t = 0 .. %g (%lld steps), %zu output times, seed %llu", s->t_end, (long long)s->srd.steps,
+                s->times.size(), (unsigned long long)s->seed);
+    if (s->replicas > 1) std::printf(", %" PRId64 " replicas", s->replicas);
+    std::printf("\n  output %s, checkpoint %s\n", out.c_str(), ck.empty() ? "(none)" : ck.c_str());
+    std::fflush(stdout);
+    return;
+  }
   int64_t N = 0;
   for (int64_t c : s->counts) N += c;
   std::printf("  engine %s (%s), %" PRId64 " species", s->engine_type.c_str(),
