@@ -235,7 +235,7 @@ fuzz:
 	@mkdir -p $(FUZZ_BUILD)/artifacts
 	@set -e; for n in $(FUZZ_NAMES); do \
 	  clang -Iinclude $(FUZZ_SAN) -fsanitize=fuzzer -g -O1 -c fuzz/fuzz_$$n.c -o $(FUZZ_BUILD)/fuzz_$$n.o; \
-	  clang++ $(FUZZ_SAN) -fsanitize=fuzzer $(FUZZ_BUILD)/fuzz_$$n.o $(FUZZ_BUILD)/libgranary.a \
+	  clang++ $(FUZZ_SAN) -fsanitize=fuzzer -fopenmp $(FUZZ_BUILD)/fuzz_$$n.o $(FUZZ_BUILD)/libgranary.a \
 	    $$(sed -n 's/^PKG_LIBS := //p' $(FUZZ_BUILD)/config.mk) -lm -lpthread -o $(FUZZ_BUILD)/fuzz_$$n; \
 	  mkdir -p $(FUZZ_BUILD)/corpus/$$n; \
 	  echo "== fuzz_$$n for $(FUZZ_SECONDS) s"; \
