@@ -411,6 +411,11 @@ int dev_start(gran_srd *s, int32_t device) {
   d->host_current = p.precision == 0; /* float storage: the device holds rounded values */
   gran_srd_dev_free(s->dev.p);
   s->dev.p = d;
+  /* the CPU engine's step buffers are not used while the run is on a device */
+  std::vector<uint32_t>().swap(s->ci);
+  std::vector<srd_cell_sum>().swap(s->sum);
+  std::vector<srd_cell_rot>().swap(s->rot);
+  std::vector<double>().swap(s->part);
   return GRAN_SUCCESS;
 }
 
@@ -418,6 +423,9 @@ int dev_start(gran_srd *s, int32_t device) {
 int dev_stop(gran_srd *s) {
   if (!s->dev.p) return GRAN_SUCCESS;
   GRAN_CALL(gran_srd_dev_sync(s, 1));
+  s->ci.resize((size_t)s->n); /* the CPU engine's step buffers back */
+  s->sum.resize((size_t)s->ncell);
+  s->rot.resize((size_t)s->ncell);
   gran_srd_dev_free(s->dev.p);
   s->dev.p = nullptr;
   return GRAN_SUCCESS;
