@@ -359,4 +359,134 @@ static void sde_body_devices(int scene, int da, int db, double xtol, double otol
   GRAN_ASSERT_OK(gran_srd_destroy(&rb));
 }
 
+/* ---- physics on a device (the CPU engine's own tests are t801/t802) ---------------------------- */
+
+/* Haff's law (2-D, eps = 0.9, mean-field rate c = (1 - eps^2) sigma^2 n0 sqrt(T0) / dt = 0.01 per
+ * step): sqrt(T0 / T) linear in t down to T/T0 < 0.01 (worst residual < 3 %), slope within 25 % of
+ * c (as t802 for the CPU engine), the ledger closed to 1e-12 (double) / 1e-5 (float). */
+static void sde_body_haff(int device, int precision, int64_t L) {
+  gran_srd_options o;
+  GRAN_ASSERT_OK(gran_srd_options_default(&o));
+  o.dim = 2;
+  o.cells[0] = o.cells[1] = L;
+  o.n0 = 10;
+  o.alpha_deg = 90;
+  o.eps = 0.9;
+  const double c = 0.01;
+  o.sigma = sqrt(c / ((1 - o.eps * o.eps) * o.n0));
+  o.seed = 5;
+  o.threads = 1;
+  o.device = device;
+  o.precision = precision;
+  gran_srd *s = NULL;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+  gran_srd_obs ob;
+  enum { NT = 100 };
+  double t[NT], u[NT];
+  int m = 0;
+  for (int k = 0; k < NT; ++k) {
+    GRAN_ASSERT_OK(gran_srd_advance(s, 10));
+    GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
+    if (!(fabs(ob.ledger_error) < (precision ? 1e-5 : 1e-12))) fail_msg("Haff: ledger error %g", ob.ledger_error);
+    t[m] = ob.time;
+    u[m] = sqrt(o.T0 / ob.temperature);
+    ++m;
+    if (ob.temperature < 0.008 * o.T0) break;
+  }
+  assert_true(ob.temperature < 0.01 * o.T0); /* two decades covered */
+  double st = 0, su = 0, stt = 0, stu = 0;
+  for (int k = 0; k < m; ++k) {
+    st += t[k];
+    su += u[k];
+    stt += t[k] * t[k];
+    stu += t[k] * u[k];
+  }
+  const double slope = (m * stu - st * su) / (m * stt - st * st), icpt = (su - slope * st) / m;
+  double worst = 0;
+  for (int k = 0; k < m; ++k) worst = fmax(worst, fabs(icpt + slope * t[k] - u[k]) / u[k]);
+  printf("  Haff (%s, %s, %lld^2): %d samples to T/T0 = %.3g, 1/tau = %.5f (mean field %.5f), worst residual %.3g\n",
+         device == GRAN_SRD_DEVICE_CUDA ? "cuda" : device == GRAN_SRD_DEVICE_REFERENCE ? "reference" : "cpu",
+         precision ? "float" : "double", (long long)L, m, ob.temperature, slope, c, worst);
+  assert_true(worst < 0.03);
+  GRAN_ASSERT_REL(slope, c, 0.25);
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+}
+
+/* Collisional viscosity of standard SRD under Lees-Edwards shear with the thermostat (kT = 1,
+ * a = dt = 1): (stress_xy - stress_kin) / (n0 shear rate) against (a^2 / (6 d dt))
+ * (M - 1 + e^-M) / M (1 - cos alpha), standard error from nblk time blocks, tolerance 4 se + 3 %
+ * (as t802). */
+static void sde_body_viscosity(int device, int precision, int dim, int64_t L, double alpha, int nblk, int blk) {
+  gran_srd_options o;
+  GRAN_ASSERT_OK(gran_srd_options_default(&o));
+  o.dim = dim;
+  o.cells[0] = o.cells[1] = o.cells[2] = L;
+  o.n0 = 10;
+  o.alpha_deg = alpha;
+  o.thermostat = 1;
+  o.shear_rate = 0.04;
+  o.seed = 2024 + (uint64_t)alpha;
+  o.threads = 1;
+  o.device = device;
+  o.precision = precision;
+  gran_srd *s = NULL;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+  GRAN_ASSERT_OK(gran_srd_advance(s, 100));
+  double sum = 0, sum2 = 0;
+  for (int b = 0; b < nblk; ++b) {
+    GRAN_ASSERT_OK(gran_srd_stress_reset(s));
+    GRAN_ASSERT_OK(gran_srd_advance(s, blk));
+    gran_srd_obs ob;
+    GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
+    const double nu = (ob.stress_xy - ob.stress_kin) / (o.n0 * o.shear_rate);
+    sum += nu;
+    sum2 += nu * nu;
+  }
+  const double M = o.n0, al = alpha * 3.14159265358979323846 / 180, q = M - 1 + exp(-M);
+  const double th = q / M * (1 - cos(al)) / (dim == 2 ? 12.0 : 18.0);
+  const double mean = sum / nblk, se = sqrt(fmax(0.0, sum2 / nblk - mean * mean) / (nblk - 1));
+  printf("  collisional viscosity (%s, %s) %dD %lld cells/axis alpha %g: %.5f +- %.5f, theory %.5f (%.2f %%)\n",
+         device == GRAN_SRD_DEVICE_CUDA ? "cuda" : device == GRAN_SRD_DEVICE_REFERENCE ? "reference" : "cpu",
+         precision ? "float" : "double", dim, (long long)L, alpha, mean, se, th, 100 * (mean / th - 1));
+  if (!(fabs(mean - th) <= 4 * se + 0.03 * th)) fail_msg("viscosity %.5f +- %.5f against %.5f", mean, se, th);
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+}
+
+/* A cold gas in fast flow: T0 = 1e-8 around a flow of |V| ~ 1.1 (theta / V^2 ~ 1e-8), standard SRD.
+ * The cell temperature on the device agrees with the CPU engine's: double to 1e-6 relative, float
+ * storage (velocity resolution 6e-8 against thermal speeds of 1e-4) to 2 %. */
+static void sde_body_cold_flow(int device, int precision) {
+  gran_srd_options o;
+  sde_options(SDE_PERIODIC, &o);
+  o.T0 = 1e-8;
+  o.sort_every = 0;
+  gran_srd *c = NULL, *d = NULL;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &c));
+  o.device = device;
+  o.precision = precision;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &d));
+  gran_srd *both[2] = {c, d};
+  for (int q = 0; q < 2; ++q) {
+    int64_t n;
+    double *x, *y, *z, *vx, *vy, *vz;
+    GRAN_ASSERT_OK(gran_srd_particles(both[q], &n, &x, &y, &z, &vx, &vy, &vz));
+    for (int64_t i = 0; i < n; ++i) {
+      vx[i] += 1.0;
+      vy[i] -= 0.5;
+    }
+  }
+  GRAN_ASSERT_OK(gran_srd_advance(c, 20));
+  GRAN_ASSERT_OK(gran_srd_advance(d, 20));
+  gran_srd_obs oc, od;
+  GRAN_ASSERT_OK(gran_srd_observe(c, &oc));
+  GRAN_ASSERT_OK(gran_srd_observe(d, &od));
+  printf("  cold flow (%s): theta_cells cpu %.9g device %.9g (T0 1e-8)\n", precision ? "float" : "double",
+         oc.theta_cells, od.theta_cells);
+  assert_true(oc.theta_cells > 0.5e-8 && oc.theta_cells < 1.5e-8);
+  if (!gran_test_rel_ok(od.theta_cells, oc.theta_cells, precision ? 2e-2 : 1e-6))
+    fail_msg("cold flow: theta_cells cpu %.9g device %.9g", oc.theta_cells, od.theta_cells);
+  GRAN_ASSERT_OK(gran_srd_destroy(&c));
+  GRAN_ASSERT_OK(gran_srd_destroy(&d));
+}
+
 #endif

@@ -201,6 +201,18 @@ static void test_particles_write_through(void **state) {
   GRAN_ASSERT_OK(gran_srd_destroy(&r));
 }
 
+/* the physics bodies on the reference (small sizes: they are what t850 runs on the GPU, larger) */
+static void test_physics_reference(void **state) {
+  (void)state;
+  const int R = GRAN_SRD_DEVICE_REFERENCE;
+  sde_body_haff(R, 0, 24);
+  sde_body_haff(R, 1, 24);
+  sde_body_viscosity(R, 0, 2, 16, 130, 8, 100);
+  sde_body_viscosity(R, 1, 3, 8, 130, 8, 50);
+  sde_body_cold_flow(R, 0);
+  sde_body_cold_flow(R, 1);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_device_resolve),
@@ -209,6 +221,7 @@ int main(void) {
       cmocka_unit_test(test_conservation_reference),
       cmocka_unit_test(test_engine_vs_reference),
       cmocka_unit_test(test_particles_write_through),
+      cmocka_unit_test(test_physics_reference),
   };
   return cmocka_run_group_tests_name("t890-srd-device", tests, NULL, NULL);
 }

@@ -164,6 +164,20 @@ static void test_engine_float(void **state) {
   }
 }
 
+/* the physics bodies on the GPU, larger than on the reference (t890) */
+static void test_physics_gpu(void **state) {
+  (void)state;
+  sde_body_haff(G, 0, 96);
+  sde_body_haff(G, 1, 96);
+  sde_body_viscosity(G, 0, 2, 64, 60, 10, 200);
+  sde_body_viscosity(G, 0, 2, 64, 130, 10, 200);
+  sde_body_viscosity(G, 1, 2, 64, 130, 10, 200);
+  sde_body_viscosity(G, 0, 3, 24, 130, 10, 100);
+  sde_body_viscosity(G, 1, 3, 24, 130, 10, 100);
+  sde_body_cold_flow(G, 0);
+  sde_body_cold_flow(G, 1);
+}
+
 static int setup(void **state) {
   (void)state;
   if (!have_gpu()) printf("t850-srd-gpu: no GPU visible; every test is skipped\n");
@@ -181,12 +195,14 @@ GPU_TEST(test_sort_keeps_state)
 GPU_TEST(test_bad_input)
 GPU_TEST(test_engine_cpu_vs_gpu)
 GPU_TEST(test_engine_float)
+GPU_TEST(test_physics_gpu)
 
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_conservation_gpu_), cmocka_unit_test(test_reference_vs_gpu_),
       cmocka_unit_test(test_sort_keeps_state_), cmocka_unit_test(test_bad_input_),
       cmocka_unit_test(test_engine_cpu_vs_gpu_), cmocka_unit_test(test_engine_float_),
+      cmocka_unit_test(test_physics_gpu_),
   };
   return cmocka_run_group_tests_name("t850-srd-gpu", tests, setup, NULL);
 }
