@@ -40,41 +40,85 @@ __device__ inline void flush_acc(const double *a, int q0, int q1, double *__rest
   }
 }
 
+/* sum of x over the warp, in every lane (butterfly) */
+__device__ inline double warp_allsum(double x) {
+  for (int o = 16; o > 0; o >>= 1) x += __shfl_xor_sync(0xffffffffu, x, o);
+  return x;
+}
+
+constexpr int kAggMaxGroups = 12; /* more distinct cells in a warp: plain atomics */
+
 /* Pass 1: stream + plane flux + wall + wrap (srd_dev_move), bin what is stored under the shift, cell
- * sums relative to Vref. */
-template <class T>
+ * sums relative to Vref. AGG = false: every particle adds itself (dim + 2 atomics). AGG = true
+ * (gran_cuda_srd_set_sums): the lanes of a warp that fall in the same cell (__match_any_sync) add
+ * their sum once, when the warp holds at most kAggMaxGroups cells (particles sorted by cell); the
+ * warp loop is warp-uniform so that every shuffle has the full warp. */
+template <class T, bool AGG>
 __global__ void k_stream_bin(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, double sx, double sy, double sz,
                              const double *__restrict__ vref, srd_cell_sum *__restrict__ sums,
                              double *__restrict__ acc) {
   const int dim = gm.dim;
+  const int lane = threadIdx.x & 31;
   const double s[3] = {sx, sy, sz};
   double a[SRD_ACC_N] = {0, 0, 0, 0, 0, 0};
-  for (int64_t i = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; i < n; i += (int64_t)gridDim.x * blockDim.x) {
-    double p[3] = {0, 0, 0}, v[3] = {0, 0, 0};
-    for (int k = 0; k < dim; ++k) {
-      p[k] = (double)d.x[k][i];
-      v[k] = (double)d.v[k][i];
+  const int64_t stride = (int64_t)gridDim.x * blockDim.x;
+  for (int64_t base = (int64_t)blockIdx.x * blockDim.x + (threadIdx.x - lane); base < n; base += stride) {
+    const int64_t i = base + lane;
+    int64_t c = -1;
+    double u[3] = {0, 0, 0}, q = 0.0;
+    if (i < n) {
+      double p[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+      for (int k = 0; k < dim; ++k) {
+        p[k] = (double)d.x[k][i];
+        v[k] = (double)d.v[k][i];
+      }
+      srd_dev_move(&K, &gm, p, v, a);
+      for (int k = 0; k < dim; ++k) {
+        const T xs = sizeof(T) == 4 ? (T)srd_dev_float_pos(&gm, k, p[k]) : (T)p[k], vs = (T)v[k];
+        d.x[k][i] = xs;
+        d.v[k][i] = vs;
+        p[k] = (double)xs; /* bin what is stored (float rounding) */
+        v[k] = (double)vs;
+      }
+      double dvx;
+      c = srd_bin(&gm, s, p, &dvx);
+      v[0] += dvx;
+      for (int k = 0; k < dim; ++k) {
+        u[k] = v[k] - vref[3 * c + k];
+        q += u[k] * u[k];
+      }
     }
-    srd_dev_move(&K, &gm, p, v, a);
-    for (int k = 0; k < dim; ++k) {
-      const T xs = sizeof(T) == 4 ? (T)srd_dev_float_pos(&gm, k, p[k]) : (T)p[k], vs = (T)v[k];
-      d.x[k][i] = xs;
-      d.v[k][i] = vs;
-      p[k] = (double)xs; /* bin what is stored (float rounding) */
-      v[k] = (double)vs;
+    bool plain = !AGG;
+    if (AGG) {
+      /* cells < 2^32: an idle lane gets a key no cell has */
+      const unsigned long long key = c >= 0 ? (unsigned long long)c : (0xffffffff00000000ull | (unsigned)lane);
+      const unsigned grp = __match_any_sync(0xffffffffu, key);
+      const unsigned leaders = __ballot_sync(0xffffffffu, lane == __ffs(grp) - 1);
+      if (__popc(leaders) > kAggMaxGroups) {
+        plain = true;
+      } else {
+        for (unsigned pending = leaders; pending; pending &= pending - 1) {
+          const int L = __ffs(pending) - 1;
+          const unsigned gmask = __shfl_sync(0xffffffffu, grp, L);
+          const bool in = (gmask >> lane) & 1u;
+          double t[4];
+          for (int k = 0; k < 3; ++k) t[k] = warp_allsum(in ? u[k] : 0.0);
+          t[3] = warp_allsum(in ? q : 0.0);
+          if (lane == L && c >= 0) {
+            srd_cell_sum *cs = sums + c;
+            for (int k = 0; k < dim; ++k) atomic_add_f64(&cs->S[k], t[k]);
+            atomic_add_f64(&cs->Q, t[3]);
+            atomicAdd(reinterpret_cast<unsigned long long *>(&cs->n), (unsigned long long)__popc(gmask));
+          }
+        }
+      }
     }
-    double dvx;
-    const int64_t c = srd_bin(&gm, s, p, &dvx);
-    v[0] += dvx;
-    double q = 0.0;
-    srd_cell_sum *cs = sums + c;
-    for (int k = 0; k < dim; ++k) {
-      const double u = v[k] - vref[3 * c + k];
-      atomic_add_f64(&cs->S[k], u);
-      q += u * u;
+    if (plain && c >= 0) {
+      srd_cell_sum *cs = sums + c;
+      for (int k = 0; k < dim; ++k) atomic_add_f64(&cs->S[k], u[k]);
+      atomic_add_f64(&cs->Q, q);
+      atomicAdd(reinterpret_cast<unsigned long long *>(&cs->n), 1ull);
     }
-    atomic_add_f64(&cs->Q, q);
-    atomicAdd(reinterpret_cast<unsigned long long *>(&cs->n), 1ull);
   }
   if (K.fx & (SRD_FX_ACCEL | SRD_FX_WALL | SRD_FX_LE)) flush_acc(a, SRD_ACC_FLUX, SRD_ACC_IMP + 1, acc);
 }
@@ -224,6 +268,7 @@ struct gran_cuda_srd {
   srd_dev_const K{};
   srd_geom last_gm{};       /* geometry and shift of the last binning: the sort key */
   double last_s[3] = {0, 0, 0};
+  int agg = 0;              /* cell sums: 0 one atomic per particle, 1 warp-aggregated */
 };
 
 namespace {
@@ -277,7 +322,10 @@ template <class T> int step_t(gran_cuda_srd *h, const srd_geom &gm, const double
   const gran_cuda_srd_params &p = h->p;
   const Soa<T> d = soa<T>(h);
   double *acc = reinterpret_cast<double *>(h->stat + kAcc);
-  k_stream_bin<T><<<h->grid_p, kThreads>>>(d, p.n, h->K, gm, s[0], s[1], s[2], h->vref, h->sums, acc);
+  if (h->agg)
+    k_stream_bin<T, true><<<h->grid_p, kThreads>>>(d, p.n, h->K, gm, s[0], s[1], s[2], h->vref, h->sums, acc);
+  else
+    k_stream_bin<T, false><<<h->grid_p, kThreads>>>(d, p.n, h->K, gm, s[0], s[1], s[2], h->vref, h->sums, acc);
   GRAN_CUDA_CALL(cudaGetLastError());
   k_cells<<<h->grid_c, kThreads>>>(h->ncell, h->K, gm, s[0], s[1], s[2], h->sums, h->vref, h->rng, h->rot, h->stat);
   GRAN_CUDA_CALL(cudaGetLastError());
@@ -459,6 +507,13 @@ GRAN_EXTERN int gran_cuda_srd_step(gran_cuda_srd *h, const srd_geom *gm, const d
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_cuda_srd_set_sums(gran_cuda_srd *h, int mode) {
+  GRAN_CHECK_PTR(h);
+  GRAN_CHECK(mode == 0 || mode == 1, GRAN_ERR_ARG, "mode = %d: must be 0 (atomics) or 1 (warp-aggregated)", mode);
+  h->agg = mode;
+  return GRAN_SUCCESS;
 }
 
 GRAN_EXTERN int gran_cuda_srd_sort(gran_cuda_srd *h) {

@@ -83,6 +83,10 @@ GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *p, const double
  * largest dt that would have avoided the clamp, and the device clamp statistics are reset. */
 GRAN_EXTERN int gran_cuda_srd_step(gran_cuda_srd *h, const srd_geom *gm, const double s[3],
                                    int64_t *n_clamped, double *dt_max);
+/* How pass 1 adds to the cell sums: 0 (default) one double atomicAdd per particle and component;
+ * 1 the particles of a warp that share a cell are summed with shuffles first and added once (fewer
+ * and less contended atomics when the particles are sorted by cell). Same results to rounding. */
+GRAN_EXTERN int gran_cuda_srd_set_sums(gran_cuda_srd *h, int mode);
 /* Sort the particles by the cell of the last binning (CUB radix sort + gather of each array). */
 GRAN_EXTERN int gran_cuda_srd_sort(gran_cuda_srd *h);
 /* Copy in (any pointer may be NULL to skip it): positions, velocities, reference velocities (3 per

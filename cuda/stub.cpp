@@ -39,6 +39,7 @@ GRAN_EXTERN int gran_cuda_srd_step(gran_cuda_srd *, const srd_geom *, const doub
   return GRAN_NO_CUDA_;
 }
 GRAN_EXTERN int gran_cuda_srd_sort(gran_cuda_srd *) { return GRAN_NO_CUDA_; }
+GRAN_EXTERN int gran_cuda_srd_set_sums(gran_cuda_srd *, int) { return GRAN_NO_CUDA_; }
 GRAN_EXTERN int gran_cuda_srd_upload(gran_cuda_srd *, const double *const[3], const double *const[3], const double *,
                                      const gran_rng *) {
   return GRAN_NO_CUDA_;

@@ -79,6 +79,14 @@ int main(void) {
       printf("%-6s %4lld^3 %12.4g %14.4g %10.0f %10.1f %7.1f%%   (sort %.3g s = %.2g steps)\n", prec ? "float" : "double",
              (long long)L, (double)p.n, ps, bytes_ps, 1e-9 * ps * bytes_ps, 100.0 * ps * bytes_ps / bw, ts,
              ts / (t / nsteps));
+      /* the same with warp-aggregated cell sums, right after a sort and 5 steps later (sorted as the
+         engine keeps it with sort_every) */
+      if (gran_cuda_srd_set_sums(h, 1) || gran_cuda_srd_sort(h) || gran_cuda_srd_time_steps(h, nsteps, &shift, &t))
+        return 1;
+      const double ps_agg = (double)p.n * nsteps / t;
+      printf("%-6s %4lld^3 %12s %14.4g %10.0f %10.1f %7.1f%%   (warp-aggregated cell sums, %d steps after a sort)\n",
+             prec ? "float" : "double", (long long)L, "", ps_agg, bytes_ps, 1e-9 * ps_agg * bytes_ps,
+             100.0 * ps_agg * bytes_ps / bw, nsteps);
       gran_cuda_srd_destroy(&h);
     }
   }
