@@ -627,28 +627,40 @@ GRAN_EXTERN int gran_cuda_srd_moments(const gran_cuda_srd *h, double mom[3], dou
   GRAN_CATCH
 }
 
+namespace {
+/* buffers and events of the timings, released on every path */
+struct BwRes {
+  void *a = nullptr, *b = nullptr;
+  cudaEvent_t e0 = nullptr, e1 = nullptr;
+  ~BwRes() {
+    if (e0) cudaEventDestroy(e0);
+    if (e1) cudaEventDestroy(e1);
+    cudaFree(a);
+    cudaFree(b);
+  }
+};
+}  // namespace
+
 GRAN_EXTERN int gran_cuda_srd_time_steps(gran_cuda_srd *h, int nsteps, gran_rng *shift_rng, double *seconds) {
   GRAN_CHECK_PTR(h);
   GRAN_CHECK_PTR(shift_rng);
   GRAN_CHECK_PTR(seconds);
   GRAN_CHECK(nsteps >= 1, GRAN_ERR_ARG, "nsteps = %d must be >= 1", nsteps);
   GRAN_TRY {
-    cudaEvent_t e0, e1;
-    GRAN_CUDA_CALL(cudaEventCreate(&e0));
-    GRAN_CUDA_CALL(cudaEventCreate(&e1));
-    GRAN_CUDA_CALL(cudaEventRecord(e0));
+    BwRes r;
+    GRAN_CUDA_CALL(cudaEventCreate(&r.e0));
+    GRAN_CUDA_CALL(cudaEventCreate(&r.e1));
+    GRAN_CUDA_CALL(cudaEventRecord(r.e0));
     int rc = GRAN_SUCCESS;
     for (int t = 0; t < nsteps && rc == GRAN_SUCCESS; ++t) {
       double s[3] = {0, 0, 0};
       for (int k = 0; k < h->p.geom.dim; ++k) s[k] = h->p.geom.a * srd_rng_uniform(shift_rng);
       rc = gran_cuda_srd_step(h, &h->p.geom, s, nullptr, nullptr);
     }
-    GRAN_CUDA_CALL(cudaEventRecord(e1));
-    GRAN_CUDA_CALL(cudaEventSynchronize(e1));
+    GRAN_CUDA_CALL(cudaEventRecord(r.e1));
+    GRAN_CUDA_CALL(cudaEventSynchronize(r.e1));
     float ms = 0.f;
-    GRAN_CUDA_CALL(cudaEventElapsedTime(&ms, e0, e1));
-    cudaEventDestroy(e0);
-    cudaEventDestroy(e1);
+    GRAN_CUDA_CALL(cudaEventElapsedTime(&ms, r.e0, r.e1));
     *seconds = 1e-3 * (double)ms;
     return rc;
   }
@@ -660,29 +672,20 @@ GRAN_EXTERN int gran_cuda_copy_bandwidth(size_t bytes, int repeats, double *byte
   GRAN_CHECK(bytes > 0 && repeats >= 1, GRAN_ERR_ARG, "bytes = %zu and repeats = %d must be positive", bytes, repeats);
   GRAN_TRY {
     GRAN_CUDA_REQUIRE_DEVICE();
-    void *a = nullptr, *b = nullptr;
-    GRAN_CUDA_CALL(cudaMalloc(&a, bytes));
-    cudaError_t e = cudaMalloc(&b, bytes);
-    if (e != cudaSuccess) {
-      cudaFree(a);
-      GRAN_CUDA_CALL(e);
-    }
-    k_touch<<<grid_for((int64_t)bytes), kThreads>>>(static_cast<char *>(a), bytes);
-    cudaEvent_t e0, e1;
-    cudaEventCreate(&e0);
-    cudaEventCreate(&e1);
-    cudaMemcpy(b, a, bytes, cudaMemcpyDeviceToDevice); /* warm-up */
-    cudaEventRecord(e0);
-    for (int r = 0; r < repeats; ++r) cudaMemcpy(b, a, bytes, cudaMemcpyDeviceToDevice);
-    cudaEventRecord(e1);
-    e = cudaEventSynchronize(e1);
+    BwRes r;
+    GRAN_CUDA_CALL(cudaMalloc(&r.a, bytes));
+    GRAN_CUDA_CALL(cudaMalloc(&r.b, bytes));
+    k_touch<<<grid_for((int64_t)bytes), kThreads>>>(static_cast<char *>(r.a), bytes);
+    GRAN_CUDA_CALL(cudaGetLastError());
+    GRAN_CUDA_CALL(cudaEventCreate(&r.e0));
+    GRAN_CUDA_CALL(cudaEventCreate(&r.e1));
+    GRAN_CUDA_CALL(cudaMemcpy(r.b, r.a, bytes, cudaMemcpyDeviceToDevice)); /* warm-up */
+    GRAN_CUDA_CALL(cudaEventRecord(r.e0));
+    for (int k = 0; k < repeats; ++k) GRAN_CUDA_CALL(cudaMemcpy(r.b, r.a, bytes, cudaMemcpyDeviceToDevice));
+    GRAN_CUDA_CALL(cudaEventRecord(r.e1));
+    GRAN_CUDA_CALL(cudaEventSynchronize(r.e1));
     float ms = 0.f;
-    if (e == cudaSuccess) e = cudaEventElapsedTime(&ms, e0, e1);
-    cudaEventDestroy(e0);
-    cudaEventDestroy(e1);
-    cudaFree(a);
-    cudaFree(b);
-    GRAN_CUDA_CALL(e);
+    GRAN_CUDA_CALL(cudaEventElapsedTime(&ms, r.e0, r.e1));
     *bytes_per_s = 2.0 * (double)bytes * repeats / (1e-3 * (double)ms);
     return GRAN_SUCCESS;
   }
