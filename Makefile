@@ -7,7 +7,7 @@
 #   make info    show the configuration                   make clean      remove build folders
 #   make help    this text                                make figures    seed figures as PNG (QUICK=1)
 # Override OPT (default -O3 -march=native: tuned for the building CPU), NVCC (empty disables CUDA),
-# CUDA_ARCH (default sm_90 + compute_90 PTX), BUILD (build folder), T (test pattern: T='t2*').
+# CUDA_ARCH / CUDA_PTX (default 80 90 100 120 / 120), BUILD (build folder), T (test pattern: T='t2*').
 # HELP_END
 
 BUILD   ?= build
