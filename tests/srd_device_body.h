@@ -147,6 +147,54 @@ static void sdb_body_conservation(int device, int dim, int precision, double eps
   sdb_free(&st);
 }
 
+/* Rotation invariants, cell by cell: one step with a negligible streaming (dt = 1e-12), so that
+ * every particle stays in its cell of the shifted grid; for eps = 1 each cell's momentum and kinetic
+ * energy are unchanged (1e-12 relative to the cell's scale), for eps < 1 the momentum is and the
+ * energy does not rise. Also the thermal speeds |v - V| of a cell: their sum of squares is kept. */
+static void sdb_body_cell_invariants(int device, int dim, double eps) {
+  sdb_state st;
+  sdb_init(&st, device, dim, dim == 3 ? 6 : 12, 10, 130.0, eps, 0, 99);
+  st.p.dt = 1e-12;
+  GRAN_ASSERT_OK(st.L->destroy(&st.dev)); /* again with the tiny dt */
+  GRAN_ASSERT_OK(st.L->create(&st.p, (const double *const *)st.x, (const double *const *)st.v, st.cell_rng, &st.dev));
+  const double s[3] = {0.37, 0.81, 0.05};
+  const int64_t nc = st.ncell;
+  double *m0 = calloc((size_t)nc * 4, sizeof(double)), *m1 = calloc((size_t)nc * 4, sizeof(double));
+  assert_true(m0 && m1);
+  for (int pass = 0; pass < 2; ++pass) {
+    double *m = pass ? m1 : m0;
+    for (int64_t i = 0; i < st.p.n; ++i) {
+      const double p[3] = {st.x[0][i], st.x[1][i], dim == 3 ? st.x[2][i] : 0.0};
+      double dvx;
+      const int64_t c = srd_bin(&st.p.geom, s, p, &dvx);
+      for (int k = 0; k < dim; ++k) {
+        m[4 * c + k] += st.v[k][i];
+        m[4 * c + 3] += 0.5 * st.v[k][i] * st.v[k][i];
+      }
+    }
+    if (pass == 0) {
+      GRAN_ASSERT_OK(st.L->step(st.dev, &st.p.geom, s, NULL, NULL));
+      GRAN_ASSERT_OK(st.L->download(st.dev, st.x, st.v, NULL, NULL));
+    }
+  }
+  int64_t cells_checked = 0;
+  for (int64_t c = 0; c < nc; ++c) {
+    const double scale = sqrt(2.0 * m0[4 * c + 3]) + 1e-300;
+    for (int k = 0; k < dim; ++k)
+      if (!(fabs(m1[4 * c + k] - m0[4 * c + k]) <= 1e-11 * scale))
+        fail_msg("%s cell %lld: momentum[%d] %.17g -> %.17g", st.L->name, (long long)c, k, m0[4 * c + k], m1[4 * c + k]);
+    if (eps == 1.0 && !(fabs(m1[4 * c + 3] - m0[4 * c + 3]) <= 1e-11 * m0[4 * c + 3]))
+      fail_msg("%s cell %lld: energy %.17g -> %.17g", st.L->name, (long long)c, m0[4 * c + 3], m1[4 * c + 3]);
+    if (eps < 1.0 && !(m1[4 * c + 3] <= m0[4 * c + 3] * (1 + 1e-12)))
+      fail_msg("%s cell %lld: energy rose %.17g -> %.17g", st.L->name, (long long)c, m0[4 * c + 3], m1[4 * c + 3]);
+    cells_checked += m0[4 * c + 3] > 0;
+  }
+  assert_true(cells_checked > nc / 2);
+  free(m0);
+  free(m1);
+  sdb_free(&st);
+}
+
 /* ---- engine level --------------------------------------------------------------------------- */
 
 enum { SDE_PERIODIC, SDE_DISSIP, SDE_THERMO, SDE_NOSLIP, SDE_SLIP, SDE_SHEAR, SDE_BODYFORCE, SDE_NSCENES };
@@ -450,6 +498,41 @@ static void sde_body_viscosity(int device, int precision, int dim, int64_t L, do
          precision ? "float" : "double", dim, (long long)L, alpha, mean, se, th, 100 * (mean / th - 1));
   if (!(fabs(mean - th) <= 4 * se + 0.03 * th)) fail_msg("viscosity %.5f +- %.5f against %.5f", mean, se, th);
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
+}
+
+/* S(k) of an ideal SRD gas (eps = 1, dt = 1): every shell within 5 standard errors of 1 after 20
+ * steps; nsamp independent runs (seeds), so that the standard error is one. */
+static void sde_body_sk_ideal(int device, int precision, int dim, int64_t L, int nsamp) {
+  enum { NB = 6 };
+  double k[NB], sk[NB], m1[NB] = {0}, m2[NB] = {0};
+  int64_t cnt[NB];
+  for (int r = 0; r < nsamp; ++r) {
+    gran_srd_options o;
+    sde_options(SDE_PERIODIC, &o);
+    o.dim = dim;
+    o.cells[0] = o.cells[1] = o.cells[2] = L;
+    o.dt = 1.0;
+    o.seed = 100 + (uint64_t)r;
+    o.device = device;
+    o.precision = precision;
+    gran_srd *s = NULL;
+    GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+    GRAN_ASSERT_OK(gran_srd_advance(s, 20));
+    GRAN_ASSERT_OK(gran_srd_structure_factor(s, NB, k, sk, cnt));
+    for (int b = 0; b < NB; ++b) {
+      m1[b] += sk[b];
+      m2[b] += sk[b] * sk[b];
+    }
+    GRAN_ASSERT_OK(gran_srd_destroy(&s));
+  }
+  for (int b = 0; b < NB; ++b) {
+    const double mean = m1[b] / nsamp, se = sqrt(fmax(m2[b] / nsamp - mean * mean, 0.0) / (nsamp - 1));
+    if (!(fabs(mean - 1.0) <= 5 * se + 1e-3))
+      fail_msg("S(k = %.3g) = %.4f +- %.4f, not 1 (%d-D, %lld cells/axis)", k[b], mean, se, dim, (long long)L);
+    if (b == 0 || b == NB - 1)
+      printf("  S(k) ideal gas (%d-D %lld^d, %s, %d runs): S(%.3g) = %.4f +- %.4f\n", dim, (long long)L,
+             precision ? "float" : "double", nsamp, k[b], mean, se);
+  }
 }
 
 /* A cold gas in fast flow: T0 = 1e-8 around a flow of |V| ~ 1.1 (theta / V^2 ~ 1e-8), standard SRD.

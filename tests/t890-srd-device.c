@@ -160,6 +160,9 @@ static void test_conservation_reference(void **state) {
   sdb_body_conservation(R, 3, 0, 0.9);
   sdb_body_conservation(R, 3, 1, 1.0);
   sdb_body_conservation(R, 2, 1, 0.9);
+  sdb_body_cell_invariants(R, 3, 1.0);
+  sdb_body_cell_invariants(R, 2, 1.0);
+  sdb_body_cell_invariants(R, 3, 0.8);
 }
 
 /* engine level: every scene, CPU engine versus the reference (to rounding: 1e-9 absolute on the
@@ -211,6 +214,8 @@ static void test_physics_reference(void **state) {
   sde_body_viscosity(R, 1, 3, 8, 130, 8, 50);
   sde_body_cold_flow(R, 0);
   sde_body_cold_flow(R, 1);
+  sde_body_sk_ideal(R, 0, 3, 8, 12);
+  sde_body_sk_ideal(R, 1, 2, 32, 12);
 }
 
 int main(void) {

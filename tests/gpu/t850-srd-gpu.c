@@ -28,6 +28,9 @@ static void test_conservation_gpu(void **state) {
   sdb_body_conservation(G, 3, 0, 0.9);
   sdb_body_conservation(G, 3, 1, 1.0); /* float storage */
   sdb_body_conservation(G, 2, 1, 1.0);
+  sdb_body_cell_invariants(G, 3, 1.0);
+  sdb_body_cell_invariants(G, 2, 1.0);
+  sdb_body_cell_invariants(G, 3, 0.8);
 }
 
 static double temperature(const sdb_state *st) {
@@ -192,6 +195,9 @@ static void test_physics_gpu(void **state) {
   sde_body_viscosity(G, 1, 3, 24, 130, 10, 100);
   sde_body_cold_flow(G, 0);
   sde_body_cold_flow(G, 1);
+  sde_body_sk_ideal(G, 0, 3, 32, 20);
+  sde_body_sk_ideal(G, 1, 3, 64, 20);
+  sde_body_sk_ideal(G, 1, 2, 256, 20);
 }
 
 static int setup(void **state) {
