@@ -398,7 +398,7 @@ static void sde_body_devices(int scene, int da, int db, double xtol, double otol
   if (!(d1 <= xtol && d2 <= xtol)) fail_msg("%s: resumed runs differ by %.3g / %.3g", name, d1, d2);
   worst = d1 > worst ? d1 : worst;
   worst = d2 > worst ? d2 : worst;
-  printf("  %-44s %s vs %s: N = %lld, largest particle difference %.2g (30 steps), clamps %lld\n", name,
+  printf("  %-44s %s vs %s: N = %lld, largest particle difference %.2g (27 steps), clamps %lld\n", name,
          da == 0 ? "cpu" : da == 1 ? "cuda" : "reference", db == 0 ? "cpu" : db == 1 ? "cuda" : "reference",
          (long long)sde_n(a), worst, (long long)clamps);
   GRAN_ASSERT_OK(gran_srd_destroy(&a));
