@@ -7,7 +7,7 @@
 #   make info    show the configuration                   make clean      remove build folders
 #   make help    this text                                make figures    seed figures as PNG (QUICK=1)
 # Override OPT (default -O3 -march=native: tuned for the building CPU), NVCC (empty disables CUDA),
-# CUDA_ARCH (default sm_90 + compute_90 PTX), BUILD (build folder), T (test pattern: T='t2*').
+# CUDA_ARCH / CUDA_PTX (default 80 90 100 120 / 120), BUILD (build folder), T (test pattern: T='t2*').
 # HELP_END
 
 BUILD   ?= build
@@ -29,6 +29,8 @@ CUDA_ARCH ?= 80 90 100 120
 CUDA_PTX  ?= 120
 CUDA_GENCODE := $(foreach a,$(CUDA_ARCH),-gencode arch=compute_$(a),code=sm_$(a)) \
                 $(foreach a,$(CUDA_PTX),-gencode arch=compute_$(a),code=compute_$(a))
+# cuFFT (S(k) of GSRD runs on the GPU): the toolkit ships it as a shared library only.
+CUDA_FFT_LIBS = -lcufft -Wl,-rpath,$(CUDA_HOME)/lib64
 # ---- end CUDA block ----
 
 PKGS     := gsl fftw3 hdf5 cmocka zlib
@@ -75,7 +77,7 @@ CXXFLAGS   := -std=c++17 $(OPT) $(SAN) $(WARN) -fPIC -fvisibility=hidden -MMD -M
 CFLAGS     := -std=c99 $(OPT) $(SAN) $(WARN) -MMD -MP
 FFLAGS     := -std=f2008 $(OPT) $(SAN) -Wall -Wextra -Wno-compare-reals -J$(BUILD)/mod -I$(BUILD)/mod
 NVCCFLAGS  := -std=c++17 -O3 $(CUDA_GENCODE) -Xcompiler -fPIC,-fvisibility=hidden,-Wall,-Wextra
-CUDA_LIBS  := $(if $(NVCC),-L$(CUDA_HOME)/lib64 -lcudart_static -ldl -lrt -lpthread,)
+CUDA_LIBS  := $(if $(NVCC),-L$(CUDA_HOME)/lib64 $(CUDA_FFT_LIBS) -lcudart_static -ldl -lrt -lpthread,)
 LDLIBS      = $(PKG_LIBS) $(CUDA_LIBS) -lstdc++ -lm -lpthread
 # OpenMP: the replicas of the run driver (src/io/run.cpp) and the GSRD engine (src/srd/).
 # `make OMP_FLAG=` builds without (one thread).

@@ -1027,6 +1027,9 @@ module granary
     integer(c_int64_t) :: seed = 1             ! uint64_t in C
     integer(c_int32_t) :: sort_every = 50
     integer(c_int32_t) :: threads = 0
+    ! ---- device (CUDA backend) ----
+    integer(c_int32_t) :: device = 0           ! GRAN_SRD_DEVICE_*
+    integer(c_int32_t) :: precision = 0        ! particle storage on the device: 0 double, 1 float
   end type gran_srd_options
 
   type, bind(C), public :: gran_srd_obs
@@ -1117,6 +1120,25 @@ module granary
     end function c_gran_srd_fields
   end interface
   ! ---- end GSRD cell fields ----
+  ! ---- GSRD devices (CUDA backend; src/srd/device_cuda.cpp) ----
+  integer(c_int32_t), parameter, public :: GRAN_SRD_DEVICE_CPU = 0, GRAN_SRD_DEVICE_CUDA = 1
+  integer(c_int32_t), parameter, public :: GRAN_SRD_DEVICE_AUTO = 2, GRAN_SRD_DEVICE_REFERENCE = 3
+  public :: gran_srd_set_device, gran_srd_get_device
+  interface
+    function c_gran_srd_set_device(srd, device) bind(C, name='gran_srd_set_device') result(ierr)
+      import :: c_int, c_ptr, c_int32_t
+      type(c_ptr), value :: srd
+      integer(c_int32_t), value :: device
+      integer(c_int) :: ierr
+    end function c_gran_srd_set_device
+    function c_gran_srd_get_device(srd, device) bind(C, name='gran_srd_get_device') result(ierr)
+      import :: c_int, c_ptr, c_int32_t
+      type(c_ptr), value :: srd
+      integer(c_int32_t), intent(out) :: device
+      integer(c_int) :: ierr
+    end function c_gran_srd_get_device
+  end interface
+  ! ---- end GSRD devices ----
 
 contains
 
@@ -2864,4 +2886,25 @@ contains
     call gran_check(c_gran_srd_fields(srd, pc, pv, pt), ierr)
   end subroutine gran_srd_fields
   ! ---- end GSRD wrappers ----
+
+  ! ---- GSRD devices wrappers (CUDA backend) ----
+  !> Move a GSRD run to another device (GRAN_SRD_DEVICE_*), state and RNG streams included.
+  subroutine gran_srd_set_device(srd, device, ierr)
+    type(c_ptr), intent(in) :: srd
+    integer, intent(in) :: device
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_srd_set_device(srd, int(device, c_int32_t)), ierr)
+  end subroutine gran_srd_set_device
+
+  !> The device a GSRD run is on now (GRAN_SRD_DEVICE_CPU, _CUDA or _REFERENCE).
+  subroutine gran_srd_get_device(srd, device, ierr)
+    type(c_ptr), intent(in) :: srd
+    integer, intent(out) :: device
+    integer, intent(out), optional :: ierr
+    integer(c_int32_t) :: d
+    d = -1
+    call gran_check(c_gran_srd_get_device(srd, d), ierr)
+    device = int(d)
+  end subroutine gran_srd_get_device
+  ! ---- end GSRD devices wrappers ----
 end module granary

@@ -4,6 +4,7 @@
 
 #include "granary_impl.h"
 #include "srd/srd_kernels.h"
+#include "srd/device_cuda.h" /* device hook (owner: CUDA backend) */
 
 #include <vector>
 
@@ -40,6 +41,8 @@ struct gran_srd {
   double wall_impulse[3] = {0, 0, 0};
   /* block partial sums (deterministic reductions independent of thread count) */
   std::vector<double> part;
+  /* ---- device hook (owner: CUDA backend, src/srd/device_cuda.cpp): NULL on the CPU engine ---- */
+  gran_srd_dev_holder dev;
 };
 
 #define SRD_BLOCK 4096
