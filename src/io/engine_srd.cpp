@@ -23,7 +23,6 @@
 #include <unistd.h>
 
 #include "io/engine.h"
-#include "srd/device_cuda.h"
 #include "srd/fields.h"
 
 namespace {
@@ -151,15 +150,9 @@ class SrdEngine : public gran_engine {
   ~SrdEngine() override { gran_srd_destroy(&srd_); }
   const char *type() const override { return "srd"; }
 
-  /* the device: "cuda" needs a GPU; "auto" without one runs on the CPU with a warning */
+  /* the device is gran_srd_create's: "cuda" without a GPU fails there (GRAN_ERR_UNSUPPORTED, naming
+   * why), "auto" falls back to the CPU engine with a warning */
   int prepare() {
-    int use_cuda = 0;
-    GRAN_CALL(gran_srd_device_resolve(s_->srd.device.c_str(), &use_cuda));
-    GRAN_CHECK(!use_cuda || s_->srd.device == "auto", GRAN_ERR_UNSUPPORTED,
-               "scene key 'engine.device' = \"cuda\": the run driver runs GSRD scenes on the CPU so far (the CUDA "
-               "launchers are not yet behind gran_srd_create); use device = \"cpu\" or \"auto\"");
-    if (use_cuda)
-      gran_warning_add("device = \"auto\": the run driver runs GSRD scenes on the CPU so far");
     cells_ = 1;
     for (int k = 0; k < o_.dim; ++k) cells_ *= o_.cells[k];
     N_ = (int64_t)std::floor(o_.n0 * (double)cells_ + 0.5);
@@ -347,7 +340,11 @@ class SrdEngine : public gran_engine {
       GRAN_CALL(gran_h5::attr_double(g.id, "shear_rate", o_.shear_rate, file));
       GRAN_CALL(gran_h5::attr_int64(g.id, "wall_axis", o_.wall_axis, file));
       GRAN_CALL(gran_h5::attr_int64(g.id, "steps", q.steps, file));
-      GRAN_CALL(gran_h5::attr_string(g.id, "device", "cpu", file));
+      int32_t dev = GRAN_SRD_DEVICE_CPU;
+      if (srd_) GRAN_CALL(gran_srd_get_device(srd_, &dev));
+      GRAN_CALL(gran_h5::attr_string(g.id, "device",
+                                     dev == GRAN_SRD_DEVICE_CUDA ? "cuda" : dev == GRAN_SRD_DEVICE_REFERENCE ? "reference" : "cpu",
+                                     file));
       std::vector<double> acc = {o_.accel[0], o_.accel[1], o_.accel[2]};
       GRAN_CALL(gran_h5::write_double(g.id, "accel", {3}, acc.data(), file));
       GRAN_CALL(gran_describe_(g.id, "accel", "length/time^2", "uniform acceleration: gravity + body force per mass", file));

@@ -506,7 +506,7 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   /* ---- [engine] ---- */
   Tab en = top.sub("engine");
   en.set_known({"type", "dimension", "cells", "box", "a", "n0", "particles_per_cell", "dt", "alpha", "eps", "sigma",
-                "T0", "steps", "t_end", "seed", "sort_every", "threads", "device", "thermostat", "replicas",
+                "T0", "steps", "t_end", "seed", "sort_every", "threads", "device", "precision", "thermostat", "replicas",
                 "keep_replicas", "max_memory_gb"});
   (void)en.string("type", "srd");
   if (en.has("max_memory_gb")) require(en.number("max_memory_gb") > 0, en, "max_memory_gb", "must be > 0 (GB of memory the run may use)");
@@ -590,8 +590,16 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   o.threads = (int32_t)th;
   o.thermostat = en.boolean("thermostat", false) ? 1 : 0;
   s.srd.device = en.string("device", "cpu");
-  if (s.srd.device != "cpu" && s.srd.device != "cuda" && s.srd.device != "auto")
-    en.fail("device", "expected \"cpu\", \"cuda\" or \"auto\", got \"" + s.srd.device + "\"");
+  if (s.srd.device != "cpu" && s.srd.device != "cuda" && s.srd.device != "auto" && s.srd.device != "reference")
+    en.fail("device", "expected \"cpu\", \"cuda\", \"auto\" or \"reference\", got \"" + s.srd.device + "\"");
+  o.device = s.srd.device == "cuda" ? GRAN_SRD_DEVICE_CUDA
+             : s.srd.device == "auto" ? GRAN_SRD_DEVICE_AUTO
+             : s.srd.device == "reference" ? GRAN_SRD_DEVICE_REFERENCE
+                                          : GRAN_SRD_DEVICE_CPU;
+  const std::string prec = en.string("precision", "double");
+  if (prec != "double" && prec != "float")
+    en.fail("precision", "expected \"double\" or \"float\" (particle storage on a device), got \"" + prec + "\"");
+  o.precision = prec == "float" ? 1 : 0;
   s.replicas = en.count("replicas", 1);
   require(s.replicas >= 1 && s.replicas <= 1000000, en, "replicas", "must be in 1..1000000");
   s.keep_replicas = en.boolean("keep_replicas", false);

@@ -18,6 +18,7 @@ int64_t gran_srd_steps_(const gran_srd *srd) { return srd->step; }
  *  thread count. A particle on the upper wall (x = L a) counts in the last layer. */
 GRAN_EXTERN int gran_srd_fields(gran_srd *srd, double *count, double *velocity, double *temperature) {
   GRAN_CHECK_PTR(srd);
+  if (srd->dev.p) GRAN_CALL(gran_srd_dev_sync(srd, 0)); /* a run on a device: bring the host copy up to date */
   GRAN_TRY {
     const gran_srd *s = srd;
     const int d = s->opt.dim;
