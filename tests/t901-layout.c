@@ -24,6 +24,8 @@ static void test_struct_sizes(void **state) {
   EXPECT_SIZE(gran_run_result);
   EXPECT_SIZE(gran_srd_options); /* GSRD */
   EXPECT_SIZE(gran_srd_obs);     /* GSRD */
+  EXPECT_SIZE(gran_dsmc_cell_options); /* cell selector */
+  assert_int_equal(sizeof(gran_dsmc_cell_options), 64);
   /* the plain structs have the documented sizes (Fortran mirrors rely on them) */
   assert_int_equal(sizeof(gran_rng), 32);
   assert_int_equal(sizeof(gran_segtree), 32);
@@ -53,6 +55,9 @@ static void test_constants(void **state) {
   EXPECT_CONST(GRAN_OBSERVE_DISPLACEMENT);
   EXPECT_CONST(GRAN_OBSERVE_COLLISION_COUNTS);
   EXPECT_CONST(GRAN_OBSERVE_TRAJECTORIES);
+  EXPECT_CONST(GRAN_SELECTOR_CELL); /* cell selector */
+  EXPECT_CONST(GRAN_PLACE_RANDOM);
+  EXPECT_CONST(GRAN_PLACE_COLLISION);
 }
 
 static void test_errors(void **state) {

@@ -26,6 +26,7 @@ const AbiEntry kAbi[] = {
     GRAN_ABI_SIZE(gran_run_result)
     GRAN_ABI_SIZE(gran_srd_options) /* GSRD */
     GRAN_ABI_SIZE(gran_srd_obs)     /* GSRD */
+    GRAN_ABI_SIZE(gran_dsmc_cell_options) /* cell selector */
     /* version */
     GRAN_ABI_CONST(GRAN_VERSION_MAJOR)
     GRAN_ABI_CONST(GRAN_VERSION_MINOR)
@@ -50,6 +51,10 @@ const AbiEntry kAbi[] = {
     GRAN_ABI_CONST(GRAN_OBSERVE_DISPLACEMENT)
     GRAN_ABI_CONST(GRAN_OBSERVE_COLLISION_COUNTS)
     GRAN_ABI_CONST(GRAN_OBSERVE_TRAJECTORIES)
+    /* cell selector */
+    GRAN_ABI_CONST(GRAN_SELECTOR_CELL)
+    GRAN_ABI_CONST(GRAN_PLACE_RANDOM)
+    GRAN_ABI_CONST(GRAN_PLACE_COLLISION)
 };
 
 #undef GRAN_ABI_CONST

@@ -2,6 +2,7 @@
  * momentum, collision counts, trajectories. Displacements are evaluated lazily (Eq. 45):
  * R_j(t) = r_j + v_j (t - t_last_j), without modifying the state. */
 #include "dsmc_impl.h"
+#include "cell_impl.h"
 
 namespace gran {
 
@@ -147,6 +148,9 @@ GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_
     }
     if (e_initial) *e_initial = sim->e_initial;
     if (e_dissipated) *e_dissipated = sim->e_diss + sim->e_diss_c;
+    if (e_dissipated && sim->cell) /* cell selector: merges, breakups, minus the thermostat's heat */
+      *e_dissipated += (sim->cell->e_merge + sim->cell->e_merge_c) + (sim->cell->e_break + sim->cell->e_break_c) -
+                       (sim->cell->e_heat + sim->cell->e_heat_c);
     return GRAN_SUCCESS;
   }
   GRAN_CATCH

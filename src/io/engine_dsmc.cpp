@@ -64,6 +64,9 @@ class DsmcEngine : public gran_engine {
     gran_dsmc_options opt;
     GRAN_CALL(gran_scene_dsmc_options(s_, &opt, nullptr, nullptr));
     opt.seed = seed;
+    if (s_->selector == GRAN_SELECTOR_CELL) /* cell selector */
+      return gran_dsmc_create_cell(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt,
+                                   &s_->cell, &sim_);
     return gran_dsmc_create(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt, &sim_);
   }
   /* particles x (28 B state, +32 B displacement; gran_particles_memory) plus the engine's trees and
@@ -74,7 +77,8 @@ class DsmcEngine : public gran_engine {
     GRAN_CALL(gran_scene_dsmc_options(s_, &opt, c.data(), nullptr));
     double N = 0;
     for (int64_t x : c) N += (double)x;
-    const double per = 28.0 + 24.0 + (s_->obs_msd ? 32.0 : 0.0);
+    const double per = 28.0 + 24.0 + (s_->obs_msd ? 32.0 : 0.0) +
+                       (s_->selector == GRAN_SELECTOR_CELL ? 36.0 : 0.0); /* cell: positions, cell lists */
     double b = N * per + (double)s_->nspecies * (double)s_->nspecies * 64.0;
     if (s_->obs_tamsd) b += (double)s_->nspecies * (double)s_->tamsd_tracers * (double)s_->tamsd_samples * 24.0;
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
@@ -167,7 +171,16 @@ class DsmcEngine : public gran_engine {
     const gran_scene *s = s_;
     const int64_t M = s->nspecies, nt = nrec;
     const bool complete = nrec == (int64_t)s->times.size();
-    GRAN_CALL(gran_h5::attr_string(f, "selector", s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", file));
+    GRAN_CALL(gran_h5::attr_string(f, "selector",
+                                   s->selector == GRAN_SELECTOR_BIRD   ? "bird"
+                                   : s->selector == GRAN_SELECTOR_CELL ? "cell"
+                                                                       : "lowrank",
+                                   file));
+    if (s->selector == GRAN_SELECTOR_CELL) { /* cell selector: its options as attributes */
+      GRAN_CALL(gran_h5::attr_int64(f, "cells", s->cell.cells, file));
+      GRAN_CALL(gran_h5::attr_double(f, "dt", s->cell.dt, file));
+      GRAN_CALL(gran_h5::attr_double(f, "fn", s->cell.fn, file));
+    }
     GRAN_CALL(gran_h5::attr_int64(f, "nspecies", M, file));
     {
       H5Group g;

@@ -1,0 +1,446 @@
+/* cell.cpp - the time-step/cell selector of the DSMC engine (GRAN_SELECTOR_CELL, seed 002 steps
+ * 1-13): positions in a cubic periodic box of nc^3 cells; every step dt
+ *   1. stream r += v dt (wrapped into [0, L)), bin the particles into cells (stable counting
+ *      sort), and find per cell the largest speed and diameter;
+ *   2. per cell, N_p = F_N N_c^2 (sigma g)_max dt / (2 V_c) + the fraction carried from the last
+ *      step (Eq. 8) candidate pairs (j, l) drawn with replacement (j == l: no pair), accepted with
+ *      sigma_jl g / (sigma g)_max (Eq. 7), sigma = pi sigma_jl^2 g2; the majorant
+ *      (sigma g)_max = pi sigma_max,c^2 g2_max 2 max_c|v| bounds every pair of the cell and is
+ *      raised after a collision that speeds a particle up (the candidates still to come scale with
+ *      it); a collision draws e from its |g.e| law (as the event selectors' default rule; the
+ *      same statistics as Eq. 7 with e uniform and |g.e|) and uses the mixture's restitution;
+ *   3. (agg.cpp) merges and breakups; (thermostat) white-noise kicks.
+ * Displacements for the MSD follow the event engine's lazy form R = r + v (t - t_start): a
+ * collision at the step time t changes r by -dv t, so R is the unwrapped position minus the start. */
+#include "cell_impl.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+
+namespace gran {
+
+namespace {
+
+const double kPi = 3.14159265358979323846;
+const int64_t kMaxCells = INT64_C(1) << 30;
+
+/* next word of the engine's buffered streams */
+struct Words {
+  DsmcRng *r;
+  inline uint64_t next() {
+    if (r->pos >= kRngBuf) dsmc_rng_refill(r);
+    return r->buf[r->pos++];
+  }
+  inline double uniform() { return u64_uniform(next()); }
+  inline int64_t below(int64_t n) { return u64_below(next(), n); }
+  inline void unit3(double e[3]) { /* Marsaglia 1972 */
+    double a, b, q;
+    do {
+      a = 2.0 * uniform() - 1.0;
+      b = 2.0 * uniform() - 1.0;
+      q = a * a + b * b;
+    } while (q >= 1.0);
+    const double f = 2.0 * std::sqrt(1.0 - q);
+    e[0] = a * f;
+    e[1] = b * f;
+    e[2] = 1.0 - 2.0 * q;
+  }
+  inline double normal() { /* Box-Muller, one of the pair */
+    const double u1 = u64_uniform_pos(next()), u2 = uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+  }
+};
+
+/* position into [0, L) */
+inline double wrap(double x, double L, double invL) {
+  if (x >= 0 && x < L) return x;
+  x -= L * std::floor(x * invL);
+  if (x >= L || x < 0) x = 0.0; /* rounding of x just below 0 */
+  return x;
+}
+
+}  // namespace
+
+/* The largest F_N (sigma g)_max dt / V_c any cell can have before the next step (global speed bound). */
+static double cell_pmax_bound(const gran_dsmc *s) {
+  const DsmcCell *c = s->cell;
+  double smax = s->sigma_max;
+  if (c->agg) smax = cell_sigma(c, c->kmax);
+  return c->pfac * kPi * s->g2max * smax * smax * 2.0 * std::sqrt(c->vmax2);
+}
+
+static int check_dt(const gran_dsmc *s, const char *when) {
+  const DsmcCell *c = s->cell;
+  const double p = cell_pmax_bound(s);
+  GRAN_CHECK(std::isfinite(p) && p <= 2.0, GRAN_ERR_DOMAIN,
+             "option 'dt' = %g is too large %s: F_N (sigma g)_max dt / V_c = %g > 2, so the expected candidate pairs "
+             "of a cell exceed N_c^2 (use dt <= %g, or more cells)",
+             c->o.dt, when, p, c->o.dt * 2.0 / p);
+  return GRAN_SUCCESS;
+}
+
+int dsmc_cell_check_options(const gran_dsmc_cell_options *o) {
+  GRAN_CHECK_PTR(o);
+  GRAN_CHECK(o->cells >= 1 && o->cells <= 1024 && o->cells * o->cells * o->cells <= kMaxCells, GRAN_ERR_ARG,
+             "cell option 'cells' = " GRAN_I64_FMT " must be in [1, 1024] cells per side", o->cells);
+  GRAN_CHECK(std::isfinite(o->dt) && o->dt > 0, GRAN_ERR_ARG, "cell option 'dt' = %g must be finite and > 0", o->dt);
+  GRAN_CHECK(std::isfinite(o->fn) && o->fn > 0, GRAN_ERR_ARG, "cell option 'fn' = %g must be finite and > 0", o->fn);
+  GRAN_CHECK(std::isfinite(o->e_agg) && o->e_agg >= 0, GRAN_ERR_ARG, "cell option 'e_agg' = %g must be finite and >= 0",
+             o->e_agg);
+  GRAN_CHECK(!std::isnan(o->e_frag) && o->e_frag >= 0, GRAN_ERR_ARG,
+             "cell option 'e_frag' = %g must be >= 0 (INFINITY: no fragmentation)", o->e_frag);
+  GRAN_CHECK(std::isfinite(o->eps_f) && o->eps_f >= 0 && o->eps_f <= 1, GRAN_ERR_ARG,
+             "cell option 'eps_f' = %g must be in [0, 1]", o->eps_f);
+  GRAN_CHECK(std::isfinite(o->heat_rate) && o->heat_rate >= 0, GRAN_ERR_ARG,
+             "cell option 'heat_rate' = %g must be finite and >= 0", o->heat_rate);
+  GRAN_CHECK(o->placement == GRAN_PLACE_RANDOM || o->placement == GRAN_PLACE_COLLISION, GRAN_ERR_ARG,
+             "cell option 'placement' = %d is not a gran_cell_placement", (int)o->placement);
+  return GRAN_SUCCESS;
+}
+
+/* Geometry and arrays from the options; positions are allocated, not drawn. */
+int dsmc_cell_setup(gran_dsmc *s, const gran_dsmc_cell_options *o) {
+  GRAN_CALL(dsmc_cell_check_options(o));
+  GRAN_CHECK(!s->has_tracers, GRAN_ERR_ARG,
+             "the cell selector has no tracers: every species needs n_k > 0 in the mixture");
+  DsmcCell *c = new DsmcCell();
+  s->cell = c;
+  c->o = *o;
+  c->nc = o->cells;
+  c->C = o->cells * o->cells * o->cells;
+  c->L = std::cbrt(o->fn * s->volume);
+  c->inv_a = (double)c->nc / c->L;
+  c->pfac = o->dt * (double)c->C / s->volume;
+  GRAN_CHECK(std::isfinite(c->L) && c->L > 0 && std::isfinite(c->inv_a) && std::isfinite(c->pfac), GRAN_ERR_ARG,
+             "the box (volume %g x F_N %g) is not finite", s->volume, o->fn);
+  c->rem.assign((size_t)c->C, 0.0);
+  c->start.assign((size_t)c->C + 1, 0);
+  c->cvm2.assign((size_t)c->C, 0.0);
+  c->csg.assign((size_t)c->C, 0.0);
+  c->fillpos.assign((size_t)c->C, 0);
+  c->list.resize((size_t)s->N);
+  c->cellof.resize((size_t)s->N);
+  if (s->N > 0) {
+    s->p.x = gran_alloc<double>(3 * s->p.capacity);
+    GRAN_CHECK(s->p.x != nullptr, GRAN_ERR_NOMEM, "cannot allocate positions of " GRAN_I64_FMT " particles", s->N);
+  }
+  s->p.flags |= GRAN_PARTICLES_POSITION;
+  return GRAN_SUCCESS;
+}
+
+int dsmc_cell_init(gran_dsmc *s, const gran_dsmc_cell_options *o) {
+  GRAN_CALL(dsmc_cell_setup(s, o));
+  DsmcCell *c = s->cell;
+  /* uniform positions from the scalar stream (after the velocities) */
+  for (int64_t j = 0; j < 3 * s->N; j++) s->p.x[j] = wrap(rng_uniform(&s->rng) * c->L, c->L, 1.0 / c->L);
+  double m2 = 0;
+  for (int64_t j = 0; j < s->N; j++) {
+    const double *v = s->p.v + 3 * j;
+    m2 = std::fmax(m2, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  c->vmax2 = m2;
+  GRAN_CALL(check_dt(s, "for the initial speeds"));
+  return GRAN_SUCCESS;
+}
+
+void dsmc_cell_free(gran_dsmc *s) {
+  delete s->cell;
+  s->cell = nullptr;
+}
+
+namespace {
+
+/* One step: stream, bin, collide (time t = (step+1) dt after streaming). */
+/* White-noise thermostat (after the collisions of a step at time t): every velocity component of
+ * a particle of mass m gets a Gaussian kick of variance heat_rate dt / m; then the mass-weighted
+ * mean kick is subtracted from every particle (the total momentum is conserved, the heating per
+ * particle is heat_rate (1 - m / sum m)). The energy added goes into the ledger (e_heat). */
+template <bool kDisp>
+void cell_heat(gran_dsmc *s, double t) {
+  DsmcCell *const c = s->cell;
+  Words w{&s->vrng};
+  const int64_t N = s->N;
+  double *const v = s->p.v;
+  double *const R = kDisp ? s->p.r : nullptr;
+  const int32_t *const sp = s->p.species;
+  const double *const mass = s->mix.m.data();
+  const double hd = c->o.heat_rate * c->o.dt;
+  double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0, mtc = 0, de = 0, dec = 0;
+  for (int64_t j = 0; j < N; j++) {
+    const double m = mass[sp[j]], sd = std::sqrt(hd / m);
+    double *const vj = v + 3 * j;
+    for (int d = 0; d < 3; d++) {
+      const double dv = sd * w.normal();
+      neumaier_add(de, dec, 0.5 * m * dv * (2.0 * vj[d] + dv));
+      vj[d] += dv;
+      neumaier_add(P[d], Pc[d], m * dv);
+      if (kDisp) R[3 * j + d] -= dv * t;
+    }
+    neumaier_add(mt, mtc, m);
+  }
+  const double u[3] = {(P[0] + Pc[0]) / (mt + mtc), (P[1] + Pc[1]) / (mt + mtc), (P[2] + Pc[2]) / (mt + mtc)};
+  double vm2 = c->vmax2;
+  double *const b2 = s->bound2.data();
+  for (int64_t j = 0; j < N; j++) {
+    const double m = mass[sp[j]];
+    double *const vj = v + 3 * j;
+    neumaier_add(de, dec, m * (u[0] * (0.5 * u[0] - vj[0]) + u[1] * (0.5 * u[1] - vj[1]) + u[2] * (0.5 * u[2] - vj[2])));
+    for (int d = 0; d < 3; d++) {
+      vj[d] -= u[d];
+      if (kDisp) R[3 * j + d] += u[d] * t;
+    }
+    const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+    vm2 = std::fmax(vm2, q2);
+    b2[sp[j]] = std::fmax(b2[sp[j]], q2);
+  }
+  c->vmax2 = vm2;
+  for (int64_t k = 0; k < s->M; k++) s->bound[(size_t)k] = std::sqrt(b2[k]);
+  neumaier_add(c->e_heat, c->e_heat_c, de + dec);
+}
+
+template <int kRest, bool kDisp, bool kCount>
+void cell_step(gran_dsmc *s) {
+  DsmcCell *const c = s->cell;
+  const int64_t N = s->N, C = c->C, M = s->M;
+  const double dt = c->o.dt, L = c->L, invL = 1.0 / L, inv_a = c->inv_a;
+  const int64_t nc = c->nc;
+  double *const x = s->p.x, *const v = s->p.v;
+  const int32_t *const sp = s->p.species;
+  const double *const sig = s->mix.sigma.data();
+  const double *const mass = s->mix.m.data();
+  /* 1. stream and bin */
+  int64_t *const start = c->start.data();
+  int32_t *const cellof = c->cellof.data();
+  double *const cvm2 = c->cvm2.data(), *const csg = c->csg.data();
+  std::fill(start, start + C + 1, 0);
+  std::fill(cvm2, cvm2 + C, 0.0);
+  std::fill(csg, csg + C, 0.0);
+  double *const b2 = s->bound2.data(); /* per-species speed bounds, exact after streaming */
+  std::fill(b2, b2 + M, 0.0);
+  double vm2 = 0;
+  for (int64_t j = 0; j < N; j++) {
+    double *xj = x + 3 * j;
+    const double *vj = v + 3 * j;
+    int64_t ci[3];
+    for (int d = 0; d < 3; d++) {
+      xj[d] = wrap(xj[d] + vj[d] * dt, L, invL);
+      int64_t q = (int64_t)(xj[d] * inv_a);
+      ci[d] = q < nc ? q : nc - 1;
+    }
+    const int64_t cc = (ci[0] * nc + ci[1]) * nc + ci[2];
+    cellof[j] = (int32_t)cc;
+    start[cc + 1]++;
+    const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+    cvm2[cc] = std::fmax(cvm2[cc], q2);
+    csg[cc] = std::fmax(csg[cc], sig[sp[j]]);
+    b2[sp[j]] = std::fmax(b2[sp[j]], q2);
+    vm2 = std::fmax(vm2, q2);
+  }
+  for (int64_t q = 0; q < C; q++) start[q + 1] += start[q];
+  {
+    int64_t *const fill = c->list.data(), *const pos = c->fillpos.data(); /* stable within a cell */
+    std::copy(start, start + C, pos);
+    for (int64_t j = 0; j < N; j++) fill[pos[cellof[j]]++] = j;
+  }
+  c->vmax2 = vm2;
+  c->step++;
+  const double t = (double)c->step * dt; /* elapsed since t_start */
+  s->t = std::fmax(s->t, t);
+  if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) /* grid times within the step: free flight */
+    while (s->traj_next < s->opt.traj_samples && (double)s->traj_next * s->opt.traj_dt <= t) {
+      const double keep = s->t;
+      s->t = (double)s->traj_next * s->opt.traj_dt;
+      dsmc_record_trajectories(s);
+      s->t = keep;
+    }
+  s->t = t;
+
+  /* 2. collisions, cell by cell */
+  Words w{&s->vrng};
+  const int64_t *const list = c->list.data();
+  const DsmcPair *const pair = s->pair.empty() ? nullptr : s->pair.data();
+  double *const R = kDisp ? s->p.r : nullptr;
+  int64_t *const cnt = kCount ? s->ccount.data() : nullptr;
+  const double kfac = 0.5 * c->pfac * kPi * s->g2max; /* N_p = kfac N_c^2 sigma_max^2 2 vmax */
+  int64_t coll = s->collisions, trials = s->trials;
+  double ed = s->e_diss, edc = s->e_diss_c, pmax = 0;
+  for (int64_t q = 0; q < C; q++) {
+    const int64_t n = start[q + 1] - start[q];
+    const int64_t *const lq = list + start[q];
+    double B = csg[q] * csg[q] * 2.0 * std::sqrt(cvm2[q]); /* bound of sigma_jl^2 g2r |g| */
+    double vmc2 = cvm2[q];
+    double want = kfac * (double)n * (double)n * B + c->rem[(size_t)q];
+    pmax = std::fmax(pmax, 2.0 * kfac * B);
+    while (want >= 1.0) {
+      want -= 1.0;
+      ++trials;
+      const int64_t j = lq[w.below(n)], l = lq[w.below(n)];
+      const double ub = w.uniform() * B;
+      if (j == l) continue;
+      const int32_t i = sp[j], k = sp[l];
+      double *const vj = v + 3 * j, *const vl = v + 3 * l;
+      const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
+      const double g2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+      const double sjl = 0.5 * (sig[i] + sig[k]);
+      double wgt = sjl * sjl;
+      const size_t pik = (size_t)i * (size_t)M + (size_t)k;
+      if (kRest != kRestConst && pair) wgt *= pair[pik].g2r;
+      const double ga = std::sqrt(g2);
+      if (!(ub < wgt * ga)) continue;
+      /* collision: e from the |g.e| law, (g.e) e = (g - |g| u)/2 */
+      double u[3];
+      w.unit3(u);
+      const double gn[3] = {0.5 * (g[0] - ga * u[0]), 0.5 * (g[1] - ga * u[1]), 0.5 * (g[2] - ga * u[2])};
+      const double gn2 = gn[0] * gn[0] + gn[1] * gn[1] + gn[2] * gn[2];
+      double eps;
+      if (kRest == kRestConst) {
+        eps = s->eps0;
+      } else if (kRest == kRestTable) {
+        eps = pair[pik].a;
+      } else {
+        double sb;
+        if (pair)
+          sb = pair[pik].a;
+        else if (s->visco_sqrt_beta0 >= 0)
+          sb = s->visco_sqrt_beta0;
+        else
+          sb = std::sqrt(mix_beta(&s->mix, i, k));
+        eps = visco_eps(sb * std::pow(gn2, 0.05));
+      }
+      const double mi = mass[i], mk = mass[k], inv = 1.0 / (mi + mk), a = (1.0 + eps) * inv;
+      const double aj = a * mk, al = a * mi;
+      for (int d = 0; d < 3; d++) {
+        vj[d] -= aj * gn[d];
+        vl[d] += al * gn[d];
+      }
+      if (kDisp) {
+        double *const rj = R + 3 * j, *const rl = R + 3 * l;
+        for (int d = 0; d < 3; d++) {
+          rj[d] += aj * t * gn[d];
+          rl[d] -= al * t * gn[d];
+        }
+      }
+      neumaier_add(ed, edc, 0.5 * (1.0 - eps * eps) * mi * mk * inv * gn2);
+      if (kCount) cnt[(i < k ? i : k) * M + (i < k ? k : i)]++;
+      ++coll;
+      const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+      const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
+      b2[i] = std::fmax(b2[i], sj);
+      b2[k] = std::fmax(b2[k], sl);
+      const double s2 = std::fmax(sj, sl);
+      if (s2 > vmc2) { /* the majorant rises: so do the candidates still to come */
+        vmc2 = s2;
+        const double Bn = csg[q] * csg[q] * 2.0 * std::sqrt(vmc2);
+        want *= Bn / B;
+        B = Bn;
+        pmax = std::fmax(pmax, 2.0 * kfac * B);
+        c->vmax2 = std::fmax(c->vmax2, s2);
+      }
+    }
+    c->rem[(size_t)q] = want;
+  }
+  c->pmax_last = pmax;
+  for (int64_t k = 0; k < M; k++) s->bound[(size_t)k] = std::sqrt(b2[k]);
+  s->collisions = coll;
+  s->trials = trials;
+  s->e_diss = ed;
+  s->e_diss_c = edc;
+  if (c->o.heat_rate > 0) cell_heat<kDisp>(s, t);
+}
+
+typedef void (*CellStepFn)(gran_dsmc *s);
+template <bool kDisp, bool kCount>
+CellStepFn pick_rest(int rest) {
+  switch (rest) {
+    case kRestTable: return &cell_step<kRestTable, kDisp, kCount>;
+    case kRestVisco: return &cell_step<kRestVisco, kDisp, kCount>;
+    default: return &cell_step<kRestConst, kDisp, kCount>;
+  }
+}
+CellStepFn pick_step(const gran_dsmc *s) {
+  const bool disp = s->p.r != nullptr, counts = !s->ccount.empty();
+  if (disp) return counts ? pick_rest<true, true>(s->rest) : pick_rest<true, false>(s->rest);
+  return counts ? pick_rest<false, true>(s->rest) : pick_rest<false, false>(s->rest);
+}
+
+}  // namespace
+
+int dsmc_cell_advance(gran_dsmc *s, double t_end, int64_t coll_stop) {
+  DsmcCell *const c = s->cell;
+  const CellStepFn fn = pick_step(s);
+  const double dt = c->o.dt;
+  const bool by_time = t_end < DBL_MAX;
+  for (;;) {
+    if (by_time) {
+      if ((double)(c->step + 1) * dt > t_end + 1e-9 * dt) break;
+    } else {
+      if (s->collisions >= coll_stop) break;
+      GRAN_CHECK(c->vmax2 > 0, GRAN_ERR_STATE, "no collision can happen: every particle is at rest");
+    }
+    GRAN_CALL(check_dt(s, "for the speeds reached"));
+    fn(s);
+  }
+  if (by_time) {
+    if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES)
+      while (s->traj_next < s->opt.traj_samples && (double)s->traj_next * s->opt.traj_dt <= t_end) {
+        s->t = (double)s->traj_next * s->opt.traj_dt;
+        dsmc_record_trajectories(s);
+      }
+    s->t = t_end;
+  }
+  return GRAN_SUCCESS;
+}
+
+}  // namespace gran
+
+using namespace gran;
+
+/** @brief Defaults of the cell options (see the header). */
+GRAN_EXTERN int gran_dsmc_cell_options_default(gran_dsmc_cell_options *cell) {
+  GRAN_CHECK_PTR(cell);
+  *cell = gran_dsmc_cell_options{};
+  cell->cells = 1;
+  cell->dt = 0;
+  cell->fn = 1;
+  cell->e_agg = 0;
+  cell->e_frag = INFINITY;
+  cell->eps_f = 1;
+  cell->heat_rate = 0;
+  cell->placement = GRAN_PLACE_RANDOM;
+  return GRAN_SUCCESS;
+}
+
+/** @brief New engine of the time-step/cell selector (seed 002).
+ *  @param[in] opt engine options (selector is taken as GRAN_SELECTOR_CELL; volume: the box volume)
+ *  @param[in] cell cells, dt, F_N and the effects  @param[out] sim the new engine */
+GRAN_EXTERN int gran_dsmc_create_cell(const gran_mixture *mix, const int64_t *counts, const double *T0,
+                                      const gran_dsmc_options *opt, const gran_dsmc_cell_options *cell,
+                                      gran_dsmc **sim) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(sim);
+    *sim = nullptr;
+    GRAN_CHECK_PTR(mix);
+    GRAN_CHECK_PTR(opt);
+    GRAN_CHECK_PTR(cell);
+    GRAN_CALL(dsmc_cell_check_options(cell));
+    gran_dsmc_options o = *opt;
+    o.selector = GRAN_SELECTOR_CELL;
+    if (o.volume > 0) o.volume /= cell->fn; /* the engine's volume: per simulated particle */
+    return dsmc_create_impl(mix, counts, T0, &o, cell, sim);
+  }
+  GRAN_CATCH
+}
+
+/** @brief Steps done, box side, largest F_N (sigma g)_max dt / V_c of the last step. */
+GRAN_EXTERN int gran_dsmc_cell_info(const gran_dsmc *sim, int64_t *steps, double *box, double *pmax) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    GRAN_CHECK(sim->cell != nullptr, GRAN_ERR_STATE, "engine 'sim' does not use the cell selector");
+    if (steps) *steps = sim->cell->step;
+    if (box) *box = sim->cell->L;
+    if (pmax) *pmax = sim->cell->pmax_last;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
