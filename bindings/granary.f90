@@ -159,6 +159,12 @@ module granary
     integer(c_int32_t) :: pad_ = 0
   end type gran_dsmc_cell_options
   public :: gran_dsmc_cell_options_default, gran_dsmc_create_cell, gran_dsmc_cell_info, gran_scene_dsmc_cell_options
+  type, bind(C), public :: gran_dsmc_cluster_stats
+    integer(c_int64_t) :: nclusters = 0, mass = 0, largest = 0, nsizes = 0
+    integer(c_int64_t) :: merges = 0, breakups = 0, bounces = 0
+    real(c_double) :: mean_size = 0, e_bounce = 0, e_merge = 0, e_break = 0, e_heat = 0
+  end type gran_dsmc_cluster_stats
+  public :: gran_dsmc_get_cluster_stats, gran_dsmc_size_distribution
   ! ---- end cell selector ----
   ! ---- analysis ----
   ! A TAMSD plan: the C handle and the trajectory length it was made for (so that the wrappers can
@@ -1152,6 +1158,21 @@ module granary
       type(gran_dsmc_cell_options), intent(out) :: cell
       integer(c_int) :: ierr
     end function c_gran_scene_dsmc_cell_options
+    function c_gran_dsmc_get_cluster_stats(sim, st) bind(C, name='gran_dsmc_get_cluster_stats') result(ierr)
+      import :: c_int, c_ptr, gran_dsmc_cluster_stats
+      type(c_ptr), value :: sim
+      type(gran_dsmc_cluster_stats), intent(out) :: st
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_get_cluster_stats
+    function c_gran_dsmc_size_distribution(sim, cap, nsizes, sizes, counts, T) &
+        bind(C, name='gran_dsmc_size_distribution') result(ierr)
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: sim
+      integer(c_int64_t), value :: cap
+      integer(c_int64_t), intent(out) :: nsizes
+      type(c_ptr), value :: sizes, counts, T
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_size_distribution
   end interface
   ! ---- end cell selector interfaces ----
 
@@ -2925,5 +2946,42 @@ contains
     integer, intent(out), optional :: ierr
     call gran_check(c_gran_scene_dsmc_cell_options(scene, cell), ierr)
   end subroutine gran_scene_dsmc_cell_options
+  !> Clusters, mass, sizes, merge / breakup / bounce counters and ledger parts (aggregating engines).
+  subroutine gran_dsmc_get_cluster_stats(sim, st, ierr)
+    type(c_ptr), intent(in) :: sim
+    type(gran_dsmc_cluster_stats), intent(out) :: st
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_get_cluster_stats(sim, st), ierr)
+  end subroutine gran_dsmc_get_cluster_stats
+
+  !> Sparse size distribution: nsizes sizes present; sizes, counts (and T) filled when given (their
+  !> size is the capacity: at least nsizes, else GRAN_ERR_RANGE).
+  subroutine gran_dsmc_size_distribution(sim, nsizes, sizes, counts, T, ierr)
+    type(c_ptr), intent(in) :: sim
+    integer(c_int64_t), intent(out) :: nsizes
+    integer(c_int64_t), intent(out), target, contiguous, optional :: sizes(:), counts(:)
+    real(c_double), intent(out), target, contiguous, optional :: T(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: cap
+    type(c_ptr) :: ps, pc, pt
+    cap = 0
+    ps = c_null_ptr
+    pc = c_null_ptr
+    pt = c_null_ptr
+    if (present(sizes) .neqv. present(counts)) then
+      call gran_dsmc_shape_error('gran_dsmc_size_distribution: give both sizes and counts, or neither', ierr)
+      return
+    end if
+    if (present(sizes)) then
+      cap = min(size(sizes, kind=c_int64_t), size(counts, kind=c_int64_t))
+      if (present(T)) cap = min(cap, size(T, kind=c_int64_t))
+      if (cap > 0) then
+        ps = c_loc(sizes(1))
+        pc = c_loc(counts(1))
+        if (present(T)) pt = c_loc(T(1))
+      end if
+    end if
+    call gran_check(c_gran_dsmc_size_distribution(sim, cap, nsizes, ps, pc, pt), ierr)
+  end subroutine gran_dsmc_size_distribution
   ! ---- end cell selector wrappers ----
 end module granary

@@ -441,6 +441,28 @@ GRAN_EXTERN int gran_dsmc_create_cell(const gran_mixture *mix, const int64_t *co
 /* Steps done, box side L, and the largest F_N (sigma g)_max dt / V_c of the last step (any may be
  * NULL); GRAN_ERR_STATE for an engine of another selector. */
 GRAN_EXTERN int gran_dsmc_cell_info(const gran_dsmc *sim, int64_t *steps, double *box, double *pmax);
+/* Aggregating engines (cell selector with e_agg > 0 or e_frag finite; else GRAN_ERR_STATE). The
+ * per-species calls (counts, temperatures, sonine_a2) report the sizes 1..M of the mixture;
+ * energy and momentum count every cluster; displacements, trajectories, per-pair collision counts
+ * and species offsets do not exist (particles are unordered). Collisions = bounces + merges +
+ * breakups; e_dissipated of gran_dsmc_energy = e_bounce + e_merge + e_break - e_heat. */
+typedef struct gran_dsmc_cluster_stats {
+  int64_t nclusters;  /* simulated clusters (particles) */
+  int64_t mass;       /* total mass in monomers (conserved exactly) */
+  int64_t largest;    /* largest size present */
+  int64_t nsizes;     /* distinct sizes present */
+  int64_t merges, breakups, bounces;
+  double mean_size;   /* mass / nclusters */
+  double e_bounce;    /* energy dissipated in bounces */
+  double e_merge;     /* lost in merges (mu g^2 / 2 each) */
+  double e_break;     /* lost in breakups ((1 - eps_f^2) mu g^2 / 2 each) */
+  double e_heat;      /* added by the thermostat */
+} gran_dsmc_cluster_stats;
+GRAN_EXTERN int gran_dsmc_get_cluster_stats(const gran_dsmc *sim, gran_dsmc_cluster_stats *st);
+/* Sparse n_k: the nsizes sizes present in increasing order into sizes/counts (cap entries at
+ * least, else GRAN_ERR_RANGE; cap = 0: only *nsizes), T (may be NULL) their temperatures. */
+GRAN_EXTERN int gran_dsmc_size_distribution(const gran_dsmc *sim, int64_t cap, int64_t *nsizes, int64_t *sizes,
+                                            int64_t *counts, double *T);
 
 /* ---- Analysis (src/analysis) -----------------------------------------------------------------
  * Observables from trajectories and velocities. Trajectories: ntraj tracers sampled on a uniform

@@ -14,7 +14,10 @@ program t520_dsmc_cell_f
   type(gran_particles), pointer :: p
   real(c_double), pointer :: x(:)
   real(c_double) :: box, pmax, ek, e0, ed, expect_c
-  integer(c_int64_t) :: steps, value
+  integer(c_int64_t) :: steps, value, ns
+  integer(c_int64_t), allocatable :: sz(:), cn(:)
+  real(c_double), allocatable :: tk(:)
+  type(gran_dsmc_cluster_stats) :: cst
   integer :: ierr, failures
   real(c_double), parameter :: pi = 3.14159265358979323846_c_double, n = 0.01_c_double
   character(len=*), parameter :: text = &
@@ -67,6 +70,28 @@ program t520_dsmc_cell_f
   call expect(cell2%cells == 2 .and. cell2%dt == 0.25_c_double .and. cell2%e_agg == 0.5_c_double, &
               'scene [cell] options')
   call gran_scene_destroy(scene)
+  ! aggregation: k-mer mixture, every collision merges (e_agg huge)
+  call gran_mixture_destroy(mix)
+  call gran_mixture_create(mix, [n, 0.0_c_double, 0.0_c_double])
+  call gran_mixture_set_restitution(mix, 0.9_c_double)
+  call gran_dsmc_cell_options_default(cell)
+  cell%dt = 0.5_c_double
+  cell%e_agg = 1e12_c_double
+  opt%volume = 5000 / n
+  call gran_dsmc_create_cell(sim, mix, opt, cell, T0=[1.0_c_double, 1.0_c_double, 1.0_c_double])
+  call gran_dsmc_advance(sim, 50.0_c_double)
+  call gran_dsmc_get_cluster_stats(sim, cst)
+  call expect(cst%mass == 5000 .and. cst%merges > 100 .and. cst%bounces == 0 .and. &
+              cst%nclusters == 5000 - cst%merges, 'every collision merges, mass kept')
+  call gran_dsmc_size_distribution(sim, ns)
+  call expect(ns == cst%nsizes .and. ns >= 2, 'number of sizes present')
+  allocate(sz(ns), cn(ns), tk(ns))
+  call gran_dsmc_size_distribution(sim, ns, sz, cn, tk)
+  call expect(sum(sz * cn) == 5000 .and. sum(cn) == cst%nclusters .and. sz(1) == 1 .and. all(tk >= 0), &
+              'sparse size distribution holds every cluster')
+  call gran_dsmc_size_distribution(sim, ns, sz(1:1), cn(1:1), ierr=ierr)
+  call expect(ierr == GRAN_ERR_RANGE .or. ns == 1, 'too small a capacity refused')
+  call gran_dsmc_destroy(sim)
   call gran_dsmc_cell_info(c_null_ptr, steps, box, pmax, ierr)
   call expect(ierr == GRAN_ERR_ARG, 'info of a NULL engine refused')
   call gran_mixture_destroy(mix)

@@ -122,6 +122,50 @@ static void test_resume_bit_for_bit(void **state) {
   }
 }
 
+/* aggregation and fragmentation: particles appear and vanish, sizes grow beyond the mixture's */
+static void test_resume_agg(void **state) {
+  (void)state;
+  double n[20] = {0.01};
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(20, NULL, NULL, n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.8));
+  for (int place = 0; place < 2; place++) {
+    gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 8 + (uint64_t)place, 3e5, 0);
+    gran_dsmc_cell_options c;
+    GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+    c.cells = 2;
+    c.dt = 0.5;
+    c.e_agg = 1.5;
+    c.e_frag = 2.5;
+    c.eps_f = 0.6;
+    c.heat_rate = place ? 0.002 : 0.0;
+    c.placement = place ? GRAN_PLACE_COLLISION : GRAN_PLACE_RANDOM;
+    gran_dsmc *a, *b, *r;
+    GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &a));
+    GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &b));
+    GRAN_ASSERT_OK(gran_dsmc_advance(a, 80.0));
+    GRAN_ASSERT_OK(gran_dsmc_advance(b, 31.2));
+    GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(b, g_path, "/engine"));
+    GRAN_ASSERT_OK(gran_dsmc_checkpoint_read(g_path, "/engine", mix, &r));
+    compare(b, r, 0);
+    GRAN_ASSERT_OK(gran_dsmc_advance(r, 80.0));
+    compare(a, r, 0);
+    gran_dsmc_cluster_stats sa, sr;
+    GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(a, &sa));
+    GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(r, &sr));
+    assert_memory_equal(&sa, &sr, sizeof sa);
+    assert_true(sa.merges > 100 && sa.breakups > 100);
+    const gran_particles *pa, *pr;
+    GRAN_ASSERT_OK(gran_dsmc_particles(a, &pa));
+    GRAN_ASSERT_OK(gran_dsmc_particles(r, &pr));
+    assert_memory_equal(pa->species, pr->species, sizeof(int32_t) * (size_t)pa->n);
+    gran_dsmc_destroy(&a);
+    gran_dsmc_destroy(&b);
+    gran_dsmc_destroy(&r);
+  }
+  gran_mixture_destroy(&mix);
+}
+
 static unsigned char *read_all(const char *path, size_t *n) {
   FILE *f = fopen(path, "rb");
   assert_non_null(f);
@@ -207,6 +251,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test_setup_teardown(test_resume_bit_for_bit, setup, teardown),
       cmocka_unit_test_setup_teardown(test_damaged, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_resume_agg, setup, teardown),
   };
   return cmocka_run_group_tests_name("t521-dsmc-cell-checkpoint", tests, NULL, NULL);
 }

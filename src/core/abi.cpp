@@ -27,6 +27,7 @@ const AbiEntry kAbi[] = {
     GRAN_ABI_SIZE(gran_srd_options) /* GSRD */
     GRAN_ABI_SIZE(gran_srd_obs)     /* GSRD */
     GRAN_ABI_SIZE(gran_dsmc_cell_options) /* cell selector */
+    GRAN_ABI_SIZE(gran_dsmc_cluster_stats) /* cell selector: aggregation */
     /* version */
     GRAN_ABI_CONST(GRAN_VERSION_MAJOR)
     GRAN_ABI_CONST(GRAN_VERSION_MINOR)

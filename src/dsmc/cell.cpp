@@ -126,6 +126,8 @@ int dsmc_cell_setup(gran_dsmc *s, const gran_dsmc_cell_options *o) {
     GRAN_CHECK(s->p.x != nullptr, GRAN_ERR_NOMEM, "cannot allocate positions of " GRAN_I64_FMT " particles", s->N);
   }
   s->p.flags |= GRAN_PARTICLES_POSITION;
+  c->agg = o->e_agg > 0 || std::isfinite(o->e_frag);
+  if (c->agg) GRAN_CALL(dsmc_agg_setup(s));
   return GRAN_SUCCESS;
 }
 
@@ -140,6 +142,11 @@ int dsmc_cell_init(gran_dsmc *s, const gran_dsmc_cell_options *o) {
     m2 = std::fmax(m2, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
   c->vmax2 = m2;
+  if (c->agg) /* sizes: one speed bound for all (the particles stop being grouped by species) */
+    for (int64_t k = 0; k < s->M; k++) {
+      s->bound2[(size_t)k] = m2;
+      s->bound[(size_t)k] = std::sqrt(m2);
+    }
   GRAN_CALL(check_dt(s, "for the initial speeds"));
   return GRAN_SUCCESS;
 }
@@ -164,11 +171,13 @@ void cell_heat(gran_dsmc *s, double t) {
   double *const v = s->p.v;
   double *const R = kDisp ? s->p.r : nullptr;
   const int32_t *const sp = s->p.species;
-  const double *const mass = s->mix.m.data();
+  const double *const mix_m = s->mix.m.data();
+  const bool agg = c->agg != 0;
+  auto mass_of = [&](int32_t k) { return agg ? (double)(k + 1) * c->m1 : mix_m[k]; };
   const double hd = c->o.heat_rate * c->o.dt;
   double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0, mtc = 0, de = 0, dec = 0;
   for (int64_t j = 0; j < N; j++) {
-    const double m = mass[sp[j]], sd = std::sqrt(hd / m);
+    const double m = mass_of(sp[j]), sd = std::sqrt(hd / m);
     double *const vj = v + 3 * j;
     for (int d = 0; d < 3; d++) {
       const double dv = sd * w.normal();
@@ -183,7 +192,7 @@ void cell_heat(gran_dsmc *s, double t) {
   double vm2 = c->vmax2;
   double *const b2 = s->bound2.data();
   for (int64_t j = 0; j < N; j++) {
-    const double m = mass[sp[j]];
+    const double m = mass_of(sp[j]);
     double *const vj = v + 3 * j;
     neumaier_add(de, dec, m * (u[0] * (0.5 * u[0] - vj[0]) + u[1] * (0.5 * u[1] - vj[1]) + u[2] * (0.5 * u[2] - vj[2])));
     for (int d = 0; d < 3; d++) {
@@ -192,23 +201,153 @@ void cell_heat(gran_dsmc *s, double t) {
     }
     const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
     vm2 = std::fmax(vm2, q2);
-    b2[sp[j]] = std::fmax(b2[sp[j]], q2);
+    if (!agg) b2[sp[j]] = std::fmax(b2[sp[j]], q2);
   }
   c->vmax2 = vm2;
-  for (int64_t k = 0; k < s->M; k++) s->bound[(size_t)k] = std::sqrt(b2[k]);
+  for (int64_t k = 0; k < s->M; k++) {
+    if (agg) b2[k] = vm2; /* sizes: one bound for all */
+    s->bound[(size_t)k] = std::sqrt(b2[k]);
+  }
   neumaier_add(c->e_heat, c->e_heat_c, de + dec);
 }
 
-template <int kRest, bool kDisp, bool kCount>
-void cell_step(gran_dsmc *s) {
+/* Aggregation and fragmentation of the accepted pair (j, l) of sizes i+1, k+1 in cell segment lq[0..n)
+ * (kAgg): returns 0 for a bounce (the caller collides), 1 when the pair merged (l left the cell: n
+ * decreased), 2 when it shattered (j, l and K-2 appended particles are monomers). Speeds of new
+ * particles raise *vmc2 (the cell's) and the engine's bound. */
+struct AggCtx {
+  gran_dsmc *s;
+  DsmcCell *c;
+  Words *w;
+  int64_t *lq;
+  int64_t *n;
+  int status;
+};
+
+static inline void agg_place(DsmcCell *c, Words *w, double *xj) {
+  for (int d = 0; d < 3; d++) xj[d] = wrap(w->uniform() * c->L, c->L, 1.0 / c->L);
+}
+
+static int agg_merge(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, double Eimp) {
+  gran_dsmc *s = a.s;
+  DsmcCell *c = a.c;
+  const double mi = (double)(i + 1), mk = (double)(k + 1), inv = 1.0 / (mi + mk);
+  double *vj = s->p.v + 3 * j, *vl = s->p.v + 3 * l;
+  for (int d = 0; d < 3; d++) vj[d] = (mi * vj[d] + mk * vl[d]) * inv;
+  const int64_t K = (int64_t)i + (int64_t)k + 2;
+  dsmc_agg_grow(c, K);
+  c->nsize[(size_t)i]--;
+  c->nsize[(size_t)k]--;
+  c->nsize[(size_t)K - 1]++;
+  if (K > c->kmax) c->kmax = K;
+  s->p.species[j] = (int32_t)(K - 1);
+  s->p.species[l] = -1; /* dropped at the end of the step */
+  c->ndead++;
+  double *xj = s->p.x + 3 * j;
+  if (c->o.placement == GRAN_PLACE_RANDOM) {
+    agg_place(c, a.w, xj);
+  } else { /* centre of mass, minimum image */
+    const double *xl = s->p.x + 3 * l;
+    for (int d = 0; d < 3; d++) {
+      double dx = xl[d] - xj[d];
+      dx -= c->L * std::nearbyint(dx / c->L);
+      xj[d] = wrap(xj[d] + mk * inv * dx, c->L, 1.0 / c->L);
+    }
+  }
+  neumaier_add(c->e_merge, c->e_merge_c, Eimp);
+  c->merges++;
+  /* l leaves the cell's list */
+  const int64_t pl = c->where[(size_t)l], last = *a.n - 1;
+  const int64_t moved = a.lq[last];
+  a.lq[pl] = moved;
+  c->where[(size_t)moved] = pl;
+  *a.n = last;
+  return 1;
+}
+
+static int agg_shatter(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, double Eimp, double g, double *vmc2) {
+  gran_dsmc *s = a.s;
+  DsmcCell *c = a.c;
+  const int64_t kj = (int64_t)i + 1, kl = (int64_t)k + 1, K = kj + kl;
+  /* room for K - 2 new particles: one growth at most (geometric), never one per fragment */
+  gran_particles *p = &s->p;
+  if (p->n + K - 2 > p->capacity) {
+    const int64_t want = std::max(p->n + K - 2, 2 * p->capacity);
+    a.status = gran_particles_reserve(p, want);
+    if (a.status != GRAN_SUCCESS) return 0;
+  }
+  double *const v = p->v;
+  const double mi = (double)kj, mk = (double)kl, inv = 1.0 / (mi + mk);
+  double Vc[3];
+  for (int d = 0; d < 3; d++) Vc[d] = (mi * v[3 * j + d] + mk * v[3 * l + d]) * inv;
+  const double xc[3] = {p->x[3 * j], p->x[3 * j + 1], p->x[3 * j + 2]};
+  const int64_t n0 = p->n;
+  p->n += K - 2;
+  auto target = [&](int64_t q) { return q == 0 ? j : q == 1 ? l : n0 + q - 2; };
+  /* Eq. 12 directions, the last closes the momentum (Eq. 14); then one common factor gives the
+   * centre-of-mass kinetic energy eps_f^2 E_imp exactly (Eq. 10) */
+  const double u = std::sqrt((double)kj * (double)kl) * c->o.eps_f * g / (double)K;
+  double sum[3] = {0, 0, 0}, S = 0;
+  for (int64_t q = 0; q < K - 1; q++) {
+    double e[3];
+    a.w->unit3(e);
+    double *vq = v + 3 * target(q);
+    for (int d = 0; d < 3; d++) {
+      vq[d] = u * e[d];
+      sum[d] += vq[d];
+    }
+  }
+  {
+    double *vq = v + 3 * target(K - 1);
+    for (int d = 0; d < 3; d++) vq[d] = -sum[d];
+  }
+  for (int64_t q = 0; q < K; q++) {
+    const double *vq = v + 3 * target(q);
+    S += vq[0] * vq[0] + vq[1] * vq[1] + vq[2] * vq[2];
+  }
+  const double E0 = c->o.eps_f * c->o.eps_f * Eimp;
+  const double lam = S > 0 ? std::sqrt(E0 / (0.5 * c->m1 * S)) : 0.0;
+  double m2 = 0;
+  for (int64_t q = 0; q < K; q++) {
+    const int64_t t = target(q);
+    double *vq = v + 3 * t;
+    for (int d = 0; d < 3; d++) vq[d] = Vc[d] + lam * vq[d];
+    m2 = std::fmax(m2, vq[0] * vq[0] + vq[1] * vq[1] + vq[2] * vq[2]);
+    p->species[t] = 0;
+    double *xq = p->x + 3 * t;
+    if (c->o.placement == GRAN_PLACE_RANDOM) {
+      agg_place(c, a.w, xq);
+    } else {
+      xq[0] = xc[0];
+      xq[1] = xc[1];
+      xq[2] = xc[2];
+    }
+  }
+  c->nsize[(size_t)i]--;
+  c->nsize[(size_t)k]--;
+  c->nsize[0] += K;
+  neumaier_add(c->e_break, c->e_break_c, Eimp - E0);
+  c->breakups++;
+  *vmc2 = std::fmax(*vmc2, m2);
+  c->vmax2 = std::fmax(c->vmax2, m2);
+  return 2;
+}
+
+template <int kRest, bool kDisp, bool kCount, bool kAgg>
+int cell_step(gran_dsmc *s) {
   DsmcCell *const c = s->cell;
   const int64_t N = s->N, C = c->C, M = s->M;
   const double dt = c->o.dt, L = c->L, invL = 1.0 / L, inv_a = c->inv_a;
   const int64_t nc = c->nc;
-  double *const x = s->p.x, *const v = s->p.v;
-  const int32_t *const sp = s->p.species;
-  const double *const sig = s->mix.sigma.data();
+  double *x = s->p.x, *v = s->p.v;
+  int32_t *sp = s->p.species;
+  const double *sig = kAgg ? c->sigk.data() : s->mix.sigma.data(); /* agg: moves when the sizes grow */
   const double *const mass = s->mix.m.data();
+  if (kAgg && (int64_t)c->list.size() < N) {
+    c->list.resize((size_t)N);
+    c->cellof.resize((size_t)N);
+  }
+  if (kAgg && (int64_t)c->where.size() < N) c->where.resize((size_t)N);
   /* 1. stream and bin */
   int64_t *const start = c->start.data();
   int32_t *const cellof = c->cellof.data();
@@ -234,14 +373,18 @@ void cell_step(gran_dsmc *s) {
     const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
     cvm2[cc] = std::fmax(cvm2[cc], q2);
     csg[cc] = std::fmax(csg[cc], sig[sp[j]]);
-    b2[sp[j]] = std::fmax(b2[sp[j]], q2);
+    if (!kAgg) b2[sp[j]] = std::fmax(b2[sp[j]], q2);
     vm2 = std::fmax(vm2, q2);
   }
   for (int64_t q = 0; q < C; q++) start[q + 1] += start[q];
   {
     int64_t *const fill = c->list.data(), *const pos = c->fillpos.data(); /* stable within a cell */
     std::copy(start, start + C, pos);
-    for (int64_t j = 0; j < N; j++) fill[pos[cellof[j]]++] = j;
+    for (int64_t j = 0; j < N; j++) {
+      const int64_t at = pos[cellof[j]]++;
+      fill[at] = j;
+      if (kAgg) c->where[(size_t)j] = at - start[cellof[j]];
+    }
   }
   c->vmax2 = vm2;
   c->step++;
@@ -258,20 +401,24 @@ void cell_step(gran_dsmc *s) {
 
   /* 2. collisions, cell by cell */
   Words w{&s->vrng};
-  const int64_t *const list = c->list.data();
+  int64_t *const list = c->list.data();
   const DsmcPair *const pair = s->pair.empty() ? nullptr : s->pair.data();
   double *const R = kDisp ? s->p.r : nullptr;
   int64_t *const cnt = kCount ? s->ccount.data() : nullptr;
   const double kfac = 0.5 * c->pfac * kPi * s->g2max; /* N_p = kfac N_c^2 sigma_max^2 2 vmax */
+  const double e_agg = c->o.e_agg, e_frag = c->o.e_frag, m1 = c->m1;
   int64_t coll = s->collisions, trials = s->trials;
   double ed = s->e_diss, edc = s->e_diss_c, pmax = 0;
+  AggCtx actx{s, c, &w, nullptr, nullptr, GRAN_SUCCESS};
   for (int64_t q = 0; q < C; q++) {
-    const int64_t n = start[q + 1] - start[q];
-    const int64_t *const lq = list + start[q];
+    int64_t n = start[q + 1] - start[q];
+    int64_t *const lq = list + start[q];
     double B = csg[q] * csg[q] * 2.0 * std::sqrt(cvm2[q]); /* bound of sigma_jl^2 g2r |g| */
     double vmc2 = cvm2[q];
     double want = kfac * (double)n * (double)n * B + c->rem[(size_t)q];
     pmax = std::fmax(pmax, 2.0 * kfac * B);
+    actx.lq = lq;
+    actx.n = &n;
     while (want >= 1.0) {
       want -= 1.0;
       ++trials;
@@ -279,7 +426,7 @@ void cell_step(gran_dsmc *s) {
       const double ub = w.uniform() * B;
       if (j == l) continue;
       const int32_t i = sp[j], k = sp[l];
-      double *const vj = v + 3 * j, *const vl = v + 3 * l;
+      double *vj = v + 3 * j, *vl = v + 3 * l;
       const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
       const double g2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
       const double sjl = 0.5 * (sig[i] + sig[k]);
@@ -288,11 +435,52 @@ void cell_step(gran_dsmc *s) {
       if (kRest != kRestConst && pair) wgt *= pair[pik].g2r;
       const double ga = std::sqrt(g2);
       if (!(ub < wgt * ga)) continue;
+      double mi, mk;
+      if (kAgg) {
+        mi = (double)(i + 1) * m1;
+        mk = (double)(k + 1) * m1;
+      } else {
+        mi = mass[i];
+        mk = mass[k];
+      }
+      const double inv = 1.0 / (mi + mk);
+      if (kAgg) {
+        const double Eimp = 0.5 * mi * mk * inv * g2;
+        if (Eimp < e_agg) { /* step 10b: merge */
+          const int64_t n0 = n;
+          agg_merge(actx, j, l, i, k, Eimp);
+          sig = c->sigk.data();
+          const double Bn = std::fmax(csg[q], sig[sp[j]]);
+          csg[q] = Bn;
+          const double Bnew = Bn * Bn * 2.0 * std::sqrt(vmc2);
+          want *= ((double)n * (double)n * Bnew) / ((double)n0 * (double)n0 * B);
+          B = Bnew;
+          pmax = std::fmax(pmax, 2.0 * kfac * B);
+          ++coll;
+          continue;
+        }
+      }
       /* collision: e from the |g.e| law, (g.e) e = (g - |g| u)/2 */
       double u[3];
       w.unit3(u);
       const double gn[3] = {0.5 * (g[0] - ga * u[0]), 0.5 * (g[1] - ga * u[1]), 0.5 * (g[2] - ga * u[2])};
       const double gn2 = gn[0] * gn[0] + gn[1] * gn[1] + gn[2] * gn[2];
+      if (kAgg && 0.5 * mi * mk * inv * gn2 > e_frag) { /* step 10d: shatter into monomers */
+        const double vold = vmc2;
+        agg_shatter(actx, j, l, i, k, 0.5 * mi * mk * inv * g2, ga, &vmc2);
+        if (actx.status != GRAN_SUCCESS) return actx.status;
+        x = s->p.x; /* the arrays may have moved */
+        v = s->p.v;
+        sp = s->p.species;
+        ++coll;
+        if (vmc2 > vold) {
+          const double Bn = csg[q] * csg[q] * 2.0 * std::sqrt(vmc2);
+          want *= Bn / B;
+          B = Bn;
+          pmax = std::fmax(pmax, 2.0 * kfac * B);
+        }
+        continue;
+      }
       double eps;
       if (kRest == kRestConst) {
         eps = s->eps0;
@@ -308,7 +496,7 @@ void cell_step(gran_dsmc *s) {
           sb = std::sqrt(mix_beta(&s->mix, i, k));
         eps = visco_eps(sb * std::pow(gn2, 0.05));
       }
-      const double mi = mass[i], mk = mass[k], inv = 1.0 / (mi + mk), a = (1.0 + eps) * inv;
+      const double a = (1.0 + eps) * inv;
       const double aj = a * mk, al = a * mi;
       for (int d = 0; d < 3; d++) {
         vj[d] -= aj * gn[d];
@@ -323,11 +511,14 @@ void cell_step(gran_dsmc *s) {
       }
       neumaier_add(ed, edc, 0.5 * (1.0 - eps * eps) * mi * mk * inv * gn2);
       if (kCount) cnt[(i < k ? i : k) * M + (i < k ? k : i)]++;
+      if (kAgg) c->bounces++;
       ++coll;
       const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
       const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
-      b2[i] = std::fmax(b2[i], sj);
-      b2[k] = std::fmax(b2[k], sl);
+      if (!kAgg) {
+        b2[i] = std::fmax(b2[i], sj);
+        b2[k] = std::fmax(b2[k], sl);
+      }
       const double s2 = std::fmax(sj, sl);
       if (s2 > vmc2) { /* the majorant rises: so do the candidates still to come */
         vmc2 = s2;
@@ -341,24 +532,30 @@ void cell_step(gran_dsmc *s) {
     c->rem[(size_t)q] = want;
   }
   c->pmax_last = pmax;
-  for (int64_t k = 0; k < M; k++) s->bound[(size_t)k] = std::sqrt(b2[k]);
   s->collisions = coll;
   s->trials = trials;
   s->e_diss = ed;
   s->e_diss_c = edc;
+  if (kAgg) {
+    dsmc_agg_end_step(s);
+  } else {
+    for (int64_t k = 0; k < M; k++) s->bound[(size_t)k] = std::sqrt(b2[k]);
+  }
   if (c->o.heat_rate > 0) cell_heat<kDisp>(s, t);
+  return GRAN_SUCCESS;
 }
 
-typedef void (*CellStepFn)(gran_dsmc *s);
+typedef int (*CellStepFn)(gran_dsmc *s);
 template <bool kDisp, bool kCount>
 CellStepFn pick_rest(int rest) {
   switch (rest) {
-    case kRestTable: return &cell_step<kRestTable, kDisp, kCount>;
-    case kRestVisco: return &cell_step<kRestVisco, kDisp, kCount>;
-    default: return &cell_step<kRestConst, kDisp, kCount>;
+    case kRestTable: return &cell_step<kRestTable, kDisp, kCount, false>;
+    case kRestVisco: return &cell_step<kRestVisco, kDisp, kCount, false>;
+    default: return &cell_step<kRestConst, kDisp, kCount, false>;
   }
 }
 CellStepFn pick_step(const gran_dsmc *s) {
+  if (s->cell->agg) return &cell_step<kRestConst, false, false, true>; /* dsmc_agg_setup checked these */
   const bool disp = s->p.r != nullptr, counts = !s->ccount.empty();
   if (disp) return counts ? pick_rest<true, true>(s->rest) : pick_rest<true, false>(s->rest);
   return counts ? pick_rest<false, true>(s->rest) : pick_rest<false, false>(s->rest);
@@ -379,7 +576,7 @@ int dsmc_cell_advance(gran_dsmc *s, double t_end, int64_t coll_stop) {
       GRAN_CHECK(c->vmax2 > 0, GRAN_ERR_STATE, "no collision can happen: every particle is at rest");
     }
     GRAN_CALL(check_dt(s, "for the speeds reached"));
-    fn(s);
+    GRAN_CALL(fn(s));
   }
   if (by_time) {
     if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES)

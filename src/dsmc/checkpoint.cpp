@@ -13,6 +13,7 @@
 #include <hdf5.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <string>
 
 namespace gran {
@@ -292,6 +293,42 @@ int cell_state_io(F &f, D *s) {
   c->monomers = ct[5];
   return GRAN_SUCCESS;
 }
+/* aggregation: the species (size - 1) of every particle and the counts per size */
+int cell_agg_write(Writer &w, const gran_dsmc *s) {
+  const DsmcCell *c = s->cell;
+  GRAN_CALL(w.i32("cell_species", s->N, s->p.species));
+  GRAN_CALL(w.i64("cell_nsize", c->kmax, c->nsize.data()));
+  return GRAN_SUCCESS;
+}
+int cell_agg_read(Reader &r, gran_dsmc *s) {
+  DsmcCell *c = s->cell;
+  const int64_t K = r.npoints("cell_nsize");
+  GRAN_CHECK(K >= 0 && K == c->kmax && K <= INT32_MAX / 2, GRAN_ERR_IO,
+             "checkpoint '%s': dataset 'cell_nsize' does not match the largest cluster size (damaged or edited file?)",
+             r.path);
+  GRAN_CALL(r.i32("cell_species", s->N, s->p.species));
+  dsmc_agg_grow(c, std::max<int64_t>(K, 1));
+  std::fill(c->nsize.begin(), c->nsize.end(), 0);
+  GRAN_CALL(r.i64("cell_nsize", K, c->nsize.data()));
+  /* the counts per size must be those of the particles, and the mass the stored one */
+  std::vector<int64_t> h((size_t)K, 0);
+  bool ok = true;
+  for (int64_t j = 0; j < s->N && ok; j++) {
+    const int32_t k = s->p.species[j];
+    ok = k >= 0 && k < K;
+    if (ok) h[(size_t)k]++;
+  }
+  int64_t mass = 0;
+  for (int64_t k = 0; k < K && ok; k++) {
+    ok = h[(size_t)k] == c->nsize[(size_t)k];
+    mass += (k + 1) * h[(size_t)k];
+  }
+  GRAN_CHECK(ok && mass == c->monomers && (K == 0 || c->nsize[(size_t)K - 1] > 0), GRAN_ERR_IO,
+             "checkpoint '%s' holds an inconsistent cell state (cluster sizes; damaged or edited file?)", r.path);
+  for (int64_t k = 0; k < s->M; k++) s->count[(size_t)k] = k < K ? c->nsize[(size_t)k] : 0;
+  c->where.assign((size_t)s->N, 0);
+  return GRAN_SUCCESS;
+}
 int cell_validate(const gran_dsmc *s, const char *path) {
   const DsmcCell *c = s->cell;
   const char *bad = nullptr;
@@ -324,7 +361,13 @@ int options_io_write(Writer &w, const gran_dsmc *s) {
   GRAN_CALL(w.i64("options_int", 6, oi));
   GRAN_CALL(w.d("options_real", 3, od));
   GRAN_CALL(w.u64("options_seed", 1, &o.seed));
-  GRAN_CALL(w.i64("counts", s->M, s->count.data()));
+  if (s->cell && s->cell->agg) { /* aggregation: unordered particles, all in the first slot range */
+    std::vector<int64_t> lay((size_t)s->M, 0);
+    lay[0] = s->N;
+    GRAN_CALL(w.i64("counts", s->M, lay.data()));
+  } else {
+    GRAN_CALL(w.i64("counts", s->M, s->count.data()));
+  }
   GRAN_CALL(w.d("mass", s->M, s->mix.m.data()));
   GRAN_CALL(w.d("sigma", s->M, s->mix.sigma.data()));
   GRAN_CALL(w.i1("restitution_model", s->mix.model));
@@ -371,6 +414,7 @@ int gran_dsmc_checkpoint_write_h5_(const gran_dsmc *sim, int64_t file_id, const 
     if (sim->cell) {
       GRAN_CALL(cell_options_io(w, sim));
       GRAN_CALL(cell_state_io(w, const_cast<gran_dsmc *>(sim)));
+      if (sim->cell->agg) GRAN_CALL(cell_agg_write(w, sim));
     }
     return GRAN_SUCCESS;
   }
@@ -517,6 +561,7 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
       ierr = cell_options_read(rd, &co);
       if (ierr == GRAN_SUCCESS) ierr = dsmc_cell_setup(s, &co);
       if (ierr == GRAN_SUCCESS) ierr = cell_state_io(rd, s);
+      if (ierr == GRAN_SUCCESS && s->cell->agg) ierr = cell_agg_read(rd, s);
       if (ierr == GRAN_SUCCESS) ierr = cell_validate(s, path);
     }
     if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK)

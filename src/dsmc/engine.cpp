@@ -2,6 +2,7 @@
  * speed bounds and selector state (trees / C_max), the advance driver. The hot loop is in
  * dsmc_loop.h; observables in observables.cpp; checkpoints in checkpoint.cpp. */
 #include "dsmc_impl.h"
+#include "cell_impl.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -638,6 +639,8 @@ GRAN_EXTERN int gran_dsmc_species_offsets(const gran_dsmc *sim, int64_t *offsets
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(offsets);
+    GRAN_CHECK(!(sim->cell && sim->cell->agg), GRAN_ERR_STATE,
+               "with aggregation the particles are not grouped by species (see gran_dsmc_size_distribution)");
     for (int64_t k = 0; k <= sim->M; k++) offsets[k] = sim->offset[(size_t)k];
     return GRAN_SUCCESS;
   }
