@@ -119,6 +119,51 @@ static void test_scene_engine(void **state) {
   gran_scene_destroy(&s);
 }
 
+/* aggregation through the run driver: clusters/n against clusters/n_theory, the ledger in clusters/ledger */
+static void test_agg_scene(void **state) {
+  (void)state;
+  char out[600];
+  snprintf(out, sizeof out, "%s", io_path("agg.h5"));
+  char text2[4096];
+  snprintf(text2, sizeof text2,
+           "[mixture]\nnspecies = 30\nm1 = 1.0\nsigma1 = 1.0\ndensity_law = { n1 = 0.01, theta = 400.0 }\n"
+           "[restitution]\neps = 0.9\n[initial]\ntemperatures = \"equal\"\n"
+           "[engine]\nselector = \"cell\"\nvolume = 5e6\nseed = 3\nt_end = 40.0\n"
+           "[cell]\ncells = 3\ndt = 0.5\ne_agg = 1.0\ne_frag = 3.0\neps_f = 0.7\n"
+           "[observables]\ntimes = [10.0, 20.0, 40.0]\nmsd = false\n[output]\npath = \"%s\"\n",
+           out);
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(text2, "agg.toml", &s));
+  gran_run_result res;
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, "", NULL, &res));
+  assert_int_equal(res.finished, 1);
+  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  size_t nn = 0, nth = 0, ns = 0, nl = 0, ne = 0;
+  hsize_t dims[4];
+  assert_int_equal(io_h5_dims(f, "/clusters/n", dims), 2);
+  double *n = io_h5_read_double(f, "/clusters/n", &nn);
+  double *th = io_h5_read_double(f, "/clusters/n_theory", &nth);
+  double *st = io_h5_read_double(f, "/clusters/stats", &ns);
+  double *led = io_h5_read_double(f, "/clusters/ledger", &nl);
+  double *ek = io_h5_read_double(f, "/energy/e_kin", &ne);
+  double *e0 = io_h5_read_double(f, "/energy/e_initial", &ne);
+  double *ed = io_h5_read_double(f, "/energy/e_dissipated", &ne);
+  assert_int_equal(nn, 90);
+  assert_int_equal(nth, 90);
+  /* last time: n_1, n_2 within 4 sqrt(n) + 1.5 % (as t523) */
+  for (int k = 0; k < 2; k++)
+    GRAN_ASSERT_SIGMA(n[60 + k], th[60 + k], sqrt(th[60 + k]) + 0.015 * th[60 + k] / 4, 4);
+  assert_true(st[6 * 2 + 3] > 100 && st[6 * 2 + 4] > 100); /* merges and breakups happened */
+  for (int i = 0; i < 3; i++) {
+    GRAN_ASSERT_REL(ed[i], led[4 * i] + led[4 * i + 1] + led[4 * i + 2] - led[4 * i + 3], 1e-13);
+    GRAN_ASSERT_ABS(ek[i], e0[i] - ed[i], 1e-12 * e0[i]);
+  }
+  free(n), free(th), free(st), free(led), free(ek), free(e0), free(ed);
+  H5Fclose(f);
+  gran_scene_destroy(&s);
+}
+
 static void expect_parse_error(const char *scene, const char *key) {
   gran_scene *s = NULL;
   GRAN_ASSERT_ERR(gran_scene_parse(scene, "bad.toml", &s), GRAN_ERR_PARSE);
@@ -185,6 +230,7 @@ int main(void) {
       cmocka_unit_test(test_run_and_resume),
       cmocka_unit_test(test_scene_engine),
       cmocka_unit_test(test_bad_keys),
+      cmocka_unit_test(test_agg_scene),
   };
   int rc = cmocka_run_group_tests_name("t522-dsmc-cell-scene", tests, NULL, NULL);
   io_tmp_cleanup();
