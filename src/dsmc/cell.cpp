@@ -46,9 +46,16 @@ struct Words {
     e[1] = b * f;
     e[2] = 1.0 - 2.0 * q;
   }
-  inline double normal() { /* Box-Muller, one of the pair */
-    const double u1 = u64_uniform_pos(next()), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+  inline void normal2(double z[2]) { /* Marsaglia's polar method: two independent N(0, 1) */
+    double a, b, q;
+    do {
+      a = 2.0 * uniform() - 1.0;
+      b = 2.0 * uniform() - 1.0;
+      q = a * a + b * b;
+    } while (q >= 1.0 || q == 0.0);
+    const double f = std::sqrt(-2.0 * std::log(q) / q);
+    z[0] = a * f;
+    z[1] = b * f;
   }
 };
 
@@ -179,8 +186,11 @@ void cell_heat(gran_dsmc *s, double t) {
   for (int64_t j = 0; j < N; j++) {
     const double m = mass_of(sp[j]), sd = std::sqrt(hd / m);
     double *const vj = v + 3 * j;
+    double z[4];
+    w.normal2(z);
+    w.normal2(z + 2); /* the fourth is not used */
     for (int d = 0; d < 3; d++) {
-      const double dv = sd * w.normal();
+      const double dv = sd * z[d];
       neumaier_add(de, dec, 0.5 * m * dv * (2.0 * vj[d] + dv));
       vj[d] += dv;
       neumaier_add(P[d], Pc[d], m * dv);
