@@ -92,6 +92,7 @@ program t520_dsmc_cell_f
   call gran_dsmc_size_distribution(sim, ns, sz(1:1), cn(1:1), ierr=ierr)
   call expect(ierr == GRAN_ERR_RANGE .or. ns == 1, 'too small a capacity refused')
   call gran_dsmc_destroy(sim)
+  deallocate(sz, cn, tk)
   call gran_dsmc_cell_info(c_null_ptr, steps, box, pmax, ierr)
   call expect(ierr == GRAN_ERR_ARG, 'info of a NULL engine refused')
   call gran_mixture_destroy(mix)

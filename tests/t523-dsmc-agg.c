@@ -136,7 +136,8 @@ static void nk_case(double Ef, uint64_t seed) {
     GRAN_ASSERT_SIGMA((double)cnt[k], expect, sqrt(expect) + 0.015 * expect / 4, 4);
   }
   assert_true(cnt[0] < 0.6 * N); /* well into the aggregation */
-  GRAN_ASSERT_REL(T[0], Tth[0], 0.01);
+  /* T_1: 1 % plus 4 standard errors of T_1 (sqrt(2/(3 N_1)) T_1) */
+  GRAN_ASSERT_SIGMA(T[0], Tth[0], sqrt(2.0 / (3.0 * (double)cnt[0])) * Tth[0] + 0.01 * Tth[0] / 4, 4);
   check_conservation(d, N);
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   gran_mixture_destroy(&mix);
