@@ -59,6 +59,9 @@ struct Words {
   }
 };
 
+/* max without the NaN rules of std::fmax (a libm call in the hot loops; no NaN reaches them) */
+inline double dmax(double a, double b) { return a > b ? a : b; }
+
 /* position into [0, L) */
 inline double wrap(double x, double L, double invL) {
   if (x >= 0 && x < L) return x;
@@ -381,10 +384,10 @@ int cell_step(gran_dsmc *s) {
     cellof[j] = (int32_t)cc;
     start[cc + 1]++;
     const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
-    cvm2[cc] = std::fmax(cvm2[cc], q2);
-    csg[cc] = std::fmax(csg[cc], sig[sp[j]]);
-    if (!kAgg) b2[sp[j]] = std::fmax(b2[sp[j]], q2);
-    vm2 = std::fmax(vm2, q2);
+    cvm2[cc] = dmax(cvm2[cc], q2);
+    csg[cc] = dmax(csg[cc], sig[sp[j]]);
+    if (!kAgg) b2[sp[j]] = dmax(b2[sp[j]], q2);
+    vm2 = dmax(vm2, q2);
   }
   for (int64_t q = 0; q < C; q++) start[q + 1] += start[q];
   {
@@ -399,7 +402,7 @@ int cell_step(gran_dsmc *s) {
   c->vmax2 = vm2;
   c->step++;
   const double t = (double)c->step * dt; /* elapsed since t_start */
-  s->t = std::fmax(s->t, t);
+  s->t = dmax(s->t, t);
   if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) /* grid times within the step: free flight */
     while (s->traj_next < s->opt.traj_samples && (double)s->traj_next * s->opt.traj_dt <= t) {
       const double keep = s->t;
@@ -423,10 +426,16 @@ int cell_step(gran_dsmc *s) {
   for (int64_t q = 0; q < C; q++) {
     int64_t n = start[q + 1] - start[q];
     int64_t *const lq = list + start[q];
+    if (!kAgg && q + 1 < C) { /* the next cell's velocities: its candidates load them at random */
+      for (int64_t e = start[q + 1]; e < start[q + 2]; e++) {
+        __builtin_prefetch(v + 3 * list[e]);
+        __builtin_prefetch(v + 3 * list[e] + 2);
+      }
+    }
     double B = csg[q] * csg[q] * 2.0 * std::sqrt(cvm2[q]); /* bound of sigma_jl^2 g2r |g| */
     double vmc2 = cvm2[q];
     double want = kfac * (double)n * (double)n * B + c->rem[(size_t)q];
-    pmax = std::fmax(pmax, 2.0 * kfac * B);
+    pmax = dmax(pmax, 2.0 * kfac * B);
     actx.lq = lq;
     actx.n = &n;
     while (want >= 1.0) {
@@ -460,12 +469,12 @@ int cell_step(gran_dsmc *s) {
           const int64_t n0 = n;
           agg_merge(actx, j, l, i, k, Eimp);
           sig = c->sigk.data();
-          const double Bn = std::fmax(csg[q], sig[sp[j]]);
+          const double Bn = dmax(csg[q], sig[sp[j]]);
           csg[q] = Bn;
           const double Bnew = Bn * Bn * 2.0 * std::sqrt(vmc2);
           want *= ((double)n * (double)n * Bnew) / ((double)n0 * (double)n0 * B);
           B = Bnew;
-          pmax = std::fmax(pmax, 2.0 * kfac * B);
+          pmax = dmax(pmax, 2.0 * kfac * B);
           ++coll;
           continue;
         }
@@ -487,7 +496,7 @@ int cell_step(gran_dsmc *s) {
           const double Bn = csg[q] * csg[q] * 2.0 * std::sqrt(vmc2);
           want *= Bn / B;
           B = Bn;
-          pmax = std::fmax(pmax, 2.0 * kfac * B);
+          pmax = dmax(pmax, 2.0 * kfac * B);
         }
         continue;
       }
@@ -526,17 +535,17 @@ int cell_step(gran_dsmc *s) {
       const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
       const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
       if (!kAgg) {
-        b2[i] = std::fmax(b2[i], sj);
-        b2[k] = std::fmax(b2[k], sl);
+        b2[i] = dmax(b2[i], sj);
+        b2[k] = dmax(b2[k], sl);
       }
-      const double s2 = std::fmax(sj, sl);
+      const double s2 = dmax(sj, sl);
       if (s2 > vmc2) { /* the majorant rises: so do the candidates still to come */
         vmc2 = s2;
         const double Bn = csg[q] * csg[q] * 2.0 * std::sqrt(vmc2);
         want *= Bn / B;
         B = Bn;
-        pmax = std::fmax(pmax, 2.0 * kfac * B);
-        c->vmax2 = std::fmax(c->vmax2, s2);
+        pmax = dmax(pmax, 2.0 * kfac * B);
+        c->vmax2 = dmax(c->vmax2, s2);
       }
     }
     c->rem[(size_t)q] = want;
