@@ -426,7 +426,7 @@ int cell_step(gran_dsmc *s) {
   for (int64_t q = 0; q < C; q++) {
     int64_t n = start[q + 1] - start[q];
     int64_t *const lq = list + start[q];
-    if (!kAgg && q + 1 < C) { /* the next cell's velocities: its candidates load them at random */
+    if (q + 1 < C) { /* the next cell's velocities: its candidates load them at random */
       for (int64_t e = start[q + 1]; e < start[q + 2]; e++) {
         __builtin_prefetch(v + 3 * list[e]);
         __builtin_prefetch(v + 3 * list[e] + 2);
