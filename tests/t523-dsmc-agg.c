@@ -8,7 +8,8 @@
  *  - in every run: total mass exact, momentum to rounding, collisions = bounces + merges + breakups,
  *    energy ledger e_initial - (e_bounce + e_merge + e_break) = e_kin to 1e-12;
  *  - hard cases: e_agg huge (every collision merges), the breakup of a 1e5-mer into monomers (one
- *    growth of the particle arrays, CM energy eps_f^2 E_imp), growth to 1e4-mers;
+ *    growth of the particle arrays, CM energy eps_f^2 E_imp), growth to clusters of N/50 and more,
+ *    a 1e6-mer that swallows 100 monomers (sizes up to 1e6 + 100; 1e5 under ASan);
  *  - bad input: a mixture that is not k-mers, matrix restitution, displacements, API misuse. */
 #include "dsmc_util.h"
 
@@ -66,11 +67,8 @@ static void check_conservation(const gran_dsmc *d, int64_t mass0) {
   GRAN_ASSERT_REL(ed, st.e_bounce + st.e_merge + st.e_break - st.e_heat, 1e-14);
   GRAN_ASSERT_ABS(e, e0 - ed, 1e-12 * e0);
   GRAN_ASSERT_OK(gran_dsmc_momentum(d, P));
-  /* rounding: 1e-15 of sum m |v| per operation on the total, a few e-12 of the scale here */
-  double scale = 0;
-  for (int64_t j = 0; j < p->n; j++)
-    scale += (p->species[j] + 1) * sqrt(p->v[3 * j] * p->v[3 * j] + p->v[3 * j + 1] * p->v[3 * j + 1] +
-                                        p->v[3 * j + 2] * p->v[3 * j + 2]);
+  /* rounding against the momentum scale of the start, sqrt(2 E_0 M) (M the total mass) */
+  const double scale = sqrt(2.0 * e0 * (double)mass0);
   for (int k = 0; k < 3; k++) GRAN_ASSERT_ABS(P[k], 0.0, 1e-12 * scale);
   /* the sparse size distribution holds the same clusters */
   int64_t ns = 0;
@@ -239,6 +237,38 @@ static void test_large_clusters(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* a 1e6-mer among monomers that all stick to it: sizes up to 1e6 + 100 in one cluster */
+static void test_million_mer(void **state) {
+  (void)state;
+  const int64_t K = DSMC_ASAN ? 100000 : 1000000, M = K;
+  double *n = calloc((size_t)M, sizeof *n), *T0 = malloc((size_t)M * sizeof *T0);
+  int64_t *counts = calloc((size_t)M, sizeof *counts);
+  n[0] = 1e-3;
+  n[M - 1] = 1e-5;
+  counts[0] = 100;
+  counts[M - 1] = 1;
+  for (int64_t k = 0; k < M; k++) T0[k] = 1;
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(M, NULL, NULL, n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.9));
+  gran_dsmc *d = make(mix, counts, T0, 1e5, 0.2, 1, 1e12, INFINITY, 1, 9);
+  gran_dsmc_cluster_stats st;
+  double t = 0;
+  do {
+    t += 20;
+    GRAN_ASSERT_OK(gran_dsmc_advance(d, t));
+    GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(d, &st));
+  } while (st.nclusters > 1 && t < 2e4);
+  assert_int_equal(st.nclusters, 1);
+  assert_int_equal(st.largest, K + 100);
+  check_conservation(d, K + 100);
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  gran_mixture_destroy(&mix);
+  free(n);
+  free(T0);
+  free(counts);
+}
+
 static void test_errors(void **state) {
   (void)state;
   gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 1, 1e5, 0);
@@ -286,6 +316,7 @@ int main(void) {
       cmocka_unit_test(test_errors),           cmocka_unit_test(test_first_steps),
       cmocka_unit_test(test_nk_theory),        cmocka_unit_test(test_every_pair_sticks),
       cmocka_unit_test(test_big_breakup),      cmocka_unit_test(test_large_clusters),
+      cmocka_unit_test(test_million_mer),
   };
   return cmocka_run_group_tests_name("t523-dsmc-agg", tests, NULL, NULL);
 }
