@@ -47,6 +47,9 @@ static void test_errors(void **state) {
   c.cells = 0;
   GRAN_ASSERT_ERR(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &d), GRAN_ERR_ARG);
   assert_non_null(strstr(gran_last_error_message(), "'cells'"));
+  c.cells = 200; /* 8e6 cells for 1000 particles */
+  GRAN_ASSERT_ERR(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &d), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'cells'"));
   c.cells = 2;
   c.fn = -1;
   GRAN_ASSERT_ERR(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &d), GRAN_ERR_ARG);

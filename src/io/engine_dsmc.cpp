@@ -88,6 +88,8 @@ class DsmcEngine : public gran_engine {
     const double per = 28.0 + 24.0 + (s_->obs_msd ? 32.0 : 0.0) +
                        (s_->selector == GRAN_SELECTOR_CELL ? 36.0 : 0.0); /* cell: positions, cell lists */
     double b = N * per + (double)s_->nspecies * (double)s_->nspecies * 64.0;
+    if (s_->selector == GRAN_SELECTOR_CELL) /* cell selector: 48 B per cell */
+      b += 48.0 * (double)s_->cell.cells * (double)s_->cell.cells * (double)s_->cell.cells;
     if (s_->obs_tamsd) b += (double)s_->nspecies * (double)s_->tamsd_tracers * (double)s_->tamsd_samples * 24.0;
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
     return GRAN_SUCCESS;
