@@ -155,6 +155,8 @@ module granary
     real(c_double) :: e_frag = huge(1.0_c_double) ! shatter when mu g_n^2/2 > e_frag (C default: INFINITY)
     real(c_double) :: eps_f = 1                ! fragments share eps_f^2 of the impact energy
     real(c_double) :: heat_rate = 0            ! white-noise thermostat dT/dt (0: off)
+    real(c_double) :: bath_density = 0         ! molecular-gas bath n_b (0: off)
+    real(c_double) :: bath_mass = 1, bath_T = 1, bath_sigma = 1
     integer(c_int32_t) :: placement = 0        ! GRAN_PLACE_*
     integer(c_int32_t) :: pad_ = 0
   end type gran_dsmc_cell_options

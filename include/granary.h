@@ -422,12 +422,19 @@ typedef struct gran_dsmc_cell_options {
   double e_frag;      /* fragmentation: shatter when mu g_n^2 / 2 > e_frag (INFINITY: off) */
   double eps_f;       /* fragments share eps_f^2 of the impact energy in the CM frame, [0, 1] */
   double heat_rate;   /* white-noise thermostat: heating dT/dt per particle (0: off) */
+  double bath_density; /* molecular-gas bath: number density n_b of bath particles (0: off) */
+  double bath_mass;   /* their mass m_b (> 0 when the bath is on) */
+  double bath_T;      /* their temperature T_b (>= 0) */
+  double bath_sigma;  /* their diameter sigma_b (>= 0; contact at (sigma_k + sigma_b)/2) */
   int32_t placement;  /* gran_cell_placement */
   int32_t pad_;
 } gran_dsmc_cell_options;
 
 /* Defaults: 1 cell, dt 0 (must be set), F_N 1, no aggregation (e_agg 0), no fragmentation
- * (e_frag INFINITY), eps_f 1, no thermostat, GRAN_PLACE_RANDOM. */
+ * (e_frag INFINITY), eps_f 1, no thermostat, no bath (bath_mass 1, bath_T 1, bath_sigma 1),
+ * GRAN_PLACE_RANDOM. Bath: every particle collides elastically with Maxwellian bath particles
+ * (n_b, m_b, T_b, sigma_b; the bath does not change) at the rate n_b pi sigma_kb^2 <|v - w|>,
+ * sampled exactly in continuous time within each step; the energy exchanged is booked as heat. */
 GRAN_EXTERN int gran_dsmc_cell_options_default(gran_dsmc_cell_options *cell);
 /* As gran_dsmc_create with opt->selector = GRAN_SELECTOR_CELL (set by this call) and the cell
  * options; counts NULL: N_k = round(n_k V / F_N) with V = opt->volume the box volume. A dt whose
@@ -525,7 +532,7 @@ GRAN_EXTERN int gran_scene_dsmc_options(const gran_scene *scene, gran_dsmc_optio
 /* A new engine exactly as `granary run` creates it (counts, seed, selector, observables). */
 GRAN_EXTERN int gran_scene_dsmc(const gran_scene *scene, const gran_mixture *mix, gran_dsmc **sim);
 /* The [cell] table of a scene (engine selector = "cell"): cells, dt, fn, e_agg, e_frag, eps_f,
- * heat_rate, placement; defaults of gran_dsmc_cell_options_default for keys not given. */
+ * heat_rate, bath_density, bath_mass, bath_T, bath_sigma, placement; defaults of gran_dsmc_cell_options_default for keys not given. */
 GRAN_EXTERN int gran_scene_dsmc_cell_options(const gran_scene *scene, gran_dsmc_cell_options *cell);
 
 /* Progress of a run, handed to the optional callback after every output time. */

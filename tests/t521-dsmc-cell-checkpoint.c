@@ -139,6 +139,8 @@ static void test_resume_agg(void **state) {
     c.e_frag = 2.5;
     c.eps_f = 0.6;
     c.heat_rate = place ? 0.002 : 0.0;
+    c.bath_density = place ? 0.0 : 0.004; /* the molecular-gas bath */
+    c.bath_T = 1.5;
     c.placement = place ? GRAN_PLACE_COLLISION : GRAN_PLACE_RANDOM;
     gran_dsmc *a, *b, *r;
     GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &a));

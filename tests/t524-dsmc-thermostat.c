@@ -78,10 +78,60 @@ static void test_driven_steady_state(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* Molecular-gas bath: an elastic binary mixture (m = 1, 3) in a bath at T_b = 2 reaches T_1 = T_2 =
+ * T_b and a Maxwellian (a2 = 0), 4 standard errors of the time average (batch means of 20 samples
+ * 10 time units apart, after 20 bath collision times); the ledger books the exchanged energy. */
+static void test_bath(void **state) {
+  (void)state;
+  double m[2] = {1, 3}, s[2] = {1, 1.4422495703074083}, n[2] = {kN / 2, kN / 2};
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(2, m, s, n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 1.0));
+  const int64_t N = (int64_t)(10000 * dsmc_scale());
+  gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 17, (double)N / kN, 0);
+  gran_dsmc_cell_options c;
+  GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+  c.dt = 0.5;
+  c.cells = 2;
+  c.bath_density = 0.02;
+  c.bath_mass = 1.0;
+  c.bath_T = 2.0;
+  c.bath_sigma = 1.0;
+  const double T0[2] = {1.0, 0.5};
+  gran_dsmc *d = NULL;
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, T0, &o, &c, &d));
+  GRAN_ASSERT_OK(gran_dsmc_advance(d, 300));
+  enum { S = 20 };
+  double T1[S], T2[S], A[S];
+  for (int i = 0; i < S; i++) {
+    double T[2], a2[2];
+    GRAN_ASSERT_OK(gran_dsmc_advance(d, 300 + 10.0 * (i + 1)));
+    GRAN_ASSERT_OK(gran_dsmc_temperatures(d, T));
+    GRAN_ASSERT_OK(gran_dsmc_sonine_a2(d, a2));
+    T1[i] = T[0];
+    T2[i] = T[1];
+    A[i] = a2[0];
+  }
+  double m1, s1, m2, s2, ma, sa;
+  dsmc_mean_se(T1, S, &m1, &s1);
+  dsmc_mean_se(T2, S, &m2, &s2);
+  dsmc_mean_se(A, S, &ma, &sa);
+  GRAN_ASSERT_SIGMA(m1, 2.0, s1, 4);
+  GRAN_ASSERT_SIGMA(m2, 2.0, s2, 4);
+  GRAN_ASSERT_SIGMA(ma, 0.0, sa, 4);
+  double e, e0, ed;
+  GRAN_ASSERT_OK(gran_dsmc_energy(d, &e, &e0, &ed));
+  GRAN_ASSERT_ABS(e, e0 - ed, 1e-12 * e);
+  assert_true(e > 1.5 * e0); /* the bath heated the gas from T ~ 0.75 towards 2 */
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  gran_mixture_destroy(&mix);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_heating_elastic),
       cmocka_unit_test(test_driven_steady_state),
+      cmocka_unit_test(test_bath),
   };
   return cmocka_run_group_tests_name("t524-dsmc-thermostat", tests, NULL, NULL);
 }

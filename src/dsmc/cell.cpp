@@ -111,6 +111,14 @@ int dsmc_cell_check_options(const gran_dsmc_cell_options *o) {
              "cell option 'eps_f' = %g must be in [0, 1]", o->eps_f);
   GRAN_CHECK(std::isfinite(o->heat_rate) && o->heat_rate >= 0, GRAN_ERR_ARG,
              "cell option 'heat_rate' = %g must be finite and >= 0", o->heat_rate);
+  GRAN_CHECK(std::isfinite(o->bath_density) && o->bath_density >= 0, GRAN_ERR_ARG,
+             "cell option 'bath_density' = %g must be finite and >= 0", o->bath_density);
+  GRAN_CHECK(std::isfinite(o->bath_mass) && o->bath_mass > 0, GRAN_ERR_ARG,
+             "cell option 'bath_mass' = %g must be finite and > 0", o->bath_mass);
+  GRAN_CHECK(std::isfinite(o->bath_T) && o->bath_T >= 0, GRAN_ERR_ARG, "cell option 'bath_T' = %g must be finite and >= 0",
+             o->bath_T);
+  GRAN_CHECK(std::isfinite(o->bath_sigma) && o->bath_sigma >= 0, GRAN_ERR_ARG,
+             "cell option 'bath_sigma' = %g must be finite and >= 0", o->bath_sigma);
   GRAN_CHECK(o->placement == GRAN_PLACE_RANDOM || o->placement == GRAN_PLACE_COLLISION, GRAN_ERR_ARG,
              "cell option 'placement' = %d is not a gran_cell_placement", (int)o->placement);
   return GRAN_SUCCESS;
@@ -244,6 +252,81 @@ void cell_heat(gran_dsmc *s, double t) {
   c->vmax2 = vm2;
   for (int64_t k = 0; k < s->M; k++) {
     if (agg) b2[k] = vm2; /* sizes: one bound for all */
+    s->bound[(size_t)k] = std::sqrt(b2[k]);
+  }
+  neumaier_add(c->e_heat, c->e_heat_c, de + dec);
+}
+
+/* Molecular-gas bath (after the collisions of a step ending at time t): every particle collides
+ * elastically with bath particles of velocity w ~ Maxwell(T_b, m_b) at the rate
+ * n_b pi sigma_kb^2 |v - w| per unit time and bath velocity, sampled exactly over the step by
+ * thinning: candidates at the rate n_b pi sigma_kb^2 (|v| + <|w|>) are, with probability
+ * |v| / (|v| + <|w|>), a Maxwellian w and otherwise a speed-biased one (density ~ |w| f(w)), so
+ * that the candidate intensity of a bath velocity w is n_b pi sigma^2 (|v| + |w|) f(w) >=
+ * n_b pi sigma^2 |v - w| f(w); a candidate is accepted with |v - w| / (|v| + |w|), and the
+ * collision draws e from its |g.e| law. Waiting times restart from the new speed after each
+ * collision (memoryless). The bath does not change; the energy exchanged is booked as heat. */
+template <bool kDisp>
+void cell_bath(gran_dsmc *s, double t) {
+  DsmcCell *const c = s->cell;
+  Words w{&s->vrng};
+  const int64_t N = s->N;
+  double *const v = s->p.v;
+  double *const R = kDisp ? s->p.r : nullptr;
+  const int32_t *const sp = s->p.species;
+  const bool agg = c->agg != 0;
+  const double mb = c->o.bath_mass, sb = std::sqrt(c->o.bath_T / mb), wmean = std::sqrt(8.0 / kPi) * sb;
+  const double dt = c->o.dt, nb = c->o.bath_density;
+  double de = 0, dec = 0, vm2 = c->vmax2;
+  double *const b2 = s->bound2.data();
+  for (int64_t j = 0; j < N; j++) {
+    const int32_t k = sp[j];
+    const double m = agg ? (double)(k + 1) * c->m1 : s->mix.m[(size_t)k];
+    const double sg = 0.5 * ((agg ? c->sigk[(size_t)k] : s->mix.sigma[(size_t)k]) + c->o.bath_sigma);
+    const double rate0 = nb * kPi * sg * sg;
+    double *const vj = v + 3 * j;
+    double tt = 0;
+    for (;;) {
+      const double sp2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2], vs = std::sqrt(sp2);
+      const double lam = rate0 * (vs + wmean);
+      if (!(lam > 0)) break;
+      tt += -std::log(u64_uniform_pos(w.next())) / lam;
+      if (tt > dt) break;
+      double wv[3];
+      if (w.uniform() * (vs + wmean) < vs) { /* Maxwellian */
+        double z[4];
+        w.normal2(z);
+        w.normal2(z + 2);
+        for (int d = 0; d < 3; d++) wv[d] = sb * z[d];
+      } else { /* speed-biased: |w|^2 / (2 sb^2) ~ Gamma(2) */
+        const double G = -std::log(u64_uniform_pos(w.next()) * u64_uniform_pos(w.next()));
+        double e[3];
+        w.unit3(e);
+        const double ws = sb * std::sqrt(2.0 * G);
+        for (int d = 0; d < 3; d++) wv[d] = ws * e[d];
+      }
+      const double g[3] = {vj[0] - wv[0], vj[1] - wv[1], vj[2] - wv[2]};
+      const double ga = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+      const double wa = std::sqrt(wv[0] * wv[0] + wv[1] * wv[1] + wv[2] * wv[2]);
+      if (!(w.uniform() * (vs + wa) < ga)) continue;
+      double u[3];
+      w.unit3(u);
+      const double a = 2.0 * mb / (m + mb);
+      double dv[3];
+      for (int d = 0; d < 3; d++) dv[d] = -a * 0.5 * (g[d] - ga * u[d]);
+      neumaier_add(de, dec, 0.5 * m * (dv[0] * (2.0 * vj[0] + dv[0]) + dv[1] * (2.0 * vj[1] + dv[1]) + dv[2] * (2.0 * vj[2] + dv[2])));
+      for (int d = 0; d < 3; d++) {
+        vj[d] += dv[d];
+        if (kDisp) R[3 * j + d] -= dv[d] * t;
+      }
+    }
+    const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+    vm2 = q2 > vm2 ? q2 : vm2;
+    if (!agg) b2[k] = q2 > b2[k] ? q2 : b2[k];
+  }
+  c->vmax2 = vm2;
+  for (int64_t k = 0; k < s->M; k++) {
+    if (agg) b2[k] = vm2;
     s->bound[(size_t)k] = std::sqrt(b2[k]);
   }
   neumaier_add(c->e_heat, c->e_heat_c, de + dec);
@@ -586,6 +669,7 @@ int cell_step(gran_dsmc *s) {
     for (int64_t k = 0; k < M; k++) s->bound[(size_t)k] = std::sqrt(b2[k]);
   }
   if (c->o.heat_rate > 0) cell_heat<kDisp>(s, t);
+  if (c->o.bath_density > 0) cell_bath<kDisp>(s, t);
   return GRAN_SUCCESS;
 }
 
@@ -648,6 +732,10 @@ GRAN_EXTERN int gran_dsmc_cell_options_default(gran_dsmc_cell_options *cell) {
   cell->e_frag = INFINITY;
   cell->eps_f = 1;
   cell->heat_rate = 0;
+  cell->bath_density = 0;
+  cell->bath_mass = 1;
+  cell->bath_T = 1;
+  cell->bath_sigma = 1;
   cell->placement = GRAN_PLACE_RANDOM;
   return GRAN_SUCCESS;
 }

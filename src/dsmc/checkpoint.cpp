@@ -245,16 +245,16 @@ int validate_state(const gran_dsmc *s, const char *path) {
 int cell_options_io(Writer &w, const gran_dsmc *s) {
   const gran_dsmc_cell_options &o = s->cell->o;
   int64_t ci[2] = {o.cells, o.placement};
-  double cd[6] = {o.dt, o.fn, o.e_agg, o.e_frag, o.eps_f, o.heat_rate};
+  double cd[10] = {o.dt, o.fn, o.e_agg, o.e_frag, o.eps_f, o.heat_rate, o.bath_density, o.bath_mass, o.bath_T, o.bath_sigma};
   GRAN_CALL(w.i64("cell_options_int", 2, ci));
-  GRAN_CALL(w.d("cell_options_real", 6, cd));
+  GRAN_CALL(w.d("cell_options_real", 10, cd));
   return GRAN_SUCCESS;
 }
 int cell_options_read(Reader &r, gran_dsmc_cell_options *o) {
   int64_t ci[2];
-  double cd[6];
+  double cd[10];
   GRAN_CALL(r.i64("cell_options_int", 2, ci));
-  GRAN_CALL(r.d("cell_options_real", 6, cd));
+  GRAN_CALL(r.d("cell_options_real", 10, cd));
   gran_dsmc_cell_options_default(o);
   GRAN_CHECK(ci[0] >= 1 && ci[0] <= 1024 && ci[1] >= 0 && ci[1] <= 1, GRAN_ERR_IO,
              "checkpoint '%s' holds invalid cell options (damaged or edited file?)", r.path);
@@ -266,6 +266,10 @@ int cell_options_read(Reader &r, gran_dsmc_cell_options *o) {
   o->e_frag = cd[3];
   o->eps_f = cd[4];
   o->heat_rate = cd[5];
+  o->bath_density = cd[6];
+  o->bath_mass = cd[7];
+  o->bath_T = cd[8];
+  o->bath_sigma = cd[9];
   return GRAN_SUCCESS;
 }
 template <class F, class D>

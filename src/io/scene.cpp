@@ -721,7 +721,8 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   if (top.has("cell")) {
     if (s.selector != GRAN_SELECTOR_CELL) top.fail("cell", "the [cell] table needs [engine] selector = \"cell\"");
     Tab ce = top.sub("cell");
-    ce.set_known({"cells", "dt", "fn", "e_agg", "e_frag", "eps_f", "heat_rate", "placement"});
+    ce.set_known({"cells", "dt", "fn", "e_agg", "e_frag", "eps_f", "heat_rate", "bath_density", "bath_mass", "bath_T",
+                  "bath_sigma", "placement"});
     gran_dsmc_cell_options &c = s.cell;
     c.cells = ce.count("cells", 1);
     require(c.cells >= 1 && c.cells <= 1024, ce, "cells", "must be in 1..1024 (cells per side of the box)");
@@ -741,6 +742,14 @@ void parse_scene(const toml::value &root, gran_scene &s) {
     require(c.eps_f >= 0 && c.eps_f <= 1, ce, "eps_f", "must be in [0, 1]");
     c.heat_rate = ce.number("heat_rate", 0.0);
     require(c.heat_rate >= 0, ce, "heat_rate", "must be >= 0 (0: no thermostat)");
+    c.bath_density = ce.number("bath_density", 0.0);
+    require(c.bath_density >= 0, ce, "bath_density", "must be >= 0 (0: no bath)");
+    c.bath_mass = ce.number("bath_mass", 1.0);
+    require(c.bath_mass > 0, ce, "bath_mass", "must be > 0");
+    c.bath_T = ce.number("bath_T", 1.0);
+    require(c.bath_T >= 0, ce, "bath_T", "must be >= 0");
+    c.bath_sigma = ce.number("bath_sigma", 1.0);
+    require(c.bath_sigma >= 0, ce, "bath_sigma", "must be >= 0");
     const std::string pl = ce.string("placement", "random");
     if (pl == "random") c.placement = GRAN_PLACE_RANDOM;
     else if (pl == "collision") c.placement = GRAN_PLACE_COLLISION;
