@@ -182,6 +182,10 @@ static void test_bad_keys(void **state) {
   expect_parse_error(text("eps_f = 2.0", "x.h5"), "cell.eps_f");
   expect_parse_error(text("heat_rate = -1.0", "x.h5"), "cell.heat_rate");
   expect_parse_error(text("placement = \"nowhere\"", "x.h5"), "cell.placement");
+  expect_parse_error(text("bath_density = -1.0", "x.h5"), "cell.bath_density");
+  expect_parse_error(text("bath_mass = 0.0", "x.h5"), "cell.bath_mass");
+  expect_parse_error(text("bath_T = -2.0", "x.h5"), "cell.bath_T");
+  expect_parse_error(text("bath_sigma = -1.0", "x.h5"), "cell.bath_sigma");
   expect_parse_error(text("nonsense = 1", "x.h5"), "cell.nonsense");
   /* dt: a second dt line would be a TOML error; replace it */
   {
