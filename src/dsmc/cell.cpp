@@ -140,6 +140,8 @@ static int cell_setup_impl(gran_dsmc *s, const gran_dsmc_cell_options *o) {
   GRAN_CALL(dsmc_cell_check_options(o));
   GRAN_CHECK(!s->has_tracers, GRAN_ERR_ARG,
              "the cell selector has no tracers: every species needs n_k > 0 in the mixture");
+  GRAN_CHECK(s->N < INT32_MAX, GRAN_ERR_ARG,
+             "the cell selector holds fewer than 2^31 particles (" GRAN_I64_FMT " asked for)", s->N);
   {
     const int64_t C = o->cells * o->cells * o->cells, cap = std::max<int64_t>(INT64_C(1) << 20, 16 * s->N);
     GRAN_CHECK(C <= cap, GRAN_ERR_ARG,
@@ -340,7 +342,7 @@ struct AggCtx {
   gran_dsmc *s;
   DsmcCell *c;
   Words *w;
-  int64_t *lq;
+  int32_t *lq;
   int64_t *n;
   int status;
 };
@@ -379,7 +381,7 @@ static int agg_merge(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, doub
   c->merges++;
   /* l leaves the cell's list */
   const int64_t pl = c->where[(size_t)l], last = *a.n - 1;
-  const int64_t moved = a.lq[last];
+  const int32_t moved = a.lq[last];
   a.lq[pl] = moved;
   c->where[(size_t)moved] = pl;
   *a.n = last;
@@ -392,6 +394,10 @@ static int agg_shatter(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, do
   const int64_t kj = (int64_t)i + 1, kl = (int64_t)k + 1, K = kj + kl;
   /* room for K - 2 new particles: one growth at most (geometric), never one per fragment */
   gran_particles *p = &s->p;
+  if (p->n + K - 2 >= INT32_MAX) { /* the cell lists hold 32-bit indices */
+    a.status = GRAN_ERROR(GRAN_ERR_RANGE, "fragmentation would make more than 2^31 particles");
+    return 0;
+  }
   if (p->n + K - 2 > p->capacity) {
     const int64_t want = std::max(p->n + K - 2, 2 * p->capacity);
     a.status = gran_particles_reserve(p, want);
@@ -499,11 +505,12 @@ int cell_step(gran_dsmc *s) {
   }
   for (int64_t q = 0; q < C; q++) start[q + 1] += start[q];
   {
-    int64_t *const fill = c->list.data(), *const pos = c->fillpos.data(); /* stable within a cell */
+    int32_t *const fill = c->list.data(); /* stable within a cell */
+    int64_t *const pos = c->fillpos.data();
     std::copy(start, start + C, pos);
     for (int64_t j = 0; j < N; j++) {
       const int64_t at = pos[cellof[j]]++;
-      fill[at] = j;
+      fill[at] = (int32_t)j;
       if (kAgg) c->where[(size_t)j] = at - start[cellof[j]];
     }
   }
@@ -522,7 +529,7 @@ int cell_step(gran_dsmc *s) {
 
   /* 2. collisions, cell by cell */
   Words w{&s->vrng};
-  int64_t *const list = c->list.data();
+  int32_t *const list = c->list.data();
   const DsmcPair *const pair = s->pair.empty() ? nullptr : s->pair.data();
   double *const R = kDisp ? s->p.r : nullptr;
   int64_t *const cnt = kCount ? s->ccount.data() : nullptr;
@@ -533,11 +540,12 @@ int cell_step(gran_dsmc *s) {
   AggCtx actx{s, c, &w, nullptr, nullptr, GRAN_SUCCESS};
   for (int64_t q = 0; q < C; q++) {
     int64_t n = start[q + 1] - start[q];
-    int64_t *const lq = list + start[q];
+    int32_t *const lq = list + start[q];
     if (q + kAhead < C) { /* velocities of a cell kAhead ahead: its candidates load them at random */
       for (int64_t e = start[q + kAhead]; e < start[q + kAhead + 1]; e++) {
         __builtin_prefetch(v + 3 * list[e]);
         __builtin_prefetch(v + 3 * list[e] + 2);
+        __builtin_prefetch(sp + list[e]);
       }
     }
     double B = csg[q] * csg[q] * 2.0 * std::sqrt(cvm2[q]); /* bound of sigma_jl^2 g2r |g| */

@@ -23,7 +23,7 @@ struct DsmcCell {
   std::vector<double> rem; /* C: fractional candidates carried to the next step */
   /* derived every step (not part of the checkpoint) */
   std::vector<int64_t> start;  /* C+1: cell c holds list[start[c] .. start[c+1]) */
-  std::vector<int64_t> list;   /* N: particle indices sorted by cell (stable) */
+  std::vector<int32_t> list;   /* N: particle indices sorted by cell (stable; N < 2^31 in this selector) */
   std::vector<int32_t> cellof; /* N */
   std::vector<double> cvm2;    /* C: max |v|^2 in the cell */
   std::vector<double> csg;     /* C: max diameter in the cell */
