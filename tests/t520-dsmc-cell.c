@@ -359,11 +359,52 @@ static void test_dt_convergence(void **state) {
   GRAN_ASSERT_SIGMA(m[2], ml, sqrt(s[2] * s[2] + sl * sl), 4);
 }
 
+/* Free flight (two particles that never meet in a box of side 1000 with 1000 cells): the positions
+ * are x(0) + v t wrapped into the box, and the MSD of the lazy displacements is |v t|^2 (the
+ * displacement is the unwrapped position minus the start). */
+static void test_free_flight(void **state) {
+  (void)state;
+  gran_mixture *mix = dsmc_mono(2e-9, 1.0);
+  int64_t two = 2;
+  const double T0 = 1;
+  gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 8, 1e9, GRAN_OBSERVE_DISPLACEMENT);
+  gran_dsmc_cell_options c;
+  GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+  c.dt = 0.5;
+  c.cells = 10;
+  gran_dsmc *d = NULL;
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, &two, &T0, &o, &c, &d));
+  const gran_particles *p;
+  GRAN_ASSERT_OK(gran_dsmc_particles(d, &p));
+  double x0[6], v0[6], L;
+  memcpy(x0, p->x, sizeof x0);
+  memcpy(v0, p->v, sizeof v0);
+  GRAN_ASSERT_OK(gran_dsmc_cell_info(d, NULL, &L, NULL));
+  const double t = 3000.25; /* between two steps: the displacement is exact at t, positions at 3000 */
+  GRAN_ASSERT_OK(gran_dsmc_advance(d, t));
+  gran_dsmc_stats st;
+  GRAN_ASSERT_OK(gran_dsmc_get_stats(d, &st));
+  assert_int_equal(st.collisions, 0);
+  double msd = 0;
+  for (int k = 0; k < 6; k++) {
+    double x = fmod(x0[k] + v0[k] * 3000.0, L);
+    if (x < 0) x += L;
+    GRAN_ASSERT_ABS(p->x[k], x, 1e-9 * L);
+    msd += v0[k] * v0[k] * t * t / 2;
+  }
+  double m;
+  GRAN_ASSERT_OK(gran_dsmc_msd(d, NULL, &m));
+  GRAN_ASSERT_REL(m, msd, 1e-12);
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  gran_mixture_destroy(&mix);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_errors),         cmocka_unit_test(test_positions_fn),
       cmocka_unit_test(test_elastic_counts), cmocka_unit_test(test_haff),
       cmocka_unit_test(test_mixture_ratio),  cmocka_unit_test(test_dt_convergence),
+      cmocka_unit_test(test_free_flight),
   };
   return cmocka_run_group_tests_name("t520-dsmc-cell", tests, NULL, NULL);
 }
