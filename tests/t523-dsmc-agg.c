@@ -261,6 +261,8 @@ static void test_million_mer(void **state) {
   } while (st.nclusters > 1 && t < 2e4);
   assert_int_equal(st.nclusters, 1);
   assert_int_equal(st.largest, K + 100);
+  /* one cluster left: no collision can happen (a clear error, not an endless loop) */
+  GRAN_ASSERT_ERR(gran_dsmc_advance_collisions(d, 1), GRAN_ERR_STATE);
   check_conservation(d, K + 100);
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   gran_mixture_destroy(&mix);

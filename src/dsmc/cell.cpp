@@ -709,7 +709,9 @@ int dsmc_cell_advance(gran_dsmc *s, double t_end, int64_t coll_stop) {
       if ((double)(c->step + 1) * dt > t_end + 1e-9 * dt) break;
     } else {
       if (s->collisions >= coll_stop) break;
-      GRAN_CHECK(c->vmax2 > 0, GRAN_ERR_STATE, "no collision can happen: every particle is at rest");
+      GRAN_CHECK(c->vmax2 > 0 && s->N >= 2 && s->g2max > 0, GRAN_ERR_STATE,
+                 "no collision can happen: " GRAN_I64_FMT " particle(s), largest speed %g, contact value %g", s->N,
+                 std::sqrt(c->vmax2), s->g2max);
     }
     GRAN_CALL(check_dt(s, "for the speeds reached"));
     GRAN_CALL(fn(s));
