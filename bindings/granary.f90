@@ -143,6 +143,31 @@ module granary
   public :: gran_dsmc_temperatures, gran_dsmc_msd, gran_dsmc_collision_counts, gran_dsmc_sonine_a2
   public :: gran_dsmc_energy, gran_dsmc_momentum, gran_dsmc_particles, gran_dsmc_species_offsets
   public :: gran_dsmc_trajectories, gran_dsmc_checkpoint_write, gran_dsmc_checkpoint_read
+  ! ---- time-step/cell DSMC, aggregation, fragmentation, thermostat (src/dsmc/cell.cpp) ----
+  integer(c_int32_t), parameter, public :: GRAN_SELECTOR_CELL = 4
+  integer(c_int32_t), parameter, public :: GRAN_PLACE_RANDOM = 0
+  integer(c_int32_t), parameter, public :: GRAN_PLACE_COLLISION = 1
+  type, bind(C), public :: gran_dsmc_cell_options
+    integer(c_int64_t) :: cells = 1            ! cells per side
+    real(c_double) :: dt = 0                   ! time step (> 0)
+    real(c_double) :: fn = 1                   ! F_N real particles per simulated one
+    real(c_double) :: e_agg = 0                ! merge when mu g^2/2 < e_agg (0: off)
+    real(c_double) :: e_frag = huge(1.0_c_double) ! shatter when mu g_n^2/2 > e_frag (C default: INFINITY)
+    real(c_double) :: eps_f = 1                ! fragments share eps_f^2 of the impact energy
+    real(c_double) :: heat_rate = 0            ! white-noise thermostat dT/dt (0: off)
+    real(c_double) :: bath_density = 0         ! molecular-gas bath n_b (0: off)
+    real(c_double) :: bath_mass = 1, bath_T = 1, bath_sigma = 1
+    integer(c_int32_t) :: placement = 0        ! GRAN_PLACE_*
+    integer(c_int32_t) :: pad_ = 0
+  end type gran_dsmc_cell_options
+  public :: gran_dsmc_cell_options_default, gran_dsmc_create_cell, gran_dsmc_cell_info, gran_scene_dsmc_cell_options
+  type, bind(C), public :: gran_dsmc_cluster_stats
+    integer(c_int64_t) :: nclusters = 0, mass = 0, largest = 0, nsizes = 0
+    integer(c_int64_t) :: merges = 0, breakups = 0, bounces = 0
+    real(c_double) :: mean_size = 0, e_bounce = 0, e_merge = 0, e_break = 0, e_heat = 0
+  end type gran_dsmc_cluster_stats
+  public :: gran_dsmc_get_cluster_stats, gran_dsmc_size_distribution
+  ! ---- end cell selector ----
   ! ---- analysis ----
   ! A TAMSD plan: the C handle and the trajectory length it was made for (so that the wrappers can
   ! check the shape of the positions they pass).
@@ -1139,6 +1164,51 @@ module granary
     end function c_gran_srd_get_device
   end interface
   ! ---- end GSRD devices ----
+  ! ---- cell selector interfaces ----
+  interface
+    function c_gran_dsmc_cell_options_default(cell) bind(C, name='gran_dsmc_cell_options_default') result(ierr)
+      import :: c_int, gran_dsmc_cell_options
+      type(gran_dsmc_cell_options), intent(out) :: cell
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_cell_options_default
+    function c_gran_dsmc_create_cell(mix, counts, T0, opt, cell, sim) bind(C, name='gran_dsmc_create_cell') result(ierr)
+      import :: c_int, c_ptr, gran_dsmc_options, gran_dsmc_cell_options
+      type(c_ptr), value :: mix, counts, T0
+      type(gran_dsmc_options), intent(in) :: opt
+      type(gran_dsmc_cell_options), intent(in) :: cell
+      type(c_ptr), intent(out) :: sim
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_create_cell
+    function c_gran_dsmc_cell_info(sim, steps, box, pmax) bind(C, name='gran_dsmc_cell_info') result(ierr)
+      import :: c_int, c_ptr, c_int64_t, c_double
+      type(c_ptr), value :: sim
+      integer(c_int64_t), intent(out) :: steps
+      real(c_double), intent(out) :: box, pmax
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_cell_info
+    function c_gran_scene_dsmc_cell_options(scene, cell) bind(C, name='gran_scene_dsmc_cell_options') result(ierr)
+      import :: c_int, c_ptr, gran_dsmc_cell_options
+      type(c_ptr), value :: scene
+      type(gran_dsmc_cell_options), intent(out) :: cell
+      integer(c_int) :: ierr
+    end function c_gran_scene_dsmc_cell_options
+    function c_gran_dsmc_get_cluster_stats(sim, st) bind(C, name='gran_dsmc_get_cluster_stats') result(ierr)
+      import :: c_int, c_ptr, gran_dsmc_cluster_stats
+      type(c_ptr), value :: sim
+      type(gran_dsmc_cluster_stats), intent(out) :: st
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_get_cluster_stats
+    function c_gran_dsmc_size_distribution(sim, cap, nsizes, sizes, counts, T) &
+        bind(C, name='gran_dsmc_size_distribution') result(ierr)
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: sim
+      integer(c_int64_t), value :: cap
+      integer(c_int64_t), intent(out) :: nsizes
+      type(c_ptr), value :: sizes, counts, T
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_size_distribution
+  end interface
+  ! ---- end cell selector interfaces ----
 
 contains
 
@@ -2907,4 +2977,99 @@ contains
     device = int(d)
   end subroutine gran_srd_get_device
   ! ---- end GSRD devices wrappers ----
+  ! ---- cell selector wrappers ----
+  !> Defaults: 1 cell, dt 0 (set it), F_N 1, no aggregation, fragmentation or thermostat.
+  subroutine gran_dsmc_cell_options_default(cell, ierr)
+    type(gran_dsmc_cell_options), intent(out) :: cell
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_cell_options_default(cell), ierr)
+  end subroutine gran_dsmc_cell_options_default
+
+  !> New engine of the time-step/cell selector (as gran_dsmc_create, with the cell options).
+  subroutine gran_dsmc_create_cell(sim, mix, opt, cell, counts, T0, ierr)
+    type(c_ptr), intent(out) :: sim
+    type(c_ptr), intent(in) :: mix
+    type(gran_dsmc_options), intent(in) :: opt
+    type(gran_dsmc_cell_options), intent(in) :: cell
+    integer(c_int64_t), intent(in), target, contiguous, optional :: counts(:)
+    real(c_double), intent(in), target, contiguous, optional :: T0(:)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pc, pt
+    integer(c_int64_t) :: m
+    sim = c_null_ptr
+    pc = c_null_ptr
+    pt = c_null_ptr
+    m = -1
+    if (c_gran_mixture_nspecies(mix, m) /= GRAN_SUCCESS) m = -1
+    if (present(counts)) then
+      if (m >= 0 .and. size(counts, kind=c_int64_t) /= m) then
+        call gran_dsmc_shape_error('gran_dsmc_create_cell: size(counts) /= number of species', ierr)
+        return
+      end if
+      if (size(counts) > 0) pc = c_loc(counts(1))
+    end if
+    if (present(T0)) then
+      if (m >= 0 .and. size(T0, kind=c_int64_t) /= m) then
+        call gran_dsmc_shape_error('gran_dsmc_create_cell: size(T0) /= number of species', ierr)
+        return
+      end if
+      if (size(T0) > 0) pt = c_loc(T0(1))
+    end if
+    call gran_check(c_gran_dsmc_create_cell(mix, pc, pt, opt, cell, sim), ierr)
+  end subroutine gran_dsmc_create_cell
+
+  !> Steps done, box side, largest F_N (sigma g)_max dt / V_c of the last step.
+  subroutine gran_dsmc_cell_info(sim, steps, box, pmax, ierr)
+    type(c_ptr), intent(in) :: sim
+    integer(c_int64_t), intent(out) :: steps
+    real(c_double), intent(out) :: box, pmax
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_cell_info(sim, steps, box, pmax), ierr)
+  end subroutine gran_dsmc_cell_info
+
+  !> The [cell] table of a scene.
+  subroutine gran_scene_dsmc_cell_options(scene, cell, ierr)
+    type(c_ptr), intent(in) :: scene
+    type(gran_dsmc_cell_options), intent(out) :: cell
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_scene_dsmc_cell_options(scene, cell), ierr)
+  end subroutine gran_scene_dsmc_cell_options
+  !> Clusters, mass, sizes, merge / breakup / bounce counters and ledger parts (aggregating engines).
+  subroutine gran_dsmc_get_cluster_stats(sim, st, ierr)
+    type(c_ptr), intent(in) :: sim
+    type(gran_dsmc_cluster_stats), intent(out) :: st
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_get_cluster_stats(sim, st), ierr)
+  end subroutine gran_dsmc_get_cluster_stats
+
+  !> Sparse size distribution: nsizes sizes present; sizes, counts (and T) filled when given (their
+  !> size is the capacity: at least nsizes, else GRAN_ERR_RANGE).
+  subroutine gran_dsmc_size_distribution(sim, nsizes, sizes, counts, T, ierr)
+    type(c_ptr), intent(in) :: sim
+    integer(c_int64_t), intent(out) :: nsizes
+    integer(c_int64_t), intent(out), target, contiguous, optional :: sizes(:), counts(:)
+    real(c_double), intent(out), target, contiguous, optional :: T(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: cap
+    type(c_ptr) :: ps, pc, pt
+    cap = 0
+    ps = c_null_ptr
+    pc = c_null_ptr
+    pt = c_null_ptr
+    if (present(sizes) .neqv. present(counts)) then
+      call gran_dsmc_shape_error('gran_dsmc_size_distribution: give both sizes and counts, or neither', ierr)
+      return
+    end if
+    if (present(sizes)) then
+      cap = min(size(sizes, kind=c_int64_t), size(counts, kind=c_int64_t))
+      if (present(T)) cap = min(cap, size(T, kind=c_int64_t))
+      if (cap > 0) then
+        ps = c_loc(sizes(1))
+        pc = c_loc(counts(1))
+        if (present(T)) pt = c_loc(T(1))
+      end if
+    end if
+    call gran_check(c_gran_dsmc_size_distribution(sim, cap, nsizes, ps, pc, pt), ierr)
+  end subroutine gran_dsmc_size_distribution
+  ! ---- end cell selector wrappers ----
 end module granary

@@ -317,7 +317,8 @@ enum gran_selector {
   GRAN_SELECTOR_LOWRANK = 0,      /* segment trees over the rank-3 factors of C_ik N_i N_k */
   GRAN_SELECTOR_BIRD = 1,         /* one global bound C_max (Eq. 49), pairs uniform among all N */
   GRAN_SELECTOR_LOWRANK_PAPER = 2,
-  GRAN_SELECTOR_BIRD_PAPER = 3
+  GRAN_SELECTOR_BIRD_PAPER = 3,
+  GRAN_SELECTOR_CELL = 4          /* time-step/cell DSMC of seed 002: positions, cells, dt (gran_dsmc_create_cell) */
 };
 enum gran_dsmc_observe {
   GRAN_OBSERVE_DISPLACEMENT = 1,     /* per-particle displacements (MSD); else not allocated */
@@ -395,6 +396,81 @@ GRAN_EXTERN int gran_dsmc_checkpoint_write(const gran_dsmc *sim, const char *pat
 GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, const gran_mixture *mix,
                                           gran_dsmc **sim);
 
+/* ---- Time-step/cell DSMC, aggregation, fragmentation, thermostat (src/dsmc/cell.cpp, agg.cpp) ---
+ * Seed 002: particles at positions in a cubic periodic box of side L = (F_N V)^(1/3) (V the volume
+ * per simulated particle of the event selectors: rates are the same), nc^3 cells; every step dt
+ * all particles stream (r += v dt), then in each cell N_p = F_N N_c^2 (sigma g)_max dt / (2 V_c)
+ * candidate pairs (Eq. 8; the fractional part carried to the next step) are drawn with
+ * replacement (j == l is no pair) and accepted with sigma g / (sigma g)_max (Eq. 7), where
+ * (sigma g)_max = pi sigma_max,c^2 g2_max 2 max_c|v| is an exact bound of the cell, raised at once
+ * (and N_p with it) when a collision speeds a particle up. Collisions as the event selectors.
+ * Aggregation (e_agg > 0): species are cluster sizes (species k-1 = k-mer, m_k = k m_1,
+ * sigma_k = sigma_1 k^(1/3); the mixture must say so); a pair with mu g^2/2 < e_agg merges, a pair
+ * with normal impact energy mu g_n^2/2 > e_frag shatters into monomers (Eqs. 13-14, CM energy
+ * eps_f^2 mu g^2/2), otherwise it bounces. White-noise thermostat (heat_rate > 0): every step
+ * each velocity component of a particle of mass m gets a Gaussian kick of variance
+ * heat_rate dt / m, minus the mass-weighted mean kick (momentum conserved). */
+enum gran_cell_placement {
+  GRAN_PLACE_RANDOM = 0,   /* merged clusters and fragments at random positions in the box (seed 002) */
+  GRAN_PLACE_COLLISION = 1 /* at the pair's centre of mass */
+};
+typedef struct gran_dsmc_cell_options {
+  int64_t cells;      /* cells per side of the box (>= 1; nc^3 cells) */
+  double dt;          /* time step (> 0) */
+  double fn;          /* F_N: real particles per simulated particle (> 0, default 1) */
+  double e_agg;       /* aggregation: merge when mu g^2 / 2 < e_agg (0: off) */
+  double e_frag;      /* fragmentation: shatter when mu g_n^2 / 2 > e_frag (INFINITY: off) */
+  double eps_f;       /* fragments share eps_f^2 of the impact energy in the CM frame, [0, 1] */
+  double heat_rate;   /* white-noise thermostat: heating dT/dt per particle (0: off) */
+  double bath_density; /* molecular-gas bath: number density n_b of bath particles (0: off) */
+  double bath_mass;   /* their mass m_b (> 0 when the bath is on) */
+  double bath_T;      /* their temperature T_b (>= 0) */
+  double bath_sigma;  /* their diameter sigma_b (>= 0; contact at (sigma_k + sigma_b)/2) */
+  int32_t placement;  /* gran_cell_placement */
+  int32_t pad_;
+} gran_dsmc_cell_options;
+
+/* Defaults: 1 cell, dt 0 (must be set), F_N 1, no aggregation (e_agg 0), no fragmentation
+ * (e_frag INFINITY), eps_f 1, no thermostat, no bath (bath_mass 1, bath_T 1, bath_sigma 1),
+ * GRAN_PLACE_RANDOM. Bath: every particle collides elastically with Maxwellian bath particles
+ * (n_b, m_b, T_b, sigma_b; the bath does not change) at the rate n_b pi sigma_kb^2 <|v - w|>,
+ * sampled exactly in continuous time within each step; the energy exchanged is booked as heat. */
+GRAN_EXTERN int gran_dsmc_cell_options_default(gran_dsmc_cell_options *cell);
+/* As gran_dsmc_create with opt->selector = GRAN_SELECTOR_CELL (set by this call) and the cell
+ * options; counts NULL: N_k = round(n_k V / F_N) with V = opt->volume the box volume. A dt whose
+ * expected candidates per cell exceed N_c^2 (F_N (sigma g)_max dt / V_c > 2) is refused naming
+ * 'dt' (also by gran_dsmc_advance, which then leaves the state unchanged). Tracers are refused.
+ * gran_dsmc_advance runs whole steps up to t_end; gran_dsmc_advance_collisions stops after the
+ * step in which the count is reached. Positions: gran_dsmc_particles (x, wrapped into [0, L)). */
+GRAN_EXTERN int gran_dsmc_create_cell(const gran_mixture *mix, const int64_t *counts, const double *T0,
+                                      const gran_dsmc_options *opt, const gran_dsmc_cell_options *cell,
+                                      gran_dsmc **sim);
+/* Steps done, box side L, and the largest F_N (sigma g)_max dt / V_c of the last step (any may be
+ * NULL); GRAN_ERR_STATE for an engine of another selector. */
+GRAN_EXTERN int gran_dsmc_cell_info(const gran_dsmc *sim, int64_t *steps, double *box, double *pmax);
+/* Aggregating engines (cell selector with e_agg > 0 or e_frag finite; else GRAN_ERR_STATE). The
+ * per-species calls (counts, temperatures, sonine_a2) report the sizes 1..M of the mixture;
+ * energy and momentum count every cluster; displacements, trajectories, per-pair collision counts
+ * and species offsets do not exist (particles are unordered). Collisions = bounces + merges +
+ * breakups; e_dissipated of gran_dsmc_energy = e_bounce + e_merge + e_break - e_heat. */
+typedef struct gran_dsmc_cluster_stats {
+  int64_t nclusters;  /* simulated clusters (particles) */
+  int64_t mass;       /* total mass in monomers (conserved exactly) */
+  int64_t largest;    /* largest size present */
+  int64_t nsizes;     /* distinct sizes present */
+  int64_t merges, breakups, bounces;
+  double mean_size;   /* mass / nclusters */
+  double e_bounce;    /* energy dissipated in bounces */
+  double e_merge;     /* lost in merges (mu g^2 / 2 each) */
+  double e_break;     /* lost in breakups ((1 - eps_f^2) mu g^2 / 2 each) */
+  double e_heat;      /* added by the thermostat */
+} gran_dsmc_cluster_stats;
+GRAN_EXTERN int gran_dsmc_get_cluster_stats(const gran_dsmc *sim, gran_dsmc_cluster_stats *st);
+/* Sparse n_k: the nsizes sizes present in increasing order into sizes/counts (cap entries at
+ * least, else GRAN_ERR_RANGE; cap = 0: only *nsizes), T (may be NULL) their temperatures. */
+GRAN_EXTERN int gran_dsmc_size_distribution(const gran_dsmc *sim, int64_t cap, int64_t *nsizes, int64_t *sizes,
+                                            int64_t *counts, double *T);
+
 /* ---- Analysis (src/analysis) -----------------------------------------------------------------
  * Observables from trajectories and velocities. Trajectories: ntraj tracers sampled on a uniform
  * time grid, xyz layout [traj][sample][3] (as gran_dsmc_trajectories hands them out); lags are
@@ -455,6 +531,9 @@ GRAN_EXTERN int gran_scene_dsmc_options(const gran_scene *scene, gran_dsmc_optio
                                         int *have_counts);
 /* A new engine exactly as `granary run` creates it (counts, seed, selector, observables). */
 GRAN_EXTERN int gran_scene_dsmc(const gran_scene *scene, const gran_mixture *mix, gran_dsmc **sim);
+/* The [cell] table of a scene (engine selector = "cell"): cells, dt, fn, e_agg, e_frag, eps_f,
+ * heat_rate, bath_density, bath_mass, bath_T, bath_sigma, placement; defaults of gran_dsmc_cell_options_default for keys not given. */
+GRAN_EXTERN int gran_scene_dsmc_cell_options(const gran_scene *scene, gran_dsmc_cell_options *cell);
 
 /* Progress of a run, handed to the optional callback after every output time. */
 typedef struct gran_run_progress {

@@ -13,6 +13,8 @@ program t901_layout_f
   type(gran_run_result) :: result
   type(gran_srd_options) :: srd_opt ! GSRD
   type(gran_srd_obs) :: srd_obs     ! GSRD
+  type(gran_dsmc_cell_options) :: cell_opt ! cell selector
+  type(gran_dsmc_cluster_stats) :: cluster_st
   integer(c_int64_t) :: value
   integer :: nfail = 0, ierr
 
@@ -24,6 +26,11 @@ program t901_layout_f
   call check('sizeof(gran_run_result)', c_sizeof(result))
   call check('sizeof(gran_srd_options)', c_sizeof(srd_opt))
   call check('sizeof(gran_srd_obs)', c_sizeof(srd_obs))
+  call check('sizeof(gran_dsmc_cell_options)', c_sizeof(cell_opt)) ! cell selector
+  call check('sizeof(gran_dsmc_cluster_stats)', c_sizeof(cluster_st))
+  call check('GRAN_SELECTOR_CELL', int(GRAN_SELECTOR_CELL, c_size_t))
+  call check('GRAN_PLACE_RANDOM', int(GRAN_PLACE_RANDOM, c_size_t))
+  call check('GRAN_PLACE_COLLISION', int(GRAN_PLACE_COLLISION, c_size_t))
 
   call check('GRAN_VERSION_MAJOR', int(GRAN_VERSION_MAJOR, c_size_t))
   call check('GRAN_VERSION_MINOR', int(GRAN_VERSION_MINOR, c_size_t))

@@ -24,6 +24,10 @@ static void test_struct_sizes(void **state) {
   EXPECT_SIZE(gran_run_result);
   EXPECT_SIZE(gran_srd_options); /* GSRD */
   EXPECT_SIZE(gran_srd_obs);     /* GSRD */
+  EXPECT_SIZE(gran_dsmc_cell_options); /* cell selector */
+  assert_int_equal(sizeof(gran_dsmc_cell_options), 96);
+  EXPECT_SIZE(gran_dsmc_cluster_stats);
+  assert_int_equal(sizeof(gran_dsmc_cluster_stats), 96);
   /* the plain structs have the documented sizes (Fortran mirrors rely on them) */
   assert_int_equal(sizeof(gran_rng), 32);
   assert_int_equal(sizeof(gran_segtree), 32);
@@ -58,6 +62,9 @@ static void test_constants(void **state) {
   EXPECT_CONST(GRAN_SRD_DEVICE_CUDA);
   EXPECT_CONST(GRAN_SRD_DEVICE_AUTO);
   EXPECT_CONST(GRAN_SRD_DEVICE_REFERENCE);
+  EXPECT_CONST(GRAN_SELECTOR_CELL); /* cell selector */
+  EXPECT_CONST(GRAN_PLACE_RANDOM);
+  EXPECT_CONST(GRAN_PLACE_COLLISION);
 }
 
 static void test_errors(void **state) {

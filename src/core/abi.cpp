@@ -26,6 +26,8 @@ const AbiEntry kAbi[] = {
     GRAN_ABI_SIZE(gran_run_result)
     GRAN_ABI_SIZE(gran_srd_options) /* GSRD */
     GRAN_ABI_SIZE(gran_srd_obs)     /* GSRD */
+    GRAN_ABI_SIZE(gran_dsmc_cell_options) /* cell selector */
+    GRAN_ABI_SIZE(gran_dsmc_cluster_stats) /* cell selector: aggregation */
     /* version */
     GRAN_ABI_CONST(GRAN_VERSION_MAJOR)
     GRAN_ABI_CONST(GRAN_VERSION_MINOR)
@@ -55,6 +57,10 @@ const AbiEntry kAbi[] = {
     GRAN_ABI_CONST(GRAN_SRD_DEVICE_CUDA)
     GRAN_ABI_CONST(GRAN_SRD_DEVICE_AUTO)
     GRAN_ABI_CONST(GRAN_SRD_DEVICE_REFERENCE)
+    /* cell selector */
+    GRAN_ABI_CONST(GRAN_SELECTOR_CELL)
+    GRAN_ABI_CONST(GRAN_PLACE_RANDOM)
+    GRAN_ABI_CONST(GRAN_PLACE_COLLISION)
 };
 
 #undef GRAN_ABI_CONST

@@ -7,17 +7,20 @@
  * creation; the stored flags only check them (files without them are accepted). HDF5 errors are silenced
  * and mapped to GRAN_ERR_IO naming the file. */
 #include "dsmc_impl.h"
+#include "cell_impl.h"
 #include "io/io_impl.h"
 
 #include <hdf5.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <string>
 
 namespace gran {
 namespace {
 
-const char *kFormat = "granary-dsmc-state 2"; /* 2: the clock counts from t_start */
+const char *kFormat = "granary-dsmc-state 3"; /* 2: the clock counts from t_start; 3: cell selector */
+const char *kFormat2 = "granary-dsmc-state 2"; /* read: the same state without the cell selector */
 
 /* closes an HDF5 handle on scope exit */
 struct H5Handle {
@@ -237,6 +240,124 @@ int validate_state(const gran_dsmc *s, const char *path) {
   return GRAN_SUCCESS;
 }
 
+/* ---- time-step/cell selector (cell.cpp): options, positions, carried fractions, step ----
+ * Options first (the reader sets the cell state up from them), then the state. */
+int cell_options_io(Writer &w, const gran_dsmc *s) {
+  const gran_dsmc_cell_options &o = s->cell->o;
+  int64_t ci[2] = {o.cells, o.placement};
+  double cd[10] = {o.dt, o.fn, o.e_agg, o.e_frag, o.eps_f, o.heat_rate, o.bath_density, o.bath_mass, o.bath_T, o.bath_sigma};
+  GRAN_CALL(w.i64("cell_options_int", 2, ci));
+  GRAN_CALL(w.d("cell_options_real", 10, cd));
+  return GRAN_SUCCESS;
+}
+int cell_options_read(Reader &r, gran_dsmc_cell_options *o) {
+  int64_t ci[2];
+  double cd[10];
+  GRAN_CALL(r.i64("cell_options_int", 2, ci));
+  GRAN_CALL(r.d("cell_options_real", 10, cd));
+  gran_dsmc_cell_options_default(o);
+  GRAN_CHECK(ci[0] >= 1 && ci[0] <= 1024 && ci[1] >= 0 && ci[1] <= 1, GRAN_ERR_IO,
+             "checkpoint '%s' holds invalid cell options (damaged or edited file?)", r.path);
+  o->cells = ci[0];
+  o->placement = (int32_t)ci[1];
+  o->dt = cd[0];
+  o->fn = cd[1];
+  o->e_agg = cd[2];
+  o->e_frag = cd[3];
+  o->eps_f = cd[4];
+  o->heat_rate = cd[5];
+  o->bath_density = cd[6];
+  o->bath_mass = cd[7];
+  o->bath_T = cd[8];
+  o->bath_sigma = cd[9];
+  return GRAN_SUCCESS;
+}
+template <class F, class D>
+int cell_state_io(F &f, D *s) {
+  DsmcCell *c = s->cell;
+  GRAN_CALL(f.d("cell_x", 3 * s->N, s->p.x));
+  GRAN_CALL(f.d("cell_rem", c->C, c->rem.data()));
+  double sc[8] = {c->vmax2, c->pmax_last, c->e_merge, c->e_merge_c, c->e_break, c->e_break_c, c->e_heat, c->e_heat_c};
+  GRAN_CALL(f.d("cell_scalars", 8, sc));
+  c->vmax2 = sc[0];
+  c->pmax_last = sc[1];
+  c->e_merge = sc[2];
+  c->e_merge_c = sc[3];
+  c->e_break = sc[4];
+  c->e_break_c = sc[5];
+  c->e_heat = sc[6];
+  c->e_heat_c = sc[7];
+  int64_t ct[6] = {c->step, c->merges, c->breakups, c->bounces, c->kmax, c->monomers};
+  GRAN_CALL(f.i64("cell_counters", 6, ct));
+  c->step = ct[0];
+  c->merges = ct[1];
+  c->breakups = ct[2];
+  c->bounces = ct[3];
+  c->kmax = ct[4];
+  c->monomers = ct[5];
+  return GRAN_SUCCESS;
+}
+/* aggregation: the species (size - 1) of every particle and the counts per size */
+int cell_agg_write(Writer &w, const gran_dsmc *s) {
+  const DsmcCell *c = s->cell;
+  GRAN_CALL(w.i32("cell_species", s->N, s->p.species));
+  GRAN_CALL(w.i64("cell_nsize", c->kmax, c->nsize.data()));
+  return GRAN_SUCCESS;
+}
+int cell_agg_read(Reader &r, gran_dsmc *s) {
+  DsmcCell *c = s->cell;
+  const int64_t K = r.npoints("cell_nsize");
+  GRAN_CHECK(K >= 0 && K == c->kmax && K <= INT32_MAX / 2, GRAN_ERR_IO,
+             "checkpoint '%s': dataset 'cell_nsize' does not match the largest cluster size (damaged or edited file?)",
+             r.path);
+  GRAN_CALL(r.i32("cell_species", s->N, s->p.species));
+  dsmc_agg_grow(c, std::max<int64_t>(K, 1));
+  std::fill(c->nsize.begin(), c->nsize.end(), 0);
+  GRAN_CALL(r.i64("cell_nsize", K, c->nsize.data()));
+  /* the counts per size must be those of the particles, and the mass the stored one */
+  std::vector<int64_t> h((size_t)K, 0);
+  bool ok = true;
+  for (int64_t j = 0; j < s->N && ok; j++) {
+    const int32_t k = s->p.species[j];
+    ok = k >= 0 && k < K;
+    if (ok) h[(size_t)k]++;
+  }
+  int64_t mass = 0;
+  for (int64_t k = 0; k < K && ok; k++) {
+    ok = h[(size_t)k] == c->nsize[(size_t)k];
+    mass += (k + 1) * h[(size_t)k];
+  }
+  GRAN_CHECK(ok && mass == c->monomers && (K == 0 || c->nsize[(size_t)K - 1] > 0), GRAN_ERR_IO,
+             "checkpoint '%s' holds an inconsistent cell state (cluster sizes; damaged or edited file?)", r.path);
+  for (int64_t k = 0; k < s->M; k++) s->count[(size_t)k] = k < K ? c->nsize[(size_t)k] : 0;
+  c->where.assign((size_t)s->N, 0);
+  return GRAN_SUCCESS;
+}
+int cell_validate(const gran_dsmc *s, const char *path) {
+  const DsmcCell *c = s->cell;
+  const char *bad = nullptr;
+  auto need = [&](bool ok, const char *what) {
+    if (!ok && !bad) bad = what;
+  };
+  for (int64_t j = 0; j < 3 * s->N && !bad; j++) need(s->p.x[j] >= 0 && s->p.x[j] < c->L, "positions");
+  for (double r : c->rem) need(r >= 0 && r < 1, "carried candidate fractions");
+  need(c->step >= 0 && std::isfinite(c->pmax_last) && c->pmax_last >= 0 && c->merges >= 0 && c->breakups >= 0 &&
+           c->bounces >= 0 && c->kmax >= 0 && c->monomers >= 0,
+       "cell counters");
+  need(std::isfinite(c->e_merge + c->e_merge_c + c->e_break + c->e_break_c + c->e_heat + c->e_heat_c),
+       "cell energy ledger");
+  double m2 = 0;
+  for (int64_t j = 0; j < s->N; j++) {
+    const double *v = s->p.v + 3 * j;
+    m2 = std::fmax(m2, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  need(std::isfinite(c->vmax2) && c->vmax2 >= m2, "cell speed bound");
+  GRAN_CHECK(!bad, GRAN_ERR_IO, "checkpoint '%s' holds an inconsistent cell state (%s; damaged or edited file?)", path,
+             bad);
+  return GRAN_SUCCESS;
+}
+/* ---- end of the cell selector's block ---- */
+
 int options_io_write(Writer &w, const gran_dsmc *s) {
   const gran_dsmc_options &o = s->opt;
   int64_t oi[6] = {o.selector, o.observe, o.bound_refresh, o.traj_per_species, o.traj_samples, s->M};
@@ -244,7 +365,13 @@ int options_io_write(Writer &w, const gran_dsmc *s) {
   GRAN_CALL(w.i64("options_int", 6, oi));
   GRAN_CALL(w.d("options_real", 3, od));
   GRAN_CALL(w.u64("options_seed", 1, &o.seed));
-  GRAN_CALL(w.i64("counts", s->M, s->count.data()));
+  if (s->cell && s->cell->agg) { /* aggregation: unordered particles, all in the first slot range */
+    std::vector<int64_t> lay((size_t)s->M, 0);
+    lay[0] = s->N;
+    GRAN_CALL(w.i64("counts", s->M, lay.data()));
+  } else {
+    GRAN_CALL(w.i64("counts", s->M, s->count.data()));
+  }
   GRAN_CALL(w.d("mass", s->M, s->mix.m.data()));
   GRAN_CALL(w.d("sigma", s->M, s->mix.sigma.data()));
   GRAN_CALL(w.i1("restitution_model", s->mix.model));
@@ -288,6 +415,11 @@ int gran_dsmc_checkpoint_write_h5_(const gran_dsmc *sim, int64_t file_id, const 
     Writer w{g.id, path};
     GRAN_CALL(options_io_write(w, sim));
     GRAN_CALL(state_io(w, const_cast<gran_dsmc *>(sim))); /* the writer only reads the state */
+    if (sim->cell) {
+      GRAN_CALL(cell_options_io(w, sim));
+      GRAN_CALL(cell_state_io(w, const_cast<gran_dsmc *>(sim)));
+      if (sim->cell->agg) GRAN_CALL(cell_agg_write(w, sim));
+    }
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
@@ -348,7 +480,9 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
       GRAN_CHECK(at.id >= 0, GRAN_ERR_IO, "group '%s' in '%s' is not a DSMC checkpoint (no format)", group, path);
       H5Handle type(H5Aget_type(at.id), H5Tclose);
       const size_t sz = H5Tget_size(type.id);
-      GRAN_CHECK(sz < sizeof buf && H5Aread(at.id, type.id, buf) >= 0 && std::strcmp(buf, kFormat) == 0, GRAN_ERR_IO,
+      GRAN_CHECK(sz < sizeof buf && H5Aread(at.id, type.id, buf) >= 0 &&
+                     (std::strcmp(buf, kFormat) == 0 || std::strcmp(buf, kFormat2) == 0),
+                 GRAN_ERR_IO,
                  "group '%s' in '%s' is not a '%s' checkpoint", group, path, kFormat);
     }
     Reader rd{g.id, path};
@@ -370,7 +504,7 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
     const int64_t M = oi[5];
     GRAN_CHECK(M == mix->M, GRAN_ERR_ARG,
                "mixture 'mix' has " GRAN_I64_FMT " species, the checkpoint '%s' " GRAN_I64_FMT, mix->M, path, M);
-    GRAN_CHECK(oi[0] >= 0 && oi[0] <= GRAN_SELECTOR_BIRD_PAPER && oi[1] >= 0 && oi[1] <= 7 && oi[2] >= 0 &&
+    GRAN_CHECK(oi[0] >= 0 && oi[0] <= GRAN_SELECTOR_CELL && oi[1] >= 0 && oi[1] <= 7 && oi[2] >= 0 &&
                    oi[3] >= 0 && oi[4] >= 0 && std::isfinite(od[0]) && std::isfinite(od[1]) && std::isfinite(od[2]),
                GRAN_ERR_IO, "checkpoint '%s' holds invalid engine options (damaged or edited file?)", path);
     GRAN_CHECK(rd.npoints("counts") == M, GRAN_ERR_IO, "checkpoint '%s': dataset 'counts' does not have %" PRId64 " values",
@@ -426,6 +560,14 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
     }
     if (ierr == GRAN_SUCCESS) ierr = state_io(rd, s);
     if (ierr == GRAN_SUCCESS) ierr = validate_state(s, path);
+    if (ierr == GRAN_SUCCESS && o.selector == GRAN_SELECTOR_CELL) { /* cell selector block */
+      gran_dsmc_cell_options co;
+      ierr = cell_options_read(rd, &co);
+      if (ierr == GRAN_SUCCESS) ierr = dsmc_cell_setup(s, &co);
+      if (ierr == GRAN_SUCCESS) ierr = cell_state_io(rd, s);
+      if (ierr == GRAN_SUCCESS && s->cell->agg) ierr = cell_agg_read(rd, s);
+      if (ierr == GRAN_SUCCESS) ierr = cell_validate(s, path);
+    }
     if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK)
       for (int r = 0; r < 3 && ierr == GRAN_SUCCESS; r++)
         if (std::memcmp(vtree[r].data(), s->v[r].node, sizeof(double) * vtree[r].size()) != 0)

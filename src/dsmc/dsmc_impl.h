@@ -106,6 +106,9 @@ static inline void neumaier_add(double &s, double &c, double x) {
   s = t;
 }
 
+/* Time-step/cell selector state (cell.cpp, cell_impl.h); NULL for the event selectors. */
+struct DsmcCell;
+
 }  // namespace gran
 
 struct gran_dsmc {
@@ -173,6 +176,8 @@ struct gran_dsmc {
   std::vector<int32_t> traj_species;
   std::vector<double> traj_xyz;     /* ntraj * traj_samples * 3 (NaN until recorded) */
   int64_t traj_next = 0;            /* next sample to record */
+  /* time-step/cell selector (GRAN_SELECTOR_CELL): positions, cells, aggregation; else NULL */
+  gran::DsmcCell *cell = nullptr;
 };
 
 namespace gran {
@@ -195,6 +200,16 @@ int dsmc_check(const gran_dsmc *s, const char *name);
 typedef void (*DsmcLoopFn)(gran_dsmc *s, double t_stop, int64_t coll_stop);
 DsmcLoopFn dsmc_lowrank_loop(int paper, int disp, int counts, int rest, int tracers);
 DsmcLoopFn dsmc_bird_loop(int paper, int disp, int counts, int rest, int tracers);
+
+/* ---- cell.cpp (GRAN_SELECTOR_CELL) ---- */
+void dsmc_cell_free(gran_dsmc *s);
+/* after the velocities of a new engine: positions, cells (checks the cell options) */
+int dsmc_cell_init(gran_dsmc *s, const gran_dsmc_cell_options *cell);
+/* engine.cpp: gran_dsmc_create, with the cell options for GRAN_SELECTOR_CELL */
+int dsmc_create_impl(const gran_mixture *mix, const int64_t *counts, const double *T0, const gran_dsmc_options *opt,
+                     const gran_dsmc_cell_options *cell, gran_dsmc **sim);
+/* steps up to t_end (elapsed since t_start) or until coll_stop collisions (t_end = DBL_MAX) */
+int dsmc_cell_advance(gran_dsmc *s, double t_end, int64_t coll_stop);
 
 /* ---- observables.cpp ---- */
 void dsmc_record_trajectories(gran_dsmc *s);

@@ -2,6 +2,7 @@
  * speed bounds and selector state (trees / C_max), the advance driver. The hot loop is in
  * dsmc_loop.h; observables in observables.cpp; checkpoints in checkpoint.cpp. */
 #include "dsmc_impl.h"
+#include "cell_impl.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -20,7 +21,7 @@ const int64_t kMaxParticles = INT64_C(1) << 40;
 
 int check_options(const gran_dsmc_options *opt) {
   GRAN_CHECK_PTR(opt);
-  GRAN_CHECK(opt->selector >= GRAN_SELECTOR_LOWRANK && opt->selector <= GRAN_SELECTOR_BIRD_PAPER, GRAN_ERR_ARG,
+  GRAN_CHECK(opt->selector >= GRAN_SELECTOR_LOWRANK && opt->selector <= GRAN_SELECTOR_CELL, GRAN_ERR_ARG,
              "option 'selector' = %d is not a gran_selector", (int)opt->selector);
   GRAN_CHECK((opt->observe & ~kObserveAll) == 0, GRAN_ERR_ARG, "option 'observe' = %d has unknown bits",
              (int)opt->observe);
@@ -251,6 +252,7 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
   s->selector = (opt->selector == GRAN_SELECTOR_BIRD || opt->selector == GRAN_SELECTOR_BIRD_PAPER)
                     ? GRAN_SELECTOR_BIRD
                     : GRAN_SELECTOR_LOWRANK;
+  if (opt->selector == GRAN_SELECTOR_CELL) s->selector = GRAN_SELECTOR_CELL; /* cell.cpp: no trees */
   s->paper = (opt->selector == GRAN_SELECTOR_LOWRANK_PAPER || opt->selector == GRAN_SELECTOR_BIRD_PAPER);
 
   /* counts: given, or N_k = round(n_k V) (Table I: rounded to the nearest integer) */
@@ -399,6 +401,18 @@ GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts,
     *sim = nullptr;
     GRAN_CHECK_PTR(mix);
     GRAN_CHECK_PTR(opt);
+    GRAN_CHECK(opt->selector != GRAN_SELECTOR_CELL, GRAN_ERR_ARG,
+               "option 'selector' = GRAN_SELECTOR_CELL needs a time step and cells: use gran_dsmc_create_cell");
+    return dsmc_create_impl(mix, counts, T0, opt, nullptr, sim);
+  }
+  GRAN_CATCH
+}
+
+namespace gran {
+/* gran_dsmc_create, and gran_dsmc_create_cell (cell != NULL: positions and cells, cell.cpp) */
+int dsmc_create_impl(const gran_mixture *mix, const int64_t *counts, const double *T0, const gran_dsmc_options *opt,
+                     const gran_dsmc_cell_options *cell, gran_dsmc **sim) {
+  {
     gran_dsmc *s = new gran_dsmc();
     int ierr = dsmc_alloc(mix, counts, opt, s);
     const int64_t M = s->M;
@@ -468,17 +482,25 @@ GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts,
                         e + ec, rate);
     }
     if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) dsmc_record_trajectories(s);
+    if (cell) { /* GRAN_SELECTOR_CELL: positions, cells (cell.cpp) */
+      const int st = dsmc_cell_init(s, cell);
+      if (st != GRAN_SUCCESS) {
+        gran_dsmc_destroy(&s);
+        return st;
+      }
+    }
     *sim = s;
     return GRAN_SUCCESS;
   }
-  GRAN_CATCH
 }
+}  // namespace gran
 
 /** @brief Release the engine; NULL-safe, sets *sim to NULL. */
 GRAN_EXTERN int gran_dsmc_destroy(gran_dsmc **sim) {
   GRAN_TRY {
     if (!sim || !*sim) return GRAN_SUCCESS;
     gran_dsmc *s = *sim;
+    dsmc_cell_free(s);
     gran_particles_free(&s->p);
     for (int r = 0; r < 3; r++) {
       gran_segtree_free(&s->u[r]);
@@ -539,6 +561,7 @@ GRAN_EXTERN int gran_dsmc_advance(gran_dsmc *sim, double t_end) {
     const double te = t_end - sim->opt.t_start;
     GRAN_CHECK(te >= sim->t, GRAN_ERR_ARG, "argument 't_end' = %.17g lies before the current time %.17g", t_end,
                sim->opt.t_start + sim->t);
+    if (sim->cell) return dsmc_cell_advance(sim, te, INT64_MAX);
     return advance_impl(sim, te, INT64_MAX);
   }
   GRAN_CATCH
@@ -554,6 +577,7 @@ GRAN_EXTERN int gran_dsmc_advance_collisions(gran_dsmc *sim, int64_t ncollisions
     GRAN_CHECK(sim->n_gas >= 1, GRAN_ERR_STATE,
                "no collision can happen: only tracers (n_k = 0) have particles, and tracers never collide with each other");
     GRAN_CHECK(ncollisions <= INT64_MAX - sim->collisions, GRAN_ERR_ARG, "argument 'ncollisions' is too large");
+    if (sim->cell) return dsmc_cell_advance(sim, DBL_MAX, sim->collisions + ncollisions);
     return advance_impl(sim, DBL_MAX, sim->collisions + ncollisions);
   }
   GRAN_CATCH
@@ -615,6 +639,8 @@ GRAN_EXTERN int gran_dsmc_species_offsets(const gran_dsmc *sim, int64_t *offsets
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(offsets);
+    GRAN_CHECK(!(sim->cell && sim->cell->agg), GRAN_ERR_STATE,
+               "with aggregation the particles are not grouped by species (see gran_dsmc_size_distribution)");
     for (int64_t k = 0; k <= sim->M; k++) offsets[k] = sim->offset[(size_t)k];
     return GRAN_SUCCESS;
   }

@@ -2,6 +2,7 @@
  * momentum, collision counts, trajectories. Displacements are evaluated lazily (Eq. 45):
  * R_j(t) = r_j + v_j (t - t_last_j), without modifying the state. */
 #include "dsmc_impl.h"
+#include "cell_impl.h"
 
 namespace gran {
 
@@ -9,6 +10,7 @@ namespace gran {
  * engine conserves the gas's momentum; tracers exchange momentum with the bath, their frame is
  * the gas's). Without tracers: of all particles. */
 void dsmc_mean_flow(const gran_dsmc *s, double u[3]) {
+  if (s->cell && s->cell->agg) return dsmc_agg_mean_flow(s, u); /* cell selector: clusters */
   double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0;
   const double *v = s->p.v;
   for (int64_t k = 0; k < s->M; k++) {
@@ -44,6 +46,7 @@ GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(T);
+    if (sim->cell && sim->cell->agg) return dsmc_agg_temperatures(sim, T, nullptr), GRAN_SUCCESS; /* clusters */
     double u[3];
     dsmc_mean_flow(sim, u);
     const double *v = sim->p.v;
@@ -110,6 +113,7 @@ GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(a2);
+    if (sim->cell && sim->cell->agg) return dsmc_agg_temperatures(sim, nullptr, a2), GRAN_SUCCESS; /* clusters */
     double u[3];
     dsmc_mean_flow(sim, u);
     const double *v = sim->p.v;
@@ -135,6 +139,10 @@ GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2) {
 GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_initial, double *e_dissipated) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
+    if (e_kin && sim->cell && sim->cell->agg) { /* clusters */
+      dsmc_agg_energy_momentum(sim, e_kin, nullptr);
+      e_kin = nullptr;
+    }
     if (e_kin) {
       double e = 0, c = 0;
       const double *v = sim->p.v;
@@ -147,6 +155,9 @@ GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_
     }
     if (e_initial) *e_initial = sim->e_initial;
     if (e_dissipated) *e_dissipated = sim->e_diss + sim->e_diss_c;
+    if (e_dissipated && sim->cell) /* cell selector: merges, breakups, minus the thermostat's heat */
+      *e_dissipated += (sim->cell->e_merge + sim->cell->e_merge_c) + (sim->cell->e_break + sim->cell->e_break_c) -
+                       (sim->cell->e_heat + sim->cell->e_heat_c);
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
@@ -159,6 +170,7 @@ GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(p);
+    if (sim->cell && sim->cell->agg) return dsmc_agg_energy_momentum(sim, nullptr, p), GRAN_SUCCESS; /* clusters */
     double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0};
     const double *v = sim->p.v;
     for (int64_t k = 0; k < sim->M; k++) {

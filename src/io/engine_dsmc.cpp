@@ -2,6 +2,7 @@
  * (engine.h): its observables, its species table and the kinetic theory written beside them. */
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "io/engine.h"
@@ -51,6 +52,13 @@ class DsmcEngine : public gran_engine {
                        "accepted collisions between species i and j since the start [time][i][j], symmetric");
     if (s->obs_sonine_a2)
       gran_row_buf_add(b, "sonine_a2", "a2", 0, {M}, "1", "Sonine coefficient a2 = 3 <c^4>/5 <c^2>^2 - 1 per species");
+    if (agg()) { /* cell selector with aggregation / fragmentation */
+      gran_row_buf_add(b, "clusters", "stats", 1, {6}, "1",
+                       "clusters, largest size, sizes present, merges, breakups, bounces since the start [time][6]");
+      gran_row_buf_add(b, "clusters", "n", 1, {M}, "1", "clusters of size k = 1..nspecies [time][k]");
+      gran_row_buf_add(b, "clusters", "ledger", 0, {4}, "energy",
+                       "energy dissipated in bounces, lost in merges, lost in breakups, added by the thermostat [time][4]");
+    }
     if (s->obs_veldist)
       gran_row_buf_add(b, "velocity_distribution", "pdf", 0, {M, s->vd_bins}, "1",
                        "speed histogram of c = |v - u_k| / sqrt(2 T_k / m_k), normalised by N_k dc [time][k][bin]");
@@ -64,6 +72,9 @@ class DsmcEngine : public gran_engine {
     gran_dsmc_options opt;
     GRAN_CALL(gran_scene_dsmc_options(s_, &opt, nullptr, nullptr));
     opt.seed = seed;
+    if (s_->selector == GRAN_SELECTOR_CELL) /* cell selector */
+      return gran_dsmc_create_cell(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt,
+                                   &s_->cell, &sim_);
     return gran_dsmc_create(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt, &sim_);
   }
   /* particles x (28 B state, +32 B displacement; gran_particles_memory) plus the engine's trees and
@@ -74,8 +85,11 @@ class DsmcEngine : public gran_engine {
     GRAN_CALL(gran_scene_dsmc_options(s_, &opt, c.data(), nullptr));
     double N = 0;
     for (int64_t x : c) N += (double)x;
-    const double per = 28.0 + 24.0 + (s_->obs_msd ? 32.0 : 0.0);
+    const double per = 28.0 + 24.0 + (s_->obs_msd ? 32.0 : 0.0) +
+                       (s_->selector == GRAN_SELECTOR_CELL ? 36.0 : 0.0); /* cell: positions, cell lists */
     double b = N * per + (double)s_->nspecies * (double)s_->nspecies * 64.0;
+    if (s_->selector == GRAN_SELECTOR_CELL) /* cell selector: 48 B per cell */
+      b += 48.0 * (double)s_->cell.cells * (double)s_->cell.cells * (double)s_->cell.cells;
     if (s_->obs_tamsd) b += (double)s_->nspecies * (double)s_->tamsd_tracers * (double)s_->tamsd_samples * 24.0;
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
     return GRAN_SUCCESS;
@@ -139,6 +153,20 @@ class DsmcEngine : public gran_engine {
         GRAN_CALL(gran_dsmc_collision_counts(sim_, n));
       } else if (g == "sonine_a2") {
         GRAN_CALL(gran_dsmc_sonine_a2(sim_, d));
+      } else if (g == "clusters") { /* cell selector with aggregation */
+        gran_dsmc_cluster_stats c;
+        GRAN_CALL(gran_dsmc_get_cluster_stats(sim_, &c));
+        if (nm == "stats") {
+          const int64_t row[6] = {c.nclusters, c.largest, c.nsizes, c.merges, c.breakups, c.bounces};
+          std::copy(row, row + 6, n);
+        } else if (nm == "n") {
+          GRAN_CALL(gran_dsmc_counts(sim_, n));
+        } else {
+          d[0] = c.e_bounce;
+          d[1] = c.e_merge;
+          d[2] = c.e_break;
+          d[3] = c.e_heat;
+        }
       } else if (g == "velocity_distribution") {
         GRAN_CALL(record_veldist(d));
       }
@@ -167,7 +195,16 @@ class DsmcEngine : public gran_engine {
     const gran_scene *s = s_;
     const int64_t M = s->nspecies, nt = nrec;
     const bool complete = nrec == (int64_t)s->times.size();
-    GRAN_CALL(gran_h5::attr_string(f, "selector", s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", file));
+    GRAN_CALL(gran_h5::attr_string(f, "selector",
+                                   s->selector == GRAN_SELECTOR_BIRD   ? "bird"
+                                   : s->selector == GRAN_SELECTOR_CELL ? "cell"
+                                                                       : "lowrank",
+                                   file));
+    if (s->selector == GRAN_SELECTOR_CELL) { /* cell selector: its options as attributes */
+      GRAN_CALL(gran_h5::attr_int64(f, "cells", s->cell.cells, file));
+      GRAN_CALL(gran_h5::attr_double(f, "dt", s->cell.dt, file));
+      GRAN_CALL(gran_h5::attr_double(f, "fn", s->cell.fn, file));
+    }
     GRAN_CALL(gran_h5::attr_int64(f, "nspecies", M, file));
     {
       H5Group g;
@@ -228,6 +265,10 @@ class DsmcEngine : public gran_engine {
 
  private:
   const gran_scene *s_;
+  /* cell selector with aggregation or fragmentation */
+  bool agg() const {
+    return s_->selector == GRAN_SELECTOR_CELL && (s_->cell.e_agg > 0 || std::isfinite(s_->cell.e_frag));
+  }
   gran_mixture *mix_ = nullptr;
   gran_dsmc *sim_ = nullptr;
   std::vector<double> T0_;
@@ -264,7 +305,8 @@ class DsmcEngine : public gran_engine {
       H5Group g;
       g.id = H5Gopen2((hid_t)f, "temperatures", H5P_DEFAULT);
       std::vector<double> T((size_t)(nt * M));
-      int st = gran_theory_temperatures(mix_, T0_.data(), nt, tt.data(), s->theory_rtol, T.data());
+      int st = agg() ? write_agg_theory(f, file, tt, T.data()) /* cell selector: Smoluchowski */
+                     : gran_theory_temperatures(mix_, T0_.data(), nt, tt.data(), s->theory_rtol, T.data());
       if (st == GRAN_SUCCESS) {
         GRAN_CALL(gran_h5::write_double(g.id, "T_theory", dims, T.data(), file));
         GRAN_CALL(gran_describe_(g.id, "T_theory", "energy", "partial temperatures from the kinetic theory (Eq. 13) [time][k]", file));
@@ -291,6 +333,28 @@ class DsmcEngine : public gran_engine {
         GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
       }
     }
+    return GRAN_SUCCESS;
+  }
+
+  /* Aggregation (cell selector): n_k(t) of the temperature-dependent Smoluchowski equations
+   * (gran_theory_aggregation) as clusters/n_theory (expected clusters: n_k times the volume per
+   * simulated particle), and their T_k(t) into T. */
+  int write_agg_theory(int64_t f, const char *file, const std::vector<double> &tt, double *T) {
+    const gran_scene *s = s_;
+    const int64_t M = s->nspecies, nt = (int64_t)tt.size();
+    std::vector<double> n((size_t)(nt * M));
+    GRAN_CALL(gran_theory_aggregation(mix_, T0_.data(), s->cell.e_agg, s->cell.e_frag, s->cell.eps_f, nt, tt.data(),
+                                      s->theory_rtol, n.data(), T, nullptr));
+    gran_dsmc_stats x;
+    GRAN_CALL(gran_dsmc_get_stats(sim_, &x));
+    for (double &v : n) v *= x.volume;
+    H5Group g;
+    g.id = H5Gopen2((hid_t)f, "clusters", H5P_DEFAULT);
+    GRAN_CALL(gran_h5::write_double(g.id, "n_theory", {nt, M}, n.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "n_theory", "1",
+                             "expected clusters of size k from the temperature-dependent Smoluchowski equations "
+                             "(gran_theory_aggregation; sizes above nspecies leave the system) [time][k]",
+                             file));
     return GRAN_SUCCESS;
   }
 

@@ -53,6 +53,9 @@ struct gran_scene {
   int64_t replicas = 1;   /* independent runs (run.cpp); replica r draws from RNG stream r of seed */
   int keep_replicas = 0;  /* also write the per-replica rows */
 
+  /* [cell] (selector = "cell": src/dsmc/cell.cpp) */
+  gran_dsmc_cell_options cell{};
+
   /* [observables] */
   std::vector<double> times;
   int obs_temperatures = 1, obs_msd = 1, obs_energy = 1, obs_momentum = 0;

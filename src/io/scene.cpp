@@ -803,7 +803,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   const double mem_limit = memory_limit_bytes(root);
   if (is_srd_scene(root)) return parse_scene_srd(root, s, mem_limit); /* GSRD: its own tables */
   Tab top(&root, "", F);
-  top.set_known({"title", "mixture", "restitution", "initial", "engine", "observables", "output"});
+  top.set_known({"title", "mixture", "restitution", "initial", "engine", "observables", "output", "cell"});
   s.title = top.string("title", "");
 
   /* ---- [mixture] ---- */
@@ -1018,7 +1018,8 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   std::string sel = en.string("selector", "lowrank");
   if (sel == "lowrank") s.selector = GRAN_SELECTOR_LOWRANK;
   else if (sel == "bird") s.selector = GRAN_SELECTOR_BIRD;
-  else en.fail("selector", "unknown selector \"" + sel + "\" (lowrank or bird)");
+  else if (sel == "cell") s.selector = GRAN_SELECTOR_CELL; /* [cell] below */
+  else en.fail("selector", "unknown selector \"" + sel + "\" (lowrank, bird or cell)");
   if (en.has("seed")) {
     const toml::value &x = en.get("seed");
     if (!x.is_integer()) en.fail("seed", std::string("expected an integer, got ") + Tab::type_name(x));
@@ -1065,6 +1066,49 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   bool have_tend = en.has("t_end");
   if (have_tend) s.t_end = en.number("t_end");
   en.finish();
+
+  /* ---- [cell]: the time-step/cell selector (src/dsmc/cell.cpp) ---- */
+  gran_dsmc_cell_options_default(&s.cell);
+  if (s.selector == GRAN_SELECTOR_CELL && !top.has("cell"))
+    top.fail_missing("cell", "selector \"cell\" needs a [cell] table (at least dt)");
+  if (top.has("cell")) {
+    if (s.selector != GRAN_SELECTOR_CELL) top.fail("cell", "the [cell] table needs [engine] selector = \"cell\"");
+    Tab ce = top.sub("cell");
+    ce.set_known({"cells", "dt", "fn", "e_agg", "e_frag", "eps_f", "heat_rate", "bath_density", "bath_mass", "bath_T",
+                  "bath_sigma", "placement"});
+    gran_dsmc_cell_options &c = s.cell;
+    c.cells = ce.count("cells", 1);
+    require(c.cells >= 1 && c.cells <= 1024, ce, "cells", "must be in 1..1024 (cells per side of the box)");
+    if (!ce.has("dt")) ce.fail_missing("dt", "the time step dt is required");
+    c.dt = ce.number("dt");
+    require(c.dt > 0, ce, "dt", "must be > 0");
+    c.fn = ce.number("fn", 1.0);
+    require(c.fn > 0, ce, "fn", "must be > 0 (real particles per simulated particle)");
+    c.e_agg = ce.number("e_agg", 0.0);
+    require(c.e_agg >= 0, ce, "e_agg", "must be >= 0 (0: no aggregation)");
+    if (ce.has("e_frag")) {
+      const toml::value &x = ce.get("e_frag");
+      c.e_frag = x.is_floating() ? x.as_floating() : ce.number("e_frag");
+      require(!std::isnan(c.e_frag) && c.e_frag >= 0, ce, "e_frag", "must be >= 0 (inf or absent: no fragmentation)");
+    }
+    c.eps_f = ce.number("eps_f", 1.0);
+    require(c.eps_f >= 0 && c.eps_f <= 1, ce, "eps_f", "must be in [0, 1]");
+    c.heat_rate = ce.number("heat_rate", 0.0);
+    require(c.heat_rate >= 0, ce, "heat_rate", "must be >= 0 (0: no thermostat)");
+    c.bath_density = ce.number("bath_density", 0.0);
+    require(c.bath_density >= 0, ce, "bath_density", "must be >= 0 (0: no bath)");
+    c.bath_mass = ce.number("bath_mass", 1.0);
+    require(c.bath_mass > 0, ce, "bath_mass", "must be > 0");
+    c.bath_T = ce.number("bath_T", 1.0);
+    require(c.bath_T >= 0, ce, "bath_T", "must be >= 0");
+    c.bath_sigma = ce.number("bath_sigma", 1.0);
+    require(c.bath_sigma >= 0, ce, "bath_sigma", "must be >= 0");
+    const std::string pl = ce.string("placement", "random");
+    if (pl == "random") c.placement = GRAN_PLACE_RANDOM;
+    else if (pl == "collision") c.placement = GRAN_PLACE_COLLISION;
+    else ce.fail("placement", "unknown placement \"" + pl + "\" (random or collision)");
+    ce.finish();
+  }
 
   /* ---- [observables] ---- */
   Tab ob(nullptr, "observables", F);
@@ -1400,7 +1444,8 @@ GRAN_EXTERN int gran_scene_dsmc_options(const gran_scene *scene, gran_dsmc_optio
     if (counts)
       for (int64_t k = 0; k < s->nspecies; k++)
         counts[k] = s->counts_kind == 0 ? s->counts[(size_t)k]
-                                        : (int64_t)std::nearbyint(s->density[(size_t)k] * s->volume);
+                                        : (int64_t)std::nearbyint(s->density[(size_t)k] * s->volume /
+                                                                  (s->selector == GRAN_SELECTOR_CELL ? s->cell.fn : 1.0));
     if (have_counts) *have_counts = s->counts_kind == 0;
     return GRAN_SUCCESS;
   }
@@ -1418,7 +1463,21 @@ GRAN_EXTERN int gran_scene_dsmc(const gran_scene *scene, const gran_mixture *mix
     GRAN_CALL(gran_scene_initial_temperatures(s, mix, T0.data(), nullptr));
     gran_dsmc_options opt;
     GRAN_CALL(gran_scene_dsmc_options(s, &opt, nullptr, nullptr));
+    if (s->selector == GRAN_SELECTOR_CELL) /* cell selector */
+      return gran_dsmc_create_cell(mix, s->counts_kind == 0 ? s->counts.data() : nullptr, T0.data(), &opt, &s->cell,
+                                   sim);
     return gran_dsmc_create(mix, s->counts_kind == 0 ? s->counts.data() : nullptr, T0.data(), &opt, sim);
+  }
+  GRAN_CATCH
+}
+
+/** @brief The [cell] table of the scene (defaults where a key is not given). */
+GRAN_EXTERN int gran_scene_dsmc_cell_options(const gran_scene *scene, gran_dsmc_cell_options *cell) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(cell);
+  GRAN_TRY {
+    *cell = scene->cell;
+    return GRAN_SUCCESS;
   }
   GRAN_CATCH
 }

@@ -1,0 +1,785 @@
+/* cell.cpp - the time-step/cell selector of the DSMC engine (GRAN_SELECTOR_CELL, seed 002 steps
+ * 1-13): positions in a cubic periodic box of nc^3 cells; every step dt
+ *   1. stream r += v dt (wrapped into [0, L)), bin the particles into cells (stable counting
+ *      sort), and find per cell the largest speed and diameter;
+ *   2. per cell, N_p = F_N N_c^2 (sigma g)_max dt / (2 V_c) + the fraction carried from the last
+ *      step (Eq. 8) candidate pairs (j, l) drawn with replacement (j == l: no pair), accepted with
+ *      sigma_jl g / (sigma g)_max (Eq. 7), sigma = pi sigma_jl^2 g2; the majorant
+ *      (sigma g)_max = pi sigma_max,c^2 g2_max 2 max_c|v| bounds every pair of the cell and is
+ *      raised after a collision that speeds a particle up (the candidates still to come scale with
+ *      it); a collision draws e from its |g.e| law (as the event selectors' default rule; the
+ *      same statistics as Eq. 7 with e uniform and |g.e|) and uses the mixture's restitution;
+ *   3. (agg.cpp) merges and breakups; (thermostat) white-noise kicks.
+ * Displacements for the MSD follow the event engine's lazy form R = r + v (t - t_start): a
+ * collision at the step time t changes r by -dv t, so R is the unwrapped position minus the start. */
+#include "cell_impl.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <new>
+
+namespace gran {
+
+namespace {
+
+const double kPi = 3.14159265358979323846;
+const int64_t kMaxCells = INT64_C(1) << 30;
+
+/* next word of the engine's buffered streams */
+struct Words {
+  DsmcRng *r;
+  inline uint64_t next() {
+    if (r->pos >= kRngBuf) dsmc_rng_refill(r);
+    return r->buf[r->pos++];
+  }
+  inline double uniform() { return u64_uniform(next()); }
+  inline int64_t below(int64_t n) { return u64_below(next(), n); }
+  inline void unit3(double e[3]) { /* Marsaglia 1972 */
+    double a, b, q;
+    do {
+      a = 2.0 * uniform() - 1.0;
+      b = 2.0 * uniform() - 1.0;
+      q = a * a + b * b;
+    } while (q >= 1.0);
+    const double f = 2.0 * std::sqrt(1.0 - q);
+    e[0] = a * f;
+    e[1] = b * f;
+    e[2] = 1.0 - 2.0 * q;
+  }
+  inline void normal2(double z[2]) { /* Marsaglia's polar method: two independent N(0, 1) */
+    double a, b, q;
+    do {
+      a = 2.0 * uniform() - 1.0;
+      b = 2.0 * uniform() - 1.0;
+      q = a * a + b * b;
+    } while (q >= 1.0 || q == 0.0);
+    const double f = std::sqrt(-2.0 * std::log(q) / q);
+    z[0] = a * f;
+    z[1] = b * f;
+  }
+};
+
+/* cells ahead whose particles' velocities are prefetched (measured at N = 1e6, 37^3 cells) */
+#ifndef GRAN_CELL_AHEAD
+#define GRAN_CELL_AHEAD 2
+#endif
+const int64_t kAhead = GRAN_CELL_AHEAD;
+
+/* max without the NaN rules of std::fmax (a libm call in the hot loops; no NaN reaches them) */
+inline double dmax(double a, double b) { return a > b ? a : b; }
+
+/* position into [0, L) */
+inline double wrap(double x, double L, double invL) {
+  if (x >= 0 && x < L) return x;
+  x -= L * std::floor(x * invL);
+  if (x >= L || x < 0) x = 0.0; /* rounding of x just below 0 */
+  return x;
+}
+
+}  // namespace
+
+/* The largest F_N (sigma g)_max dt / V_c any cell can have before the next step (global speed bound). */
+static double cell_pmax_bound(const gran_dsmc *s) {
+  const DsmcCell *c = s->cell;
+  double smax = s->sigma_max;
+  if (c->agg) smax = cell_sigma(c, c->kmax);
+  return c->pfac * kPi * s->g2max * smax * smax * 2.0 * std::sqrt(c->vmax2);
+}
+
+static int check_dt(const gran_dsmc *s, const char *when) {
+  const DsmcCell *c = s->cell;
+  const double p = cell_pmax_bound(s);
+  GRAN_CHECK(std::isfinite(p) && p <= 2.0, GRAN_ERR_DOMAIN,
+             "option 'dt' = %g is too large %s: F_N (sigma g)_max dt / V_c = %g > 2, so the expected candidate pairs "
+             "of a cell exceed N_c^2 (use dt <= %g, or more cells)",
+             c->o.dt, when, p, c->o.dt * 2.0 / p);
+  return GRAN_SUCCESS;
+}
+
+int dsmc_cell_check_options(const gran_dsmc_cell_options *o) {
+  GRAN_CHECK_PTR(o);
+  GRAN_CHECK(o->cells >= 1 && o->cells <= 1024 && o->cells * o->cells * o->cells <= kMaxCells, GRAN_ERR_ARG,
+             "cell option 'cells' = " GRAN_I64_FMT " must be in [1, 1024] cells per side", o->cells);
+  GRAN_CHECK(std::isfinite(o->dt) && o->dt > 0, GRAN_ERR_ARG, "cell option 'dt' = %g must be finite and > 0", o->dt);
+  GRAN_CHECK(std::isfinite(o->fn) && o->fn > 0, GRAN_ERR_ARG, "cell option 'fn' = %g must be finite and > 0", o->fn);
+  GRAN_CHECK(std::isfinite(o->e_agg) && o->e_agg >= 0, GRAN_ERR_ARG, "cell option 'e_agg' = %g must be finite and >= 0",
+             o->e_agg);
+  GRAN_CHECK(!std::isnan(o->e_frag) && o->e_frag >= 0, GRAN_ERR_ARG,
+             "cell option 'e_frag' = %g must be >= 0 (INFINITY: no fragmentation)", o->e_frag);
+  GRAN_CHECK(std::isfinite(o->eps_f) && o->eps_f >= 0 && o->eps_f <= 1, GRAN_ERR_ARG,
+             "cell option 'eps_f' = %g must be in [0, 1]", o->eps_f);
+  GRAN_CHECK(std::isfinite(o->heat_rate) && o->heat_rate >= 0, GRAN_ERR_ARG,
+             "cell option 'heat_rate' = %g must be finite and >= 0", o->heat_rate);
+  GRAN_CHECK(std::isfinite(o->bath_density) && o->bath_density >= 0, GRAN_ERR_ARG,
+             "cell option 'bath_density' = %g must be finite and >= 0", o->bath_density);
+  GRAN_CHECK(std::isfinite(o->bath_mass) && o->bath_mass > 0, GRAN_ERR_ARG,
+             "cell option 'bath_mass' = %g must be finite and > 0", o->bath_mass);
+  GRAN_CHECK(std::isfinite(o->bath_T) && o->bath_T >= 0, GRAN_ERR_ARG, "cell option 'bath_T' = %g must be finite and >= 0",
+             o->bath_T);
+  GRAN_CHECK(std::isfinite(o->bath_sigma) && o->bath_sigma >= 0, GRAN_ERR_ARG,
+             "cell option 'bath_sigma' = %g must be finite and >= 0", o->bath_sigma);
+  GRAN_CHECK(o->placement == GRAN_PLACE_RANDOM || o->placement == GRAN_PLACE_COLLISION, GRAN_ERR_ARG,
+             "cell option 'placement' = %d is not a gran_cell_placement", (int)o->placement);
+  return GRAN_SUCCESS;
+}
+
+static int cell_setup_impl(gran_dsmc *s, const gran_dsmc_cell_options *o);
+
+/* Geometry and arrays from the options; positions are allocated, not drawn. */
+int dsmc_cell_setup(gran_dsmc *s, const gran_dsmc_cell_options *o) {
+  try {
+    return cell_setup_impl(s, o);
+  } catch (const std::bad_alloc &) {
+    return GRAN_ERROR(GRAN_ERR_NOMEM, "cannot allocate the cell selector's arrays (" GRAN_I64_FMT
+                                      " cells per side: fewer cells?)", o->cells);
+  }
+}
+
+static int cell_setup_impl(gran_dsmc *s, const gran_dsmc_cell_options *o) {
+  GRAN_CALL(dsmc_cell_check_options(o));
+  GRAN_CHECK(!s->has_tracers, GRAN_ERR_ARG,
+             "the cell selector has no tracers: every species needs n_k > 0 in the mixture");
+  GRAN_CHECK(s->N < INT32_MAX, GRAN_ERR_ARG,
+             "the cell selector holds fewer than 2^31 particles (" GRAN_I64_FMT " asked for)", s->N);
+  {
+    const int64_t C = o->cells * o->cells * o->cells, cap = std::max<int64_t>(INT64_C(1) << 20, 16 * s->N);
+    GRAN_CHECK(C <= cap, GRAN_ERR_ARG,
+               "cell option 'cells' = " GRAN_I64_FMT " gives " GRAN_I64_FMT " cells for " GRAN_I64_FMT
+               " particles: at most 16 cells per particle (or 2^20 cells)",
+               o->cells, C, s->N);
+  }
+  DsmcCell *c = new DsmcCell();
+  s->cell = c;
+  c->o = *o;
+  c->nc = o->cells;
+  c->C = o->cells * o->cells * o->cells;
+  c->L = std::cbrt(o->fn * s->volume);
+  c->inv_a = (double)c->nc / c->L;
+  c->pfac = o->dt * (double)c->C / s->volume;
+  GRAN_CHECK(std::isfinite(c->L) && c->L > 0 && std::isfinite(c->inv_a) && std::isfinite(c->pfac), GRAN_ERR_ARG,
+             "the box (volume %g x F_N %g) is not finite", s->volume, o->fn);
+  c->rem.assign((size_t)c->C, 0.0);
+  c->start.assign((size_t)c->C + 1, 0);
+  c->cvm2.assign((size_t)c->C, 0.0);
+  c->csg.assign((size_t)c->C, 0.0);
+  c->fillpos.assign((size_t)c->C, 0);
+  c->list.resize((size_t)s->N);
+  c->cellof.resize((size_t)s->N);
+  if (s->N > 0) {
+    s->p.x = gran_alloc<double>(3 * s->p.capacity);
+    GRAN_CHECK(s->p.x != nullptr, GRAN_ERR_NOMEM, "cannot allocate positions of " GRAN_I64_FMT " particles", s->N);
+  }
+  s->p.flags |= GRAN_PARTICLES_POSITION;
+  c->agg = o->e_agg > 0 || std::isfinite(o->e_frag);
+  if (c->agg) GRAN_CALL(dsmc_agg_setup(s));
+  return GRAN_SUCCESS;
+}
+
+int dsmc_cell_init(gran_dsmc *s, const gran_dsmc_cell_options *o) {
+  GRAN_CALL(dsmc_cell_setup(s, o));
+  DsmcCell *c = s->cell;
+  /* uniform positions from the scalar stream (after the velocities) */
+  for (int64_t j = 0; j < 3 * s->N; j++) s->p.x[j] = wrap(rng_uniform(&s->rng) * c->L, c->L, 1.0 / c->L);
+  double m2 = 0;
+  for (int64_t j = 0; j < s->N; j++) {
+    const double *v = s->p.v + 3 * j;
+    m2 = std::fmax(m2, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  c->vmax2 = m2;
+  if (c->agg) /* sizes: one speed bound for all (the particles stop being grouped by species) */
+    for (int64_t k = 0; k < s->M; k++) {
+      s->bound2[(size_t)k] = m2;
+      s->bound[(size_t)k] = std::sqrt(m2);
+    }
+  GRAN_CALL(check_dt(s, "for the initial speeds"));
+  return GRAN_SUCCESS;
+}
+
+void dsmc_cell_free(gran_dsmc *s) {
+  delete s->cell;
+  s->cell = nullptr;
+}
+
+namespace {
+
+/* One step: stream, bin, collide (time t = (step+1) dt after streaming). */
+/* White-noise thermostat (after the collisions of a step at time t): every velocity component of
+ * a particle of mass m gets a Gaussian kick of variance heat_rate dt / m; then the mass-weighted
+ * mean kick is subtracted from every particle (the total momentum is conserved, the heating per
+ * particle is heat_rate (1 - m / sum m)). The energy added goes into the ledger (e_heat). */
+template <bool kDisp>
+void cell_heat(gran_dsmc *s, double t) {
+  DsmcCell *const c = s->cell;
+  Words w{&s->vrng};
+  const int64_t N = s->N;
+  double *const v = s->p.v;
+  double *const R = kDisp ? s->p.r : nullptr;
+  const int32_t *const sp = s->p.species;
+  const double *const mix_m = s->mix.m.data();
+  const bool agg = c->agg != 0;
+  auto mass_of = [&](int32_t k) { return agg ? (double)(k + 1) * c->m1 : mix_m[k]; };
+  const double hd = c->o.heat_rate * c->o.dt;
+  double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0, mtc = 0, de = 0, dec = 0;
+  for (int64_t j = 0; j < N; j++) {
+    const double m = mass_of(sp[j]), sd = std::sqrt(hd / m);
+    double *const vj = v + 3 * j;
+    double z[4];
+    w.normal2(z);
+    w.normal2(z + 2); /* the fourth is not used */
+    for (int d = 0; d < 3; d++) {
+      const double dv = sd * z[d];
+      neumaier_add(de, dec, 0.5 * m * dv * (2.0 * vj[d] + dv));
+      vj[d] += dv;
+      neumaier_add(P[d], Pc[d], m * dv);
+      if (kDisp) R[3 * j + d] -= dv * t;
+    }
+    neumaier_add(mt, mtc, m);
+  }
+  const double u[3] = {(P[0] + Pc[0]) / (mt + mtc), (P[1] + Pc[1]) / (mt + mtc), (P[2] + Pc[2]) / (mt + mtc)};
+  double vm2 = c->vmax2;
+  double *const b2 = s->bound2.data();
+  for (int64_t j = 0; j < N; j++) {
+    const double m = mass_of(sp[j]);
+    double *const vj = v + 3 * j;
+    neumaier_add(de, dec, m * (u[0] * (0.5 * u[0] - vj[0]) + u[1] * (0.5 * u[1] - vj[1]) + u[2] * (0.5 * u[2] - vj[2])));
+    for (int d = 0; d < 3; d++) {
+      vj[d] -= u[d];
+      if (kDisp) R[3 * j + d] += u[d] * t;
+    }
+    const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+    vm2 = std::fmax(vm2, q2);
+    if (!agg) b2[sp[j]] = std::fmax(b2[sp[j]], q2);
+  }
+  c->vmax2 = vm2;
+  for (int64_t k = 0; k < s->M; k++) {
+    if (agg) b2[k] = vm2; /* sizes: one bound for all */
+    s->bound[(size_t)k] = std::sqrt(b2[k]);
+  }
+  neumaier_add(c->e_heat, c->e_heat_c, de + dec);
+}
+
+/* Molecular-gas bath (after the collisions of a step ending at time t): every particle collides
+ * elastically with bath particles of velocity w ~ Maxwell(T_b, m_b) at the rate
+ * n_b pi sigma_kb^2 |v - w| per unit time and bath velocity, sampled exactly over the step by
+ * thinning: candidates at the rate n_b pi sigma_kb^2 (|v| + <|w|>) are, with probability
+ * |v| / (|v| + <|w|>), a Maxwellian w and otherwise a speed-biased one (density ~ |w| f(w)), so
+ * that the candidate intensity of a bath velocity w is n_b pi sigma^2 (|v| + |w|) f(w) >=
+ * n_b pi sigma^2 |v - w| f(w); a candidate is accepted with |v - w| / (|v| + |w|), and the
+ * collision draws e from its |g.e| law. Waiting times restart from the new speed after each
+ * collision (memoryless). The bath does not change; the energy exchanged is booked as heat. */
+template <bool kDisp>
+void cell_bath(gran_dsmc *s, double t) {
+  DsmcCell *const c = s->cell;
+  Words w{&s->vrng};
+  const int64_t N = s->N;
+  double *const v = s->p.v;
+  double *const R = kDisp ? s->p.r : nullptr;
+  const int32_t *const sp = s->p.species;
+  const bool agg = c->agg != 0;
+  const double mb = c->o.bath_mass, sb = std::sqrt(c->o.bath_T / mb), wmean = std::sqrt(8.0 / kPi) * sb;
+  const double dt = c->o.dt, nb = c->o.bath_density;
+  double de = 0, dec = 0, vm2 = c->vmax2;
+  double *const b2 = s->bound2.data();
+  for (int64_t j = 0; j < N; j++) {
+    const int32_t k = sp[j];
+    const double m = agg ? (double)(k + 1) * c->m1 : s->mix.m[(size_t)k];
+    const double sg = 0.5 * ((agg ? c->sigk[(size_t)k] : s->mix.sigma[(size_t)k]) + c->o.bath_sigma);
+    const double rate0 = nb * kPi * sg * sg;
+    double *const vj = v + 3 * j;
+    double tt = 0;
+    for (;;) {
+      const double sp2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2], vs = std::sqrt(sp2);
+      const double lam = rate0 * (vs + wmean);
+      if (!(lam > 0)) break;
+      tt += -std::log(u64_uniform_pos(w.next())) / lam;
+      if (tt > dt) break;
+      double wv[3];
+      if (w.uniform() * (vs + wmean) < vs) { /* Maxwellian */
+        double z[4];
+        w.normal2(z);
+        w.normal2(z + 2);
+        for (int d = 0; d < 3; d++) wv[d] = sb * z[d];
+      } else { /* speed-biased: |w|^2 / (2 sb^2) ~ Gamma(2) */
+        const double G = -std::log(u64_uniform_pos(w.next()) * u64_uniform_pos(w.next()));
+        double e[3];
+        w.unit3(e);
+        const double ws = sb * std::sqrt(2.0 * G);
+        for (int d = 0; d < 3; d++) wv[d] = ws * e[d];
+      }
+      const double g[3] = {vj[0] - wv[0], vj[1] - wv[1], vj[2] - wv[2]};
+      const double ga = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+      const double wa = std::sqrt(wv[0] * wv[0] + wv[1] * wv[1] + wv[2] * wv[2]);
+      if (!(w.uniform() * (vs + wa) < ga)) continue;
+      double u[3];
+      w.unit3(u);
+      const double a = 2.0 * mb / (m + mb);
+      double dv[3];
+      for (int d = 0; d < 3; d++) dv[d] = -a * 0.5 * (g[d] - ga * u[d]);
+      neumaier_add(de, dec, 0.5 * m * (dv[0] * (2.0 * vj[0] + dv[0]) + dv[1] * (2.0 * vj[1] + dv[1]) + dv[2] * (2.0 * vj[2] + dv[2])));
+      for (int d = 0; d < 3; d++) {
+        vj[d] += dv[d];
+        if (kDisp) R[3 * j + d] -= dv[d] * t;
+      }
+    }
+    const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+    vm2 = q2 > vm2 ? q2 : vm2;
+    if (!agg) b2[k] = q2 > b2[k] ? q2 : b2[k];
+  }
+  c->vmax2 = vm2;
+  for (int64_t k = 0; k < s->M; k++) {
+    if (agg) b2[k] = vm2;
+    s->bound[(size_t)k] = std::sqrt(b2[k]);
+  }
+  neumaier_add(c->e_heat, c->e_heat_c, de + dec);
+}
+
+/* Aggregation and fragmentation of the accepted pair (j, l) of sizes i+1, k+1 in cell segment lq[0..n)
+ * (kAgg): returns 0 for a bounce (the caller collides), 1 when the pair merged (l left the cell: n
+ * decreased), 2 when it shattered (j, l and K-2 appended particles are monomers). Speeds of new
+ * particles raise *vmc2 (the cell's) and the engine's bound. */
+struct AggCtx {
+  gran_dsmc *s;
+  DsmcCell *c;
+  Words *w;
+  int32_t *lq;
+  int64_t *n;
+  int status;
+};
+
+static inline void agg_place(DsmcCell *c, Words *w, double *xj) {
+  for (int d = 0; d < 3; d++) xj[d] = wrap(w->uniform() * c->L, c->L, 1.0 / c->L);
+}
+
+static int agg_merge(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, double Eimp) {
+  gran_dsmc *s = a.s;
+  DsmcCell *c = a.c;
+  const double mi = (double)(i + 1), mk = (double)(k + 1), inv = 1.0 / (mi + mk);
+  double *vj = s->p.v + 3 * j, *vl = s->p.v + 3 * l;
+  for (int d = 0; d < 3; d++) vj[d] = (mi * vj[d] + mk * vl[d]) * inv;
+  const int64_t K = (int64_t)i + (int64_t)k + 2;
+  dsmc_agg_grow(c, K);
+  c->nsize[(size_t)i]--;
+  c->nsize[(size_t)k]--;
+  c->nsize[(size_t)K - 1]++;
+  if (K > c->kmax) c->kmax = K;
+  s->p.species[j] = (int32_t)(K - 1);
+  s->p.species[l] = -1; /* dropped at the end of the step */
+  c->ndead++;
+  double *xj = s->p.x + 3 * j;
+  if (c->o.placement == GRAN_PLACE_RANDOM) {
+    agg_place(c, a.w, xj);
+  } else { /* centre of mass, minimum image */
+    const double *xl = s->p.x + 3 * l;
+    for (int d = 0; d < 3; d++) {
+      double dx = xl[d] - xj[d];
+      dx -= c->L * std::nearbyint(dx / c->L);
+      xj[d] = wrap(xj[d] + mk * inv * dx, c->L, 1.0 / c->L);
+    }
+  }
+  neumaier_add(c->e_merge, c->e_merge_c, Eimp);
+  c->merges++;
+  /* l leaves the cell's list */
+  const int64_t pl = c->where[(size_t)l], last = *a.n - 1;
+  const int32_t moved = a.lq[last];
+  a.lq[pl] = moved;
+  c->where[(size_t)moved] = pl;
+  *a.n = last;
+  return 1;
+}
+
+static int agg_shatter(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, double Eimp, double g, double *vmc2) {
+  gran_dsmc *s = a.s;
+  DsmcCell *c = a.c;
+  const int64_t kj = (int64_t)i + 1, kl = (int64_t)k + 1, K = kj + kl;
+  /* room for K - 2 new particles: one growth at most (geometric), never one per fragment */
+  gran_particles *p = &s->p;
+  if (p->n + K - 2 >= INT32_MAX) { /* the cell lists hold 32-bit indices */
+    a.status = GRAN_ERROR(GRAN_ERR_RANGE, "fragmentation would make more than 2^31 particles");
+    return 0;
+  }
+  if (p->n + K - 2 > p->capacity) {
+    const int64_t want = std::max(p->n + K - 2, 2 * p->capacity);
+    a.status = gran_particles_reserve(p, want);
+    if (a.status != GRAN_SUCCESS) return 0;
+  }
+  double *const v = p->v;
+  const double mi = (double)kj, mk = (double)kl, inv = 1.0 / (mi + mk);
+  double Vc[3];
+  for (int d = 0; d < 3; d++) Vc[d] = (mi * v[3 * j + d] + mk * v[3 * l + d]) * inv;
+  const double xc[3] = {p->x[3 * j], p->x[3 * j + 1], p->x[3 * j + 2]};
+  const int64_t n0 = p->n;
+  p->n += K - 2;
+  auto target = [&](int64_t q) { return q == 0 ? j : q == 1 ? l : n0 + q - 2; };
+  /* Eq. 12 directions, the last closes the momentum (Eq. 14); then one common factor gives the
+   * centre-of-mass kinetic energy eps_f^2 E_imp exactly (Eq. 10) */
+  const double u = std::sqrt((double)kj * (double)kl) * c->o.eps_f * g / (double)K;
+  double sum[3] = {0, 0, 0}, S = 0;
+  for (int64_t q = 0; q < K - 1; q++) {
+    double e[3];
+    a.w->unit3(e);
+    double *vq = v + 3 * target(q);
+    for (int d = 0; d < 3; d++) {
+      vq[d] = u * e[d];
+      sum[d] += vq[d];
+    }
+  }
+  {
+    double *vq = v + 3 * target(K - 1);
+    for (int d = 0; d < 3; d++) vq[d] = -sum[d];
+  }
+  for (int64_t q = 0; q < K; q++) {
+    const double *vq = v + 3 * target(q);
+    S += vq[0] * vq[0] + vq[1] * vq[1] + vq[2] * vq[2];
+  }
+  const double E0 = c->o.eps_f * c->o.eps_f * Eimp;
+  const double lam = S > 0 ? std::sqrt(E0 / (0.5 * c->m1 * S)) : 0.0;
+  double m2 = 0;
+  for (int64_t q = 0; q < K; q++) {
+    const int64_t t = target(q);
+    double *vq = v + 3 * t;
+    for (int d = 0; d < 3; d++) vq[d] = Vc[d] + lam * vq[d];
+    m2 = std::fmax(m2, vq[0] * vq[0] + vq[1] * vq[1] + vq[2] * vq[2]);
+    p->species[t] = 0;
+    double *xq = p->x + 3 * t;
+    if (c->o.placement == GRAN_PLACE_RANDOM) {
+      agg_place(c, a.w, xq);
+    } else {
+      xq[0] = xc[0];
+      xq[1] = xc[1];
+      xq[2] = xc[2];
+    }
+  }
+  c->nsize[(size_t)i]--;
+  c->nsize[(size_t)k]--;
+  c->nsize[0] += K;
+  neumaier_add(c->e_break, c->e_break_c, Eimp - E0);
+  c->breakups++;
+  *vmc2 = std::fmax(*vmc2, m2);
+  c->vmax2 = std::fmax(c->vmax2, m2);
+  return 2;
+}
+
+template <int kRest, bool kDisp, bool kCount, bool kAgg>
+int cell_step(gran_dsmc *s) {
+  DsmcCell *const c = s->cell;
+  const int64_t N = s->N, C = c->C, M = s->M;
+  const double dt = c->o.dt, L = c->L, invL = 1.0 / L, inv_a = c->inv_a;
+  const int64_t nc = c->nc;
+  double *x = s->p.x, *v = s->p.v;
+  int32_t *sp = s->p.species;
+  const double *sig = kAgg ? c->sigk.data() : s->mix.sigma.data(); /* agg: moves when the sizes grow */
+  const double *const mass = s->mix.m.data();
+  if (kAgg && (int64_t)c->list.size() < N) {
+    c->list.resize((size_t)N);
+    c->cellof.resize((size_t)N);
+  }
+  if (kAgg && (int64_t)c->where.size() < N) c->where.resize((size_t)N);
+  /* 1. stream and bin */
+  int64_t *const start = c->start.data();
+  int32_t *const cellof = c->cellof.data();
+  double *const cvm2 = c->cvm2.data(), *const csg = c->csg.data();
+  std::fill(start, start + C + 1, 0);
+  std::fill(cvm2, cvm2 + C, 0.0);
+  std::fill(csg, csg + C, 0.0);
+  double *const b2 = s->bound2.data(); /* per-species speed bounds, exact after streaming */
+  std::fill(b2, b2 + M, 0.0);
+  double vm2 = 0;
+  for (int64_t j = 0; j < N; j++) {
+    double *xj = x + 3 * j;
+    const double *vj = v + 3 * j;
+    int64_t ci[3];
+    for (int d = 0; d < 3; d++) {
+      xj[d] = wrap(xj[d] + vj[d] * dt, L, invL);
+      int64_t q = (int64_t)(xj[d] * inv_a);
+      ci[d] = q < nc ? q : nc - 1;
+    }
+    const int64_t cc = (ci[0] * nc + ci[1]) * nc + ci[2];
+    cellof[j] = (int32_t)cc;
+    start[cc + 1]++;
+    const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+    cvm2[cc] = dmax(cvm2[cc], q2);
+    csg[cc] = dmax(csg[cc], sig[sp[j]]);
+    if (!kAgg) b2[sp[j]] = dmax(b2[sp[j]], q2);
+    vm2 = dmax(vm2, q2);
+  }
+  for (int64_t q = 0; q < C; q++) start[q + 1] += start[q];
+  {
+    int32_t *const fill = c->list.data(); /* stable within a cell */
+    int64_t *const pos = c->fillpos.data();
+    std::copy(start, start + C, pos);
+    for (int64_t j = 0; j < N; j++) {
+      const int64_t at = pos[cellof[j]]++;
+      fill[at] = (int32_t)j;
+      if (kAgg) c->where[(size_t)j] = at - start[cellof[j]];
+    }
+  }
+  c->vmax2 = vm2;
+  c->step++;
+  const double t = (double)c->step * dt; /* elapsed since t_start */
+  s->t = dmax(s->t, t);
+  if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) /* grid times within the step: free flight */
+    while (s->traj_next < s->opt.traj_samples && (double)s->traj_next * s->opt.traj_dt <= t) {
+      const double keep = s->t;
+      s->t = (double)s->traj_next * s->opt.traj_dt;
+      dsmc_record_trajectories(s);
+      s->t = keep;
+    }
+  s->t = t;
+
+  /* 2. collisions, cell by cell */
+  Words w{&s->vrng};
+  int32_t *const list = c->list.data();
+  const DsmcPair *const pair = s->pair.empty() ? nullptr : s->pair.data();
+  double *const R = kDisp ? s->p.r : nullptr;
+  int64_t *const cnt = kCount ? s->ccount.data() : nullptr;
+  const double kfac = 0.5 * c->pfac * kPi * s->g2max; /* N_p = kfac N_c^2 sigma_max^2 2 vmax */
+  const double e_agg = c->o.e_agg, e_frag = c->o.e_frag, m1 = c->m1;
+  int64_t coll = s->collisions, trials = s->trials;
+  double ed = s->e_diss, edc = s->e_diss_c, pmax = 0;
+  AggCtx actx{s, c, &w, nullptr, nullptr, GRAN_SUCCESS};
+  for (int64_t q = 0; q < C; q++) {
+    int64_t n = start[q + 1] - start[q];
+    int32_t *const lq = list + start[q];
+    if (q + kAhead < C) { /* velocities of a cell kAhead ahead: its candidates load them at random */
+      for (int64_t e = start[q + kAhead]; e < start[q + kAhead + 1]; e++) {
+        __builtin_prefetch(v + 3 * list[e]);
+        __builtin_prefetch(v + 3 * list[e] + 2);
+        __builtin_prefetch(sp + list[e]);
+      }
+    }
+    double B = csg[q] * csg[q] * 2.0 * std::sqrt(cvm2[q]); /* bound of sigma_jl^2 g2r |g| */
+    double vmc2 = cvm2[q];
+    double want = kfac * (double)n * (double)n * B + c->rem[(size_t)q];
+    pmax = dmax(pmax, 2.0 * kfac * B);
+    actx.lq = lq;
+    actx.n = &n;
+    while (want >= 1.0) {
+      want -= 1.0;
+      ++trials;
+      const int64_t j = lq[w.below(n)], l = lq[w.below(n)];
+      const double ub = w.uniform() * B;
+      if (j == l) continue;
+      const int32_t i = sp[j], k = sp[l];
+      double *vj = v + 3 * j, *vl = v + 3 * l;
+      const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
+      const double g2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+      const double sjl = 0.5 * (sig[i] + sig[k]);
+      double wgt = sjl * sjl;
+      const size_t pik = (size_t)i * (size_t)M + (size_t)k;
+      if (kRest != kRestConst && pair) wgt *= pair[pik].g2r;
+      const double ga = std::sqrt(g2);
+      if (!(ub < wgt * ga)) continue;
+      double mi, mk;
+      if (kAgg) {
+        mi = (double)(i + 1) * m1;
+        mk = (double)(k + 1) * m1;
+      } else {
+        mi = mass[i];
+        mk = mass[k];
+      }
+      const double inv = 1.0 / (mi + mk);
+      if (kAgg) {
+        const double Eimp = 0.5 * mi * mk * inv * g2;
+        if (Eimp < e_agg) { /* step 10b: merge */
+          const int64_t n0 = n;
+          agg_merge(actx, j, l, i, k, Eimp);
+          sig = c->sigk.data();
+          const double Bn = dmax(csg[q], sig[sp[j]]);
+          csg[q] = Bn;
+          const double Bnew = Bn * Bn * 2.0 * std::sqrt(vmc2);
+          want *= ((double)n * (double)n * Bnew) / ((double)n0 * (double)n0 * B);
+          B = Bnew;
+          pmax = dmax(pmax, 2.0 * kfac * B);
+          ++coll;
+          continue;
+        }
+      }
+      /* collision: e from the |g.e| law, (g.e) e = (g - |g| u)/2 */
+      double u[3];
+      w.unit3(u);
+      const double gn[3] = {0.5 * (g[0] - ga * u[0]), 0.5 * (g[1] - ga * u[1]), 0.5 * (g[2] - ga * u[2])};
+      const double gn2 = gn[0] * gn[0] + gn[1] * gn[1] + gn[2] * gn[2];
+      if (kAgg && 0.5 * mi * mk * inv * gn2 > e_frag) { /* step 10d: shatter into monomers */
+        const double vold = vmc2;
+        agg_shatter(actx, j, l, i, k, 0.5 * mi * mk * inv * g2, ga, &vmc2);
+        if (actx.status != GRAN_SUCCESS) return actx.status;
+        x = s->p.x; /* the arrays may have moved */
+        v = s->p.v;
+        sp = s->p.species;
+        ++coll;
+        if (vmc2 > vold) {
+          const double Bn = csg[q] * csg[q] * 2.0 * std::sqrt(vmc2);
+          want *= Bn / B;
+          B = Bn;
+          pmax = dmax(pmax, 2.0 * kfac * B);
+        }
+        continue;
+      }
+      double eps;
+      if (kRest == kRestConst) {
+        eps = s->eps0;
+      } else if (kRest == kRestTable) {
+        eps = pair[pik].a;
+      } else {
+        double sb;
+        if (pair)
+          sb = pair[pik].a;
+        else if (s->visco_sqrt_beta0 >= 0)
+          sb = s->visco_sqrt_beta0;
+        else
+          sb = std::sqrt(mix_beta(&s->mix, i, k));
+        eps = visco_eps(sb * std::pow(gn2, 0.05));
+      }
+      const double a = (1.0 + eps) * inv;
+      const double aj = a * mk, al = a * mi;
+      for (int d = 0; d < 3; d++) {
+        vj[d] -= aj * gn[d];
+        vl[d] += al * gn[d];
+      }
+      if (kDisp) {
+        double *const rj = R + 3 * j, *const rl = R + 3 * l;
+        for (int d = 0; d < 3; d++) {
+          rj[d] += aj * t * gn[d];
+          rl[d] -= al * t * gn[d];
+        }
+      }
+      neumaier_add(ed, edc, 0.5 * (1.0 - eps * eps) * mi * mk * inv * gn2);
+      if (kCount) cnt[(i < k ? i : k) * M + (i < k ? k : i)]++;
+      if (kAgg) c->bounces++;
+      ++coll;
+      const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+      const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
+      if (!kAgg) {
+        b2[i] = dmax(b2[i], sj);
+        b2[k] = dmax(b2[k], sl);
+      }
+      const double s2 = dmax(sj, sl);
+      if (s2 > vmc2) { /* the majorant rises: so do the candidates still to come */
+        vmc2 = s2;
+        const double Bn = csg[q] * csg[q] * 2.0 * std::sqrt(vmc2);
+        want *= Bn / B;
+        B = Bn;
+        pmax = dmax(pmax, 2.0 * kfac * B);
+        c->vmax2 = dmax(c->vmax2, s2);
+      }
+    }
+    c->rem[(size_t)q] = want;
+  }
+  c->pmax_last = pmax;
+  s->collisions = coll;
+  s->trials = trials;
+  s->e_diss = ed;
+  s->e_diss_c = edc;
+  if (kAgg) {
+    dsmc_agg_end_step(s);
+  } else {
+    for (int64_t k = 0; k < M; k++) s->bound[(size_t)k] = std::sqrt(b2[k]);
+  }
+  if (c->o.heat_rate > 0) cell_heat<kDisp>(s, t);
+  if (c->o.bath_density > 0) cell_bath<kDisp>(s, t);
+  return GRAN_SUCCESS;
+}
+
+typedef int (*CellStepFn)(gran_dsmc *s);
+template <bool kDisp, bool kCount>
+CellStepFn pick_rest(int rest) {
+  switch (rest) {
+    case kRestTable: return &cell_step<kRestTable, kDisp, kCount, false>;
+    case kRestVisco: return &cell_step<kRestVisco, kDisp, kCount, false>;
+    default: return &cell_step<kRestConst, kDisp, kCount, false>;
+  }
+}
+CellStepFn pick_step(const gran_dsmc *s) {
+  if (s->cell->agg) return &cell_step<kRestConst, false, false, true>; /* dsmc_agg_setup checked these */
+  const bool disp = s->p.r != nullptr, counts = !s->ccount.empty();
+  if (disp) return counts ? pick_rest<true, true>(s->rest) : pick_rest<true, false>(s->rest);
+  return counts ? pick_rest<false, true>(s->rest) : pick_rest<false, false>(s->rest);
+}
+
+}  // namespace
+
+int dsmc_cell_advance(gran_dsmc *s, double t_end, int64_t coll_stop) {
+  DsmcCell *const c = s->cell;
+  const CellStepFn fn = pick_step(s);
+  const double dt = c->o.dt;
+  const bool by_time = t_end < DBL_MAX;
+  for (;;) {
+    if (by_time) {
+      if ((double)(c->step + 1) * dt > t_end + 1e-9 * dt) break;
+    } else {
+      if (s->collisions >= coll_stop) break;
+      GRAN_CHECK(c->vmax2 > 0 && s->N >= 2 && s->g2max > 0, GRAN_ERR_STATE,
+                 "no collision can happen: " GRAN_I64_FMT " particle(s), largest speed %g, contact value %g", s->N,
+                 std::sqrt(c->vmax2), s->g2max);
+    }
+    GRAN_CALL(check_dt(s, "for the speeds reached"));
+    GRAN_CALL(fn(s));
+  }
+  if (by_time) {
+    if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES)
+      while (s->traj_next < s->opt.traj_samples && (double)s->traj_next * s->opt.traj_dt <= t_end) {
+        s->t = (double)s->traj_next * s->opt.traj_dt;
+        dsmc_record_trajectories(s);
+      }
+    s->t = t_end;
+  }
+  return GRAN_SUCCESS;
+}
+
+}  // namespace gran
+
+using namespace gran;
+
+/** @brief Defaults of the cell options (see the header). */
+GRAN_EXTERN int gran_dsmc_cell_options_default(gran_dsmc_cell_options *cell) {
+  GRAN_CHECK_PTR(cell);
+  *cell = gran_dsmc_cell_options{};
+  cell->cells = 1;
+  cell->dt = 0;
+  cell->fn = 1;
+  cell->e_agg = 0;
+  cell->e_frag = INFINITY;
+  cell->eps_f = 1;
+  cell->heat_rate = 0;
+  cell->bath_density = 0;
+  cell->bath_mass = 1;
+  cell->bath_T = 1;
+  cell->bath_sigma = 1;
+  cell->placement = GRAN_PLACE_RANDOM;
+  return GRAN_SUCCESS;
+}
+
+/** @brief New engine of the time-step/cell selector (seed 002).
+ *  @param[in] opt engine options (selector is taken as GRAN_SELECTOR_CELL; volume: the box volume)
+ *  @param[in] cell cells, dt, F_N and the effects  @param[out] sim the new engine */
+GRAN_EXTERN int gran_dsmc_create_cell(const gran_mixture *mix, const int64_t *counts, const double *T0,
+                                      const gran_dsmc_options *opt, const gran_dsmc_cell_options *cell,
+                                      gran_dsmc **sim) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(sim);
+    *sim = nullptr;
+    GRAN_CHECK_PTR(mix);
+    GRAN_CHECK_PTR(opt);
+    GRAN_CHECK_PTR(cell);
+    GRAN_CALL(dsmc_cell_check_options(cell));
+    gran_dsmc_options o = *opt;
+    o.selector = GRAN_SELECTOR_CELL;
+    if (o.volume > 0) o.volume /= cell->fn; /* the engine's volume: per simulated particle */
+    return dsmc_create_impl(mix, counts, T0, &o, cell, sim);
+  }
+  GRAN_CATCH
+}
+
+/** @brief Steps done, box side, largest F_N (sigma g)_max dt / V_c of the last step. */
+GRAN_EXTERN int gran_dsmc_cell_info(const gran_dsmc *sim, int64_t *steps, double *box, double *pmax) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    GRAN_CHECK(sim->cell != nullptr, GRAN_ERR_STATE, "engine 'sim' does not use the cell selector");
+    if (steps) *steps = sim->cell->step;
+    if (box) *box = sim->cell->L;
+    if (pmax) *pmax = sim->cell->pmax_last;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}

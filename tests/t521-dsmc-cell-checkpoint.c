@@ -1,0 +1,259 @@
+/* t521-dsmc-cell-checkpoint.c - the cell selector resumes bit for bit: a run to t2 in one go and a
+ * run to t1, written, read back into a new engine and continued to t2 end with identical
+ * velocities, positions, displacements, counters, ledger, collision counts and trajectories
+ * (memcmp). Constant, matrix and viscoelastic restitution, with and without observables and the
+ * thermostat, several cells, a t1 between two steps. A damaged cell state (a position outside the
+ * box, a carried fraction outside [0, 1), a speed bound below a particle's speed; the file
+ * checksum recomputed, as after a deliberate edit) is refused with GRAN_ERR_IO naming it. */
+#define _POSIX_C_SOURCE 200809L
+#include <unistd.h>
+
+#include <hdf5.h>
+#include <zlib.h>
+
+#include "dsmc_util.h"
+
+#include <string.h>
+
+static char g_path[256];
+
+static int setup(void **state) {
+  (void)state;
+  snprintf(g_path, sizeof g_path, "/tmp/granary-t521-%ld.h5", (long)getpid());
+  remove(g_path);
+  return 0;
+}
+static int teardown(void **state) {
+  (void)state;
+  remove(g_path);
+  return 0;
+}
+
+static void compare(const gran_dsmc *a, const gran_dsmc *b, int observe) {
+  const gran_particles *pa, *pb;
+  GRAN_ASSERT_OK(gran_dsmc_particles(a, &pa));
+  GRAN_ASSERT_OK(gran_dsmc_particles(b, &pb));
+  assert_int_equal(pa->n, pb->n);
+  assert_memory_equal(pa->v, pb->v, sizeof(double) * 3 * (size_t)pa->n);
+  assert_memory_equal(pa->x, pb->x, sizeof(double) * 3 * (size_t)pa->n);
+  if (observe & (GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_TRAJECTORIES))
+    assert_memory_equal(pa->r, pb->r, sizeof(double) * 3 * (size_t)pa->n);
+  gran_dsmc_stats sa, sb;
+  GRAN_ASSERT_OK(gran_dsmc_get_stats(a, &sa));
+  GRAN_ASSERT_OK(gran_dsmc_get_stats(b, &sb));
+  assert_memory_equal(&sa, &sb, sizeof sa);
+  double ea[3], eb[3];
+  GRAN_ASSERT_OK(gran_dsmc_energy(a, &ea[0], &ea[1], &ea[2]));
+  GRAN_ASSERT_OK(gran_dsmc_energy(b, &eb[0], &eb[1], &eb[2]));
+  assert_memory_equal(ea, eb, sizeof ea);
+  GRAN_ASSERT_REL(ea[0], ea[1] - ea[2], 1e-12); /* the ledger closes */
+  int64_t na, nb;
+  double La, Lb, pa_, pb_;
+  GRAN_ASSERT_OK(gran_dsmc_cell_info(a, &na, &La, &pa_));
+  GRAN_ASSERT_OK(gran_dsmc_cell_info(b, &nb, &Lb, &pb_));
+  assert_int_equal(na, nb);
+  assert_true(La == Lb && pa_ == pb_);
+  if (observe & GRAN_OBSERVE_COLLISION_COUNTS) {
+    int64_t ca[16], cb[16];
+    GRAN_ASSERT_OK(gran_dsmc_collision_counts(a, ca));
+    GRAN_ASSERT_OK(gran_dsmc_collision_counts(b, cb));
+    assert_memory_equal(ca, cb, sizeof ca);
+  }
+  if (observe & GRAN_OBSERVE_TRAJECTORIES) {
+    int64_t ta, tb, sa_, sb_;
+    const double *xa, *xb;
+    GRAN_ASSERT_OK(gran_dsmc_trajectories(a, &ta, &sa_, &xa, NULL));
+    GRAN_ASSERT_OK(gran_dsmc_trajectories(b, &tb, &sb_, &xb, NULL));
+    assert_int_equal(ta, tb);
+    assert_memory_equal(xa, xb, sizeof(double) * 3 * (size_t)(ta * sa_));
+  }
+}
+
+static gran_mixture *four_species(int model) {
+  gran_mixture *mix;
+  double n[4] = {0.01, 0.003, 0.0004, 0.0001};
+  GRAN_ASSERT_OK(gran_mixture_create(4, NULL, NULL, n, &mix));
+  if (model == 0) GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.7));
+  if (model == 1) {
+    double e[16];
+    for (int i = 0; i < 16; i++) e[i] = 0.5 + 0.02 * (i / 4 + i % 4);
+    GRAN_ASSERT_OK(gran_mixture_set_restitution_matrix(mix, e));
+  }
+  if (model == 2) GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 0.05));
+  return mix;
+}
+
+static void test_resume_bit_for_bit(void **state) {
+  (void)state;
+  const int observes[3] = {0, GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_COLLISION_COUNTS,
+                           GRAN_OBSERVE_TRAJECTORIES | GRAN_OBSERVE_COLLISION_COUNTS};
+  for (int model = 0; model < 3; model++) {
+    gran_mixture *mix = four_species(model);
+    for (int q = 0; q < 3; q++)
+      for (int heat = 0; heat < 2; heat++) {
+        gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 31 + (uint64_t)q, 3e5, observes[q]);
+        o.traj_per_species = 2;
+        o.traj_dt = 0.7;
+        o.traj_samples = 60;
+        gran_dsmc_cell_options c;
+        GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+        c.cells = 3;
+        c.dt = 0.4;
+        c.heat_rate = heat ? 0.01 : 0.0;
+        gran_dsmc *a, *b, *r;
+        GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &a));
+        GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &b));
+        GRAN_ASSERT_OK(gran_dsmc_advance(a, 30.0));
+        GRAN_ASSERT_OK(gran_dsmc_advance(b, 13.3)); /* between two steps */
+        GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(b, g_path, "/engine"));
+        GRAN_ASSERT_OK(gran_dsmc_checkpoint_read(g_path, "/engine", mix, &r));
+        compare(b, r, observes[q]);
+        GRAN_ASSERT_OK(gran_dsmc_advance(r, 30.0));
+        compare(a, r, observes[q]);
+        assert_true(dsmc_collisions(a) > 1000);
+        GRAN_ASSERT_OK(gran_dsmc_advance_collisions(a, 2000));
+        GRAN_ASSERT_OK(gran_dsmc_advance_collisions(r, 2000));
+        compare(a, r, observes[q]);
+        gran_dsmc_destroy(&a);
+        gran_dsmc_destroy(&b);
+        gran_dsmc_destroy(&r);
+      }
+    gran_mixture_destroy(&mix);
+  }
+}
+
+/* aggregation and fragmentation: particles appear and vanish, sizes grow beyond the mixture's */
+static void test_resume_agg(void **state) {
+  (void)state;
+  double n[20] = {0.01};
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(20, NULL, NULL, n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.8));
+  for (int place = 0; place < 2; place++) {
+    gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 8 + (uint64_t)place, 3e5, 0);
+    gran_dsmc_cell_options c;
+    GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+    c.cells = 2;
+    c.dt = 0.5;
+    c.e_agg = 1.5;
+    c.e_frag = 2.5;
+    c.eps_f = 0.6;
+    c.heat_rate = place ? 0.002 : 0.0;
+    c.bath_density = place ? 0.0 : 0.004; /* the molecular-gas bath */
+    c.bath_T = 1.5;
+    c.placement = place ? GRAN_PLACE_COLLISION : GRAN_PLACE_RANDOM;
+    gran_dsmc *a, *b, *r;
+    GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &a));
+    GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &b));
+    GRAN_ASSERT_OK(gran_dsmc_advance(a, 80.0));
+    GRAN_ASSERT_OK(gran_dsmc_advance(b, 31.2));
+    GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(b, g_path, "/engine"));
+    GRAN_ASSERT_OK(gran_dsmc_checkpoint_read(g_path, "/engine", mix, &r));
+    compare(b, r, 0);
+    GRAN_ASSERT_OK(gran_dsmc_advance(r, 80.0));
+    compare(a, r, 0);
+    gran_dsmc_cluster_stats sa, sr;
+    GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(a, &sa));
+    GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(r, &sr));
+    assert_memory_equal(&sa, &sr, sizeof sa);
+    assert_true(sa.merges > 100 && sa.breakups > 100);
+    const gran_particles *pa, *pr;
+    GRAN_ASSERT_OK(gran_dsmc_particles(a, &pa));
+    GRAN_ASSERT_OK(gran_dsmc_particles(r, &pr));
+    assert_memory_equal(pa->species, pr->species, sizeof(int32_t) * (size_t)pa->n);
+    gran_dsmc_destroy(&a);
+    gran_dsmc_destroy(&b);
+    gran_dsmc_destroy(&r);
+  }
+  gran_mixture_destroy(&mix);
+}
+
+static unsigned char *read_all(const char *path, size_t *n) {
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  fseek(f, 0, SEEK_END);
+  *n = (size_t)ftell(f);
+  fseek(f, 0, SEEK_SET);
+  unsigned char *b = malloc(*n);
+  assert_int_equal(fread(b, 1, *n, f), *n);
+  fclose(f);
+  return b;
+}
+
+/* after an edit through HDF5: recompute granary's file checksum (as t606 does) */
+static void refresh_crc(const char *path) {
+  size_t n = 0;
+  unsigned char *b = read_all(path, &n);
+  uLong c = crc32(crc32(0L, Z_NULL, 0), b + 512, (uInt)(n - 512));
+  char head[512];
+  memset(head, 0, sizeof head);
+  snprintf(head, sizeof head, "granary-file 1\nlength %zu\ncrc32 %08lx\n", n, (unsigned long)c);
+  memcpy(b, head, 512);
+  FILE *f = fopen(path, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite(b, 1, n, f), n);
+  fclose(f);
+  free(b);
+}
+
+static void edit(const char *dataset, int64_t index, double value) {
+  hid_t f = H5Fopen(g_path, H5F_ACC_RDWR, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t sp = H5Dget_space(d);
+  hsize_t np = (hsize_t)H5Sget_simple_extent_npoints(sp);
+  double *v = malloc(np * sizeof *v);
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
+  v[index] = value;
+  H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
+  free(v);
+  H5Sclose(sp);
+  H5Dclose(d);
+  H5Fclose(f);
+  refresh_crc(g_path);
+}
+
+static void test_damaged(void **state) {
+  (void)state;
+  gran_mixture *mix = four_species(0);
+  gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 5, 3e5, 0);
+  gran_dsmc_cell_options c;
+  GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+  c.cells = 2;
+  c.dt = 0.5;
+  gran_dsmc *a, *b = NULL;
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &a));
+  GRAN_ASSERT_OK(gran_dsmc_advance(a, 5));
+  const struct {
+    const char *ds;
+    int64_t i;
+    double v;
+    const char *why;
+  } cases[] = {
+      {"/engine/cell_x", 5, -1.0, "positions"},
+      {"/engine/cell_x", 7, 1e9, "positions"},
+      {"/engine/cell_rem", 3, 1.5, "carried candidate fractions"},
+      {"/engine/cell_scalars", 0, 1e-6, "cell speed bound"},
+      {"/engine/cell_options_real", 0, -1.0, "'dt'"},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(a, g_path, "/engine"));
+    edit(cases[k].ds, cases[k].i, cases[k].v);
+    GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/engine", mix, &b), k == 4 ? GRAN_ERR_ARG : GRAN_ERR_IO);
+    if (!strstr(gran_last_error_message(), cases[k].why))
+      fail_msg("edit of %s: message '%s' (expected '%s')", cases[k].ds, gran_last_error_message(), cases[k].why);
+    assert_null(b);
+  }
+  gran_dsmc_destroy(&a);
+  gran_mixture_destroy(&mix);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test_setup_teardown(test_resume_bit_for_bit, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_damaged, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_resume_agg, setup, teardown),
+  };
+  return cmocka_run_group_tests_name("t521-dsmc-cell-checkpoint", tests, NULL, NULL);
+}

@@ -1,0 +1,183 @@
+/* t524-dsmc-thermostat.c - the white-noise thermostat of the cell selector (heat_rate):
+ *  - elastic gas: T(t) = T0 + heat_rate (1 - 1/N) t (the mean kick is removed), 4 standard errors
+ *    of T (sqrt(2/(3N)) T); momentum stays 0, the ledger books the heat (1e-12);
+ *  - driven steady state of an inelastic gas (eps = 0.3, heat_rate from the heating/cooling balance
+ *    at T = 1 with the first-Sonine cooling rate (4/3) sqrt(pi) (1 - eps^2) n sigma^2 sqrt(T/m)
+ *    (1 + 3 a2/16)): the time-averaged a2 against van Noije and Ernst's
+ *    16 (1 - eps)(1 - 2 eps^2) / (241 - 177 eps + 30 eps^2 (1 - eps)) = 0.0484 within 4 standard
+ *    errors (batch means of 30 samples 2 mean free times apart) plus 0.003 (the time step: dt =
+ *    tau/56 measured 0.0483 +- 0.0010 at N = 2e4; dt = tau/14 gives 0.0458), and T within 1 % of 1
+ *    (measured 1.0030 at dt = tau/56). A driven state that stayed Maxwellian (a2 = 0) fails. */
+#include "dsmc_util.h"
+
+static const double kN = 0.01;
+
+static void test_heating_elastic(void **state) {
+  (void)state;
+  gran_mixture *mix = dsmc_mono(kN, 1.0);
+  const int64_t N = (int64_t)(20000 * dsmc_scale());
+  const double H = 0.01, t = 100, T0 = 1;
+  gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 21, (double)N / kN, 0);
+  gran_dsmc_cell_options c;
+  GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+  c.dt = 0.5;
+  c.cells = 2;
+  c.heat_rate = H;
+  gran_dsmc *d = NULL;
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, &T0, &o, &c, &d));
+  double Tstart;
+  GRAN_ASSERT_OK(gran_dsmc_temperatures(d, &Tstart));
+  GRAN_ASSERT_OK(gran_dsmc_advance(d, t));
+  double T, e, e0, ed, P[3];
+  GRAN_ASSERT_OK(gran_dsmc_temperatures(d, &T));
+  const double expect = Tstart + H * (1 - 1.0 / (double)N) * t;
+  GRAN_ASSERT_SIGMA(T, expect, sqrt(2.0 / (3.0 * (double)N)) * expect, 4);
+  GRAN_ASSERT_OK(gran_dsmc_energy(d, &e, &e0, &ed));
+  GRAN_ASSERT_ABS(e, e0 - ed, 1e-12 * e);
+  assert_true(ed < 0); /* net energy added */
+  GRAN_ASSERT_OK(gran_dsmc_momentum(d, P));
+  for (int k = 0; k < 3; k++) GRAN_ASSERT_ABS(P[k], 0.0, 1e-10 * sqrt(e * (double)N));
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  gran_mixture_destroy(&mix);
+}
+
+static void test_driven_steady_state(void **state) {
+  (void)state;
+  const double eps = 0.3;
+  gran_mixture *mix = dsmc_mono(kN, eps);
+  const int64_t N = (int64_t)(10000 * dsmc_scale());
+  const double a2th = 16 * (1 - eps) * (1 - 2 * eps * eps) / (241 - 177 * eps + 30 * eps * eps * (1 - eps));
+  const double H = 4.0 / 3.0 * sqrt(M_PI) * (1 - eps * eps) * kN * (1 + 3 * a2th / 16); /* T = 1 */
+  const double tau = 1 / (4 * sqrt(M_PI) * kN), T0 = 1;
+  gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 5, (double)N / kN, 0);
+  gran_dsmc_cell_options c;
+  GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+  c.dt = 0.25;
+  c.cells = 2;
+  c.heat_rate = H;
+  gran_dsmc *d = NULL;
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, &T0, &o, &c, &d));
+  GRAN_ASSERT_OK(gran_dsmc_advance(d, 10 * tau));
+  enum { S = 30 };
+  double a2[S], T[S];
+  for (int i = 0; i < S; i++) {
+    GRAN_ASSERT_OK(gran_dsmc_advance(d, (10 + 2 * (i + 1)) * tau));
+    GRAN_ASSERT_OK(gran_dsmc_sonine_a2(d, &a2[i]));
+    GRAN_ASSERT_OK(gran_dsmc_temperatures(d, &T[i]));
+  }
+  double ma, sa, mT, sT;
+  dsmc_mean_se(a2, S, &ma, &sa);
+  dsmc_mean_se(T, S, &mT, &sT);
+  GRAN_ASSERT_SIGMA(ma, a2th, sa + 0.003 / 4, 4);
+  assert_true(ma > 4 * sa); /* not Maxwellian */
+  GRAN_ASSERT_SIGMA(mT, 1.0, sT + 0.01 / 4, 4);
+  double e, e0, ed;
+  GRAN_ASSERT_OK(gran_dsmc_energy(d, &e, &e0, &ed));
+  GRAN_ASSERT_ABS(e, e0 - ed, 1e-12 * e0);
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  gran_mixture_destroy(&mix);
+}
+
+/* Molecular-gas bath: an elastic binary mixture (m = 1, 3) in a bath at T_b = 2 reaches T_1 = T_2 =
+ * T_b and a Maxwellian (a2 = 0), 4 standard errors of the time average (batch means of 20 samples
+ * 10 time units apart, after 20 bath collision times); the ledger books the exchanged energy. */
+static void test_bath(void **state) {
+  (void)state;
+  double m[2] = {1, 3}, s[2] = {1, 1.4422495703074083}, n[2] = {kN / 2, kN / 2};
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(2, m, s, n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 1.0));
+  const int64_t N = (int64_t)(10000 * dsmc_scale());
+  gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 17, (double)N / kN, 0);
+  gran_dsmc_cell_options c;
+  GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+  c.dt = 0.5;
+  c.cells = 2;
+  c.bath_density = 0.02;
+  c.bath_mass = 1.0;
+  c.bath_T = 2.0;
+  c.bath_sigma = 1.0;
+  const double T0[2] = {1.0, 0.5};
+  gran_dsmc *d = NULL;
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, T0, &o, &c, &d));
+  GRAN_ASSERT_OK(gran_dsmc_advance(d, 300));
+  enum { S = 20 };
+  double T1[S], T2[S], A[S];
+  for (int i = 0; i < S; i++) {
+    double T[2], a2[2];
+    GRAN_ASSERT_OK(gran_dsmc_advance(d, 300 + 10.0 * (i + 1)));
+    GRAN_ASSERT_OK(gran_dsmc_temperatures(d, T));
+    GRAN_ASSERT_OK(gran_dsmc_sonine_a2(d, a2));
+    T1[i] = T[0];
+    T2[i] = T[1];
+    A[i] = a2[0];
+  }
+  double m1, s1, m2, s2, ma, sa;
+  dsmc_mean_se(T1, S, &m1, &s1);
+  dsmc_mean_se(T2, S, &m2, &s2);
+  dsmc_mean_se(A, S, &ma, &sa);
+  GRAN_ASSERT_SIGMA(m1, 2.0, s1, 4);
+  GRAN_ASSERT_SIGMA(m2, 2.0, s2, 4);
+  GRAN_ASSERT_SIGMA(ma, 0.0, sa, 4);
+  double e, e0, ed;
+  GRAN_ASSERT_OK(gran_dsmc_energy(d, &e, &e0, &ed));
+  GRAN_ASSERT_ABS(e, e0 - ed, 1e-12 * e);
+  assert_true(e > 1.5 * e0); /* the bath heated the gas from T ~ 0.75 towards 2 */
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  gran_mixture_destroy(&mix);
+}
+
+/* The bath's rate: a monodisperse elastic gas (gas-gas collisions keep T) in a bath of equal
+ * particles follows seed 002 Eq. 76 with the bath as the second species held at T_b:
+ * dT/dt = (4/3) sqrt(2 pi) n_b sigma^2 sqrt((T + T_b)/m) (T_b - T) (Maxwellian), within 2 % + 4
+ * standard errors of T (sqrt(2/(3N)) T) at t = 2, 5, 10. Measured over three seeds: within 1 % at
+ * t = 2 and 5, 1.3-2.1 % below at t = 10 (not resolved: the gas, heated by the bath faster than its
+ * own collisions relax it, is not Maxwellian; Eq. 76 assumes it is). */
+static void test_bath_rate(void **state) {
+  (void)state;
+  gran_mixture *mix = dsmc_mono(kN, 1.0);
+  const int64_t N = (int64_t)(20000 * dsmc_scale());
+  gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_CELL, 23, (double)N / kN, 0);
+  gran_dsmc_cell_options c;
+  GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
+  c.dt = 0.05;
+  c.cells = 2;
+  c.bath_density = 0.02;
+  c.bath_T = 2.0;
+  const double T0 = 1, nb = 0.02, Tb = 2;
+  gran_dsmc *d = NULL;
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, NULL, &T0, &o, &c, &d));
+  double Tth;
+  GRAN_ASSERT_OK(gran_dsmc_temperatures(d, &Tth)); /* the sample's own start */
+  const double times[3] = {2, 5, 10};
+  double t = 0;
+  for (int i = 0; i < 3; i++) {
+    /* RK4 of the ODE in steps of 0.01 */
+    const double h = 0.01;
+    while (t < times[i] - 1e-12) {
+      double k[4], y = Tth;
+      for (int q = 0; q < 4; q++) {
+        const double yy = q == 0 ? y : q == 3 ? y + h * k[2] : y + 0.5 * h * k[q - 1];
+        k[q] = 4.0 / 3.0 * sqrt(2 * M_PI) * nb * sqrt(yy + Tb) * (Tb - yy);
+      }
+      Tth = y + h / 6 * (k[0] + 2 * k[1] + 2 * k[2] + k[3]);
+      t += h;
+    }
+    double T;
+    GRAN_ASSERT_OK(gran_dsmc_advance(d, times[i]));
+    GRAN_ASSERT_OK(gran_dsmc_temperatures(d, &T));
+    GRAN_ASSERT_SIGMA(T, Tth, sqrt(2.0 / (3.0 * (double)N)) * Tth + 0.02 * Tth / 4, 4);
+  }
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  gran_mixture_destroy(&mix);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_heating_elastic),
+      cmocka_unit_test(test_driven_steady_state),
+      cmocka_unit_test(test_bath),
+      cmocka_unit_test(test_bath_rate),
+  };
+  return cmocka_run_group_tests_name("t524-dsmc-thermostat", tests, NULL, NULL);
+}
