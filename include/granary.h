@@ -525,7 +525,8 @@ typedef struct gran_srd_options {
   int32_t dim;          /* 2 or 3 */
   int32_t wall_axis;    /* -1: periodic everywhere; 0..dim-1: walls at 0 and cells[wall_axis]*a */
   int32_t wall_rule;    /* 1: no-slip (bounce-back + virtual particles), 2: slip (specular) */
-  int32_t thermostat;   /* 1: cell-level Maxwell-Boltzmann thermostat at temperature T0 */
+  int32_t thermostat;   /* 1: cell-level Maxwell-Boltzmann thermostat at T0; 2: global rescaling of
+                           the velocities relative to the cell means to T0 (viscosity runs) */
   int64_t cells[3];     /* cells per axis (cells[2] ignored in 2-D) */
   double a;             /* cell size (> 0) */
   double n0;            /* mean particles per cell (> 0); N = round(n0 * cells) */

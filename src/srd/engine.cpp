@@ -158,8 +158,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     /* (1) stream */
     {
       const double ga[3] = {o.accel[0], o.accel[1], o.accel[2]};
-      const double a = o.a;
-      const int64_t Ly = gm.L[1];
+      const double rate = o.shear_rate, hy = 0.5 * gm.box[1];
 #pragma omp parallel for schedule(static) num_threads(nth)
       for (int64_t b = 0; b < nb; ++b) {
         const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
@@ -171,13 +170,14 @@ void do_steps(gran_srd *s, int64_t nsteps) {
           const double y0 = p[1];
           srd_stream(p, v, dt, ga, DIM, ACCEL);
           if (LE) {
-            /* interior planes y = j a, j = 1..Ly-1, crossed by this particle */
-            const int64_t k0 = (int64_t)std::floor(y0 / a), k1 = (int64_t)std::floor(p[1] / a);
-            int64_t up = std::min(k1, Ly - 1) - std::max(k0 + 1, (int64_t)1) + 1;
-            int64_t dn = std::min(k0, Ly - 1) - std::max(k1 + 1, (int64_t)1) + 1;
-            up = up > 0 ? up : 0;
-            dn = dn > 0 ? dn : 0;
-            flux += v[0] * (double)(up - dn);
+            /* kinetic momentum flux averaged over every plane y = const (Eq. 1.43 integrated over
+             * the plane position): each plane y_p between y0 and y1 sees this particle cross with
+             * vx relative to the imposed flow there, u(y_p) = rate (y_p - Ly/2); the integral over
+             * y_p is (vx_mid - u((y0 + y1)/2)) (y1 - y0) (y unwrapped during the step). Same mean
+             * as counting crossings of discrete planes, far less noise (no plane is missed). */
+            const double dy = p[1] - y0;
+            const double vxm = ACCEL ? v[0] - 0.5 * ga[0] * dt : v[0];
+            flux += (vxm - rate * (y0 + 0.5 * dy - hy)) * dy;
           }
           if (WALL) {
             double dpw[3];
@@ -237,6 +237,34 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       }
       srd_sum_add(&sum[c], v, &vref[3 * c], DIM);
     }
+    /* (5a) global profile-unbiased thermostat (thermostat = 2): one factor for the thermal
+     * velocities of every cell, relative to the cell means (so the shear profile is not heated or
+     * cooled), that makes the thermal energy d T0 sum (n_c - 1) / 2. Cell partials in fixed blocks,
+     * added in block order: the same factor for any thread count. */
+    double gscale = 1.0;
+    if (DISSIP && o.thermostat == 2) {
+      const int64_t ncb = (ncell + SRD_BLOCK - 1) / SRD_BLOCK;
+      std::vector<double> tp((size_t)ncb * 2, 0.0);
+#pragma omp parallel for schedule(static) num_threads(nth)
+      for (int64_t b = 0; b < ncb; ++b) {
+        double e = 0.0, dof = 0.0;
+        for (int64_t c = b * SRD_BLOCK; c < std::min(ncell, (b + 1) * SRD_BLOCK); ++c) {
+          if (sum[c].n < 2) continue;
+          double V[3], th;
+          srd_cell_moments(&sum[c], &vref[3 * c], DIM, V, &th);
+          e += (double)(DIM * sum[c].n) * th;
+          dof += (double)(DIM * (sum[c].n - 1));
+        }
+        tp[2 * b] = e;
+        tp[2 * b + 1] = dof;
+      }
+      double e = 0.0, dof = 0.0;
+      for (int64_t b = 0; b < ncb; ++b) {
+        e += tp[2 * b];
+        dof += tp[2 * b + 1];
+      }
+      if (e > 0.0) gscale = std::sqrt(dof * o.T0 / e);
+    }
     /* (5) per cell */
     int64_t nclamp = 0;
     double dtmax = INFINITY;
@@ -287,7 +315,9 @@ void do_steps(gran_srd *s, int64_t nsteps) {
           }
         }
         double sc = 1.0;
-        if (o.thermostat && th > 0.0) {
+        if (o.thermostat == 2) {
+          sc = gscale;
+        } else if (o.thermostat == 1 && th > 0.0) {
           /* cell-level MB thermostat: kinetic energy of the d (n - 1) thermal dof redrawn */
           const double k = 0.5 * DIM * (double)(nc - 1);
           const double enew = srd_rng_gamma(&rng[c], k) * o.T0;
@@ -416,6 +446,9 @@ int check_options(const gran_srd_options *o) {
   GRAN_CHECK((o->vib_amp == 0 && o->vib_omega == 0) || o->wall_axis >= 0, GRAN_ERR_ARG,
              "option 'vib_amp' needs walls (wall_axis >= 0)");
   GRAN_CHECK(std::isfinite(o->wall_T) && o->wall_T >= 0, GRAN_ERR_ARG, "option 'wall_T' must be >= 0");
+  GRAN_CHECK(o->thermostat >= 0 && o->thermostat <= 2, GRAN_ERR_ARG,
+             "option 'thermostat' must be 0 (off), 1 (cell-level) or 2 (global, profile-unbiased) (got %d)",
+             (int)o->thermostat);
   GRAN_CHECK(o->sort_every >= 0, GRAN_ERR_ARG, "option 'sort_every' must be >= 0");
   GRAN_CHECK(o->threads >= 0, GRAN_ERR_ARG, "option 'threads' must be >= 0");
   return GRAN_SUCCESS;
@@ -703,7 +736,7 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     if (s->opt.shear_rate != 0 && s->time > s->stress_t0) {
       double A = s->gm.box[0] * (d == 3 ? s->gm.box[2] : 1.0);
       const double tt = s->time - s->stress_t0;
-      const double fk = s->flux_kin / (A * tt * (double)(s->gm.L[1] - 1));
+      const double fk = s->flux_kin / (A * s->gm.box[1] * tt);
       const double Vt = A * s->gm.box[1];
       const double fc = s->flux_coll / (Vt * tt);
       ob->stress_kin = -fk;

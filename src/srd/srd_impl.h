@@ -34,7 +34,7 @@ struct gran_srd {
   int64_t clamped = 0;    /* eps_eff clamps since the last observe */
   double dt_max = INFINITY; /* smallest dt_max over clamped cells */
   /* stress (Lees-Edwards) */
-  double flux_kin = 0.0;  /* sum vx (up - down) over interior planes */
+  double flux_kin = 0.0;  /* sum over streaming moves of (vx - u(y)) dy (all planes y = const) */
   double flux_coll = 0.0; /* sum dvx * y in collisions */
   double stress_t0 = 0.0; /* time at the last stress reset */
   double wall_impulse[3] = {0, 0, 0};
