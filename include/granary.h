@@ -583,5 +583,11 @@ GRAN_EXTERN int gran_srd_particles(gran_srd *srd, int64_t *n, double **x, double
 GRAN_EXTERN int gran_srd_structure_factor(gran_srd *srd, int64_t nbins, double *k, double *s, int64_t *count);
 GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *srd, const char *path);
 GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **srd);
+/* ---- GSRD velocity profile (shear and Poiseuille flow analysis, run driver) ----
+ * Instantaneous mean of velocity component `component` (0..dim-1) of the particles in nbins equal
+ * slabs along `axis` (0..dim-1) spanning [0, cells[axis] a): mean[b] (0 where count[b] = 0) and
+ * count[b]. Time averages: sum mean[b] * count[b] and count[b] over calls. */
+GRAN_EXTERN int gran_srd_velocity_profile(const gran_srd *srd, int32_t axis, int32_t component, int64_t nbins,
+                                          double *mean, int64_t *count);
 
 #endif /* GRANARY_H */
