@@ -7,6 +7,8 @@
  * collide r 4+24 (+cell) w 24 -> about 204 B. */
 #include "bench_util.h"
 
+#include <math.h>
+
 
 static double copy_bw(size_t bytes) {
   double *a = malloc(bytes), *b = malloc(bytes);
@@ -39,6 +41,57 @@ static double rate(gran_srd_options o, int threads, int steps, double *setup) {
   BENCH_CHECK(gran_srd_observe(s, &ob));
   BENCH_CHECK(gran_srd_destroy(&s));
   return (double)ob.n * steps / t;
+}
+
+/* Eq. 1.48 (2-D) / 1.49 (3-D) kinetic + collisional viscosity (a = dt = kT = m = 1, M = n0). */
+static double nu_eq(int dim, double M, double alpha_deg, double *kin) {
+  const double al = alpha_deg * 3.14159265358979323846 / 180, q = M - 1 + exp(-M);
+  *kin = dim == 2 ? M / (q * (1 - cos(2 * al))) - 0.5 : 5 * M / (q * (4 - 2 * cos(al) - 2 * cos(2 * al))) - 0.5;
+  return *kin + q / M * (1 - cos(al)) / (dim == 2 ? 12.0 : 18.0);
+}
+
+/* Figs. 3.2 / 3.3 (reduced): total viscosity under Lees-Edwards shear against alpha, global
+ * thermostat (thermostat = 2), n0 = 10; mean and standard error of time blocks. */
+static void viscosity_sweep(int dim, int quick) {
+  const double al2[] = {30, 45, 60, 90, 120, 130, 150}, al3[] = {30, 60, 90, 120, 150, 180};
+  const double *al = dim == 2 ? al2 : al3;
+  const int na = dim == 2 ? 7 : 6;
+  const int L = dim == 2 ? 16 : (quick ? 6 : 10), nblk = quick ? 6 : 12, blk = quick ? 100 : 250;
+  printf("viscosity %d-D (%d^%d cells, n0 = 10, thermostat = 2, %d blocks of %d steps):\n", dim, L, dim, nblk, blk);
+  printf("  alpha   measured     +- se      Eq.%s+coll  (kinetic)   deviation\n", dim == 2 ? "1.48" : "1.49");
+  for (int k = 0; k < na; ++k) {
+    gran_srd_options o;
+    BENCH_CHECK(gran_srd_options_default(&o));
+    o.dim = dim;
+    o.cells[0] = o.cells[1] = o.cells[2] = L;
+    o.n0 = 10;
+    o.alpha_deg = al[k];
+    o.thermostat = 2;
+    double kin;
+    const double th = nu_eq(dim, o.n0, al[k], &kin);
+    /* shear rate: small enough that the stress correlations (about nu steps long) see a small
+     * strain (Weissenberg number rate * nu < 0.1), large enough for the signal */
+    o.shear_rate = fmin(0.06, 0.1 / th);
+    o.seed = 99 + (uint64_t)al[k];
+    o.threads = 1;
+    gran_srd *s = NULL;
+    BENCH_CHECK(gran_srd_create(&o, &s));
+    BENCH_CHECK(gran_srd_advance(s, 2 * blk));
+    double sm = 0, s2 = 0;
+    for (int b = 0; b < nblk; ++b) {
+      BENCH_CHECK(gran_srd_stress_reset(s));
+      BENCH_CHECK(gran_srd_advance(s, blk));
+      gran_srd_obs ob;
+      BENCH_CHECK(gran_srd_observe(s, &ob));
+      const double nu = ob.stress_xy / (o.n0 * o.shear_rate);
+      sm += nu;
+      s2 += nu * nu;
+    }
+    BENCH_CHECK(gran_srd_destroy(&s));
+    const double m = sm / nblk, se = sqrt(fmax(0.0, s2 / nblk - m * m) / (nblk - 1));
+    printf("  %5.0f  %9.4f  %9.4f  %9.4f  (%8.4f)  %+6.1f %% (%+.1f se)\n", al[k], m, se, th, kin,
+           100 * (m / th - 1), (m - th) / se);
+  }
 }
 
 int main(void) {
@@ -82,6 +135,19 @@ int main(void) {
   eff[4].o.thermostat = 1;
   printf("effects at 32^3 (all threads), time relative to none (%.3g particle-steps/s):\n", base);
   for (int i = 0; i < 5; ++i) printf("  %-16s %.2f\n", eff[i].name, base / rate(eff[i].o, nmax, 10, NULL));
+  viscosity_sweep(2, quick);
+  viscosity_sweep(3, quick);
+  if (!quick) { /* stream set-up of 256^3 cells (16.8M streams; few particles: only the cells count) */
+    gran_srd_options q = o;
+    q.cells[0] = q.cells[1] = q.cells[2] = 256;
+    q.n0 = 0.01;
+    gran_srd *s = NULL;
+    const double t0 = bench_now();
+    BENCH_CHECK(gran_srd_create(&q, &s));
+    printf("256^3 cells: create (16.8M per-cell RNG streams by consecutive jumps) %.3f s, all threads\n",
+           bench_now() - t0);
+    BENCH_CHECK(gran_srd_destroy(&s));
+  }
   printf("memory per particle: 48 B state + 4 B cell index + 160 B per cell / n0 = %.0f B\n", 52.0 + 160.0 / 10);
   printf("peak RSS %.3g MB\n", bench_peak_rss() / 1e6);
   return 0;
