@@ -148,7 +148,7 @@ int main(void) {
            bench_now() - t0);
     BENCH_CHECK(gran_srd_destroy(&s));
   }
-  printf("memory per particle: 48 B state + 4 B cell index + 160 B per cell / n0 = %.0f B\n", 52.0 + 160.0 / 10);
+  printf("memory per particle: 48 B state + 96 B per cell (64 B cell record, 32 B RNG state) / n0 = %.1f B\n", 48.0 + 96.0 / 10);
   printf("peak RSS %.3g MB\n", bench_peak_rss() / 1e6);
   return 0;
 }

@@ -131,10 +131,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
   s->part.assign((size_t)nb * 4, 0.0);
   double *px = s->x.data(), *py = s->y.data(), *pz = DIM == 3 ? s->z.data() : nullptr;
   double *vx = s->vx.data(), *vy = s->vy.data(), *vz = DIM == 3 ? s->vz.data() : nullptr;
-  uint32_t *ci = s->ci.data();
-  srd_cell_sum *sum = s->sum.data();
-  srd_cell_rot *rot = s->rot.data();
-  double *vref = s->vref.data();
+  srd_cpu_cell *cell = s->cell.data();
   gran_rng *rng = s->rng.data();
   const gran_srd_options &o = s->opt;
   const double dt = o.dt;
@@ -216,26 +213,17 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     /* (2) shift */
     for (int k = 0; k < 3; ++k) s->shift[k] = k < DIM ? srd_rng_uniform(&s->shift_rng) * o.a : 0.0;
     const double sh[3] = {s->shift[0], s->shift[1], s->shift[2]};
-    /* (3) bin */
+    /* (3) + (4) bin and sum: serial, particle order (the cell index is not stored: it is
+     * recomputed where needed, 4 B per particle less) */
 #pragma omp parallel for schedule(static) num_threads(nth)
+    for (int64_t c = 0; c < ncell; ++c) srd_sum_clear(&cell[c].acc.s);
     for (int64_t i = 0; i < n; ++i) {
       const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
       double dvx;
-      ci[i] = (uint32_t)srd_bin(&gm, sh, p, &dvx);
-    }
-    /* (4) sums: serial, particle order */
-#pragma omp parallel for schedule(static) num_threads(nth)
-    for (int64_t c = 0; c < ncell; ++c) srd_sum_clear(&sum[c]);
-    for (int64_t i = 0; i < n; ++i) {
-      const int64_t c = ci[i];
+      const int64_t c = srd_bin(&gm, sh, p, &dvx);
       double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-      if (LE && gm.le_on) {
-        double dvx;
-        const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-        (void)srd_bin(&gm, sh, p, &dvx);
-        v[0] += dvx;
-      }
-      srd_sum_add(&sum[c], v, &vref[3 * c], DIM);
+      if (LE) v[0] += dvx;
+      srd_sum_add(&cell[c].acc.s, v, cell[c].acc.V, DIM);
     }
     /* (5a) global profile-unbiased thermostat (thermostat = 2): one factor for the thermal
      * velocities of every cell, relative to the cell means (so the shear profile is not heated or
@@ -249,11 +237,12 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       for (int64_t b = 0; b < ncb; ++b) {
         double e = 0.0, dof = 0.0;
         for (int64_t c = b * SRD_BLOCK; c < std::min(ncell, (b + 1) * SRD_BLOCK); ++c) {
-          if (sum[c].n < 2) continue;
+          const srd_cell_sum &cs = cell[c].acc.s;
+          if (cs.n < 2) continue;
           double V[3], th;
-          srd_cell_moments(&sum[c], &vref[3 * c], DIM, V, &th);
-          e += (double)(DIM * sum[c].n) * th;
-          dof += (double)(DIM * (sum[c].n - 1));
+          srd_cell_moments(&cs, cell[c].acc.V, DIM, V, &th);
+          e += (double)(DIM * cs.n) * th;
+          dof += (double)(DIM * (cs.n - 1));
         }
         tp[2 * b] = e;
         tp[2 * b + 1] = dof;
@@ -270,14 +259,17 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     double dtmax = INFINITY;
 #pragma omp parallel for schedule(static) num_threads(nth) reduction(+ : nclamp) reduction(min : dtmax)
     for (int64_t c = 0; c < ncell; ++c) {
-      srd_cell_rot &cr = rot[c];
+      /* the sums are read into locals, then the same slot receives the collision record; its
+       * V (the cell mean, or the old reference in an empty cell) is next step's reference */
+      const srd_cell_sum csum = cell[c].acc.s;
       double V[3], th;
-      srd_cell_moments(&sum[c], &vref[3 * c], DIM, V, &th);
-      const int64_t nc = sum[c].n;
+      srd_cell_moments(&csum, cell[c].acc.V, DIM, V, &th);
+      const int64_t nc = csum.n;
+      if (nc == 0)
+        for (int k = 0; k < 3; ++k) V[k] = cell[c].acc.V[k];
+      srd_cell_rot cr;
       cr.f = 1.0;
       cr.g = 1.0;
-      if (nc > 0)
-        for (int k = 0; k < 3; ++k) vref[3 * c + k] = V[k];
       if (WALL) {
         int lo;
         if (srd_cell_cut(&gm, sh, c, &lo) && (double)nc < n0) {
@@ -296,10 +288,9 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       }
       for (int k = 0; k < 3; ++k) cr.V[k] = V[k];
       if (nc < 2) {
-        cr.r[0] = cr.r[1] = 0.0;
-        cr.r[2] = 1.0;
+        cr.r[0] = cr.r[1] = cr.r[2] = 0.0; /* no collision in this cell */
         cr.f = cr.g = 1.0;
-        if (!WALL) cr.V[0] = cr.V[1] = cr.V[2] = 0.0;
+        cell[c].rot = cr;
         continue;
       }
       srd_draw_axis(&rng[c], DIM, cr.r);
@@ -327,6 +318,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
         cr.f = f * sc;
         cr.g = sc;
       }
+      cell[c].rot = cr;
     }
     s->clamped += nclamp;
     s->dt_max = std::min(s->dt_max, dtmax);
@@ -336,17 +328,14 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
       double de = 0.0, vir = 0.0, lew = 0.0;
       for (int64_t i = lo; i < hi; ++i) {
-        const srd_cell_rot &cr = rot[ci[i]];
         double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
         double dvx = 0.0;
-        if (LE) {
-          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-          (void)srd_bin(&gm, sh, p, &dvx);
-          v[0] += dvx;
-        }
+        const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+        const srd_cell_rot &cr = cell[srd_bin(&gm, sh, p, &dvx)].rot;
+        if (LE) v[0] += dvx;
         const double e0 = DISSIP || WALL ? v[0] * v[0] + v[1] * v[1] + v[2] * v[2] : 0.0;
         const double vx0 = v[0];
-        if (sum[ci[i]].n >= 2) srd_rotate(v, &cr, s->ca, s->sa, DIM, DISSIP);
+        if (cr.r[0] != 0.0 || cr.r[1] != 0.0 || cr.r[2] != 0.0) srd_rotate(v, &cr, s->ca, s->sa, DIM, DISSIP);
         if (DISSIP || WALL) de += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - e0);
         if (LE) {
           const double yy = (dvx != 0.0) ? py[i] - gm.box[1] : py[i];
@@ -376,11 +365,19 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     s->step += 1;
     if (o.sort_every > 0 && s->step % o.sort_every == 0) {
       /* sort by the (last) cell index: counting sort, stable */
+      std::vector<uint32_t> perm((size_t)n); /* first the cell of each particle, then the order */
+#pragma omp parallel for schedule(static) num_threads(nth)
+      for (int64_t i = 0; i < n; ++i) {
+        const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+        double dvx;
+        perm[i] = (uint32_t)srd_bin(&gm, sh, p, &dvx);
+      }
       std::vector<int64_t> start((size_t)ncell + 1, 0);
-      for (int64_t i = 0; i < n; ++i) start[ci[i] + 1]++;
+      for (int64_t i = 0; i < n; ++i) start[perm[i] + 1]++;
       for (int64_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
-      std::vector<uint32_t> perm((size_t)n);
-      for (int64_t i = 0; i < n; ++i) perm[start[ci[i]]++] = (uint32_t)i;
+      std::vector<uint32_t> order((size_t)n);
+      for (int64_t i = 0; i < n; ++i) order[start[perm[i]]++] = (uint32_t)i;
+      perm.swap(order);
       std::vector<double> tmp((size_t)n);
       std::vector<double> *arr[6] = {&s->x, &s->y, &s->z, &s->vx, &s->vy, &s->vz};
       for (int q = 0; q < 6; ++q) {
@@ -489,10 +486,7 @@ int alloc_state(gran_srd *s) {
     s->z.resize(n);
     s->vz.resize(n);
   }
-  s->ci.resize(n);
-  s->sum.resize((size_t)s->ncell);
-  s->rot.resize((size_t)s->ncell);
-  s->vref.assign((size_t)s->ncell * 3, 0.0);
+  s->cell.assign((size_t)s->ncell, srd_cpu_cell());
   s->rng.resize((size_t)s->ncell);
   const double al = o.alpha_deg * M_PI / 180.0;
   s->ca = std::cos(al);
@@ -859,6 +853,17 @@ GRAN_EXTERN int gran_srd_velocity_profile(const gran_srd *s, int32_t axis, int32
 namespace {
 template <class T> bool wr(FILE *f, const T *p, size_t n) { return n == 0 || fwrite(p, sizeof(T), n, f) == n; }
 template <class T> bool rd(FILE *f, T *p, size_t n) { return n == 0 || fread(p, sizeof(T), n, f) == n; }
+/* the cells' reference velocities, 3 doubles per cell (the layout of the GSRDCKP1 format) */
+bool wr_refs(FILE *f, const gran_srd *s) {
+  for (const srd_cpu_cell &c : s->cell)
+    if (!wr(f, c.acc.V, 3)) return false;
+  return true;
+}
+bool rd_refs(FILE *f, gran_srd *s) {
+  for (srd_cpu_cell &c : s->cell)
+    if (!rd(f, c.acc.V, 3)) return false;
+  return true;
+}
 } // namespace
 
 GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
@@ -875,7 +880,7 @@ GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
     bool ok = wr(f, magic, 8) && wr(f, &s->opt, 1) && wr(f, sc, 12) && wr(f, ic, 3) && wr(f, &s->shift_rng, 1) &&
               wr(f, s->x.data(), n) && wr(f, s->y.data(), n) && wr(f, s->vx.data(), n) && wr(f, s->vy.data(), n) &&
               (s->opt.dim == 2 || (wr(f, s->z.data(), n) && wr(f, s->vz.data(), n))) &&
-              wr(f, s->vref.data(), s->vref.size()) && wr(f, s->rng.data(), s->rng.size());
+              wr_refs(f, s) && wr(f, s->rng.data(), s->rng.size());
     ok = (std::fclose(f) == 0) && ok;
     GRAN_CHECK(ok, GRAN_ERR_IO, "writing checkpoint '%s' failed", path);
     return GRAN_SUCCESS;
@@ -910,7 +915,7 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
     bool ok = e == GRAN_SUCCESS && rd(f, sc, 12) && rd(f, ic, 3) && ic[2] == s->n && rd(f, &s->shift_rng, 1) &&
               rd(f, s->x.data(), n) && rd(f, s->y.data(), n) && rd(f, s->vx.data(), n) && rd(f, s->vy.data(), n) &&
               (o.dim == 2 || (rd(f, s->z.data(), n) && rd(f, s->vz.data(), n))) &&
-              rd(f, s->vref.data(), s->vref.size()) && rd(f, s->rng.data(), s->rng.size());
+              rd_refs(f, s) && rd(f, s->rng.data(), s->rng.size());
     std::fclose(f);
     if (!ok) {
       delete s;

@@ -5,7 +5,24 @@
 #include "granary_impl.h"
 #include "srd/srd_kernels.h"
 
+#include <cstddef>
 #include <vector>
+
+/* One cell of the CPU engine, 64 B. During binning `acc` is active: V = the reference velocity
+ * (the cell's mean at its previous collision) and the sums relative to it; the per-cell pass reads
+ * them and writes `rot` into the same bytes (V = the new mean: the next reference). V is the
+ * common initial sequence of both members, so it may be read through either. */
+struct srd_cpu_cell_acc {
+  double V[3];
+  srd_cell_sum s;
+};
+union srd_cpu_cell {
+  srd_cpu_cell_acc acc;
+  srd_cell_rot rot;
+  srd_cpu_cell() : acc() {}
+};
+static_assert(sizeof(srd_cpu_cell) == 64, "GSRD cell record is 64 B");
+static_assert(offsetof(srd_cell_rot, V) == 0 && offsetof(srd_cpu_cell_acc, V) == 0, "V first in both");
 
 struct gran_srd {
   gran_srd_options opt;
@@ -13,13 +30,10 @@ struct gran_srd {
   int64_t n = 0;          /* particles */
   int64_t ncell = 0;      /* cells of the binning grid */
   int64_t ncell_box = 0;  /* cells of the box (unshifted lattice) */
-  /* particles, SoA (48 B) + cell index (4 B) */
+  /* particles, SoA (48 B; the cell index is recomputed, not stored) */
   std::vector<double> x, y, z, vx, vy, vz;
-  std::vector<uint32_t> ci;
-  /* cells */
-  std::vector<srd_cell_sum> sum;
-  std::vector<srd_cell_rot> rot;
-  std::vector<double> vref; /* 3 per cell: reference velocity (last cell mean) */
+  /* cells: 64 B record (reference velocity + sums, then the collision record) + 32 B RNG state */
+  std::vector<srd_cpu_cell> cell;
   std::vector<gran_rng> rng; /* one stream per cell: stream c + 1 */
   gran_rng shift_rng;        /* stream 0 */
   double shift[3] = {0, 0, 0};
