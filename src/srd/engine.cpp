@@ -213,17 +213,83 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     /* (2) shift */
     for (int k = 0; k < 3; ++k) s->shift[k] = k < DIM ? srd_rng_uniform(&s->shift_rng) * o.a : 0.0;
     const double sh[3] = {s->shift[0], s->shift[1], s->shift[2]};
-    /* (3) + (4) bin and sum: serial, particle order (the cell index is not stored: it is
-     * recomputed where needed, 4 B per particle less) */
+    /* (3) + (4) bin and sum. Every cell adds its particles in increasing particle order, so the
+     * sums are bit for bit those of a serial pass, for any thread count. The cell index is not
+     * stored (4 B per particle less): it is recomputed where needed.
+     * 1 thread: one serial pass. More: the binning grid is cut into slabs along its slowest axis
+     * (z in 3-D, y in 2-D; a cell lies in one slab); fixed blocks of SRD_BLOCK particles count
+     * their particles per slab, a prefix sum in (slab, block) order gives each block its places,
+     * the blocks write their particle indices into the slab lists (increasing order inside each
+     * slab), and the slabs are summed in parallel. */
 #pragma omp parallel for schedule(static) num_threads(nth)
     for (int64_t c = 0; c < ncell; ++c) srd_sum_clear(&cell[c].acc.s);
-    for (int64_t i = 0; i < n; ++i) {
-      const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-      double dvx;
-      const int64_t c = srd_bin(&gm, sh, p, &dvx);
-      double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-      if (LE) v[0] += dvx;
-      srd_sum_add(&cell[c].acc.s, v, cell[c].acc.V, DIM);
+    const int64_t nslab = gm.nc[DIM - 1], slab_cells = ncell / nslab;
+    if (nth > 1 && nslab > 1) {
+      std::vector<int64_t> &bs = s->slab_off;
+      std::vector<uint32_t> &list = s->slab_list;
+      bs.assign((size_t)(nb * nslab), 0);
+      list.resize((size_t)n);
+      std::vector<int64_t> start((size_t)nslab + 1, 0);
+#pragma omp parallel for schedule(static) num_threads(nth)
+      for (int64_t b = 0; b < nb; ++b) {
+        int64_t *cb = &bs[(size_t)(b * nslab)];
+        for (int64_t i = b * SRD_BLOCK; i < std::min(n, (b + 1) * SRD_BLOCK); ++i) {
+          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+          double dvx;
+          cb[srd_bin(&gm, sh, p, &dvx) / slab_cells] += 1;
+        }
+      }
+      int64_t run = 0;
+      for (int64_t sl = 0; sl < nslab; ++sl) {
+        start[sl] = run;
+        for (int64_t b = 0; b < nb; ++b) {
+          const int64_t k = bs[(size_t)(b * nslab + sl)];
+          bs[(size_t)(b * nslab + sl)] = run;
+          run += k;
+        }
+      }
+      start[nslab] = run;
+#pragma omp parallel for schedule(static) num_threads(nth)
+      for (int64_t b = 0; b < nb; ++b) {
+        int64_t *ob = &bs[(size_t)(b * nslab)];
+        for (int64_t i = b * SRD_BLOCK; i < std::min(n, (b + 1) * SRD_BLOCK); ++i) {
+          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+          double dvx;
+          list[(size_t)(ob[srd_bin(&gm, sh, p, &dvx) / slab_cells]++)] = (uint32_t)i;
+        }
+      }
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
+      for (int64_t sl = 0; sl < nslab; ++sl) {
+        for (int64_t k = start[sl]; k < start[sl + 1]; ++k) {
+          const int64_t i = list[(size_t)k];
+          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+          double dvx;
+          const int64_t c = srd_bin(&gm, sh, p, &dvx);
+          double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+          if (LE) v[0] += dvx;
+          srd_sum_add(&cell[c].acc.s, v, cell[c].acc.V, DIM);
+        }
+      }
+    } else {
+      /* chunks: the cells of SRD_CHUNK particles first (no dependence between them), then the
+       * additions (whose chain through a cell's sums is what the core waits for) */
+      uint32_t cidx[SRD_CHUNK];
+      double cdv[SRD_CHUNK];
+      for (int64_t lo = 0; lo < n; lo += SRD_CHUNK) {
+        const int64_t m = std::min<int64_t>(SRD_CHUNK, n - lo);
+        for (int64_t j = 0; j < m; ++j) {
+          const int64_t i = lo + j;
+          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+          cidx[j] = (uint32_t)srd_bin(&gm, sh, p, &cdv[j]);
+        }
+        for (int64_t j = 0; j < m; ++j) {
+          const int64_t i = lo + j;
+          srd_cpu_cell &ce = cell[cidx[j]];
+          double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+          if (LE) v[0] += cdv[j];
+          srd_sum_add(&ce.acc.s, v, ce.acc.V, DIM);
+        }
+      }
     }
     /* (5a) global profile-unbiased thermostat (thermostat = 2): one factor for the thermal
      * velocities of every cell, relative to the cell means (so the shear profile is not heated or
@@ -327,11 +393,18 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     for (int64_t b = 0; b < nb; ++b) {
       const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
       double de = 0.0, vir = 0.0, lew = 0.0;
+      uint32_t cidx[SRD_CHUNK];
+      double cdv[SRD_CHUNK];
       for (int64_t i = lo; i < hi; ++i) {
+        const int64_t j = (i - lo) % SRD_CHUNK;
+        if (j == 0) /* the cells of the next chunk first (see the sums) */
+          for (int64_t q = i; q < std::min(hi, i + SRD_CHUNK); ++q) {
+            const double p[3] = {px[q], py[q], DIM == 3 ? pz[q] : 0.0};
+            cidx[q - i] = (uint32_t)srd_bin(&gm, sh, p, &cdv[q - i]);
+          }
         double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-        double dvx = 0.0;
-        const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-        const srd_cell_rot &cr = cell[srd_bin(&gm, sh, p, &dvx)].rot;
+        const double dvx = LE ? cdv[j] : 0.0;
+        const srd_cell_rot &cr = cell[cidx[j]].rot;
         if (LE) v[0] += dvx;
         const double e0 = DISSIP || WALL ? v[0] * v[0] + v[1] * v[1] + v[2] * v[2] : 0.0;
         const double vx0 = v[0];

@@ -16,7 +16,7 @@ struct srd_cpu_cell_acc {
   double V[3];
   srd_cell_sum s;
 };
-union srd_cpu_cell {
+union alignas(64) srd_cpu_cell { /* one cache line */
   srd_cpu_cell_acc acc;
   srd_cell_rot rot;
   srd_cpu_cell() : acc() {}
@@ -35,6 +35,10 @@ struct gran_srd {
   /* cells: 64 B record (reference velocity + sums, then the collision record) + 32 B RNG state */
   std::vector<srd_cpu_cell> cell;
   std::vector<gran_rng> rng; /* one stream per cell: stream c + 1 */
+  /* work space of the parallel cell sums (more than one thread only): particle indices listed by
+   * slab of the binning grid (4 B per particle) and per-block slab offsets */
+  std::vector<uint32_t> slab_list;
+  std::vector<int64_t> slab_off;
   gran_rng shift_rng;        /* stream 0 */
   double shift[3] = {0, 0, 0};
   /* state */
@@ -57,5 +61,6 @@ struct gran_srd {
 };
 
 #define SRD_BLOCK 4096
+#define SRD_CHUNK 512 /* particles whose cells are computed ahead of their use (stack buffers) */
 
 #endif
