@@ -31,12 +31,12 @@ int nthreads_of(const gran_srd *s) {
 #endif
 }
 
-/* ---- fast consecutive jumps: the jump polynomial as a nibble-table linear map over GF(2) ----
+/* ---- fast consecutive jumps: the jump polynomial as a byte-table linear map over GF(2) ----
  * jump(s) is linear in the 256 state bits: J s = XOR over set bits b of J e_b. Grouping the bits in
- * 64 nibbles, t[p][v] = XOR of the columns of the bits set in v at nibble p (64 x 16 x 32 B = 32 KiB,
- * in L1): one jump = 64 look-ups instead of 256 xoshiro steps. */
+ * 32 bytes, t[p][v] = XOR of the columns of the bits set in v at byte p (32 x 256 x 32 B = 256 KiB,
+ * in L2): one jump = 32 independent 32-byte look-ups instead of 256 xoshiro steps. */
 struct JumpTab {
-  uint64_t t[64][16][4];
+  uint64_t t[32][256][4];
 };
 const JumpTab *jump_tab() {
   static JumpTab *tab = nullptr;
@@ -51,11 +51,11 @@ const JumpTab *jump_tab() {
       gran_rng_jump(&r);
       std::memcpy(col[b], r.s, sizeof r.s);
     }
-    for (int p = 0; p < 64; ++p) {
+    for (int p = 0; p < 32; ++p) {
       std::memset(jt->t[p][0], 0, sizeof jt->t[p][0]);
-      for (int v = 1; v < 16; ++v) {
-        int low = __builtin_ctz(v);
-        for (int w = 0; w < 4; ++w) jt->t[p][v][w] = jt->t[p][v & (v - 1)][w] ^ col[p * 4 + low][w];
+      for (int v = 1; v < 256; ++v) {
+        const int low = __builtin_ctz(v);
+        for (int w = 0; w < 4; ++w) jt->t[p][v][w] = jt->t[p][v & (v - 1)][w] ^ col[p * 8 + low][w];
       }
     }
     tab = jt;
@@ -64,9 +64,9 @@ const JumpTab *jump_tab() {
 }
 inline void fast_jump(const JumpTab *jt, gran_rng *r) {
   uint64_t o[4] = {0, 0, 0, 0};
-  for (int p = 0; p < 64; ++p) {
-    const unsigned nib = (unsigned)(r->s[p / 16] >> (4 * (p % 16))) & 15u;
-    const uint64_t *e = jt->t[p][nib];
+  for (int p = 0; p < 32; ++p) {
+    const unsigned byte = (unsigned)(r->s[p / 8] >> (8 * (p % 8))) & 255u;
+    const uint64_t *e = jt->t[p][byte];
     o[0] ^= e[0];
     o[1] ^= e[1];
     o[2] ^= e[2];
@@ -559,8 +559,14 @@ int alloc_state(gran_srd *s) {
     s->z.resize(n);
     s->vz.resize(n);
   }
-  s->cell.assign((size_t)s->ncell, srd_cpu_cell());
-  s->rng.resize((size_t)s->ncell);
+  s->cell.resize((size_t)s->ncell); /* uninitialised: zeroed here in parallel (first touch) */
+  {
+    srd_cpu_cell *ce = s->cell.data();
+    const int64_t nc = s->ncell;
+#pragma omp parallel for schedule(static) num_threads(nthreads_of(s))
+    for (int64_t c = 0; c < nc; ++c) std::memset((void *)&ce[c], 0, sizeof(srd_cpu_cell));
+  }
+  s->rng.resize((size_t)s->ncell); /* uninitialised: every state is written by setup_streams or read */
   const double al = o.alpha_deg * M_PI / 180.0;
   s->ca = std::cos(al);
   s->sa = std::sin(al);

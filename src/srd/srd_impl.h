@@ -6,6 +6,8 @@
 #include "srd/srd_kernels.h"
 
 #include <cstddef>
+#include <memory>
+#include <utility>
 #include <vector>
 
 /* One cell of the CPU engine, 64 B. During binning `acc` is active: V = the reference velocity
@@ -19,7 +21,27 @@ struct srd_cpu_cell_acc {
 union alignas(64) srd_cpu_cell { /* one cache line */
   srd_cpu_cell_acc acc;
   srd_cell_rot rot;
-  srd_cpu_cell() : acc() {}
+};
+
+/* Allocator that leaves trivial elements uninitialised on resize: big per-cell arrays are then
+ * first touched (and zeroed or filled) in parallel by the engine, not serially by std::vector. */
+template <class T>
+struct srd_uninit_alloc : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = srd_uninit_alloc<U>;
+  };
+  srd_uninit_alloc() = default;
+  template <class U>
+  srd_uninit_alloc(const srd_uninit_alloc<U> &) {}
+  template <class U>
+  void construct(U *p) noexcept {
+    ::new ((void *)p) U;
+  }
+  template <class U, class... A>
+  void construct(U *p, A &&...a) {
+    ::new ((void *)p) U(std::forward<A>(a)...);
+  }
 };
 static_assert(sizeof(srd_cpu_cell) == 64, "GSRD cell record is 64 B");
 static_assert(offsetof(srd_cell_rot, V) == 0 && offsetof(srd_cpu_cell_acc, V) == 0, "V first in both");
@@ -33,8 +55,8 @@ struct gran_srd {
   /* particles, SoA (48 B; the cell index is recomputed, not stored) */
   std::vector<double> x, y, z, vx, vy, vz;
   /* cells: 64 B record (reference velocity + sums, then the collision record) + 32 B RNG state */
-  std::vector<srd_cpu_cell> cell;
-  std::vector<gran_rng> rng; /* one stream per cell: stream c + 1 */
+  std::vector<srd_cpu_cell, srd_uninit_alloc<srd_cpu_cell>> cell; /* zeroed by alloc_state */
+  std::vector<gran_rng, srd_uninit_alloc<gran_rng>> rng; /* one stream per cell: stream c + 1 */
   /* work space of the parallel cell sums (more than one thread only): particle indices listed by
    * slab of the binning grid (4 B per particle) and per-block slab offsets */
   std::vector<uint32_t> slab_list;
