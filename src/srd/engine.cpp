@@ -1,9 +1,10 @@
 /* engine.cpp - GSRD CPU engine: set-up, the step loop, observables, checkpoints.
  *
- * One step: (1) stream, wall reflection, periodic/Lees-Edwards wrap, plane-crossing momentum flux
- * (parallel over particles); (2) draw the grid shift (stream 0); (3) bin every particle under the
- * shift (parallel); (4) accumulate the cell sums relative to the reference velocity (serial pass
- * in particle order: the sums are then the same for any thread count); (5) per cell: moments,
+ * One step: (1) stream, wall reflection, periodic/Lees-Edwards wrap, kinetic momentum flux
+ * (parallel over particles); (2) draw the grid shift (stream 0); (3) + (4) bin every particle
+ * under the shift and accumulate the cell sums relative to the reference velocity, each cell in
+ * particle order (serial with 1 thread, slab lists in parallel otherwise: the sums are bit for bit
+ * the same for any thread count); (5) per cell: moments,
  * eps_eff, random axis, thermostat, virtual particles (parallel over cells, each cell's own RNG
  * stream); (6) rotate-and-scale (parallel over particles). Global sums use fixed blocks of
  * SRD_BLOCK particles added in block order (independent of the thread count).
