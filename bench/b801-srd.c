@@ -129,6 +129,69 @@ static void viscosity_sweep(int dim, int quick) {
   }
 }
 
+/* Fig. 3.6 (reduced): 2-D GSRD under Lees-Edwards shear without thermostat (the shear heating
+ * balances the dissipation), n0 = 10, eps_eff about 0.998 as in the thesis. Theory: Eq. 2.55 with
+ * the measured thermal temperature theta (relative to the imposed profile) and
+ * kappa = (1 - eps^2) sigma^2 dt sqrt(theta) (Eq. 2.53); printed are the form of Eq. 2.55 as it
+ * stands in the thesis and the form that follows from averaging Eq. 2.52 over the Poisson
+ * occupancy, 1 - h = [q (1 - cos 2a) + n0 (2 n0 kappa - (n0^2 + 2 n0) kappa^2) cos 2a] / n0 with
+ * q = n0 - 1 + e^-n0 (the two differ in the kappa terms), each + collisional. */
+static void granular_viscosity(int quick) {
+  const double al[] = {20, 30, 40};
+  const int nblk = quick ? 6 : 12, blk = quick ? 150 : 300, L = quick ? 24 : 32;
+  printf("GSRD viscosity 2-D (%d^2 cells, n0 = 10, eps = 0.9, no thermostat, %d blocks of %d steps):\n", L, nblk, blk);
+  printf("  alpha  theta   n0 kappa  measured   +- se    Eq.2.55(thesis) Eq.2.52-avg  Eq.1.48 (all + coll)\n");
+  for (int k = 0; k < 3; ++k) {
+    gran_srd_options o;
+    BENCH_CHECK(gran_srd_options_default(&o));
+    o.dim = 2;
+    o.cells[0] = o.cells[1] = L;
+    o.n0 = 10;
+    o.alpha_deg = al[k];
+    o.eps = 0.9;
+    o.sigma = 0.023; /* n0 kappa ~ 1e-3 at theta ~ 0.7: eps_eff ~ 0.999 */
+    o.shear_rate = 0.03;
+    o.T0 = 0.7;
+    o.seed = 7 + (uint64_t)al[k];
+    o.threads = 1;
+    gran_srd *s = NULL;
+    BENCH_CHECK(gran_srd_create(&o, &s));
+    BENCH_CHECK(gran_srd_advance(s, quick ? 1000 : 3000));
+    double sm = 0, s2 = 0, th = 0;
+    int nth = 0;
+    for (int b = 0; b < nblk; ++b) {
+      BENCH_CHECK(gran_srd_stress_reset(s));
+      for (int t = 0; t < blk; t += 10) {
+        BENCH_CHECK(gran_srd_advance(s, 10));
+        int64_t n;
+        double *x, *y, *z, *vx, *vy, *vz, e = 0;
+        BENCH_CHECK(gran_srd_particles(s, &n, &x, &y, &z, &vx, &vy, &vz));
+        for (int64_t i = 0; i < n; ++i) {
+          const double ux = vx[i] - o.shear_rate * (y[i] - 0.5 * L);
+          e += ux * ux + vy[i] * vy[i];
+        }
+        th += e / (2.0 * (double)n);
+        ++nth;
+      }
+      gran_srd_obs ob;
+      BENCH_CHECK(gran_srd_observe(s, &ob));
+      const double nu = ob.stress_xy / (o.n0 * o.shear_rate);
+      sm += nu;
+      s2 += nu * nu;
+    }
+    BENCH_CHECK(gran_srd_destroy(&s));
+    th /= nth;
+    const double m = sm / nblk, se = sqrt(fmax(0.0, s2 / nblk - m * m) / (nblk - 1));
+    const double n0 = o.n0, q = n0 - 1 + exp(-n0), a = al[k] * 3.14159265358979323846 / 180, c2 = cos(2 * a);
+    const double kap = (1 - o.eps * o.eps) * o.sigma * o.sigma * o.dt * sqrt(th), coll = q / n0 * (1 - cos(a)) / 12;
+    const double e148 = th * (n0 / (q * (1 - c2)) - 0.5) + coll;
+    const double e255 = th * (n0 / (q * (1 - c2) - (2 * n0 * kap + (n0 - 2) * kap * kap) * c2) - 0.5) + coll;
+    const double eavg = th * (n0 / (q * (1 - c2) + n0 * (2 * n0 * kap - (n0 * n0 + 2 * n0) * kap * kap) * c2) - 0.5) + coll;
+    printf("  %5.0f  %.4f  %.5f  %8.4f  %7.4f  %8.4f (%+.1f %%)  %8.4f (%+.1f %%)  %8.4f (%+.1f %%)\n", al[k], th, n0 * kap, m,
+           se, e255, 100 * (m / e255 - 1), eavg, 100 * (m / eavg - 1), e148, 100 * (m / e148 - 1));
+  }
+}
+
 int main(void) {
   const int quick = bench_quick();
   gran_srd_options o;
@@ -172,6 +235,7 @@ int main(void) {
   for (int i = 0; i < 5; ++i) printf("  %-16s %.2f\n", eff[i].name, base / rate(eff[i].o, nmax, 10, NULL));
   viscosity_sweep(2, quick);
   viscosity_sweep(3, quick);
+  granular_viscosity(quick);
   if (!quick) { /* stream set-up of 256^3 cells (16.8M streams; few particles: only the cells count) */
     gran_srd_options q = o;
     q.cells[0] = q.cells[1] = q.cells[2] = 256;
