@@ -48,10 +48,11 @@ static double nu_coll_theory(int dim, double M, double alpha_deg) {
  * thermostat (thermostat = 2; the cell-level one biases the stress correlations, see README),
  * against Eq. 1.48 / 1.49 + collisional. Error: standard error of nblk time blocks of blk steps
  * (blocks longer than the relaxation time L^2 / (4 pi^2 nu) of the slowest shear mode);
- * tolerance 4 se + 2 %. */
-static double le90_nu = 0, le90_se = 0; /* 2-D alpha = 90 Lees-Edwards result, for the Poiseuille test */
-
-static void viscosity_case(int dim, int64_t L, double alpha, double rate, int64_t nblk, int64_t blk) {
+ * tolerance 4 se + 2 %. 2-D boxes are 8 x 8 cells: in 2-D the measured viscosity grows with the box
+ * (hydrodynamic long-time tails; at alpha = 90, 4 seeds each: 0.1316 at 8^2, 0.136 at 12^2,
+ * 0.137 at 16^2, 0.144 at 32^2 against 0.1306), Eq. 1.48 is the small-box value. */
+static void le_viscosity(int dim, int64_t L, double alpha, double rate, int64_t nblk, int64_t blk, double *mean,
+                         double *se, double *kin) {
   gran_srd_options o;
   GRAN_ASSERT_OK(gran_srd_options_default(&o));
   o.dim = dim;
@@ -76,31 +77,35 @@ static void viscosity_case(int dim, int64_t L, double alpha, double rate, int64_
     sum2 += nu * nu;
     sk += ob.stress_kin / (o.n0 * o.shear_rate);
   }
-  const double mean = sum / nblk, se = sqrt(fmax(0.0, sum2 / nblk - mean * mean) / (nblk - 1));
-  const double th = nu_theory(dim, o.n0, alpha), thc = nu_coll_theory(dim, o.n0, alpha);
+  *mean = sum / nblk;
+  *se = sqrt(fmax(0.0, sum2 / nblk - *mean * *mean) / (nblk - 1));
+  *kin = sk / nblk;
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+}
+
+static void viscosity_case(int dim, int64_t L, double alpha, double rate, int64_t nblk, int64_t blk) {
+  double mean, se, kin;
+  le_viscosity(dim, L, alpha, rate, nblk, blk, &mean, &se, &kin);
+  const double n0 = 10;
+  const double th = nu_theory(dim, n0, alpha), thc = nu_coll_theory(dim, n0, alpha);
   printf("viscosity %dD alpha %3g: total %.5f +- %.5f (theory %.5f, %+.2f %% = %+.1f se); kinetic %.5f (%.5f), "
          "collisional %.5f (%.5f)\n",
-         dim, alpha, mean, se, th, 100 * (mean / th - 1), (mean - th) / se, sk / nblk, th - thc, mean - sk / nblk, thc);
-  if (dim == 2 && alpha == 90) {
-    le90_nu = mean;
-    le90_se = se;
-  }
+         dim, alpha, mean, se, th, 100 * (mean / th - 1), (mean - th) / se, kin, th - thc, mean - kin, thc);
   assert_true(se < 0.06 * th); /* the measurement resolves the theory */
   assert_true(fabs(mean - th) <= 4 * se + 0.02 * th);
-  GRAN_ASSERT_OK(gran_srd_destroy(&s));
 }
 
 static void test_viscosity(void **state) {
   (void)state;
   const double al[3] = {60, 90, 130};
-  for (int k = 0; k < 3; ++k) viscosity_case(2, 16, al[k], 0.06, SAN ? 8 : 16, SAN ? 150 : 250);
+  for (int k = 0; k < 3; ++k) viscosity_case(2, 8, al[k], 0.1, SAN ? 8 : 24, SAN ? 150 : 250);
   for (int k = 0; k < 3; ++k) viscosity_case(3, SAN ? 8 : 10, al[k], 0.05, SAN ? 8 : 12, SAN ? 100 : 200);
 }
 
 /* Poiseuille flow between no-slip walls (2-D, alpha = 90, global thermostat) under a body force
  * g along x: the time-averaged profile (gran_srd_velocity_profile, 2 slabs per cell) in nblk blocks;
  * per block a least-squares parabola v = c0 + c1 y + c2 y^2. nu = -g / (2 c2) against the
- * Lees-Edwards viscosity measured above (4 combined se + 3 %) and against Eq. 1.48 + collisional
+ * Lees-Edwards viscosity of a 20 x 20 box (4 combined se + 3 %) and against Eq. 1.48 + collisional
  * (4 se + 8 %); the fitted wall velocities are equal within 4 se and below 5 % of the centre
  * velocity (no slip); the rms residual of the mean profile about its parabola is below 2 % of the
  * centre velocity (chi^2 per degree of freedom against the block errors printed: 8 blocks make
@@ -141,6 +146,9 @@ static void test_poiseuille(void **state) {
   o.accel[0] = g;
   o.seed = 77;
   o.threads = 1; /* small systems: no OpenMP barriers on a loaded 2-core machine */
+  /* the Lees-Edwards viscosity of a box as wide as the channel (2-D: it depends on the size) */
+  double le_nu = 0, le_se = 0, le_kin;
+  if (!SAN) le_viscosity(2, H, 90, 0.1, 16, 250, &le_nu, &le_se, &le_kin);
   gran_srd *s = NULL;
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, SAN ? 300 : 3000)); /* slowest mode: H^2 / (pi^2 nu) ~ 310 steps */
@@ -192,12 +200,12 @@ static void test_poiseuille(void **state) {
     rms += r * r / NB;
   }
   chi2 /= (NB - 3);
-  printf("Poiseuille: nu = %.5f +- %.5f (Lees-Edwards %.5f +- %.5f, Eq. 1.48 + coll %.5f), walls %.4f %.4f "
+  printf("Poiseuille: nu = %.5f +- %.5f (Lees-Edwards %d^2 %.5f +- %.5f, Eq. 1.48 + coll %.5f), walls %.4f %.4f "
          "(+- %.4f, centre %.4f), residual about the parabola: rms %.2g of the centre velocity, chi2/dof %.2f\n",
-         nu_m, se_nu, le90_nu, le90_se, nu, m[1], m[2], se[1], vc, sqrt(rms) / vc, chi2);
+         nu_m, se_nu, (int)H, le_nu, le_se, nu, m[1], m[2], se[1], vc, sqrt(rms) / vc, chi2);
   if (!SAN) {
-    assert_true(le90_se > 0);
-    assert_true(fabs(nu_m - le90_nu) <= 4 * sqrt(se_nu * se_nu + le90_se * le90_se) + 0.03 * le90_nu);
+    assert_true(le_se > 0);
+    assert_true(fabs(nu_m - le_nu) <= 4 * sqrt(se_nu * se_nu + le_se * le_se) + 0.03 * le_nu);
     assert_true(fabs(nu_m - nu) <= 4 * se_nu + 0.08 * nu);
     assert_true(fabs(dlh) <= 4 * se_dlh);                     /* symmetric walls */
     assert_true(fabs(m[1]) < 0.05 * vc && fabs(m[2]) < 0.05 * vc); /* no slip */
