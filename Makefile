@@ -7,7 +7,7 @@
 #   make info    show the configuration                   make clean      remove build folders
 #   make help    this text                                make figures    seed figures as PNG (QUICK=1)
 # Override OPT (default -O3 -march=native: tuned for the building CPU), NVCC (empty disables CUDA),
-# CUDA_ARCH (default sm_90 + compute_90 PTX), BUILD (build folder), T (test pattern: T='t2*').
+# CUDA_ARCH / CUDA_PTX (default 80 90 100 120 / 120), BUILD (build folder), T (test pattern: T='t2*').
 # HELP_END
 
 BUILD   ?= build
@@ -29,10 +29,12 @@ CUDA_ARCH ?= 80 90 100 120
 CUDA_PTX  ?= 120
 CUDA_GENCODE := $(foreach a,$(CUDA_ARCH),-gencode arch=compute_$(a),code=sm_$(a)) \
                 $(foreach a,$(CUDA_PTX),-gencode arch=compute_$(a),code=compute_$(a))
+# cuFFT (S(k) of GSRD runs on the GPU): the toolkit ships it as a shared library only.
+CUDA_FFT_LIBS = -lcufft -Wl,-rpath,$(CUDA_HOME)/lib64
 # ---- end CUDA block ----
 
 PKGS     := gsl fftw3 hdf5 cmocka zlib
-DEB_PKGS := pkg-config zlib1g-dev libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran
+DEB_PKGS := pkg-config zlib1g-dev libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran libopenmpi-dev openmpi-bin
 DEPS_OK   = pkg-config --exists $(PKGS) 2>/dev/null && [ -f /usr/include/toml.hpp ] && command -v $(FC) >/dev/null 2>&1
 
 # ---- configuration, cached in $(BUILD)/config.mk (installs missing packages first) ------------
@@ -75,7 +77,7 @@ CXXFLAGS   := -std=c++17 $(OPT) $(SAN) $(WARN) -fPIC -fvisibility=hidden -MMD -M
 CFLAGS     := -std=c99 $(OPT) $(SAN) $(WARN) -MMD -MP
 FFLAGS     := -std=f2008 $(OPT) $(SAN) -Wall -Wextra -Wno-compare-reals -J$(BUILD)/mod -I$(BUILD)/mod
 NVCCFLAGS  := -std=c++17 -O3 $(CUDA_GENCODE) -Xcompiler -fPIC,-fvisibility=hidden,-Wall,-Wextra
-CUDA_LIBS  := $(if $(NVCC),-L$(CUDA_HOME)/lib64 -lcudart_static -ldl -lrt -lpthread,)
+CUDA_LIBS  := $(if $(NVCC),-L$(CUDA_HOME)/lib64 $(CUDA_FFT_LIBS) -lcudart_static -ldl -lrt -lpthread,)
 LDLIBS      = $(PKG_LIBS) $(CUDA_LIBS) -lstdc++ -lm -lpthread
 # OpenMP: the replicas of the run driver (src/io/run.cpp) and the GSRD engine (src/srd/).
 # `make OMP_FLAG=` builds without (one thread).
@@ -235,7 +237,7 @@ fuzz:
 	@mkdir -p $(FUZZ_BUILD)/artifacts
 	@set -e; for n in $(FUZZ_NAMES); do \
 	  clang -Iinclude $(FUZZ_SAN) -fsanitize=fuzzer -g -O1 -c fuzz/fuzz_$$n.c -o $(FUZZ_BUILD)/fuzz_$$n.o; \
-	  clang++ $(FUZZ_SAN) -fsanitize=fuzzer $(FUZZ_BUILD)/fuzz_$$n.o $(FUZZ_BUILD)/libgranary.a \
+	  clang++ $(FUZZ_SAN) -fsanitize=fuzzer -fopenmp $(FUZZ_BUILD)/fuzz_$$n.o $(FUZZ_BUILD)/libgranary.a \
 	    $$(sed -n 's/^PKG_LIBS := //p' $(FUZZ_BUILD)/config.mk) -lm -lpthread -o $(FUZZ_BUILD)/fuzz_$$n; \
 	  mkdir -p $(FUZZ_BUILD)/corpus/$$n; \
 	  echo "== fuzz_$$n for $(FUZZ_SECONDS) s"; \
@@ -267,6 +269,7 @@ FIG_INSTALL   = if [ "$$(id -u)" = 0 ]; then SUDO=; elif command -v sudo >/dev/n
 .PHONY: figures figures-deps figures-deps-soft
 figures: figures-deps all
 	$(FIG_PYTHON) figures/make_figures.py $(if $(QUICK),--quick) --granary $(CLI) --out $(FIG_OUT)
+	$(FIG_PYTHON) figures/make_srd_figures.py $(if $(QUICK),--quick) --granary $(CLI) --out $(FIG_OUT)
 
 figures-deps:
 	@if ! ( $(FIG_OK) ); then $(FIG_INSTALL); fi
@@ -276,6 +279,39 @@ figures-deps:
 deps: figures-deps-soft
 figures-deps-soft:
 	@if ! ( $(FIG_OK) ); then ( $(FIG_INSTALL) ) || echo "deps: plotting packages not installed (only make figures needs them)"; fi
+
+# ---- MPI block (owner: replicas over MPI, issue 9) ---------------------------------------------
+# build/granary-mpi: the same driver compiled by mpicxx with -DGRAN_MPI (src/cli/mpi.cpp), built
+# when an MPI compiler wrapper is found (Debian: libopenmpi-dev openmpi-bin; `make deps` tries
+# them). `mpirun -n P build/granary-mpi run SCENE` spreads the replicas over P processes. The
+# libraries and build/granary never link MPI (src/io/run_comm.h says how). `make MPICXX=` skips it.
+MPI_DEB_PKGS := libopenmpi-dev openmpi-bin
+MPICXX   ?= $(shell command -v mpicxx 2>/dev/null)
+CLI_MPI  := $(if $(MPICXX),$(BUILD)/granary-mpi,)
+CLI_MPI_OBJ := $(CLI_SRC:%.cpp=$(BUILD)/obj-mpi/%.o)
+$(BUILD)/obj-mpi/%.o: %.cpp $(CONFIG)
+	@mkdir -p $(@D)
+	$(MPICXX) -DGRAN_MPI -DOMPI_SKIP_MPICXX=1 -DMPICH_SKIP_MPICXX=1 $(CPPFLAGS) $(PKG_CFLAGS) $(CXXFLAGS) -c $< -o $@
+$(BUILD)/granary-mpi: $(CLI_MPI_OBJ) $(LIB_A)
+	$(MPICXX) $(SAN) -o $@ $(CLI_MPI_OBJ) $(LIB_A) $(LDLIBS)
+all: $(CLI_MPI)
+test: $(CLI_MPI)
+bench: $(CLI_MPI)
+bench: export GRAN_MPI_CLI := $(if $(CLI_MPI),$(CURDIR)/$(CLI_MPI),)
+install: install-mpi
+.PHONY: install-mpi mpi-deps-soft
+install-mpi: all
+	$(if $(CLI_MPI),install -d $(DESTDIR)$(prefix)/bin && install -m 755 $(CLI_MPI) $(DESTDIR)$(prefix)/bin/,@true)
+deps: mpi-deps-soft
+mpi-deps-soft:
+	@if ! command -v mpicxx >/dev/null 2>&1; then \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=; elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then SUDO=sudo; \
+	  else echo "deps: MPI not installed (only build/granary-mpi needs it): sudo apt-get install -y $(MPI_DEB_PKGS)"; exit 0; fi; \
+	  echo "deps: installing $(MPI_DEB_PKGS)"; \
+	  $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(MPI_DEB_PKGS) >/dev/null || \
+	  echo "deps: MPI not installed (only build/granary-mpi needs it)"; fi
+-include $(shell find $(BUILD)/obj-mpi -name "*.d" 2>/dev/null)
+# ---- end MPI block ----
 
 # ---- run --------------------------------------------------------------------------------------
 run: all

@@ -1027,6 +1027,9 @@ module granary
     integer(c_int64_t) :: seed = 1             ! uint64_t in C
     integer(c_int32_t) :: sort_every = 50
     integer(c_int32_t) :: threads = 0
+    ! ---- device (CUDA backend) ----
+    integer(c_int32_t) :: device = 0           ! GRAN_SRD_DEVICE_*
+    integer(c_int32_t) :: precision = 0        ! particle storage on the device: 0 double, 1 float
   end type gran_srd_options
 
   type, bind(C), public :: gran_srd_obs
@@ -1118,6 +1121,36 @@ module granary
     end function c_gran_srd_velocity_profile
   end interface
   ! ---- end GSRD ----
+
+  ! ---- GSRD cell fields (src/srd/fields.cpp) ----
+  public :: gran_srd_fields
+  interface
+    function c_gran_srd_fields(srd, count, velocity, temperature) bind(C, name='gran_srd_fields') result(ierr)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: srd, count, velocity, temperature
+      integer(c_int) :: ierr
+    end function c_gran_srd_fields
+  end interface
+  ! ---- end GSRD cell fields ----
+  ! ---- GSRD devices (CUDA backend; src/srd/device_cuda.cpp) ----
+  integer(c_int32_t), parameter, public :: GRAN_SRD_DEVICE_CPU = 0, GRAN_SRD_DEVICE_CUDA = 1
+  integer(c_int32_t), parameter, public :: GRAN_SRD_DEVICE_AUTO = 2, GRAN_SRD_DEVICE_REFERENCE = 3
+  public :: gran_srd_set_device, gran_srd_get_device
+  interface
+    function c_gran_srd_set_device(srd, device) bind(C, name='gran_srd_set_device') result(ierr)
+      import :: c_int, c_ptr, c_int32_t
+      type(c_ptr), value :: srd
+      integer(c_int32_t), value :: device
+      integer(c_int) :: ierr
+    end function c_gran_srd_set_device
+    function c_gran_srd_get_device(srd, device) bind(C, name='gran_srd_get_device') result(ierr)
+      import :: c_int, c_ptr, c_int32_t
+      type(c_ptr), value :: srd
+      integer(c_int32_t), intent(out) :: device
+      integer(c_int) :: ierr
+    end function c_gran_srd_get_device
+  end interface
+  ! ---- end GSRD devices ----
 
 contains
 
@@ -2847,5 +2880,60 @@ contains
     call io_to_c(path, cp)
     call gran_check(c_gran_srd_checkpoint_read(c_loc(cp), srd), ierr)
   end subroutine gran_srd_checkpoint_read
+
+  !> Cell fields of the unshifted lattice (cells(1) x cells(2) (x cells(3)), x fastest):
+  !> particles per cell, mean velocity (3, cells) and temperature. Each output is optional;
+  !> a given one must hold at least the number of cells (velocity: 3 x cells), else GRAN_ERR_ARG.
+  subroutine gran_srd_fields(srd, ncells, count, velocity, temperature, ierr)
+    type(c_ptr), intent(in) :: srd
+    integer(c_int64_t), intent(in) :: ncells
+    real(c_double), intent(out), optional, target :: count(:), velocity(:, :), temperature(:)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pc, pv, pt
+    pc = c_null_ptr; pv = c_null_ptr; pt = c_null_ptr
+    if (present(count)) then
+      if (size(count, kind=c_int64_t) < ncells) then
+        call gran_core_shape_error('gran_srd_fields: count has fewer than ncells elements', ierr)
+        return
+      end if
+      pc = c_loc(count)
+    end if
+    if (present(velocity)) then
+      if (size(velocity, 1) /= 3 .or. size(velocity, 2, kind=c_int64_t) < ncells) then
+        call gran_core_shape_error('gran_srd_fields: velocity must be (3, >= ncells)', ierr)
+        return
+      end if
+      pv = c_loc(velocity)
+    end if
+    if (present(temperature)) then
+      if (size(temperature, kind=c_int64_t) < ncells) then
+        call gran_core_shape_error('gran_srd_fields: temperature has fewer than ncells elements', ierr)
+        return
+      end if
+      pt = c_loc(temperature)
+    end if
+    call gran_check(c_gran_srd_fields(srd, pc, pv, pt), ierr)
+  end subroutine gran_srd_fields
   ! ---- end GSRD wrappers ----
+
+  ! ---- GSRD devices wrappers (CUDA backend) ----
+  !> Move a GSRD run to another device (GRAN_SRD_DEVICE_*), state and RNG streams included.
+  subroutine gran_srd_set_device(srd, device, ierr)
+    type(c_ptr), intent(in) :: srd
+    integer, intent(in) :: device
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_srd_set_device(srd, int(device, c_int32_t)), ierr)
+  end subroutine gran_srd_set_device
+
+  !> The device a GSRD run is on now (GRAN_SRD_DEVICE_CPU, _CUDA or _REFERENCE).
+  subroutine gran_srd_get_device(srd, device, ierr)
+    type(c_ptr), intent(in) :: srd
+    integer, intent(out) :: device
+    integer, intent(out), optional :: ierr
+    integer(c_int32_t) :: d
+    d = -1
+    call gran_check(c_gran_srd_get_device(srd, d), ierr)
+    device = int(d)
+  end subroutine gran_srd_get_device
+  ! ---- end GSRD devices wrappers ----
 end module granary

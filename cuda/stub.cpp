@@ -39,9 +39,17 @@ GRAN_EXTERN int gran_cuda_srd_step(gran_cuda_srd *, const srd_geom *, const doub
   return GRAN_NO_CUDA_;
 }
 GRAN_EXTERN int gran_cuda_srd_sort(gran_cuda_srd *) { return GRAN_NO_CUDA_; }
-GRAN_EXTERN int gran_cuda_srd_download(const gran_cuda_srd *, double *const[3], double *const[3], gran_rng *) {
+GRAN_EXTERN int gran_cuda_srd_set_sums(gran_cuda_srd *, int) { return GRAN_NO_CUDA_; }
+GRAN_EXTERN int gran_cuda_srd_upload(gran_cuda_srd *, const double *const[3], const double *const[3], const double *,
+                                     const gran_rng *) {
   return GRAN_NO_CUDA_;
 }
+GRAN_EXTERN int gran_cuda_srd_download(const gran_cuda_srd *, double *const[3], double *const[3], double *, gran_rng *) {
+  return GRAN_NO_CUDA_;
+}
+GRAN_EXTERN int gran_cuda_srd_ledger(gran_cuda_srd *, double[SRD_ACC_N], int64_t *, double *) { return GRAN_NO_CUDA_; }
+GRAN_EXTERN int gran_cuda_srd_counts(const gran_cuda_srd *, double *) { return GRAN_NO_CUDA_; }
+GRAN_EXTERN int gran_cuda_srd_sk_power(const gran_cuda_srd *, double *) { return GRAN_NO_CUDA_; }
 GRAN_EXTERN int gran_cuda_srd_moments(const gran_cuda_srd *, double[3], double *) { return GRAN_NO_CUDA_; }
 GRAN_EXTERN int gran_cuda_copy_bandwidth(size_t, int, double *) { return GRAN_NO_CUDA_; }
 GRAN_EXTERN int gran_cuda_srd_time_steps(gran_cuda_srd *, int, gran_rng *, double *) { return GRAN_NO_CUDA_; }

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Regenerate seed 000 Figs. 1-8 and Table I as PNG files (`make figures`).
 
-Each figure runs one scene of scenes/ with `granary run` (scenes/quick/ with --quick, and the
-reduced scenes/reduced/fig4.toml instead of the 10-20 min scenes/fig4.toml otherwise), reads the
+Each figure runs one scene of scenes/ with `granary run` (scenes/quick/ with --quick,
+scenes/reduced/ otherwise: the shipped scene split into replicas, e.g. N/4 particles x 4
+replicas, so that every figure has error bars at about the cost of one shipped run), reads the
 HDF5 output through granary_h5 only, and draws DSMC (symbols, error bars = one standard error
 over replicas where the file has X_se) with the kinetic theory the run wrote (lines).
 
@@ -31,7 +32,7 @@ SCENES = {
     "fig1": ["fig1"], "fig2": ["fig2"], "fig3": ["fig3"], "fig4": ["fig4"], "fig5": ["fig5"],
     "fig6": ["table1", "fig6"], "table1": ["table1", "fig6"], "fig7": ["fig7"], "fig8": ["fig8"],
 }
-FULL_PATH = {"fig4": "scenes/reduced/fig4.toml"}
+FULL_DIR = "scenes/reduced"
 COLORS = ["C0", "C3", "C2", "C1", "C4", "C5", "C6"]
 
 THEORY_OFF = ("Maxwellian theory known to be off (PHYSICS-NOTES): ")
@@ -40,7 +41,7 @@ THEORY_OFF = ("Maxwellian theory known to be off (PHYSICS-NOTES): ")
 def scene_path(name, quick):
     if quick:
         return "scenes/quick/%s.toml" % name
-    return FULL_PATH.get(name, "scenes/%s.toml" % name)
+    return "%s/%s.toml" % (FULL_DIR, name)
 
 
 def run_scene(args, name, walls):
@@ -62,11 +63,12 @@ def run_scene(args, name, walls):
 def size_text(o):
     n = o.species("counts")
     nz = n[n > 0]
-    if len(n) <= 3:
-        s = "N = " + " + ".join("%.3g" % c for c in n)
-    else:
-        s = "N_1 = %.3g, %d species with particles (N = %.4g)" % (n[0], len(nz), n.sum())
     R = o.nreplicas
+    per = " per replica" if R > 1 else ""
+    if len(n) <= 3:
+        s = "N = " + " + ".join("%.3g" % c for c in n) + per
+    else:
+        s = "N_1 = %.3g, %d species with particles (N = %.4g%s)" % (n[0], len(nz), n.sum(), per)
     s += ", R = %d replica%s" % (R, "" if R == 1 else "s")
     if o.se("msd/msd") is None and o.se("temperatures/T") is None:
         s += " (no error bars: one replica)"
@@ -83,6 +85,51 @@ def points(ax, x, y, se, color, label, marker="o"):
                     capsize=2, lw=0.8, label=label)
     else:
         ax.plot(x[good], y[good], marker, ms=4, mfc="none", color=color, label=label)
+
+
+def residual(rx, x, y, se, th, color, marker="o"):
+    """Lower panel: 100 (DSMC / theory - 1) with 100 se / theory as error bars, where the error
+    bars of the log-log panel above are too small to see."""
+    if th is None:
+        return
+    good = np.isfinite(y) & np.isfinite(th) & (th > 0)
+    r = 100.0 * (y[good] / th[good] - 1.0)
+    if se is not None:
+        rx.errorbar(x[good], r, yerr=100.0 * se[good] / th[good], fmt=marker, ms=3, mfc="none",
+                    color=color, capsize=2, lw=0.8)
+    else:
+        rx.plot(x[good], r, marker, ms=3, mfc="none", color=color)
+
+
+def beyond(x, ys, ses, ths, labels, xname="t"):
+    """Caption sentence: where DSMC and theory differ by more than 3 standard errors (measured,
+    not explained: the reasons known are in the caption before it)."""
+    parts = []
+    for y, se, th, lab in zip(ys, ses, ths, labels):
+        if se is None or th is None:
+            continue
+        good = np.isfinite(y) & np.isfinite(th) & (th > 0) & (se > 0)
+        z = np.zeros_like(y)
+        z[good] = (y[good] - th[good]) / se[good]
+        bad = good & (np.abs(z) > 3)
+        if not bad.any():
+            continue
+        rel = np.where(bad, y / np.where(th > 0, th, 1) - 1, 0)
+        i = int(np.argmax(np.abs(rel)))
+        parts.append("%s %+.1f %% at %s = %.3g (%d of %d points)" % (lab, 100 * rel[i], xname, x[i],
+                                                                     int(bad.sum()), int(good.sum())))
+    if not parts:
+        return " DSMC agrees with the theory within 3 standard errors at every point."
+    return (" Measured, beyond 3 standard errors (largest deviation): " + "; ".join(parts) + ".")
+
+
+def two_panels(figsize=(7, 6.6)):
+    """The plot above, DSMC against theory in per cent below (shared x)."""
+    fig, (ax, rx) = plt.subplots(2, 1, figsize=figsize, sharex=True,
+                                 gridspec_kw={"height_ratios": [3, 1.3], "hspace": 0.06})
+    rx.axhline(0.0, color="k", lw=0.8)
+    rx.set_ylabel("DSMC / theory - 1 [%]", fontsize=8)
+    return fig, ax, rx
 
 
 def col(a, k):
@@ -105,25 +152,30 @@ def msd_figure(args, o, fname, title, caption, total=False, species_names=None):
     t = o.times("msd")
     msd, se, th = o.msd(), o.msd_se(), o.msd_theory()
     m = o.species("mass")
-    fig, ax = plt.subplots(figsize=(7, 5.6))
+    fig, ax, rx = two_panels()
     for k in range(o.nspecies):
         c = COLORS[k % len(COLORS)]
         lab = "m_%d = %g" % (k + 1, m[k])
         points(ax, t, msd[:, k], col(se, k), c, "DSMC, " + lab)
         if th is not None:
             ax.plot(t, th[:, k], "-", color=c, lw=1.2, label="theory, " + lab)
+            residual(rx, t, msd[:, k], col(se, k), th[:, k], c)
     if total:
         points(ax, t, o.msd_total(), o.msd_total_se(), "k", "DSMC, total MSD (Eq. 3)", "s")
         if o.msd_total_theory() is not None:
             ax.plot(t, o.msd_total_theory(), "k--", lw=1.2, label="theory, total MSD (Eq. 3)")
+            residual(rx, t, o.msd_total(), o.msd_total_se(), o.msd_total_theory(), "k", "s")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("t [%s]" % o.units("msd/time"))
+    rx.set_xlabel("t [%s]" % o.units("msd/time"))
     ax.set_ylabel("<R_k^2(t)> [%s]" % o.units("msd/msd"))
     fig.suptitle(title, fontsize=10)
     ax.legend(fontsize=7, loc="lower right")
     theory = o.attr("theory", "", "msd")
-    finish(fig, ax, o, fname, args, caption + " Theory: %s." % theory)
+    labs = ["m_%d = %g:" % (k + 1, m[k]) for k in range(o.nspecies)]
+    meas = beyond(t, [msd[:, k] for k in range(o.nspecies)], [col(se, k) for k in range(o.nspecies)],
+                  [col(th, k) for k in range(o.nspecies)], labs)
+    finish(fig, ax, o, fname, args, caption + " Theory: %s." % theory + meas)
 
 
 def fig1(args, f):
@@ -159,36 +211,46 @@ def fig4(args, f):
         t = o.times("msd")
         msd, se, th = o.msd(), o.msd_se(), o.msd_theory()
         n = o.species("counts")
-        fig, ax = plt.subplots(figsize=(7, 5.6))
-        ks = [k for k in (2, 3, 5, 10, 20, 50, 100) if k <= len(n) and n[k - 1] >= 50]
+        fig, ax, rx = two_panels()
+        R = o.nreplicas
+        ks = [k for k in (2, 3, 5, 10, 20, 50, 100) if k <= len(n) and n[k - 1] * R >= 50]
+        meas = ([], [], [], [])
         for i, k in enumerate(ks):
             c = "C%d" % (i % 10)
             r = msd[:, k - 1] / msd[:, 0]
             rse = None
             if se is not None:
                 rse = r * np.hypot(se[:, k - 1] / msd[:, k - 1], se[:, 0] / msd[:, 0])
-            points(ax, t, r, rse, c, "DSMC, k = %d (N_k = %d)" % (k, n[k - 1]))
+            points(ax, t, r, rse, c, "DSMC, k = %d (N_k = %d%s)" % (k, n[k - 1], " x %d" % R if R > 1 else ""))
             if th is not None:
                 ax.plot(t, th[:, k - 1] / th[:, 0], "-", color=c, lw=1.2)
+                residual(rx, t, r, rse, th[:, k - 1] / th[:, 0], c)
+                for lst, v in zip(meas, (r, rse, th[:, k - 1] / th[:, 0], "k = %d:" % k)):
+                    lst.append(v)
         ax.plot([], [], "k-", label="theory (Eq. 4)")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("t [%s]" % o.units("msd/time"))
+        rx.set_xlabel("t [%s]" % o.units("msd/time"))
         ax.set_ylabel("<R_k^2> / <R_1^2>")
         fig.suptitle("seed 000 Fig. 4: n_k = 0.1 k^-3, 100 species, MSD ratios", fontsize=10)
         ax.legend(fontsize=7, loc="lower right")
         finish(fig, ax, o, "fig4.png", args,
                "m_k = k, sigma_k = k^(1/3), eps = 0.5, equal initial temperatures. The ratio first "
                "falls, then rises as T_k/T_1 grows towards ~k^(5/3). Species with fewer than 50 "
-               "particles are not shown (the paper: N_1 = 1e7). " + THEORY_OFF +
+               "particles in all replicas together are not shown (the paper: N_1 = 1e7). " + THEORY_OFF +
                "heavy species among light ones run hotter than the Maxwellian theory (as the heavy "
                "tracers of Fig. 5), so their ratio ends above the line at long times; the light "
-               "species' own diffusion is up to 10-14 % faster than Eq. 4.")
+               "species' own diffusion is up to 10-14 % faster than Eq. 4." + beyond(t, *meas))
 
 
 def fig5(args, f):
     with Output(f["fig5"]) as o:
-        fig, axs = plt.subplots(1, 2, figsize=(10, 5.2))
+        fig, axg = plt.subplots(2, 2, figsize=(10, 6.4), sharex="col",
+                                gridspec_kw={"height_ratios": [3, 1.3], "hspace": 0.06})
+        axs, rxs = axg[0], axg[1]
+        for rx in rxs:
+            rx.axhline(0.0, color="k", lw=0.8)
+        rxs[0].set_ylabel("DSMC / theory - 1 [%]", fontsize=8)
         t = o.times("msd")
         msd, se, th = o.msd(), o.msd_se(), o.msd_theory()
         lag = o.lags()
@@ -199,14 +261,16 @@ def fig5(args, f):
             lab = "m_%d = %g%s" % (k + 1, m[k], " (tracer)" if o.species("density")[k] == 0 else "")
             points(axs[0], t, msd[:, k], col(se, k), c, "DSMC, " + lab)
             axs[0].plot(t, th[:, k], "-", color=c, lw=1.2, label="theory, " + lab)
+            residual(rxs[0], t, msd[:, k], col(se, k), th[:, k], c)
             if ta is not None:
                 points(axs[1], lag, ta[:, k], col(tase, k), c, "DSMC, " + lab, "s")
                 if tath is not None:
                     axs[1].plot(lag, tath[:, k], "-", color=c, lw=1.2, label="theory, " + lab)
-        for ax, xl, yl in ((axs[0], "t", "MSD <R_k^2(t)>"), (axs[1], "lag Delta", "TAMSD")):
+                    residual(rxs[1], lag, ta[:, k], col(tase, k), tath[:, k], c, "s")
+        for ax, rx, xl, yl in ((axs[0], rxs[0], "t", "MSD <R_k^2(t)>"), (axs[1], rxs[1], "lag Delta", "TAMSD")):
             ax.set_xscale("log")
             ax.set_yscale("log")
-            ax.set_xlabel(xl + " [time]")
+            rx.set_xlabel(xl + " [time]")
             ax.set_ylabel(yl + " [length^2]")
             ax.legend(fontsize=7, loc="lower right")
         axs[1].set_title("TAMSD, t_meas = %g, %d tracers/species"
@@ -215,28 +279,40 @@ def fig5(args, f):
         axs[0].set_title("MSD", fontsize=9)
         finish(fig, axs[0], o, "fig5.png", args,
                "n = (0.1, 0), m = (1, 100), T(0) = (1, 412.93), tau0 = %.4g (caption: 11.3). TAMSD "
-               "theory: Eq. 26 on the simulation's sample grid. " % o.tau0 + THEORY_OFF +
+               "theory: Eq. 26 on the simulation's sample grid; the TAMSD comes from replica 0 only "
+               "(no error bars there). " % o.tau0 + THEORY_OFF +
                "heavy tracers (b > 1 in Eq. 35) are in the ordered phase of Santos and Dufty: "
                "T_2/T_1 is about 1.53x the Maxwellian value, so the tracers' MSD and TAMSD lie "
-               "above the theory (the difference is physics, not noise).")
+               "above the theory (the difference is physics, not noise)." +
+               beyond(t, [msd[:, k] for k in range(o.nspecies)], [col(se, k) for k in range(o.nspecies)],
+                      [th[:, k] for k in range(o.nspecies)], ["MSD m_%d = %g:" % (k + 1, m[k]) for k in range(o.nspecies)]))
 
 
 def fig6(args, f):
     with Output(f["table1"]) as lo, Output(f["fig6"]) as bo:
-        fig, ax = plt.subplots(figsize=(7, 5.6))
+        fig, ax, rx = two_panels()
         k = np.arange(1, lo.nspecies + 1)
+        th = lo.T_theory()
+        meas = ([], [], [], [])
         for o, mk, c, lab in ((lo, "o", "C0", "low-rank DSMC"), (bo, "x", "C3", "Bird's DSMC")):
             T = o.T()[-1]
             Tse = o.T_se()
             n = o.species("counts")
             sel = n > 0
             points(ax, k[sel], T[sel], None if Tse is None else Tse[-1][sel], c, lab, mk)
-        th = lo.T_theory()
+            if th is not None:
+                residual(rx, k[sel].astype(float), T[sel], None if Tse is None else Tse[-1][sel], th[-1][sel], c, mk)
+                # the measured sentence: species with >= 100 particles in all replicas (below that
+                # T_k of a replica is far from Gaussian and R = 4 standard errors mean little)
+                many = n * o.nreplicas >= 100
+                for lst, v in zip(meas, (np.where(many, T, np.nan), None if Tse is None else Tse[-1], th[-1],
+                                         lab + " (species with >= 100 particles in all replicas)")):
+                    lst.append(v)
         if th is not None:
             ax.plot(k, th[-1], "k-", lw=1, label="theory (Eqs. 14-15)")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("k = m_k / m_1")
+        rx.set_xlabel("k = m_k / m_1")
         ax.set_ylabel("T_k(t = %g) [%s]" % (lo.times("temperatures")[-1],
                                              lo.units("temperatures/T")))
         fig.suptitle("seed 000 Fig. 6: T_k at t = 100, low-rank and Bird's DSMC", fontsize=10)
@@ -245,7 +321,8 @@ def fig6(args, f):
                "n_k = 0.1 k^-3 (125 species, N_k = round(n_k V)), eps = 0.5, T(0) = 1. Species with "
                "no particles are left out; the heaviest have few particles, hence the scatter. The "
                "two selectors agree within noise. " + THEORY_OFF +
-               "temperature ratios by about 1 % (first Sonine correction).")
+               "temperature ratios by about 1 % (first Sonine correction)." +
+               beyond(k.astype(float), *meas, xname="k"))
 
 
 def table1(args, f, walls):
@@ -256,20 +333,22 @@ def table1(args, f, walls):
         with Output(f[name]) as o:
             N1 = o.species("counts")[0]
             scale = N1 / 1e6
-            coll = o.collisions()[-1]
+            R = o.nreplicas
+            # collisions are summed over the replicas in the file: per replica here, as the paper's
+            coll = o.collisions()[-1] / R
             cse = o.collisions_se()
             e = o.energy()[-1]
             ese = o.energy_se()
             wall = walls.get(f[name])
             rows.append([method,
-                         "%d" % coll + ("" if cse is None else " +- %.0f" % cse[-1]),
+                         "%.0f" % coll + ("" if cse is None else " +- %.0f" % (cse[-1] / R)),
                          "%.4g" % e + ("" if ese is None else " +- %.2g" % ese[-1]),
                          "-" if wall is None else "%.1f" % wall,
                          "%.4g" % (paper[0] * scale), "%.4g" % (paper[1] * scale), "%d" % paper[2]])
             size = size_text(o)
     fig, ax = plt.subplots(figsize=(10, 3.4))
     ax.axis("off")
-    cols = ["method", "collisions", "E_kin(t = 100)", "wall s\n(here)",
+    cols = ["method", "collisions\n(mean of a replica)", "E_kin(t = 100)\n(mean of a replica)", "wall s (here,\nall replicas)",
             "paper collisions\nx N_1/1e6", "paper E_kin\nx N_1/1e6", "paper s\n(their machine)"]
     tab = ax.table(cellText=rows, colLabels=cols, loc="center", cellLoc="center")
     tab.auto_set_font_size(False)
@@ -280,8 +359,9 @@ def table1(args, f, walls):
                  fontsize=10)
     cap = ("The paper's energy column is corrected: its 1.233e5 is a misprinted exponent "
            "(E_kin = (1/2) sum m v^2 = 1.233e4 at N_1 = 1e6, PHYSICS-NOTES Sec. 1). Paper values "
-           "are scaled by N_1/1e6 = %g for comparison; its run times were measured on the "
-           "authors' machine, ours on a loaded 2-core machine (wall time of `granary run`, "
+           "are scaled by N_1/1e6 = %g (N_1 of one replica) for comparison; +- is one standard "
+           "error over the replicas. Its run times were measured on the authors' machine, ours "
+           "on a loaded 2-core machine (wall time of `granary run` for all replicas, "
            "'-' when the figure was only replotted)." % scale)
     fig.text(0.01, 0.02, "\n".join(textwrap.wrap(cap, 140)), fontsize=7.5, va="bottom")
     path = os.path.join(args.out, "table1.png")

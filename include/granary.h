@@ -543,6 +543,9 @@ typedef struct gran_srd_options {
   uint64_t seed;        /* RNG seed (streams: 0 grid shift, c + 1 cell c, long jump: init) */
   int32_t sort_every;   /* sort particles by cell every this many steps (0: never) */
   int32_t threads;      /* OpenMP threads (0: all); results do not depend on it */
+  /* ---- device (CUDA backend, src/srd/device_cuda.cpp) ---- */
+  int32_t device;       /* GRAN_SRD_DEVICE_*: 0 CPU engine (default), 1 CUDA, 2 auto, 3 host reference */
+  int32_t precision;    /* particle storage on the device: 0 double, 1 float (CPU engine: double) */
 } gran_srd_options;
 
 typedef struct gran_srd_obs {
@@ -589,5 +592,26 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **srd);
  * count[b]. Time averages: sum mean[b] * count[b] and count[b] over calls. */
 GRAN_EXTERN int gran_srd_velocity_profile(const gran_srd *srd, int32_t axis, int32_t component, int64_t nbins,
                                           double *mean, int64_t *count);
+
+/* ---- GSRD cell fields (src/srd/fields.cpp; snapshots of `granary run`) ----------------------
+ * Fields of the unshifted lattice, cells[0] x cells[1] (x cells[2]) cells, cell (i, j, k) at index
+ * i + cells[0] (j + cells[1] k): particles per cell (count), mean velocity [cell][3] (third
+ * component 0 in 2-D) and temperature sum |v - V|^2 / (d n); empty cells give 0. Any output may
+ * be NULL. Sum of count = N; sum of count x velocity = total momentum. */
+GRAN_EXTERN int gran_srd_fields(gran_srd *srd, double *count, double *velocity, double *temperature);
+
+/* ---- GSRD devices (CUDA backend; src/srd/device_cuda.cpp, cuda/) ------------------------------
+ * options.device: CPU = the CPU engine; CUDA = the GPU (GRAN_ERR_UNSUPPORTED, naming why, when the
+ * backend was not compiled or no GPU is visible); AUTO = the GPU when one is visible, else the CPU
+ * and a warning; REFERENCE = the GPU algorithm run on the host, serially (the test oracle of the
+ * CUDA backend). On a device the particles live there: observe, particles, structure_factor and
+ * checkpoint_write copy them back; velocities changed through gran_srd_particles are copied to the
+ * device at the next advance. Checkpoints are the same file on every device; checkpoint_read
+ * resumes on the device its options name (CUDA without a GPU: the CPU, with a warning). */
+enum { GRAN_SRD_DEVICE_CPU = 0, GRAN_SRD_DEVICE_CUDA = 1, GRAN_SRD_DEVICE_AUTO = 2, GRAN_SRD_DEVICE_REFERENCE = 3 };
+/* Move a run to another device (GRAN_SRD_DEVICE_*), state and RNG streams included. */
+GRAN_EXTERN int gran_srd_set_device(gran_srd *srd, int32_t device);
+/* The device the run is on now (CPU, CUDA or REFERENCE; AUTO resolved). */
+GRAN_EXTERN int gran_srd_get_device(const gran_srd *srd, int32_t *device);
 
 #endif /* GRANARY_H */

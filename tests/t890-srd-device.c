@@ -1,19 +1,38 @@
-/* t890-srd-device.c - GSRD device selection ("cpu" / "cuda" / "auto") and the device test bodies
- * (tests/srd_device_body.h) on the CPU reference; tests/gpu/t850-srd-gpu.c runs them on the GPU. */
+/* t890-srd-device.c - GSRD devices without a GPU: the device selection ("cpu" / "cuda" / "auto" /
+ * "reference", options.device, gran_srd_set_device) and its errors, and the device test bodies of
+ * tests/srd_device_body.h on the host reference of the device algorithm, against the CPU engine:
+ * same shared functions, same streams, sums in particle order, so every effect (walls with virtual
+ * particles, thermostat, gravity, Lees-Edwards stress, clamps) agrees to rounding. The engine hooks
+ * (src/srd/device_cuda.cpp) are the ones a GPU run takes; tests/gpu/t850-srd-gpu.c runs the same
+ * bodies on the GPU. */
 #include "srd_device_body.h"
 #include "srd/device_cuda.h"
 
-static void test_device_resolve(void **state) {
-  (void)state;
-  int use = -1, ndev = 0, compiled = 0;
+static int have_gpu(void) {
+  int ndev = 0, compiled = 0;
   GRAN_ASSERT_OK(gran_cuda_compiled(&compiled));
   GRAN_ASSERT_OK(gran_cuda_device_count(&ndev));
-  const int gpu = compiled && ndev > 0;
+  return compiled && ndev > 0;
+}
+
+static void test_device_resolve(void **state) {
+  (void)state;
+  int use = -1;
+  const int gpu = have_gpu();
   GRAN_ASSERT_OK(gran_srd_device_resolve("cpu", &use));
   assert_int_equal(use, 0);
+  GRAN_ASSERT_OK(gran_srd_device_resolve("reference", &use));
+  assert_int_equal(use, 0);
   GRAN_ASSERT_ERR(gran_srd_device_resolve("gpu", &use), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "\"gpu\""));
   GRAN_ASSERT_ERR(gran_srd_device_resolve(NULL, &use), GRAN_ERR_ARG);
   GRAN_ASSERT_ERR(gran_srd_device_resolve("cpu", NULL), GRAN_ERR_ARG);
+  int32_t d = -1;
+  GRAN_ASSERT_OK(gran_srd_device_parse("auto", &d));
+  assert_int_equal(d, GRAN_SRD_DEVICE_AUTO);
+  GRAN_ASSERT_OK(gran_srd_device_parse("reference", &d));
+  assert_int_equal(d, GRAN_SRD_DEVICE_REFERENCE);
+  GRAN_ASSERT_ERR(gran_srd_device_parse("CUDA", &d), GRAN_ERR_ARG);
   int64_t w0 = 0, w1 = 0;
   GRAN_ASSERT_OK(gran_warning_count(&w0));
   GRAN_ASSERT_OK(gran_srd_device_resolve("auto", &use));
@@ -38,74 +57,176 @@ static void test_device_resolve(void **state) {
   }
 }
 
-static void test_conservation_cpu(void **state) {
+/* options.device through gran_srd_create, gran_srd_set_device / get_device: errors name what was
+ * wrong, a failed move leaves the run where it was, "auto" without a GPU is the CPU engine bit for
+ * bit. */
+static void test_engine_device_errors(void **state) {
   (void)state;
-  sdb_body_conservation(0, 3, 0, 1.0);
-  sdb_body_conservation(0, 2, 0, 1.0);
-  sdb_body_conservation(0, 3, 0, 0.9);
-}
-
-/* The CPU reference of the device bodies is the CPU engine's algorithm: from the engine's initial
- * state, both give the same positions and velocities to rounding (same shared functions, same
- * streams, sums in particle order; measured 2e-14 after 20 steps, the C test and the C++ engine
- * contract multiply-adds differently; tolerance 1e-9 for v ~ 1), so the GPU-versus-reference
- * comparison of t850 is a GPU-versus-engine comparison. */
-static void engine_vs_reference(int dim, double eps) {
+  const int gpu = have_gpu();
   gran_srd_options o;
-  GRAN_ASSERT_OK(gran_srd_options_default(&o));
-  const int64_t L = dim == 3 ? 8 : 16;
-  o.dim = dim;
-  o.cells[0] = o.cells[1] = L;
-  o.cells[2] = dim == 3 ? L : 1;
-  o.a = 1.0;
-  o.n0 = 10;
-  o.dt = 0.1;
-  o.alpha_deg = 130.0;
-  o.eps = eps;
-  o.sigma = 1.0;
-  o.seed = 4242;
-  o.sort_every = 0;
-  o.threads = 1;
-  gran_srd *e = NULL;
-  GRAN_ASSERT_OK(gran_srd_create(&o, &e));
-  sdb_state r;
-  sdb_init(&r, 0, dim, L, 10, 130.0, eps, 0, 4242);
-  int64_t n;
-  double *x[3], *v[3];
-  GRAN_ASSERT_OK(gran_srd_particles(e, &n, &x[0], &x[1], &x[2], &v[0], &v[1], &v[2]));
-  assert_int_equal(n, r.p.n);
-  for (int k = 0; k < dim; ++k) {
-    memcpy(r.x[k], x[k], sizeof(double) * (size_t)n);
-    memcpy(r.v[k], v[k], sizeof(double) * (size_t)n);
+  sde_options(SDE_PERIODIC, &o);
+  gran_srd *s = NULL;
+  o.device = 7;
+  GRAN_ASSERT_ERR(gran_srd_create(&o, &s), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "device"));
+  assert_null(s);
+  o.device = GRAN_SRD_DEVICE_REFERENCE;
+  o.precision = 2;
+  GRAN_ASSERT_ERR(gran_srd_create(&o, &s), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "precision"));
+  o.precision = 0;
+  if (!gpu) {
+    o.device = GRAN_SRD_DEVICE_CUDA;
+    GRAN_ASSERT_ERR(gran_srd_create(&o, &s), GRAN_ERR_UNSUPPORTED);
+    const char *m = gran_last_error_message();
+    assert_true(strstr(m, "not compiled") != NULL || strstr(m, "no CUDA device") != NULL);
+    assert_null(s);
+    /* auto: the CPU engine, with a warning, the same numbers as device = cpu */
+    int64_t w0, w1;
+    GRAN_ASSERT_OK(gran_warning_count(&w0));
+    o.device = GRAN_SRD_DEVICE_AUTO;
+    gran_srd *c = NULL;
+    GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+    GRAN_ASSERT_OK(gran_warning_count(&w1));
+    assert_int_equal(w1 - w0, 1);
+    int32_t d = -1;
+    GRAN_ASSERT_OK(gran_srd_get_device(s, &d));
+    assert_int_equal(d, GRAN_SRD_DEVICE_CPU);
+    o.device = GRAN_SRD_DEVICE_CPU;
+    GRAN_ASSERT_OK(gran_srd_create(&o, &c));
+    GRAN_ASSERT_OK(gran_srd_advance(s, 3));
+    GRAN_ASSERT_OK(gran_srd_advance(c, 3));
+    assert_true(sde_particles_diff(s, c, 3) == 0.0);
+    /* a move to cuda fails and leaves the run on the CPU, intact */
+    GRAN_ASSERT_ERR(gran_srd_set_device(s, GRAN_SRD_DEVICE_CUDA), GRAN_ERR_UNSUPPORTED);
+    GRAN_ASSERT_OK(gran_srd_get_device(s, &d));
+    assert_int_equal(d, GRAN_SRD_DEVICE_CPU);
+    GRAN_ASSERT_OK(gran_srd_advance(s, 2));
+    GRAN_ASSERT_OK(gran_srd_advance(c, 2));
+    assert_true(sde_particles_diff(s, c, 3) == 0.0);
+    GRAN_ASSERT_OK(gran_srd_destroy(&c));
+  } else {
+    o.device = GRAN_SRD_DEVICE_CPU;
+    GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   }
-  GRAN_ASSERT_OK(gran_srd_advance(e, 20));
-  sdb_run(&r, 20);
-  GRAN_ASSERT_OK(gran_srd_particles(e, &n, &x[0], &x[1], &x[2], &v[0], &v[1], &v[2]));
-  double dmax = 0.0;
-  for (int k = 0; k < dim; ++k)
-    for (int64_t i = 0; i < n; ++i) {
-      const double dx = fabs(r.x[k][i] - x[k][i]), dv = fabs(r.v[k][i] - v[k][i]);
-      dmax = dx > dmax ? dx : dmax;
-      dmax = dv > dmax ? dv : dmax;
-    }
-  printf("engine vs reference, dim %d eps %g: max |difference| %.3g after 20 steps\n", dim, eps, dmax);
-  if (dmax > 1e-9) fail_msg("dim %d eps %g: engine and reference differ by %g", dim, eps, dmax);
-  sdb_free(&r);
-  GRAN_ASSERT_OK(gran_srd_destroy(&e));
+  GRAN_ASSERT_ERR(gran_srd_set_device(s, -1), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_srd_set_device(NULL, 0), GRAN_ERR_ARG);
+  int32_t d;
+  GRAN_ASSERT_ERR(gran_srd_get_device(s, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_srd_get_device(NULL, &d), GRAN_ERR_ARG);
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
 }
 
-static void test_reference_is_engine(void **state) {
+/* A checkpoint whose options name "cuda" is still readable without a GPU: the CPU, with a warning. */
+static void test_checkpoint_cuda_without_gpu(void **state) {
   (void)state;
-  engine_vs_reference(3, 1.0);
-  engine_vs_reference(2, 1.0);
-  engine_vs_reference(3, 0.9);
+  if (have_gpu()) skip();
+  gran_srd_options o;
+  sde_options(SDE_PERIODIC, &o);
+  gran_srd *s = NULL, *r = NULL;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+  GRAN_ASSERT_OK(gran_srd_advance(s, 4));
+  const char *path = "t890-cuda-ckpt.bin";
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path));
+  /* patch options.device in the file (magic, then the options struct) */
+  FILE *f = fopen(path, "r+b");
+  assert_non_null(f);
+  const int32_t cuda = GRAN_SRD_DEVICE_CUDA;
+  assert_int_equal(fseek(f, 8 + (long)offsetof(gran_srd_options, device), SEEK_SET), 0);
+  assert_int_equal(fwrite(&cuda, sizeof cuda, 1, f), 1);
+  assert_int_equal(fclose(f), 0);
+  int64_t w0, w1;
+  GRAN_ASSERT_OK(gran_warning_count(&w0));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, &r));
+  GRAN_ASSERT_OK(gran_warning_count(&w1));
+  assert_int_equal(w1 - w0, 1);
+  int32_t d = -1;
+  GRAN_ASSERT_OK(gran_srd_get_device(r, &d));
+  assert_int_equal(d, GRAN_SRD_DEVICE_CPU);
+  GRAN_ASSERT_OK(gran_srd_advance(s, 5));
+  GRAN_ASSERT_OK(gran_srd_advance(r, 5));
+  assert_true(sde_particles_diff(s, r, 3) == 0.0); /* the resume is bit for bit */
+  remove(path);
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+  GRAN_ASSERT_OK(gran_srd_destroy(&r));
+}
+
+/* launcher level on the reference: conservation, double and float storage */
+static void test_conservation_reference(void **state) {
+  (void)state;
+  const int R = GRAN_SRD_DEVICE_REFERENCE;
+  sdb_body_conservation(R, 3, 0, 1.0);
+  sdb_body_conservation(R, 2, 0, 1.0);
+  sdb_body_conservation(R, 3, 0, 0.9);
+  sdb_body_conservation(R, 3, 1, 1.0);
+  sdb_body_conservation(R, 2, 1, 0.9);
+  sdb_body_cell_invariants(R, 3, 1.0);
+  sdb_body_cell_invariants(R, 2, 1.0);
+  sdb_body_cell_invariants(R, 3, 0.8);
+}
+
+/* engine level: every scene, CPU engine versus the reference (to rounding: 1e-9 absolute on the
+ * particles, v ~ 1; 1e-9 relative on the observables) */
+static void test_engine_vs_reference(void **state) {
+  (void)state;
+  for (int sc = 0; sc < SDE_NSCENES; ++sc)
+    sde_body_devices(sc, GRAN_SRD_DEVICE_CPU, GRAN_SRD_DEVICE_REFERENCE, 1e-9, 1e-9);
+}
+
+/* velocities changed through gran_srd_particles reach the device at the next advance */
+static void test_particles_write_through(void **state) {
+  (void)state;
+  gran_srd_options o;
+  sde_options(SDE_THERMO, &o);
+  gran_srd *c = NULL, *r = NULL;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &c));
+  o.device = GRAN_SRD_DEVICE_REFERENCE;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &r));
+  GRAN_ASSERT_OK(gran_srd_advance(c, 3));
+  GRAN_ASSERT_OK(gran_srd_advance(r, 3));
+  gran_srd *both[2] = {c, r};
+  for (int q = 0; q < 2; ++q) {
+    int64_t n;
+    double *x, *y, *z, *vx, *vy, *vz;
+    GRAN_ASSERT_OK(gran_srd_particles(both[q], &n, &x, &y, &z, &vx, &vy, &vz));
+    for (int64_t i = 0; i < n; ++i) vx[i] += 0.5 * sin(2.0 * 3.14159265358979323846 * y[i] / 8.0); /* a shear wave */
+  }
+  GRAN_ASSERT_OK(gran_srd_advance(c, 6));
+  GRAN_ASSERT_OK(gran_srd_advance(r, 6));
+  const double d = sde_particles_diff(c, r, 3);
+  if (!(d <= 1e-9)) fail_msg("after writing velocities: CPU and reference differ by %g", d);
+  gran_srd_obs oc, orr;
+  GRAN_ASSERT_OK(gran_srd_observe(c, &oc));
+  GRAN_ASSERT_OK(gran_srd_observe(r, &orr));
+  assert_true(oc.e_kin > 1e-3); /* the wave is there (and the same) */
+  sde_compare_obs("write-through", &oc, &orr, 1e-9);
+  GRAN_ASSERT_OK(gran_srd_destroy(&c));
+  GRAN_ASSERT_OK(gran_srd_destroy(&r));
+}
+
+/* the physics bodies on the reference (small sizes: they are what t850 runs on the GPU, larger) */
+static void test_physics_reference(void **state) {
+  (void)state;
+  const int R = GRAN_SRD_DEVICE_REFERENCE;
+  sde_body_haff(R, 0, 24);
+  sde_body_haff(R, 1, 24);
+  sde_body_viscosity(R, 0, 2, 16, 130, 8, 100);
+  sde_body_viscosity(R, 1, 3, 8, 130, 8, 50);
+  sde_body_cold_flow(R, 0);
+  sde_body_cold_flow(R, 1);
+  sde_body_sk_ideal(R, 0, 3, 8, 12);
+  sde_body_sk_ideal(R, 1, 2, 32, 12);
 }
 
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_device_resolve),
-      cmocka_unit_test(test_conservation_cpu),
-      cmocka_unit_test(test_reference_is_engine),
+      cmocka_unit_test(test_engine_device_errors),
+      cmocka_unit_test(test_checkpoint_cuda_without_gpu),
+      cmocka_unit_test(test_conservation_reference),
+      cmocka_unit_test(test_engine_vs_reference),
+      cmocka_unit_test(test_particles_write_through),
+      cmocka_unit_test(test_physics_reference),
   };
   return cmocka_run_group_tests_name("t890-srd-device", tests, NULL, NULL);
 }

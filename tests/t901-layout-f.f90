@@ -48,6 +48,12 @@ program t901_layout_f
   call check('GRAN_PARTICLES_POSITION', int(GRAN_PARTICLES_POSITION, c_size_t))
   call check('GRAN_PARTICLES_MASS', int(GRAN_PARTICLES_MASS, c_size_t))
 
+  ! GSRD devices (CUDA backend)
+  call check('GRAN_SRD_DEVICE_CPU', int(GRAN_SRD_DEVICE_CPU, c_size_t))
+  call check('GRAN_SRD_DEVICE_CUDA', int(GRAN_SRD_DEVICE_CUDA, c_size_t))
+  call check('GRAN_SRD_DEVICE_AUTO', int(GRAN_SRD_DEVICE_AUTO, c_size_t))
+  call check('GRAN_SRD_DEVICE_REFERENCE', int(GRAN_SRD_DEVICE_REFERENCE, c_size_t))
+
   ! an unknown name is an error, not a value
   call gran_abi_query('sizeof(gran_nothing)', value, ierr)
   if (ierr /= GRAN_ERR_ARG) then

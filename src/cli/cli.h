@@ -9,6 +9,15 @@ extern int cli_verbose;
 /* the last error message, with its location when --verbose (static buffer) */
 const char *cli_error(void);
 
+/* Processes (src/cli/mpi.cpp): build/granary-mpi runs the replicas of `granary run` on the MPI
+ * processes it is started on; build/granary is one process (these are then trivial). */
+int cli_mpi_init(int *argc, char ***argv); /* 0 on success */
+void cli_mpi_finalize(void);
+int cli_mpi_rank(void);
+int cli_mpi_size(void);
+int cli_mpi_all(int ok); /* collective: 1 when every process passes ok != 0 */
+void cli_mpi_stats(long long *steps, long long *bytes); /* gathers, and bytes rank 0 received */
+
 int cli_info(int argc, char **argv);
 int cli_run(int argc, char **argv);
 int cli_theory(int argc, char **argv);

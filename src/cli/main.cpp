@@ -31,7 +31,19 @@ static void usage(FILE *f) {
                "  --verbose            (before COMMAND) errors also name the library function and source line\n");
 }
 
+static int dispatch(int argc, char **argv);
+
 int main(int argc, char **argv) {
+  if (cli_mpi_init(&argc, &argv)) {
+    std::fprintf(stderr, "granary: MPI could not be initialized\n");
+    return 1;
+  }
+  const int rc = dispatch(argc, argv);
+  cli_mpi_finalize();
+  return rc;
+}
+
+static int dispatch(int argc, char **argv) {
   if (argc < 2) {
     usage(stderr);
     return 2;

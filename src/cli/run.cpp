@@ -221,6 +221,19 @@ void summary(const std::string &path) {
 /* The title and main parameters, printed before the run starts. */
 void header(const gran_scene *s, const std::string &out, const std::string &ck) {
   std::printf("%s\n", s->title.empty() ? s->name.c_str() : s->title.c_str());
+  if (s->engine_type == "srd") { /* GSRD scene (src/io/engine_srd.cpp): its own parameters */
+    const gran_srd_options &o = s->srd.opt;
+    double nc = 1;
+    for (int k = 0; k < o.dim; k++) nc *= (double)o.cells[k];
+    std::printf("  engine srd (%s), %d-D, %.0f cells of a = %g, %.0f particles, dt = %g, alpha = %g, eps = %g\n",
+                s->srd.device.c_str(), (int)o.dim, nc, o.a, std::floor(o.n0 * nc + 0.5), o.dt, o.alpha_deg, o.eps);
+    std::printf("  t = 0 .. %g (%lld steps), %zu output times, seed %llu", s->t_end, (long long)s->srd.steps,
+                s->times.size(), (unsigned long long)s->seed);
+    if (s->replicas > 1) std::printf(", %" PRId64 " replicas", s->replicas);
+    std::printf("\n  output %s, checkpoint %s\n", out.c_str(), ck.empty() ? "(none)" : ck.c_str());
+    std::fflush(stdout);
+    return;
+  }
   int64_t N = 0;
   for (int64_t c : s->counts) N += c;
   std::printf("  engine %s (%s), %" PRId64 " species", s->engine_type.c_str(),
@@ -235,7 +248,10 @@ void header(const gran_scene *s, const std::string &out, const std::string &ck) 
   if (s->replicas > 1) {
     int32_t th = 1;
     gran_get_threads(&th);
-    std::printf(", %" PRId64 " replicas on %d thread(s)", s->replicas, (int)std::min<int64_t>(th, s->replicas));
+    const int P = cli_mpi_size();
+    const int64_t per = (s->replicas + P - 1) / P;
+    if (P > 1) std::printf(", %" PRId64 " replicas on %d processes x %d thread(s)", s->replicas, P, (int)std::min<int64_t>(th, per));
+    else std::printf(", %" PRId64 " replicas on %d thread(s)", s->replicas, (int)std::min<int64_t>(th, s->replicas));
   }
   std::printf("\n  output %s, checkpoint %s\n", out.c_str(), ck.empty() ? "(none)" : ck.c_str());
   std::fflush(stdout);
@@ -258,7 +274,15 @@ int stopped(const gran_run_result &res, const std::string &out, const std::strin
 }
 
 int fail(const char *what) {
-  std::fprintf(stderr, "granary run: %s: %s\n", what, cli_error());
+  /* a collective failure carries the same message on every process: rank 0 prints it */
+  if (cli_mpi_rank() == 0) std::fprintf(stderr, "granary run: %s: %s\n", what, cli_error());
+  return 1;
+}
+
+/* A failure only this process saw (several processes): it prints it, naming itself. */
+int fail_here(const char *what) {
+  if (cli_mpi_size() > 1) std::fprintf(stderr, "granary run: process %d of %d: %s: %s\n", cli_mpi_rank(), cli_mpi_size(), what, cli_error());
+  else std::fprintf(stderr, "granary run: %s: %s\n", what, cli_error());
   return 1;
 }
 
@@ -344,6 +368,10 @@ int cli_run(int argc, char **argv) {
     return 2;
   }
   if (threads >= 0 && gran_set_threads((int32_t)threads)) return fail("--threads");
+  /* several processes (build/granary-mpi under mpirun): rank 0 alone prints progress and results,
+   * and every decision that ends the run early is taken by all processes together */
+  const bool root = cli_mpi_rank() == 0;
+  if (!root) quiet = true;
   Progress pr;
   pr.tty = isatty(2);
   pr.quiet = quiet;
@@ -359,7 +387,7 @@ int cli_run(int argc, char **argv) {
   if (resume) {
     if (output) {
       out_path = output;
-    } else {
+    } else if (root) {
       /* the output path stored in the checkpoint (read first: a finished run removes the file) */
       int64_t f = gran_h5::open_file(resume, 0);
       std::string o;
@@ -367,16 +395,21 @@ int cli_run(int argc, char **argv) {
       gran_h5::close_file(f);
       gran_clear_error();
     }
-    if (!force && !out_path.empty() && file_exists(out_path)) {
+    const bool exists = root && !force && !out_path.empty() && file_exists(out_path);
+    if (exists)
       std::fprintf(stderr, "granary run: output '%s' exists; give --force to overwrite it, or -o another file\n",
                    out_path.c_str());
-      return 1;
-    }
+    if (!cli_mpi_all(!exists)) return 1;
     st = gran_scene_resume(resume, output, &ctl, &res);
     if (st) return fail("resume failed");
   } else {
     gran_scene *scene = nullptr;
-    if (gran_scene_load(scene_path, &scene)) return fail("invalid scene");
+    const int loaded = gran_scene_load(scene_path, &scene) == GRAN_SUCCESS;
+    if (!loaded) fail_here("invalid scene");
+    if (!cli_mpi_all(loaded)) {
+      gran_scene_destroy(&scene);
+      return 1;
+    }
     if (replicas && gran_scene_set_replicas(scene, replicas, scene->keep_replicas)) {
       gran_scene_destroy(&scene);
       return fail("--replicas");
@@ -384,9 +417,11 @@ int cli_run(int argc, char **argv) {
     const char *p = nullptr;
     gran_scene_output_path(scene, &p);
     out_path = output ? output : p;
-    if (!force && file_exists(out_path)) {
+    const bool exists = root && !force && file_exists(out_path);
+    if (exists)
       std::fprintf(stderr, "granary run: output '%s' exists; give --force to overwrite it, or -o another file\n",
                    out_path.c_str());
+    if (!cli_mpi_all(!exists)) {
       gran_scene_destroy(&scene);
       return 1;
     }
@@ -399,9 +434,10 @@ int cli_run(int argc, char **argv) {
       return 1;
     }
     gran_scene_destroy(&scene);
-    if (!res.finished) return stopped(res, out_path, ck_path);
+    if (!res.finished) return root ? stopped(res, out_path, ck_path) : (g_interrupted ? 130 : 0);
   }
-  if (!res.finished) return stopped(res, out_path, resume);
+  if (!res.finished) return root ? stopped(res, out_path, resume) : (g_interrupted ? 130 : 0);
+  if (!root) return 0;
   int64_t nwarn = 0;
   gran_warning_count(&nwarn);
   if (nwarn > 0) {
@@ -412,5 +448,11 @@ int cli_run(int argc, char **argv) {
   std::printf("granary run: wrote %s (%" PRId64 " collisions, t = %.6g, %.1f s, %.3g collisions/s)\n", out_path.c_str(),
               res.collisions, res.time, res.wall_seconds, res.wall_seconds > 0 ? (double)res.collisions / res.wall_seconds : 0.0);
   if (!quiet) summary(out_path);
+  if (!quiet && cli_mpi_size() > 1) {
+    long long steps = 0, bytes = 0;
+    cli_mpi_stats(&steps, &bytes);
+    std::printf("mpi: %d processes; rank 0 received %lld bytes from the others in %lld gathers\n", cli_mpi_size(), bytes,
+                steps);
+  }
   return 0;
 }

@@ -16,6 +16,7 @@ struct Entry {
 /* One line per engine. */
 const Entry kEngines[] = {
     {"dsmc", gran_engine_dsmc_create_},
+    {"srd", gran_engine_srd_create_}, /* GSRD (src/srd), engine_srd.cpp */
 };
 
 }  // namespace

@@ -109,6 +109,8 @@ int gran_engine_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
 
 /* engine_dsmc.cpp */
 int gran_engine_dsmc_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
+/* engine_srd.cpp (GSRD) */
+int gran_engine_srd_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
 
 /* run.cpp: where a stopped run writes what it recorded (OUT.h5 -> OUT.partial.h5), and the
  * checkpoint path of a run (NULL checkpoint: the scene's; its default OUTPUT.ckpt follows output). */

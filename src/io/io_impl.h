@@ -74,6 +74,19 @@ struct gran_scene {
   double checkpoint_interval = 600.0;
   int64_t checkpoint_every = 0;
   int keep_checkpoint = 0;
+
+  /* ---- GSRD scenes (`[engine] type = "srd"`; parsed by parse_scene_srd in scene.cpp, run by
+   * src/io/engine_srd.cpp). The DSMC fields above keep their defaults in such a scene. ---- */
+  struct srd_part {
+    gran_srd_options opt = {};       /* every engine key, as gran_srd_create takes it */
+    std::string device = "cpu";      /* [engine] device: "cpu" | "cuda" | "auto" */
+    int64_t steps = 0;               /* steps of the run (t_end = steps dt) */
+    std::vector<int64_t> out_steps;  /* step of each output time (times[i] = out_steps[i] dt) */
+    int obs_temperature = 1, obs_energy = 1, obs_momentum = 1, obs_clustering = 1, obs_a2 = 0;
+    int obs_sk = 0, obs_stress = 0, obs_profile = 0, obs_theory = 1;
+    int64_t sk_bins = 0;             /* S(k) shells (0: cells[0] / 2) */
+    std::vector<int64_t> snap_index; /* output indices with a field snapshot */
+  } srd;
 };
 
 /* scene.cpp */

@@ -8,7 +8,9 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <chrono>
 #include <cstdio>
@@ -18,6 +20,7 @@
 #include <unistd.h>
 
 #include "io/engine.h"
+#include "io/run_comm.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -42,12 +45,17 @@ struct Run {
   const gran_scene *s = nullptr;
   gran_scene *owned_scene = nullptr;
   std::vector<Replica> reps; /* R >= 1; replica 0 is the run without replicas */
+  gran_run_comm comm;        /* the processes (run_comm.h); size 1: this process alone */
+  std::vector<int64_t> mine; /* the replicas this process runs: k % comm.size == comm.rank */
+  int64_t events_all = 0;    /* rank 0: engine events of all replicas at the last exchange */
   int64_t R = 1;
   int keep = 0;              /* keep_replicas */
   int threads = 1;           /* threads used for the replicas */
   int64_t next = 0;          /* output times recorded */
   std::string out, ckpt;
-  gran_engine *eng() const { return reps[0].eng.get(); }
+  gran_engine *eng() const { return reps[0].eng.get(); } /* rank 0 only (it runs replica 0) */
+  bool root() const { return comm.rank == 0; }
+  bool owns(int64_t k) const { return k % comm.size == comm.rank; }
   ~Run() {
     reps.clear();
     gran_scene_destroy(&owned_scene);
@@ -55,30 +63,152 @@ struct Run {
 };
 
 int g_threads = 0; /* gran_set_threads; 0: the OpenMP default (OMP_NUM_THREADS) */
+gran_run_comm g_comm; /* gran_run_set_comm_; size 1: one process */
 
-/* fn(r) for every replica, in `threads` OpenMP threads. Errors are per thread (thread-local
- * messages): the first failing replica, in replica order, is reported on the calling thread. */
+/* fn(k) for every replica k of this process, in `threads` OpenMP threads. Errors are per thread
+ * (thread-local messages): the first failing replica, in replica order, is reported on the
+ * calling thread. */
 template <class F>
 int for_replicas(Run &r, F fn) {
-  if (r.R == 1) return fn((int64_t)0);
-  std::vector<int> st((size_t)r.R, GRAN_SUCCESS);
-  std::vector<std::string> msg((size_t)r.R);
-  const int64_t R = r.R;
+  const int64_t n = (int64_t)r.mine.size();
+  if (n == 0) return GRAN_SUCCESS; /* an idle process (fewer replicas than processes) */
+  if (r.R == 1) return fn(r.mine[0]);
+  std::vector<int> st((size_t)n, GRAN_SUCCESS);
+  std::vector<std::string> msg((size_t)n);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(r.threads)
-  for (int64_t k = 0; k < R; k++) {
+  for (int64_t j = 0; j < n; j++) {
+    const int64_t k = r.mine[(size_t)j];
     int x = GRAN_SUCCESS;
     try {
       x = fn(k);
     } catch (...) {
       x = GRAN_ERROR(GRAN_ERR_INTERNAL, "exception in replica %" PRId64, k);
     }
-    st[(size_t)k] = x;
-    if (x != GRAN_SUCCESS) msg[(size_t)k] = gran_last_error_message();
+    st[(size_t)j] = x;
+    if (x != GRAN_SUCCESS) msg[(size_t)j] = gran_last_error_message();
   }
-  for (int64_t k = 0; k < R; k++)
-    if (st[(size_t)k] != GRAN_SUCCESS)
-      return GRAN_ERROR(st[(size_t)k], "replica %" PRId64 ": %s", k, msg[(size_t)k].c_str());
+  for (int64_t j = 0; j < n; j++)
+    if (st[(size_t)j] != GRAN_SUCCESS)
+      return GRAN_ERROR(st[(size_t)j], "replica %" PRId64 ": %s", r.mine[(size_t)j], msg[(size_t)j].c_str());
   return GRAN_SUCCESS;
+}
+
+/* ---- the processes of an MPI run (run_comm.h) -----------------------------------------------
+ * Each step of a run with P > 1 is collective: every rank sends rank 0 a Part (its status, the
+ * message of a failure, its engine events and a payload), rank 0 answers every rank with one
+ * Verdict (the first failure in rank order, or go on; stop; write a checkpoint). With P = 1 both
+ * are local and a failure keeps its message as it was set. */
+struct Part {
+  int64_t st = 0, events = 0;
+  std::string msg, payload;
+};
+struct Verdict {
+  int64_t st = 0, stop = 0, ckpt = 0;
+  std::string msg;
+};
+
+void put_i64(std::string &s, int64_t v) { s.append(reinterpret_cast<const char *>(&v), sizeof v); }
+bool get_i64(const std::string &s, size_t &at, int64_t *v) {
+  if (at + sizeof *v > s.size()) return false;
+  std::memcpy(v, s.data() + at, sizeof *v);
+  at += sizeof *v;
+  return true;
+}
+int comm_error(const char *what) { return GRAN_ERROR(GRAN_ERR_IO, "MPI: %s failed", what); }
+
+/* Every rank's part to rank 0: parts (rank order) on rank 0; untouched on the others. */
+int gather_parts(Run &r, int st, int64_t events, std::string payload, std::vector<Part> *parts) {
+  Part me;
+  me.st = st;
+  me.events = events;
+  if (st != GRAN_SUCCESS) me.msg = gran_last_error_message();
+  else me.payload = std::move(payload);
+  if (r.comm.size == 1) {
+    parts->clear();
+    parts->push_back(std::move(me));
+    return GRAN_SUCCESS;
+  }
+  std::string b;
+  put_i64(b, me.st);
+  put_i64(b, me.events);
+  put_i64(b, (int64_t)me.msg.size());
+  b += me.msg;
+  b += me.payload;
+  std::string().swap(me.payload);
+  std::vector<std::string> all;
+  if (r.comm.gather(r.comm.ctx, b, &all)) return comm_error("gather");
+  if (!r.root()) return GRAN_SUCCESS;
+  GRAN_CHECK((int)all.size() == r.comm.size, GRAN_ERR_INTERNAL, "MPI: gathered %zu parts from %d processes", all.size(),
+             r.comm.size);
+  parts->assign(all.size(), Part());
+  for (size_t p = 0; p < all.size(); p++) {
+    size_t at = 0;
+    int64_t n = 0;
+    Part &x = (*parts)[p];
+    GRAN_CHECK(get_i64(all[p], at, &x.st) && get_i64(all[p], at, &x.events) && get_i64(all[p], at, &n) && n >= 0 &&
+                   at + (size_t)n <= all[p].size(),
+               GRAN_ERR_INTERNAL, "MPI: malformed message from process %zu", p);
+    x.msg = all[p].substr(at, (size_t)n);
+    x.payload = all[p].substr(at + (size_t)n);
+    std::string().swap(all[p]);
+  }
+  return GRAN_SUCCESS;
+}
+
+/* rank 0: the first failing part, in rank order, into v */
+void first_failure(const Run &r, const std::vector<Part> &parts, Verdict *v) {
+  for (size_t p = 0; p < parts.size(); p++)
+    if (parts[p].st != GRAN_SUCCESS) {
+      v->st = parts[p].st;
+      v->msg = r.comm.size == 1 || p == 0 ? parts[p].msg
+                                         : "process " + std::to_string(p) + " of " + std::to_string(r.comm.size) + ": " + parts[p].msg;
+      return;
+    }
+}
+
+/* Rank 0's verdict to every rank; returns its status, with its message, on every rank. */
+int share_verdict(Run &r, Verdict *v) {
+  if (r.comm.size == 1) return (int)v->st; /* the message is the one set where it failed */
+  std::string b;
+  if (r.root()) {
+    put_i64(b, v->st);
+    put_i64(b, v->stop);
+    put_i64(b, v->ckpt);
+    b += v->msg;
+  }
+  if (r.comm.bcast(r.comm.ctx, &b)) return comm_error("broadcast");
+  size_t at = 0;
+  GRAN_CHECK(get_i64(b, at, &v->st) && get_i64(b, at, &v->stop) && get_i64(b, at, &v->ckpt), GRAN_ERR_INTERNAL,
+             "MPI: malformed verdict");
+  v->msg = b.substr(at);
+  if (v->st != GRAN_SUCCESS) return GRAN_ERROR((int)v->st, "%s", v->msg.c_str());
+  return GRAN_SUCCESS;
+}
+
+/* Collective: every rank's status st; the first failure (rank order) on every rank. */
+int sync_status(Run &r, int st) {
+  if (r.comm.size == 1) return st;
+  std::vector<Part> parts;
+  GRAN_CALL(gather_parts(r, st, 0, std::string(), &parts));
+  Verdict v;
+  if (r.root()) first_failure(r, parts, &v);
+  return share_verdict(r, &v);
+}
+
+/* An HDF5 file opened read-only from its bytes (the core driver; the bytes are copied). */
+int64_t open_image(const std::string &bytes) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  static std::atomic<uint64_t> serial{0};
+  char name[80];
+  std::snprintf(name, sizeof name, "granary-received-image-%d-%llu", (int)getpid(),
+                (unsigned long long)serial.fetch_add(1));
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  hid_t f = -1;
+  if (fapl >= 0 && H5Pset_fapl_core(fapl, (size_t)1 << 20, 0) >= 0 &&
+      H5Pset_file_image(fapl, const_cast<char *>(bytes.data()), bytes.size()) >= 0)
+    f = H5Fopen(name, H5F_ACC_RDONLY, fapl);
+  if (fapl >= 0) H5Pclose(fapl);
+  return (int64_t)f;
 }
 
 /* Seed of replica k: the scene's seed for replica 0, else the first number of RNG stream k. */
@@ -302,7 +432,25 @@ int write_output(Run &r, const std::string &path, int64_t nrec) {
 std::string engine_group(int64_t k) { return k == 0 ? "/engine" : "/replicas/" + std::to_string(k) + "/engine"; }
 std::string observer_group(int64_t k) { return k == 0 ? "observer" : "replicas/" + std::to_string(k) + "/observer"; }
 
-int write_checkpoint(Run &r) {
+/* The engine states of this process's replicas as the bytes of an HDF5 file built in memory
+ * (groups named as in the checkpoint), for rank 0 to copy into the one checkpoint file. */
+int engine_image(Run &r, std::string *img) {
+  const char *file = r.ckpt.c_str();
+  H5File f;
+  f.id = gran_h5::create_memory_file();
+  GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "HDF5: cannot create the engine states for '%s' in memory", file);
+  for (int64_t k : r.mine) GRAN_CALL(r.reps[(size_t)k].eng->checkpoint_write(f.id, file, engine_group(k).c_str()));
+  ssize_t n = H5Fflush((hid_t)f.id, H5F_SCOPE_GLOBAL) >= 0 ? H5Fget_file_image((hid_t)f.id, nullptr, 0) : -1;
+  if (n > 0) {
+    img->resize((size_t)n);
+    if (H5Fget_file_image((hid_t)f.id, &(*img)[0], (size_t)n) != n) n = -1;
+  }
+  GRAN_CHECK(n > 0, GRAN_ERR_IO, "HDF5: cannot assemble the engine states for '%s' in memory", file);
+  return GRAN_SUCCESS;
+}
+
+/* Rank 0: the checkpoint file, with the engine states the other ranks sent (parts[p].payload). */
+int write_checkpoint_root(Run &r, const std::vector<Part> &parts) {
   const char *file = r.ckpt.c_str();
   {
     /* built in memory and written with its checksum (see write_output); the engines first, then
@@ -310,8 +458,24 @@ int write_checkpoint(Run &r) {
     H5File f;
     f.id = gran_h5::create_memory_file();
     GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "HDF5: cannot create the checkpoint '%s' in memory", file);
-    for (int64_t k = 0; k < r.R; k++)
+    for (int64_t k : r.mine)
       GRAN_CALL(r.reps[(size_t)k].eng->checkpoint_write(f.id, file, engine_group(k).c_str()));
+    for (size_t p = 1; p < parts.size(); p++) {
+      if ((int64_t)p >= r.R) break; /* idle processes */
+      H5File src;
+      src.id = open_image(parts[p].payload);
+      GRAN_CHECK(src.id >= 0, GRAN_ERR_IO, "checkpoint '%s': cannot read the engine states of process %zu", file, p);
+      hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+      H5Pset_create_intermediate_group(lcpl, 1);
+      herr_t e = 0;
+      int64_t bad = -1;
+      for (int64_t k = (int64_t)p; k < r.R && e >= 0; k += r.comm.size) {
+        e = H5Ocopy((hid_t)src.id, engine_group(k).c_str(), (hid_t)f.id, engine_group(k).c_str(), H5P_DEFAULT, lcpl);
+        if (e < 0) bad = k;
+      }
+      H5Pclose(lcpl);
+      GRAN_CHECK(e >= 0, GRAN_ERR_IO, "checkpoint '%s': cannot copy the engine state of replica %" PRId64, file, bad);
+    }
     GRAN_CALL(write_root_attrs(r, f.id, file, kCheckpointFormat));
     GRAN_CALL(gran_h5::attr_string(f.id, "output", r.out, file));
     GRAN_CALL(gran_h5::attr_int64(f.id, "next_index", r.next, file));
@@ -331,9 +495,33 @@ int write_checkpoint(Run &r) {
   }
 }
 
-int read_checkpoint_observer(Run &r, const char *path) {
+/* Collective: every rank's engine states into the one checkpoint file rank 0 writes. */
+int write_checkpoint(Run &r) {
+  std::string img;
+  int st = GRAN_SUCCESS;
+  if (!r.root() && !r.mine.empty()) st = engine_image(r, &img);
+  std::vector<Part> parts;
+  GRAN_CALL(gather_parts(r, st, 0, std::move(img), &parts));
+  Verdict v;
+  if (r.root()) {
+    first_failure(r, parts, &v);
+    if (!v.st && (st = write_checkpoint_root(r, parts)) != GRAN_SUCCESS) {
+      v.st = st;
+      v.msg = gran_last_error_message();
+    }
+  }
+  return share_verdict(r, &v);
+}
+
+/* The checkpoint: from disk with one process; from the bytes rank 0 read and broadcast with more
+ * (the other ranks need not see rank 0's files). */
+int64_t open_checkpoint(const Run &r, const char *path, const std::string &bytes) {
+  return r.comm.size == 1 ? gran_h5::open_file(path, 0) : open_image(bytes);
+}
+
+int read_checkpoint_observer(Run &r, const char *path, const std::string &bytes) {
   H5File f;
-  f.id = gran_h5::open_file(path, 0);
+  f.id = open_checkpoint(r, path, bytes);
   GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot open checkpoint '%s'", path);
   int64_t next = -1;
   GRAN_CALL(gran_h5::read_attr_int64(f.id, "next_index", &next, path));
@@ -341,6 +529,7 @@ int read_checkpoint_observer(Run &r, const char *path) {
              "checkpoint '%s': next_index %" PRId64 " out of range", path, next);
   r.next = next;
   for (int64_t k = 0; k < r.R; k++) {
+    if (!r.root() && !r.owns(k)) continue; /* rank 0 holds every replica's rows, the others their own */
     const std::string og = observer_group(k);
     H5Group g;
     g.id = gran_h5::exists(f.id, og.c_str()) ? H5Gopen2((hid_t)f.id, og.c_str(), H5P_DEFAULT) : -1;
@@ -370,32 +559,64 @@ int prepare(Run &r) {
   const int64_t nt = (int64_t)r.s->times.size();
   r.reps.clear();
   r.reps.resize((size_t)r.R);
-  for (int64_t k = 0; k < r.R; k++) {
+  r.mine.clear();
+  for (int64_t k = 0; k < r.R; k++)
+    if (r.owns(k)) r.mine.push_back(k);
+  const int64_t nmine = (int64_t)r.mine.size(), nheld = r.root() ? r.R : nmine;
+  for (int64_t k : r.mine) {
     Replica &p = r.reps[(size_t)k];
     GRAN_CALL(gran_engine_create_(r.s, p.eng));
     GRAN_CALL(p.eng->declare(p.bufs));
-    if (k == 0) {
+    if (k == r.mine[0]) {
       int64_t bytes = 0;
       GRAN_CALL(p.eng->memory(&bytes));
       double rows = 0;
       for (const auto &b : p.bufs) rows += (double)b.row * (double)nt * 8.0;
-      const double need = ((double)bytes + rows) * (double)r.R, avail = memory_available();
+      /* engines of this process's replicas; rows of every replica on rank 0 */
+      const double need = (double)bytes * (double)nmine + rows * (double)nheld, avail = memory_available();
       GRAN_CHECK(avail < 0 || need <= avail, GRAN_ERR_NOMEM,
-                 "%" PRId64 " replica(s) of this scene need about %.3g GB (%.3g GB each, all in memory at once), "
+                 "%" PRId64 " replica(s) of this scene need about %.3g GB%s (%.3g GB each, all in memory at once), "
                  "more than the %.3g GB available: lower [engine] replicas (--replicas) or the particle numbers",
-                 r.R, need / 1e9, need / 1e9 / (double)r.R, avail / 1e9);
+                 nmine, need / 1e9, r.comm.size > 1 ? " on this process" : "", need / 1e9 / (double)nmine, avail / 1e9);
     }
-    for (auto &b : p.bufs) {
+  }
+  /* rank 0 records the rows of the other processes' replicas: buffers laid out as replica 0's */
+  if (r.root())
+    for (int64_t k = 0; k < r.R; k++)
+      if (!r.owns(k)) r.reps[(size_t)k].bufs = r.reps[0].bufs;
+  for (int64_t k = 0; k < r.R; k++)
+    for (auto &b : r.reps[(size_t)k].bufs) {
       if (b.is_int) b.n.assign((size_t)(b.row * nt), 0);
       else b.d.assign((size_t)(b.row * nt), 0.0);
     }
-  }
   int nth = g_threads;
 #ifdef _OPENMP
   if (nth <= 0) nth = omp_get_max_threads();
 #endif
   if (nth <= 0) nth = 1;
-  r.threads = (int)std::min<int64_t>(nth, r.R);
+  r.threads = (int)std::max<int64_t>(1, std::min<int64_t>(nth, nmine));
+  return GRAN_SUCCESS;
+}
+
+/* The files of a run: distinct, and writable (before any work). */
+int check_files(Run &r, const std::string &scene_file) {
+  GRAN_CALL(check_distinct(r, scene_file));
+  GRAN_CALL(check_writable(r.out, "output file"));
+  if (!r.ckpt.empty()) GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
+  return GRAN_SUCCESS;
+}
+
+/* Rank 0: the whole checkpoint file, after its checksum is verified. */
+int read_whole(const char *path, std::string *bytes) {
+  GRAN_CALL(gran_h5::verify_file(path, "checkpoint"));
+  FILE *f = std::fopen(path, "rb");
+  GRAN_CHECK(f, GRAN_ERR_IO, "cannot open checkpoint '%s': %s", path, std::strerror(errno));
+  char buf[1 << 16];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) bytes->append(buf, n);
+  const bool bad = std::ferror(f) != 0;
+  std::fclose(f);
+  GRAN_CHECK(!bad, GRAN_ERR_IO, "cannot read checkpoint '%s'", path);
   return GRAN_SUCCESS;
 }
 
@@ -408,24 +629,92 @@ int start_replicas(Run &r) {
   });
 }
 
+/* Engine events of this process's replicas. */
+int local_events(Run &r, int64_t *ev) {
+  *ev = 0;
+  for (int64_t k : r.mine) {
+    gran_engine_state a;
+    GRAN_CALL(r.reps[(size_t)k].eng->state(&a));
+    *ev += a.events;
+  }
+  return GRAN_SUCCESS;
+}
+
+/* Rows i of this process's replicas (replica order, buffer order), 8 bytes an element. */
+std::string pack_rows(const Run &r, int64_t i) {
+  std::string b;
+  for (int64_t k : r.mine)
+    for (const auto &q : r.reps[(size_t)k].bufs) {
+      const char *src = q.is_int ? (const char *)(q.n.data() + i * q.row) : (const char *)(q.d.data() + i * q.row);
+      b.append(src, (size_t)q.row * 8);
+    }
+  return b;
+}
+
+/* Rank 0: rows i of the replicas of process p (k = p, p + P, ...) from its payload. */
+int unpack_rows(Run &r, int64_t i, size_t p, const std::string &b) {
+  size_t at = 0;
+  for (int64_t k = (int64_t)p; k < r.R; k += r.comm.size)
+    for (auto &q : r.reps[(size_t)k].bufs) {
+      const size_t n = (size_t)q.row * 8;
+      GRAN_CHECK(at + n <= b.size(), GRAN_ERR_INTERNAL, "MPI: process %zu sent %zu bytes of rows, too few", p, b.size());
+      char *dst = q.is_int ? (char *)(q.n.data() + i * q.row) : (char *)(q.d.data() + i * q.row);
+      std::memcpy(dst, b.data() + at, n);
+      at += n;
+    }
+  GRAN_CHECK(at == b.size(), GRAN_ERR_INTERNAL, "MPI: process %zu sent %zu bytes of rows, %zu expected", p, b.size(), at);
+  return GRAN_SUCCESS;
+}
+
+/* Collective: statuses and events of every rank (rows i with them when i >= 0) to rank 0, which
+ * files the rows and sums the events into r.events_all; v gets the first failure. */
+int exchange(Run &r, int st, int64_t i, Verdict *v) {
+  int64_t ev = 0;
+  if (st == GRAN_SUCCESS) st = local_events(r, &ev);
+  std::string rows;
+  if (st == GRAN_SUCCESS && i >= 0 && !r.root()) rows = pack_rows(r, i);
+  std::vector<Part> parts;
+  GRAN_CALL(gather_parts(r, st, ev, std::move(rows), &parts));
+  if (!r.root()) return GRAN_SUCCESS;
+  first_failure(r, parts, v);
+  if (v->st) return GRAN_SUCCESS;
+  r.events_all = 0;
+  for (size_t p = 0; p < parts.size(); p++) {
+    r.events_all += parts[p].events;
+    if (p > 0 && i >= 0 && (int64_t)p < r.R && (st = unpack_rows(r, i, p, parts[p].payload)) != GRAN_SUCCESS) {
+      v->st = st;
+      v->msg = gran_last_error_message();
+      return GRAN_SUCCESS;
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
 /* The loop shared by run and resume: record rows next..ntimes-1, checkpoint, finish.
- * Progress and ETA are weighted by the engine's work estimate to each output time. */
+ * Progress and ETA are weighted by the engine's work estimate to each output time. With several
+ * processes every step is collective; rank 0 alone calls the progress callback, decides on
+ * checkpoints and stopping, and writes files. */
 int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
   const gran_scene *s = r.s;
   const int64_t nt = (int64_t)s->times.size();
+  const bool root = r.root();
   const double w0 = now_s();
   double w_ckpt = w0;
-  /* events summed over the replicas; time: replica 0's */
+  /* events summed over the replicas (all processes, as of the last exchange); time: replica 0's */
   auto state = [&](gran_engine_state *x) -> int {
-    gran_engine_state a, sum;
-    for (int64_t k = 0; k < r.R; k++) {
-      GRAN_CALL(r.reps[(size_t)k].eng->state(&a));
-      if (k == 0) sum.time = a.time;
-      sum.events += a.events;
-    }
-    *x = sum;
+    gran_engine_state a;
+    if (root) GRAN_CALL(r.reps[0].eng->state(&a));
+    else if (!r.mine.empty()) GRAN_CALL(r.reps[(size_t)r.mine[0]].eng->state(&a));
+    a.events = r.events_all;
+    *x = a;
     return GRAN_SUCCESS;
   };
+  {
+    Verdict v;
+    GRAN_CALL(exchange(r, GRAN_SUCCESS, -1, &v));
+    GRAN_CALL(share_verdict(r, &v));
+  }
+  if (!root) GRAN_CALL(local_events(r, &r.events_all)); /* their own, for their (unused) result */
   gran_engine_state st;
   GRAN_CALL(state(&st));
   const int64_t ev0 = st.events;
@@ -443,8 +732,9 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
     if (res) *res = rr;
   };
   /* work[i]: estimated work from the start to output time i; work[nt]: to t_end */
+  const bool progress = root && ctl && ctl->progress;
   std::vector<double> work, tw(s->times);
-  if (ctl && ctl->progress) {
+  if (progress) {
     tw.push_back(s->t_end);
     work.assign(tw.size(), 0.0);
     GRAN_CALL(r.eng()->work((int64_t)tw.size(), tw.data(), work.data())); /* the same for every replica */
@@ -452,67 +742,81 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
   const int64_t first = r.next;
   while (r.next < nt) {
     const int64_t i = r.next;
-    GRAN_CALL(for_replicas(r, [&](int64_t k) {
-      Replica &p = r.reps[(size_t)k];
-      GRAN_CALL(p.eng->advance(s->times[(size_t)i]));
-      return p.eng->record(p.bufs, i);
-    }));
+    Verdict v;
+    GRAN_CALL(exchange(r, for_replicas(r, [&](int64_t k) {
+                          Replica &p = r.reps[(size_t)k];
+                          GRAN_CALL(p.eng->advance(s->times[(size_t)i]));
+                          return p.eng->record(p.bufs, i);
+                        }),
+                       i, &v));
     r.next = i + 1;
-    int stop = 0;
-    if (ctl && ctl->progress) {
-      gran_engine_state x;
-      GRAN_CALL(state(&x));
-      gran_run_progress p = {};
-      const double wall = now_s() - w0;
-      const double W = std::max(work[(size_t)nt], work[(size_t)(nt - 1)]);
-      const double Wa = first > 0 ? work[(size_t)(first - 1)] : 0.0, Wi = work[(size_t)i];
-      p.time = x.time;
-      p.t_start = s->t_start;
-      p.t_end = s->t_end;
-      p.fraction = W > 0 ? std::min(1.0, Wi / W) : (double)r.next / (double)nt;
-      p.wall_seconds = wall;
-      p.collisions = x.events;
-      p.collisions_per_second = wall > 0 ? (double)(x.events - ev0) / wall : 0.0;
-      if (W > Wa && Wi > Wa && wall > 0) {
-        p.eta_seconds = wall * std::max(0.0, W - Wi) / (Wi - Wa);
+    if (root && !v.st) {
+      int stop = 0;
+      if (progress) {
+        gran_engine_state x;
+        GRAN_CALL(state(&x));
+        gran_run_progress p = {};
+        const double wall = now_s() - w0;
+        const double W = std::max(work[(size_t)nt], work[(size_t)(nt - 1)]);
+        const double Wa = first > 0 ? work[(size_t)(first - 1)] : 0.0, Wi = work[(size_t)i];
+        p.time = x.time;
+        p.t_start = s->t_start;
+        p.t_end = s->t_end;
+        p.fraction = W > 0 ? std::min(1.0, Wi / W) : (double)r.next / (double)nt;
+        p.wall_seconds = wall;
+        p.collisions = x.events;
+        p.collisions_per_second = wall > 0 ? (double)(x.events - ev0) / wall : 0.0;
+        if (W > Wa && Wi > Wa && wall > 0) {
+          p.eta_seconds = wall * std::max(0.0, W - Wi) / (Wi - Wa);
+        } else {
+          const double done = (double)(r.next - first) / (double)(nt - first);
+          p.eta_seconds = done > 0 && wall > 0 ? wall * (1.0 - done) / done : -1.0;
+        }
+        p.output_index = r.next;
+        p.noutputs = nt;
+        p.checkpoints = nckpt;
+        stop = ctl->progress(&p, ctl->progress_params) != 0;
+      }
+      if (r.next >= nt || r.ckpt.empty()) {
+        v.stop = stop && r.next < nt;
       } else {
-        const double done = (double)(r.next - first) / (double)(nt - first);
-        p.eta_seconds = done > 0 && wall > 0 ? wall * (1.0 - done) / done : -1.0;
+        const bool due = stop || (s->checkpoint_every > 0 && r.next % s->checkpoint_every == 0) ||
+                         (s->checkpoint_interval > 0 && now_s() - w_ckpt >= s->checkpoint_interval);
+        v.ckpt = due;
+        v.stop = due && (stop || (ctl && ctl->stop_after_checkpoints > 0 && nckpt + 1 >= ctl->stop_after_checkpoints));
       }
-      p.output_index = r.next;
-      p.noutputs = nt;
-      p.checkpoints = nckpt;
-      stop = ctl->progress(&p, ctl->progress_params) != 0;
     }
-    if (r.next >= nt || r.ckpt.empty()) {
-      if (stop && r.next < nt) {
-        GRAN_CALL(write_output(r, gran_partial_path_(r.out), r.next));
-        fill(0);
-        return GRAN_SUCCESS;
-      }
-      continue;
-    }
-    const bool due = stop || (s->checkpoint_every > 0 && r.next % s->checkpoint_every == 0) ||
-                     (s->checkpoint_interval > 0 && now_s() - w_ckpt >= s->checkpoint_interval);
-    if (due) {
+    GRAN_CALL(share_verdict(r, &v));
+    if (v.ckpt) {
       GRAN_CALL(write_checkpoint(r));
       w_ckpt = now_s();
       nckpt++;
-      if (stop || (ctl && ctl->stop_after_checkpoints > 0 && nckpt >= ctl->stop_after_checkpoints)) {
-        GRAN_CALL(write_output(r, gran_partial_path_(r.out), r.next));
-        fill(0);
-        return GRAN_SUCCESS;
-      }
+    }
+    if (v.stop) {
+      GRAN_CALL(sync_status(r, root ? write_output(r, gran_partial_path_(r.out), r.next) : GRAN_SUCCESS));
+      fill(0);
+      return GRAN_SUCCESS;
     }
   }
-  GRAN_CALL(for_replicas(r, [&](int64_t k) {
-    gran_engine_state x;
-    GRAN_CALL(r.reps[(size_t)k].eng->state(&x));
-    return x.time < s->t_end ? r.reps[(size_t)k].eng->advance(s->t_end) : GRAN_SUCCESS;
-  }));
-  GRAN_CALL(write_output(r, r.out, nt));
-  std::remove(gran_partial_path_(r.out).c_str());
-  if (!r.ckpt.empty() && !s->keep_checkpoint) std::remove(r.ckpt.c_str());
+  Verdict v;
+  GRAN_CALL(exchange(r, for_replicas(r, [&](int64_t k) {
+                        gran_engine_state x;
+                        GRAN_CALL(r.reps[(size_t)k].eng->state(&x));
+                        return x.time < s->t_end ? r.reps[(size_t)k].eng->advance(s->t_end) : GRAN_SUCCESS;
+                      }),
+                     -1, &v));
+  if (!root) GRAN_CALL(local_events(r, &r.events_all));
+  if (root && !v.st) {
+    const int wst = write_output(r, r.out, nt);
+    if (wst != GRAN_SUCCESS) {
+      v.st = wst;
+      v.msg = gran_last_error_message();
+    } else {
+      std::remove(gran_partial_path_(r.out).c_str());
+      if (!r.ckpt.empty() && !s->keep_checkpoint) std::remove(r.ckpt.c_str());
+    }
+  }
+  GRAN_CALL(share_verdict(r, &v));
   fill(1);
   return GRAN_SUCCESS;
 }
@@ -543,18 +847,19 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
              "argument 'ctl->stop_after_checkpoints' is negative (%" PRId64 ")", ctl ? ctl->stop_after_checkpoints : 0);
   GRAN_TRY {
     Run r;
+    r.comm = g_comm;
     r.s = scene;
     r.out = output ? output : scene->output_path;
     r.ckpt = gran_run_checkpoint_path_(scene, output, checkpoint);
     GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");
-    GRAN_CALL(check_distinct(r, scene->name));
     if (result) *result = gran_run_result{};
-    GRAN_CALL(check_writable(r.out, "output file"));
-    if (!r.ckpt.empty()) GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
+    /* rank 0 alone touches the output and checkpoint files */
+    GRAN_CALL(sync_status(r, r.root() ? check_files(r, scene->name) : GRAN_SUCCESS));
     r.R = scene->replicas;
     r.keep = scene->keep_replicas;
-    GRAN_CALL(prepare(r));
-    GRAN_CALL(start_replicas(r));
+    int st = prepare(r);
+    if (st == GRAN_SUCCESS) st = start_replicas(r);
+    GRAN_CALL(sync_status(r, st));
     return drive(r, ctl, result);
   }
   GRAN_CATCH
@@ -569,12 +874,19 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
              "argument 'ctl->stop_after_checkpoints' is negative (%" PRId64 ")", ctl ? ctl->stop_after_checkpoints : 0);
   GRAN_TRY {
     Run r;
-    std::string text, name, format, out;
-    /* the whole file against its checksum before HDF5 parses any of it */
-    GRAN_CALL(gran_h5::verify_file(checkpoint, "checkpoint"));
+    r.comm = g_comm;
+    std::string text, name, format, out, bytes;
+    /* the whole file against its checksum before HDF5 parses any of it; with several processes
+     * rank 0 reads it and every rank gets its bytes */
+    if (r.comm.size == 1) {
+      GRAN_CALL(gran_h5::verify_file(checkpoint, "checkpoint"));
+    } else {
+      GRAN_CALL(sync_status(r, r.root() ? read_whole(checkpoint, &bytes) : GRAN_SUCCESS));
+      if (r.comm.bcast(r.comm.ctx, &bytes)) return comm_error("broadcast of the checkpoint");
+    }
     {
       H5File f;
-      f.id = gran_h5::open_file(checkpoint, 0);
+      f.id = open_checkpoint(r, checkpoint, bytes);
       GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot open checkpoint '%s' (missing or not HDF5)", checkpoint);
       GRAN_CALL(gran_h5::read_attr_string(f.id, "format", format, checkpoint));
       GRAN_CHECK(format == kCheckpointFormat, GRAN_ERR_IO, "'%s' is not a granary checkpoint (format '%s')", checkpoint,
@@ -595,19 +907,20 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
     r.out = output ? output : out;
     r.ckpt = checkpoint;
     GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");
-    GRAN_CALL(check_distinct(r, name));
     if (result) *result = gran_run_result{};
-    GRAN_CALL(check_writable(r.out, "output file"));
-    GRAN_CALL(check_writable(r.ckpt, "checkpoint file"));
-    GRAN_CALL(prepare(r));
-    GRAN_CALL(read_checkpoint_observer(r, checkpoint));
-    {
+    GRAN_CALL(sync_status(r, r.root() ? check_files(r, name) : GRAN_SUCCESS));
+    auto restore = [&]() -> int {
+      GRAN_CALL(prepare(r));
+      GRAN_CALL(read_checkpoint_observer(r, checkpoint, bytes));
       H5File f;
-      f.id = gran_h5::open_file(checkpoint, 0);
+      f.id = open_checkpoint(r, checkpoint, bytes);
       GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot open checkpoint '%s'", checkpoint);
-      for (int64_t k = 0; k < r.R; k++)
+      for (int64_t k : r.mine)
         GRAN_CALL(r.reps[(size_t)k].eng->checkpoint_read(f.id, checkpoint, engine_group(k).c_str()));
-    }
+      return GRAN_SUCCESS;
+    };
+    GRAN_CALL(sync_status(r, restore()));
+    std::string().swap(bytes);
     return drive(r, ctl, result);
   }
   GRAN_CATCH
@@ -655,4 +968,8 @@ GRAN_EXTERN int gran_get_threads(int32_t *nthreads) {
 #endif
   *nthreads = n > 0 ? n : 1;
   return GRAN_SUCCESS;
+}
+
+void gran_run_set_comm_(const gran_run_comm *comm) {
+  g_comm = comm && comm->size > 1 ? *comm : gran_run_comm();
 }

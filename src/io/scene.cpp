@@ -446,9 +446,354 @@ void check_memory(const gran_scene &s, double limit, Tab &mx, Tab &en, Tab &ob) 
                                " available; reduce it, or set [engine] max_memory_gb to allow more");
 }
 
+/* ---- GSRD scenes (`[engine] type = "srd"`) ------------------------------------------------------
+ * Tables: [engine] (the gran_srd_options keys, steps or t_end, device), [boundaries]
+ * (lees_edwards, walls, vibrating_wall), [forces] (gravity, body_force), [observables], [output].
+ * Every check names the key and its line; what gran_srd_create would refuse is refused here. */
+
+/* `[engine] type = "srd"` (read before anything else: the two engines have different tables) */
+bool is_srd_scene(const toml::value &root) {
+  if (!root.is_table() || !root.as_table().count("engine")) return false;
+  const toml::value &en = root.as_table().at("engine");
+  if (!en.is_table() || !en.as_table().count("type")) return false;
+  const toml::value &t = en.as_table().at("type");
+  return t.is_string() && t.as_string().str == "srd";
+}
+
+/* an axis: "x" | "y" | "z" or 0 | 1 | 2, below dim */
+int srd_axis(Tab &t, const std::string &k, int dim) {
+  const toml::value &x = t.get(k);
+  int ax = -1;
+  if (x.is_string()) {
+    const std::string &v = x.as_string().str;
+    ax = v == "x" ? 0 : v == "y" ? 1 : v == "z" ? 2 : -2;
+    if (ax == -2) t.fail(k, "expected \"x\", \"y\" or \"z\", got \"" + v + "\"");
+  } else if (x.is_integer()) {
+    ax = (int)std::max<int64_t>(-1, std::min<int64_t>(3, x.as_integer()));
+    if (ax < 0 || ax > 2) t.fail(k, "expected 0, 1 or 2 (or \"x\", \"y\", \"z\")");
+  } else {
+    t.fail(k, std::string("expected an axis (\"x\", \"y\", \"z\"), got ") + Tab::type_name(x));
+  }
+  if (ax >= dim) t.fail(k, "axis " + std::to_string(ax) + " does not exist in " + std::to_string(dim) + "-D");
+  return ax;
+}
+
+/* a vector of `dim` numbers */
+void srd_vector(Tab &t, const std::string &k, int dim, double out[3]) {
+  std::vector<double> v = t.numbers(k);
+  if ((int)v.size() != dim)
+    t.fail(k, "has " + std::to_string(v.size()) + " entries, expected dimension = " + std::to_string(dim));
+  for (int i = 0; i < 3; i++) out[i] = i < dim ? v[(size_t)i] : 0.0;
+}
+
+/* rounds time t to the step grid */
+int64_t srd_step_of(double t, double dt) { return (int64_t)std::llround(t / dt); }
+
+void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
+  const std::string &F = s.name;
+  Tab top(&root, "", F);
+  for (const char *k : {"mixture", "restitution", "initial"})
+    if (top.has(k)) top.fail(k, "the [" + std::string(k) + "] table belongs to the DSMC engine; [engine] type = \"srd\" "
+                                 "sets its gas in [engine] (dimension, cells, n0, T0, eps, sigma)");
+  top.set_known({"title", "engine", "boundaries", "forces", "observables", "output"});
+  s.title = top.string("title", "");
+  gran_srd_options &o = s.srd.opt;
+  gran_srd_options_default(&o);
+  s.engine_type = "srd";
+  s.nspecies = 0;
+  s.obs_temperatures = s.obs_msd = s.obs_energy = s.obs_theory = 0;
+
+  /* ---- [engine] ---- */
+  Tab en = top.sub("engine");
+  en.set_known({"type", "dimension", "cells", "box", "a", "n0", "particles_per_cell", "dt", "alpha", "eps", "sigma",
+                "T0", "steps", "t_end", "seed", "sort_every", "threads", "device", "thermostat", "replicas",
+                "keep_replicas", "max_memory_gb"});
+  (void)en.string("type", "srd");
+  if (en.has("max_memory_gb")) require(en.number("max_memory_gb") > 0, en, "max_memory_gb", "must be > 0 (GB of memory the run may use)");
+  const int64_t dim = en.count("dimension", 3);
+  require(dim == 2 || dim == 3, en, "dimension", "must be 2 or 3, got " + std::to_string(dim));
+  o.dim = (int32_t)dim;
+  o.a = en.number("a", 1.0);
+  require(o.a > 0, en, "a", "cell size must be > 0, got " + Tab::num_str(o.a));
+  if (en.has("cells") && en.has("box")) en.fail("box", "give either 'cells' or 'box', not both");
+  if (!en.has("cells") && !en.has("box")) en.fail_missing("cells", "or box = [Lx, Ly(, Lz)] in length units");
+  for (int k = 0; k < 3; k++) o.cells[k] = 1;
+  if (en.has("cells")) {
+    const toml::value &x = en.get("cells");
+    std::vector<int64_t> c;
+    if (x.is_array()) {
+      for (const auto &e : x.as_array()) c.push_back(en.cnt("cells", e));
+    } else {
+      c.assign((size_t)dim, en.cnt("cells", x));
+    }
+    if ((int64_t)c.size() != dim)
+      en.fail("cells", "has " + std::to_string(c.size()) + " entries, expected dimension = " + std::to_string(dim));
+    for (int64_t k = 0; k < dim; k++) {
+      require(c[(size_t)k] >= 1 && c[(size_t)k] <= (1 << 20), en, "cells",
+              "cells per axis must be in [1, 2^20], got " + std::to_string(c[(size_t)k]));
+      o.cells[k] = c[(size_t)k];
+    }
+  } else {
+    const toml::value &x = en.get("box");
+    std::vector<double> b;
+    if (x.is_array()) {
+      for (const auto &e : x.as_array()) b.push_back(en.num("box", e));
+    } else {
+      b.assign((size_t)dim, en.num("box", x));
+    }
+    if ((int64_t)b.size() != dim)
+      en.fail("box", "has " + std::to_string(b.size()) + " entries, expected dimension = " + std::to_string(dim));
+    for (int64_t k = 0; k < dim; k++) {
+      const double L = b[(size_t)k] / o.a, r = std::nearbyint(L);
+      require(b[(size_t)k] > 0, en, "box", "lengths must be > 0");
+      require(std::fabs(L - r) <= 1e-9 * std::max(1.0, L) && r >= 1, en, "box",
+              "length " + Tab::num_str(b[(size_t)k]) + " is not a whole number of cells of size a = " + Tab::num_str(o.a) +
+                  " (" + Tab::num_str(L) + " cells)");
+      require(r <= (double)(1 << 20), en, "box", "more than 2^20 cells per axis");
+      o.cells[k] = (int64_t)r;
+    }
+  }
+  double ncell = 1;
+  for (int k = 0; k < dim; k++) ncell *= (double)o.cells[k];
+  require(ncell * 2.0 < 4294967295.0, en, en.has("cells") ? "cells" : "box",
+          Tab::num_str(ncell) + " cells: the engine indexes cells with 32 bits (at most about 2^31 cells)");
+  if (en.has("n0") && en.has("particles_per_cell")) en.fail("particles_per_cell", "give either 'n0' or 'particles_per_cell', not both");
+  const char *nk = en.has("particles_per_cell") ? "particles_per_cell" : "n0";
+  o.n0 = en.number(nk, 10.0);
+  require(o.n0 > 0, en, nk, "mean particles per cell must be > 0, got " + Tab::num_str(o.n0));
+  const double N = std::floor(o.n0 * ncell + 0.5);
+  require(N >= 1 && N < 4e9, en, nk, "gives " + Tab::num_str(N) + " particles (need 1 .. 4e9)");
+  o.dt = en.number("dt", 1.0);
+  require(o.dt > 0, en, "dt", "time step must be > 0, got " + Tab::num_str(o.dt));
+  o.alpha_deg = en.number("alpha", 130.0);
+  require(o.alpha_deg > 0 && o.alpha_deg <= 180, en, "alpha", "rotation angle must be in (0, 180] degrees, got " + Tab::num_str(o.alpha_deg));
+  o.eps = en.number("eps", 1.0);
+  require(o.eps >= 0 && o.eps <= 1, en, "eps", "restitution coefficient must be in [0, 1], got " + Tab::num_str(o.eps));
+  o.sigma = en.number("sigma", 0.0);
+  require(o.sigma >= 0, en, "sigma", "particle diameter must be >= 0, got " + Tab::num_str(o.sigma));
+  require(o.eps == 1 || o.sigma > 0, en, "eps", "eps < 1 dissipates only with sigma > 0 (Eq. 2.1): give [engine] sigma");
+  o.T0 = en.number("T0", 1.0);
+  require(o.T0 > 0, en, "T0", "temperature must be > 0, got " + Tab::num_str(o.T0));
+  require(std::isfinite(o.T0 * 100.0 * N), en, "T0", "temperature " + Tab::num_str(o.T0) + " is too large");
+  if (en.has("seed")) {
+    const toml::value &x = en.get("seed");
+    if (!x.is_integer()) en.fail("seed", std::string("expected an integer, got ") + Tab::type_name(x));
+    if (x.as_integer() < 0) en.fail("seed", "must be >= 0");
+    s.seed = (uint64_t)x.as_integer();
+  }
+  o.seed = s.seed;
+  const int64_t se = en.count("sort_every", 50);
+  require(se >= 0 && se <= INT32_MAX, en, "sort_every", "must be >= 0 (0: never sort)");
+  o.sort_every = (int32_t)se;
+  const int64_t th = en.count("threads", 0);
+  require(th >= 0 && th <= 4096, en, "threads", "must be in 0..4096 (0: all cores)");
+  o.threads = (int32_t)th;
+  o.thermostat = en.boolean("thermostat", false) ? 1 : 0;
+  s.srd.device = en.string("device", "cpu");
+  if (s.srd.device != "cpu" && s.srd.device != "cuda" && s.srd.device != "auto")
+    en.fail("device", "expected \"cpu\", \"cuda\" or \"auto\", got \"" + s.srd.device + "\"");
+  s.replicas = en.count("replicas", 1);
+  require(s.replicas >= 1 && s.replicas <= 1000000, en, "replicas", "must be in 1..1000000");
+  s.keep_replicas = en.boolean("keep_replicas", false);
+  if (en.has("steps") && en.has("t_end")) en.fail("t_end", "give either 'steps' or 't_end', not both");
+  int64_t steps = -1;
+  if (en.has("steps")) {
+    steps = en.count("steps");
+    require(steps >= 1 && steps <= (int64_t)1e15, en, "steps", "must be in [1, 1e15], got " + std::to_string(steps));
+  } else if (en.has("t_end")) {
+    const double te = en.number("t_end");
+    require(te > 0, en, "t_end", "must be > 0");
+    steps = srd_step_of(te, o.dt);
+    require(steps >= 1 && std::fabs((double)steps * o.dt - te) <= 1e-9 * te, en, "t_end",
+            "t_end = " + Tab::num_str(te) + " is not a whole number of steps dt = " + Tab::num_str(o.dt));
+  }
+  en.finish();
+
+  /* ---- [boundaries] ---- */
+  if (top.has("boundaries")) {
+    Tab bd = top.sub("boundaries");
+    bd.set_known({"lees_edwards", "walls", "vibrating_wall"});
+    if (bd.has("lees_edwards")) {
+      Tab le = bd.sub("lees_edwards");
+      le.set_known({"shear_rate"});
+      if (!le.has("shear_rate")) le.fail_missing("shear_rate");
+      o.shear_rate = le.number("shear_rate");
+      le.finish();
+      require(o.shear_rate != 0, le, "shear_rate", "must not be 0 (leave lees_edwards out for no shear)");
+    }
+    if (bd.has("walls")) {
+      Tab w = bd.sub("walls");
+      w.set_known({"axis", "rule", "T"});
+      if (!w.has("axis")) w.fail_missing("axis", "\"x\", \"y\" or \"z\"");
+      o.wall_axis = srd_axis(w, "axis", o.dim);
+      const std::string rule = w.string("rule", "no-slip");
+      if (rule == "no-slip") o.wall_rule = 1;
+      else if (rule == "slip") o.wall_rule = 2;
+      else w.fail("rule", "expected \"no-slip\" (bounce-back) or \"slip\" (specular), got \"" + rule + "\"");
+      o.wall_T = w.number("T", 0.0);
+      require(o.wall_T >= 0, w, "T", "virtual-particle temperature must be >= 0 (0: T0)");
+      if (o.shear_rate != 0 && o.wall_axis <= 1)
+        w.fail("axis", "walls and Lees-Edwards shear on the same axis (the shear's flow is x, its gradient y)");
+      w.finish();
+    }
+    if (bd.has("vibrating_wall")) {
+      Tab v = bd.sub("vibrating_wall");
+      v.set_known({"amplitude", "omega"});
+      if (!v.has("amplitude")) v.fail_missing("amplitude");
+      if (!v.has("omega")) v.fail_missing("omega");
+      o.vib_amp = v.number("amplitude");
+      o.vib_omega = v.number("omega");
+      require(o.vib_amp >= 0, v, "amplitude", "must be >= 0");
+      require(o.vib_omega >= 0, v, "omega", "must be >= 0");
+      if (o.wall_axis < 0) bd.fail("vibrating_wall", "needs walls (the lower wall of [boundaries] walls vibrates)");
+      v.finish();
+    }
+    bd.finish();
+  }
+
+  /* ---- [forces] ---- */
+  if (top.has("forces")) {
+    Tab fo = top.sub("forces");
+    fo.set_known({"gravity", "body_force"});
+    double g[3] = {0, 0, 0}, f[3] = {0, 0, 0};
+    if (fo.has("gravity")) srd_vector(fo, "gravity", o.dim, g);
+    if (fo.has("body_force")) srd_vector(fo, "body_force", o.dim, f);
+    for (int k = 0; k < 3; k++) o.accel[k] = g[k] + f[k];
+    fo.finish();
+  }
+
+  /* ---- [observables] ---- */
+  Tab ob(nullptr, "observables", F);
+  if (top.has("observables")) ob = top.sub("observables");
+  ob.set_known({"times", "every", "temperature", "energy", "momentum", "clustering", "sonine_a2", "structure_factor",
+                "stress", "velocity_profile", "theory", "snapshots"});
+  if (ob.has("times") && ob.has("every")) ob.fail("every", "give either 'times' or 'every', not both");
+  std::vector<int64_t> os;
+  if (ob.has("times")) {
+    std::vector<double> t = parse_times(ob, "times");
+    if (t.front() < 0) ob.fail("times", "output times must be >= 0");
+    for (double x : t) {
+      const int64_t k = srd_step_of(x, o.dt);
+      if (os.empty() || k > os.back()) os.push_back(k); /* rounded to the step grid; repeats dropped */
+    }
+    if (steps < 0) steps = std::max<int64_t>(1, os.back());
+    if (os.back() > steps)
+      ob.fail("times", "last output time " + Tab::num_str(t.back()) + " is after the end of the run (" +
+                           std::to_string(steps) + " steps of dt = " + Tab::num_str(o.dt) + ")");
+  } else {
+    if (steps < 0) en.fail_missing("steps", "or t_end, or [observables] times");
+    int64_t every = ob.count("every", std::max<int64_t>(1, steps / 50));
+    require(every >= 1, ob, "every", "must be >= 1 (steps between output times)");
+    require(steps / every <= 100000000, ob, "every", "gives more than 1e8 output times");
+    for (int64_t k = 0; k <= steps; k += every) os.push_back(k);
+  }
+  s.srd.steps = steps;
+  s.srd.out_steps = os;
+  s.srd.obs_temperature = ob.boolean("temperature", true);
+  s.srd.obs_energy = ob.boolean("energy", true);
+  s.srd.obs_momentum = ob.boolean("momentum", true);
+  s.srd.obs_clustering = ob.boolean("clustering", true);
+  s.srd.obs_a2 = ob.boolean("sonine_a2", false);
+  s.srd.obs_profile = ob.boolean("velocity_profile", false);
+  s.srd.obs_theory = ob.boolean("theory", true);
+  s.srd.obs_stress = ob.boolean("stress", o.shear_rate != 0);
+  if (s.srd.obs_stress && o.shear_rate == 0) ob.fail("stress", "the stress is measured under Lees-Edwards shear only ([boundaries] lees_edwards)");
+  if (s.srd.obs_profile && o.dim < 2) ob.fail("velocity_profile", "needs dimension >= 2");
+  if (ob.has("structure_factor") && ob.get("structure_factor").is_table()) {
+    Tab sk = ob.sub("structure_factor");
+    sk.set_known({"bins"});
+    s.srd.obs_sk = 1;
+    s.srd.sk_bins = sk.count("bins", 0);
+    require(s.srd.sk_bins >= 0 && s.srd.sk_bins <= 1000000, sk, "bins", "must be in [1, 1e6] (0: cells / 2)");
+    sk.finish();
+  } else {
+    s.srd.obs_sk = ob.boolean("structure_factor", false);
+  }
+  if (s.srd.obs_sk && s.srd.sk_bins == 0) s.srd.sk_bins = std::max<int64_t>(1, o.cells[0] / 2);
+  if (s.srd.obs_sk && o.wall_axis >= 0) ob.fail("structure_factor", "S(k) needs a periodic box (no [boundaries] walls)");
+  if (ob.has("snapshots")) {
+    const int64_t nt = (int64_t)os.size();
+    const toml::value &x = ob.get("snapshots");
+    if (x.is_boolean()) {
+      if (x.as_boolean())
+        for (int64_t i = 0; i < nt; i++) s.srd.snap_index.push_back(i);
+    } else if (x.is_table()) {
+      Tab sn = ob.sub("snapshots");
+      sn.set_known({"times", "every"});
+      if (sn.has("times") == sn.has("every")) sn.fail(sn.has("times") ? "every" : "times", "give either 'times' or 'every' (output times between snapshots)");
+      if (sn.has("every")) {
+        const int64_t e = sn.count("every");
+        require(e >= 1, sn, "every", "must be >= 1 (output times between snapshots)");
+        for (int64_t i = 0; i < nt; i += e) s.srd.snap_index.push_back(i);
+      } else {
+        /* snapshot times (rounded to the step grid) join the output times */
+        std::vector<int64_t> ks;
+        for (double t : parse_times(sn, "times")) {
+          const int64_t k = srd_step_of(t, o.dt);
+          if (t < 0 || k > steps)
+            sn.fail("times", "snapshot time " + Tab::num_str(t) + " is outside the run (0 .. " +
+                                 Tab::num_str((double)steps * o.dt) + ")");
+          ks.push_back(k);
+        }
+        std::vector<int64_t> merged(os.size() + ks.size());
+        std::merge(os.begin(), os.end(), ks.begin(), ks.end(), merged.begin());
+        merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
+        os.swap(merged);
+        for (int64_t k : ks) {
+          const int64_t i = std::lower_bound(os.begin(), os.end(), k) - os.begin();
+          if (s.srd.snap_index.empty() || i > s.srd.snap_index.back()) s.srd.snap_index.push_back(i);
+        }
+      }
+      sn.finish();
+    } else {
+      ob.fail("snapshots", std::string("expected true, false or a table {times = [...]} / {every = k}, got ") + Tab::type_name(x));
+    }
+  }
+  ob.finish();
+  s.srd.out_steps = os;
+  const int64_t nt = (int64_t)os.size();
+  s.times.resize((size_t)nt);
+  for (int64_t i = 0; i < nt; i++) s.times[(size_t)i] = (double)os[(size_t)i] * o.dt;
+  s.t_start = 0.0;
+  s.t_end = (double)steps * o.dt;
+
+  /* ---- [output] (the same keys as a DSMC scene) ---- */
+  Tab ou(nullptr, "output", F);
+  if (top.has("output")) ou = top.sub("output");
+  ou.set_known({"path", "checkpoint", "checkpoint_interval", "checkpoint_every", "keep_checkpoint"});
+  s.output_path = ou.string("path", stem_of(F) + ".h5");
+  require(!s.output_path.empty(), ou, "path", "must not be empty");
+  s.checkpoint_explicit = ou.has("checkpoint");
+  s.checkpoint_path = ou.string("checkpoint", s.output_path + ".ckpt");
+  s.checkpoint_interval = ou.number("checkpoint_interval", 600.0);
+  require(s.checkpoint_interval >= 0, ou, "checkpoint_interval", "must be >= 0 (0: no time-based checkpoints)");
+  s.checkpoint_every = ou.count("checkpoint_every", 0);
+  require(s.checkpoint_every >= 0, ou, "checkpoint_every", "must be >= 0 (0: off)");
+  s.keep_checkpoint = ou.boolean("keep_checkpoint", false);
+  if (!s.checkpoint_path.empty() && s.checkpoint_path == s.output_path)
+    ou.fail("checkpoint", "must differ from the output path");
+  ou.finish();
+
+  /* memory: 52 B per particle (twice while a checkpoint image is built), 200 B per cell of the
+   * binning grid, 5 doubles per cell and snapshot, the recorded rows */
+  const double nsnap = (double)s.srd.snap_index.size();
+  const double parts = N * 52.0 * (s.checkpoint_path.empty() ? 1.0 : 2.0), cells = ncell * 2.0 * 200.0,
+               snaps = nsnap * ncell * 5.0 * 8.0, rows = (double)nt * 8.0 * (32.0 + 2.0 * (double)s.srd.sk_bins);
+  const double total = (parts + cells + snaps + rows) * (double)s.replicas;
+  if (total > mem_limit) {
+    const bool sn = snaps > parts;
+    Tab &t = sn ? ob : en;
+    t.fail(sn ? "snapshots" : nk, "the run needs about " + gb(total) + " (particles " + gb(parts) + ", cells " + gb(cells) +
+                                      ", snapshots " + gb(snaps) + ", per replica x " + std::to_string(s.replicas) +
+                                      "), more than the " + gb(mem_limit) + " available; set [engine] max_memory_gb to allow more");
+  }
+  top.finish();
+}
+
 void parse_scene(const toml::value &root, gran_scene &s) {
   const std::string &F = s.name;
   const double mem_limit = memory_limit_bytes(root);
+  if (is_srd_scene(root)) return parse_scene_srd(root, s, mem_limit); /* GSRD: its own tables */
   Tab top(&root, "", F);
   top.set_known({"title", "mixture", "restitution", "initial", "engine", "observables", "output"});
   s.title = top.string("title", "");
@@ -660,7 +1005,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
     require(g > 0, en, "max_memory_gb", "must be > 0 (GB of memory the run may use)");
   }
   std::string type = en.string("type", "dsmc");
-  if (type != "dsmc") en.fail("type", "unknown engine \"" + type + "\" (only \"dsmc\" runs scenes so far)");
+  if (type != "dsmc") en.fail("type", "unknown engine \"" + type + "\" (\"dsmc\" or \"srd\")");
   s.engine_type = type;
   std::string sel = en.string("selector", "lowrank");
   if (sel == "lowrank") s.selector = GRAN_SELECTOR_LOWRANK;
@@ -977,6 +1322,8 @@ GRAN_EXTERN int gran_scene_lags(const gran_scene *scene, double *lags) {
 GRAN_EXTERN int gran_scene_mixture(const gran_scene *scene, gran_mixture **mix) {
   GRAN_CHECK_PTR(scene);
   GRAN_CHECK_PTR(mix);
+  GRAN_CHECK(scene->engine_type != "srd", GRAN_ERR_ARG, /* GSRD scenes set their gas in [engine] */
+             "scene '%s' is a GSRD scene ([engine] type = \"srd\"): it has no mixture", scene->name.c_str());
   GRAN_TRY {
     const gran_scene *s = scene;
     gran_mixture *m = nullptr;
@@ -1023,6 +1370,8 @@ GRAN_EXTERN int gran_scene_dsmc_options(const gran_scene *scene, gran_dsmc_optio
                                         int *have_counts) {
   GRAN_CHECK_PTR(scene);
   GRAN_CHECK_PTR(opt);
+  GRAN_CHECK(scene->engine_type != "srd", GRAN_ERR_ARG, /* GSRD scenes run through gran_scene_run */
+             "scene '%s' is a GSRD scene ([engine] type = \"srd\"): it has no DSMC options", scene->name.c_str());
   GRAN_TRY {
     const gran_scene *s = scene;
     GRAN_CALL(gran_dsmc_options_default(opt));

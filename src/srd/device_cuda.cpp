@@ -1,28 +1,614 @@
-/* device_cuda.cpp - which device a GSRD run uses ([engine] device = "cpu" | "cuda" | "auto").
- * "auto" takes the GPU when the CUDA backend is compiled and a device is visible, else the CPU
- * with a warning; "cuda" without either is GRAN_ERR_UNSUPPORTED. */
+/* device_cuda.cpp - devices of the GSRD engine.
+ *
+ * (1) Selection ([engine] device = "cpu" | "cuda" | "auto" | "reference"; options.device): "auto"
+ *     takes the GPU when the CUDA backend is compiled and a device is visible, else the CPU with a
+ *     warning; "cuda" without either is GRAN_ERR_UNSUPPORTED naming which.
+ * (2) The host reference of the device algorithm (gran_ref_srd_*, same contracts as the GPU
+ *     launchers of cuda/srd_cuda.h): the bodies of src/srd/device_cuda_ops.h in plain loops, cell
+ *     sums in particle order (so it follows the CPU engine to rounding: t890), float storage
+ *     emulated by rounding what it stores. The GPU tests compare the GPU against it.
+ * (3) The engine hooks: a run whose options name a device keeps its particles and cells there; the
+ *     engine (src/srd/engine.cpp) calls gran_srd_dev_* at its dispatch points. The host side does
+ *     what the CPU engine does on the host: the per-step geometry (Lees-Edwards offset, wall
+ *     velocity), the grid shift from stream 0, the step and time counters, the sort cadence and the
+ *     ledger sums (read from the device once per advance). */
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <fftw3.h>
+#include <new>
+#include <vector>
 
 #include "granary_impl.h"
 #include "srd/device_cuda.h"
+#include "srd/srd_impl.h"
+#include "../cuda/srd_cuda.h"
+
+/* ---- (1) selection -------------------------------------------------------------------------- */
+
+int gran_srd_device_parse(const char *name, int32_t *device) {
+  GRAN_CHECK_PTR(name);
+  GRAN_CHECK_PTR(device);
+  static const char *const names[4] = {"cpu", "cuda", "auto", "reference"};
+  for (int32_t d = 0; d < 4; ++d)
+    if (!std::strcmp(name, names[d])) {
+      *device = d;
+      return GRAN_SUCCESS;
+    }
+  return GRAN_ERROR(GRAN_ERR_ARG, "device = \"%s\": must be \"cpu\", \"cuda\", \"auto\" or \"reference\"", name);
+}
+
+namespace {
+
+/* GRAN_SRD_DEVICE_* -> where the run goes (CPU, CUDA or REFERENCE). soft: "cuda" without a GPU
+ * falls back like "auto" (a checkpoint must stay readable). */
+int resolve_id(int32_t device, bool soft, int32_t *out) {
+  GRAN_CHECK(device >= 0 && device <= 3, GRAN_ERR_ARG,
+             "option 'device' = %d: must be 0 (cpu), 1 (cuda), 2 (auto) or 3 (reference)", (int)device);
+  *out = device;
+  if (device == GRAN_SRD_DEVICE_CPU || device == GRAN_SRD_DEVICE_REFERENCE) return GRAN_SUCCESS;
+  int compiled = 0, count = 0;
+  GRAN_CALL(gran_cuda_compiled(&compiled));
+  if (compiled) GRAN_CALL(gran_cuda_device_count(&count));
+  if (compiled && count > 0) {
+    *out = GRAN_SRD_DEVICE_CUDA;
+    return GRAN_SUCCESS;
+  }
+  const char *why = !compiled ? "the CUDA backend was not compiled (no nvcc at build time)" : "no CUDA device is visible";
+  GRAN_CHECK(device == GRAN_SRD_DEVICE_AUTO || soft, GRAN_ERR_UNSUPPORTED, "device = \"cuda\": %s", why);
+  gran_warning_add("device = \"%s\": %s; running on the CPU", device == GRAN_SRD_DEVICE_AUTO ? "auto" : "cuda", why);
+  *out = GRAN_SRD_DEVICE_CPU;
+  return GRAN_SUCCESS;
+}
+
+}  // namespace
 
 int gran_srd_device_resolve(const char *device, int *use_cuda) {
   GRAN_CHECK_PTR(device);
   GRAN_CHECK_PTR(use_cuda);
   *use_cuda = 0;
-  const bool cpu = !std::strcmp(device, "cpu"), cuda = !std::strcmp(device, "cuda"), aut = !std::strcmp(device, "auto");
-  GRAN_CHECK(cpu || cuda || aut, GRAN_ERR_ARG, "device = \"%s\": must be \"cpu\", \"cuda\" or \"auto\"", device);
-  if (cpu) return GRAN_SUCCESS;
-  int compiled = 0, count = 0;
-  GRAN_CALL(gran_cuda_compiled(&compiled));
-  if (compiled) GRAN_CALL(gran_cuda_device_count(&count));
-  const char *why = !compiled ? "the CUDA backend was not compiled (no nvcc at build time)" : "no CUDA device is visible";
-  if (cuda) {
-    GRAN_CHECK(compiled && count > 0, GRAN_ERR_UNSUPPORTED, "device = \"cuda\": %s", why);
-  } else if (!(compiled && count > 0)) {
-    gran_warning_add("device = \"auto\": %s; running on the CPU", why);
+  int32_t d = 0, r = 0;
+  GRAN_CALL(gran_srd_device_parse(device, &d));
+  GRAN_CALL(resolve_id(d, false, &r));
+  *use_cuda = r == GRAN_SRD_DEVICE_CUDA;
+  return GRAN_SUCCESS;
+}
+
+/* ---- (2) host reference of the device algorithm --------------------------------------------- */
+
+namespace {
+
+struct RefState {
+  gran_cuda_srd_params p{};
+  srd_dev_const k{};
+  int64_t ncell = 0;
+  bool f32 = false;
+  std::vector<double> x[3], v[3], vref;
+  std::vector<gran_rng> rng;
+  std::vector<srd_cell_sum> sum;
+  std::vector<srd_cell_rot> rot;
+  std::vector<unsigned char> active;
+  srd_geom last_gm{};
+  double last_s[3] = {0, 0, 0};
+  double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0};
+  int64_t clamped = 0;
+  double dt_max = INFINITY;
+  double store(double a) const { return f32 ? (double)(float)a : a; }
+  double store_x(int k, double a) const { return f32 ? (double)srd_dev_float_pos(&p.geom, k, a) : a; }
+};
+
+RefState *ref_of(gran_cuda_srd *h) { return reinterpret_cast<RefState *>(h); }
+const RefState *ref_of(const gran_cuda_srd *h) { return reinterpret_cast<const RefState *>(h); }
+
+int check_params(const gran_cuda_srd_params *p) {
+  GRAN_CHECK_PTR(p);
+  const srd_geom &g = p->geom;
+  GRAN_CHECK(g.dim == 2 || g.dim == 3, GRAN_ERR_ARG, "geom.dim = %d: must be 2 or 3", (int)g.dim);
+  GRAN_CHECK(p->n >= 0, GRAN_ERR_ARG, "n = " GRAN_I64_FMT " is negative", p->n);
+  GRAN_CHECK(p->precision == 0 || p->precision == 1, GRAN_ERR_ARG, "precision = %d: must be 0 (double) or 1 (float)",
+             (int)p->precision);
+  GRAN_CHECK(p->dt > 0.0 && std::isfinite(p->dt), GRAN_ERR_ARG, "dt = %g must be positive", p->dt);
+  GRAN_CHECK(g.a > 0.0, GRAN_ERR_ARG, "geom.a = %g must be positive", g.a);
+  for (int k = 0; k < 3; ++k)
+    GRAN_CHECK(g.nc[k] >= 1 && g.L[k] >= 1, GRAN_ERR_ARG, "geom.nc[%d] / geom.L[%d] must be >= 1", k, k);
+  GRAN_CHECK(g.nc[0] * g.nc[1] * g.nc[2] <= (int64_t)UINT32_MAX, GRAN_ERR_UNSUPPORTED,
+             "binning grid of " GRAN_I64_FMT " cells: the sort keys hold at most 2^32 - 1", g.nc[0] * g.nc[1] * g.nc[2]);
+  return GRAN_SUCCESS;
+}
+
+}  // namespace
+
+int gran_ref_srd_create(const gran_cuda_srd_params *p, const double *const x[3], const double *const v[3],
+                        const gran_rng *cell_rng, gran_cuda_srd **out) {
+  GRAN_CHECK_PTR(out);
+  *out = nullptr;
+  GRAN_CALL(check_params(p));
+  GRAN_CHECK_PTR(x);
+  GRAN_CHECK_PTR(v);
+  GRAN_CHECK_PTR(cell_rng);
+  for (int k = 0; k < p->geom.dim; ++k)
+    GRAN_CHECK(p->n == 0 || (x[k] && v[k]), GRAN_ERR_ARG, "x[%d] or v[%d] is NULL", k, k);
+  GRAN_TRY {
+    RefState *r = new RefState;
+    r->p = *p;
+    r->k = gran_srd_dev_const_of(p);
+    r->ncell = p->geom.nc[0] * p->geom.nc[1] * p->geom.nc[2];
+    r->f32 = p->precision == 1;
+    const size_t n = (size_t)p->n, nc = (size_t)r->ncell;
+    try {
+      for (int k = 0; k < p->geom.dim; ++k) {
+        r->x[k].resize(n);
+        r->v[k].resize(n);
+        for (size_t i = 0; i < n; ++i) {
+          r->x[k][i] = r->store_x(k, x[k][i]);
+          r->v[k][i] = r->store(v[k][i]);
+        }
+      }
+      r->vref.assign(3 * nc, 0.0);
+      r->rng.assign(cell_rng, cell_rng + nc);
+      r->sum.resize(nc);
+      for (auto &c : r->sum) srd_sum_clear(&c);
+      r->rot.resize(nc);
+      r->active.assign(nc, 0);
+    } catch (...) {
+      delete r;
+      throw;
+    }
+    r->last_gm = p->geom;
+    *out = reinterpret_cast<gran_cuda_srd *>(r);
     return GRAN_SUCCESS;
   }
-  *use_cuda = 1;
+  GRAN_CATCH
+}
+
+int gran_ref_srd_step(gran_cuda_srd *h, const srd_geom *gm, const double s[3], int64_t *n_clamped, double *dt_max) {
+  GRAN_CHECK_PTR(h);
+  GRAN_CHECK_PTR(gm);
+  GRAN_CHECK_PTR(s);
+  RefState &r = *ref_of(h);
+  GRAN_CHECK(gm->dim == r.p.geom.dim && gm->nc[0] == r.p.geom.nc[0] && gm->nc[1] == r.p.geom.nc[1] &&
+                 gm->nc[2] == r.p.geom.nc[2] && gm->wall_axis == r.p.geom.wall_axis,
+             GRAN_ERR_ARG, "gm: dimension, grid or walls differ from the state's");
+  for (int k = 0; k < gm->dim; ++k)
+    GRAN_CHECK(s[k] >= 0.0 && s[k] <= gm->a, GRAN_ERR_ARG, "shift s[%d] = %g outside [0, a]", k, s[k]);
+  const int dim = gm->dim;
+  const int64_t n = r.p.n;
+  /* pass 1: move, store, bin what is stored, sums in particle order */
+  for (int64_t i = 0; i < n; ++i) {
+    double p[3] = {0, 0, 0}, v[3] = {0, 0, 0}, dvx;
+    for (int k = 0; k < dim; ++k) {
+      p[k] = r.x[k][i];
+      v[k] = r.v[k][i];
+    }
+    srd_dev_move(&r.k, gm, p, v, r.acc);
+    for (int k = 0; k < dim; ++k) {
+      p[k] = r.x[k][i] = r.store_x(k, p[k]);
+      v[k] = r.v[k][i] = r.store(v[k]);
+    }
+    const int64_t c = srd_bin(gm, s, p, &dvx);
+    v[0] += dvx;
+    srd_sum_add(&r.sum[c], v, &r.vref[3 * c], dim);
+  }
+  /* cells */
+  int64_t ncl = 0;
+  double dtm = INFINITY;
+  for (int64_t c = 0; c < r.ncell; ++c) {
+    int cl;
+    double d;
+    r.active[c] = (unsigned char)srd_dev_cell(&r.k, gm, s, c, &r.sum[c], &r.vref[3 * c], &r.rng[c], &r.rot[c], &cl, &d);
+    if (cl) {
+      ++ncl;
+      dtm = std::min(dtm, d);
+    }
+    srd_sum_clear(&r.sum[c]);
+  }
+  /* pass 2: rotate-and-scale */
+  for (int64_t i = 0; i < n; ++i) {
+    double p[3] = {0, 0, 0}, v[3] = {0, 0, 0}, dvx;
+    for (int k = 0; k < dim; ++k) p[k] = r.x[k][i];
+    const int64_t c = srd_bin(gm, s, p, &dvx);
+    if (!r.active[c]) continue;
+    for (int k = 0; k < dim; ++k) v[k] = r.v[k][i];
+    srd_dev_collide(&r.k, gm, &r.rot[c], dvx, p[1], v, r.acc);
+    for (int k = 0; k < dim; ++k) r.v[k][i] = r.store(v[k]);
+  }
+  r.p.geom = *gm;
+  r.last_gm = *gm;
+  for (int k = 0; k < 3; ++k) r.last_s[k] = s[k];
+  r.clamped += ncl;
+  r.dt_max = std::min(r.dt_max, dtm);
+  if (n_clamped || dt_max) {
+    if (n_clamped) *n_clamped += r.clamped;
+    if (dt_max && r.dt_max < *dt_max) *dt_max = r.dt_max;
+    r.clamped = 0;
+    r.dt_max = INFINITY;
+  }
+  return GRAN_SUCCESS;
+}
+
+int gran_ref_srd_sort(gran_cuda_srd *h) {
+  GRAN_CHECK_PTR(h);
+  GRAN_TRY {
+    RefState &r = *ref_of(h);
+    const int64_t n = r.p.n;
+    const int dim = r.p.geom.dim;
+    std::vector<uint32_t> key((size_t)n), perm((size_t)n);
+    std::vector<int64_t> start((size_t)r.ncell + 1, 0);
+    for (int64_t i = 0; i < n; ++i) {
+      double p[3] = {0, 0, 0}, dvx;
+      for (int k = 0; k < dim; ++k) p[k] = r.x[k][i];
+      key[i] = (uint32_t)srd_bin(&r.last_gm, r.last_s, p, &dvx);
+      start[key[i] + 1]++;
+    }
+    for (int64_t c = 0; c < r.ncell; ++c) start[c + 1] += start[c];
+    for (int64_t i = 0; i < n; ++i) perm[start[key[i]]++] = (uint32_t)i; /* stable */
+    std::vector<double> tmp((size_t)n);
+    for (int k = 0; k < dim; ++k)
+      for (std::vector<double> *a : {&r.x[k], &r.v[k]}) {
+        for (int64_t i = 0; i < n; ++i) tmp[i] = (*a)[perm[i]];
+        a->swap(tmp);
+      }
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+int gran_ref_srd_upload(gran_cuda_srd *h, const double *const x[3], const double *const v[3], const double *vref,
+                        const gran_rng *cell_rng) {
+  GRAN_CHECK_PTR(h);
+  RefState &r = *ref_of(h);
+  for (int k = 0; k < r.p.geom.dim; ++k)
+    for (int64_t i = 0; i < r.p.n; ++i) {
+      if (x && x[k]) r.x[k][i] = r.store_x(k, x[k][i]);
+      if (v && v[k]) r.v[k][i] = r.store(v[k][i]);
+    }
+  if (vref) std::copy(vref, vref + 3 * r.ncell, r.vref.begin());
+  if (cell_rng) std::copy(cell_rng, cell_rng + r.ncell, r.rng.begin());
+  return GRAN_SUCCESS;
+}
+
+int gran_ref_srd_download(const gran_cuda_srd *h, double *const x[3], double *const v[3], double *vref,
+                          gran_rng *cell_rng) {
+  GRAN_CHECK_PTR(h);
+  const RefState &r = *ref_of(h);
+  const size_t n = (size_t)r.p.n;
+  for (int k = 0; k < r.p.geom.dim; ++k) {
+    if (x && x[k] && n) std::memcpy(x[k], r.x[k].data(), n * sizeof(double));
+    if (v && v[k] && n) std::memcpy(v[k], r.v[k].data(), n * sizeof(double));
+  }
+  if (vref) std::copy(r.vref.begin(), r.vref.end(), vref);
+  if (cell_rng) std::copy(r.rng.begin(), r.rng.end(), cell_rng);
+  return GRAN_SUCCESS;
+}
+
+int gran_ref_srd_ledger(gran_cuda_srd *h, double acc[SRD_ACC_N], int64_t *clamped, double *dt_max) {
+  GRAN_CHECK_PTR(h);
+  GRAN_CHECK_PTR(acc);
+  RefState &r = *ref_of(h);
+  for (int q = 0; q < SRD_ACC_N; ++q) {
+    acc[q] = r.acc[q];
+    r.acc[q] = 0.0;
+  }
+  if (clamped) *clamped += r.clamped;
+  if (dt_max && r.dt_max < *dt_max) *dt_max = r.dt_max;
+  r.clamped = 0;
+  r.dt_max = INFINITY;
+  return GRAN_SUCCESS;
+}
+
+int gran_ref_srd_counts(const gran_cuda_srd *h, double *counts) {
+  GRAN_CHECK_PTR(h);
+  GRAN_CHECK_PTR(counts);
+  const RefState &r = *ref_of(h);
+  srd_geom g = r.p.geom;
+  g.le_on = 0;
+  const double zero[3] = {0, 0, 0};
+  std::fill(counts, counts + r.ncell, 0.0);
+  for (int64_t i = 0; i < r.p.n; ++i) {
+    double p[3] = {0, 0, 0}, dvx;
+    for (int k = 0; k < g.dim; ++k) p[k] = r.x[k][i];
+    counts[srd_bin(&g, zero, p, &dvx)] += 1.0;
+  }
+  return GRAN_SUCCESS;
+}
+
+int gran_ref_srd_destroy(gran_cuda_srd **h) {
+  if (h && *h) {
+    delete ref_of(*h);
+    *h = nullptr;
+  }
+  return GRAN_SUCCESS;
+}
+
+const gran_srd_launchers *gran_srd_launchers_get(int device) {
+  static const gran_srd_launchers cuda = {"cuda",
+                                          gran_cuda_srd_create,
+                                          gran_cuda_srd_step,
+                                          gran_cuda_srd_sort,
+                                          gran_cuda_srd_upload,
+                                          gran_cuda_srd_download,
+                                          gran_cuda_srd_ledger,
+                                          gran_cuda_srd_counts,
+                                          gran_cuda_srd_destroy};
+  static const gran_srd_launchers ref = {"reference",
+                                         gran_ref_srd_create,
+                                         gran_ref_srd_step,
+                                         gran_ref_srd_sort,
+                                         gran_ref_srd_upload,
+                                         gran_ref_srd_download,
+                                         gran_ref_srd_ledger,
+                                         gran_ref_srd_counts,
+                                         gran_ref_srd_destroy};
+  return device == GRAN_SRD_DEVICE_CUDA ? &cuda : device == GRAN_SRD_DEVICE_REFERENCE ? &ref : nullptr;
+}
+
+/* ---- (3) engine hooks ----------------------------------------------------------------------- */
+
+struct gran_srd_dev {
+  const gran_srd_launchers *L = nullptr;
+  gran_cuda_srd *h = nullptr;
+  int32_t device = GRAN_SRD_DEVICE_CPU; /* CUDA or REFERENCE */
+  bool host_current = true;             /* the host arrays hold the device's particles */
+  bool host_dirty = false;              /* the host arrays were handed out: upload before stepping */
+};
+
+void gran_srd_dev_free(gran_srd_dev *d) {
+  if (!d) return;
+  if (d->L && d->h) d->L->destroy(&d->h);
+  delete d;
+}
+
+namespace {
+
+gran_cuda_srd_params params_of(const gran_srd *s) {
+  const gran_srd_options &o = s->opt;
+  gran_cuda_srd_params p;
+  std::memset(&p, 0, sizeof p);
+  p.geom = s->gm;
+  p.n = s->n;
+  p.precision = o.precision;
+  p.fx = (o.accel[0] != 0 || o.accel[1] != 0 || o.accel[2] != 0 ? SRD_FX_ACCEL : 0) |
+         (o.wall_axis >= 0 ? SRD_FX_WALL : 0) | (o.shear_rate != 0 ? SRD_FX_LE : 0) | (o.eps < 1.0 ? SRD_FX_EPS : 0) |
+         (o.thermostat ? SRD_FX_THERMO : 0);
+  p.dt = o.dt;
+  p.alpha = o.alpha_deg * M_PI / 180.0;
+  p.coef = (1.0 - o.eps * o.eps) * o.sigma * o.sigma * o.dt;
+  for (int k = 0; k < 3; ++k) p.g[k] = o.accel[k];
+  p.n0 = o.n0;
+  p.wall_T = o.wall_T > 0 ? o.wall_T : o.T0;
+  p.T0 = o.T0;
+  return p;
+}
+
+void host_arrays(gran_srd *s, double *x[3], double *v[3]) {
+  const bool d3 = s->opt.dim == 3;
+  x[0] = s->x.data();
+  x[1] = s->y.data();
+  x[2] = d3 ? s->z.data() : nullptr;
+  v[0] = s->vx.data();
+  v[1] = s->vy.data();
+  v[2] = d3 ? s->vz.data() : nullptr;
+}
+
+/* start the run on device (CUDA or REFERENCE) from the host state, cells included */
+int dev_start(gran_srd *s, int32_t device) {
+  GRAN_CHECK(s->opt.thermostat != 2, GRAN_ERR_UNSUPPORTED,
+             "option 'thermostat' = 2 (global profile-unbiased) runs on the CPU engine only (device %d asked)",
+             (int)device);
+  const gran_srd_launchers *L = gran_srd_launchers_get(device);
+  GRAN_CHECK(L != nullptr, GRAN_ERR_INTERNAL, "no launchers for device %d", (int)device);
+  const gran_cuda_srd_params p = params_of(s);
+  double *x[3], *v[3];
+  host_arrays(s, x, v);
+  gran_cuda_srd *h = nullptr;
+  GRAN_CALL(L->create(&p, x, v, s->rng.data(), &h));
+  std::vector<double> ref;
+  srd_refs_get(s, ref); /* the cells' reference velocities (engine.cpp keeps them in its cell records) */
+  int e = L->upload(h, nullptr, nullptr, ref.data(), nullptr);
+  gran_srd_dev *d = e == GRAN_SUCCESS ? new (std::nothrow) gran_srd_dev : nullptr;
+  if (!d) {
+    L->destroy(&h);
+    return e != GRAN_SUCCESS ? e : GRAN_ERROR(GRAN_ERR_NOMEM, "out of memory");
+  }
+  d->L = L;
+  d->h = h;
+  d->device = device;
+  d->host_current = p.precision == 0; /* float storage: the device holds rounded values */
+  gran_srd_dev_free(s->dev.p);
+  s->dev.p = d;
+  /* the CPU engine's step buffers are not used while the run is on a device */
+  std::vector<uint32_t>().swap(s->slab_list);
+  std::vector<int64_t>().swap(s->slab_off);
+  std::vector<double>().swap(s->part);
+  return GRAN_SUCCESS;
+}
+
+/* bring the run back to the host (state and cells) and drop the device state */
+int dev_stop(gran_srd *s) {
+  if (!s->dev.p) return GRAN_SUCCESS;
+  GRAN_CALL(gran_srd_dev_sync(s, 1));
+  /* the CPU engine allocates its step buffers as it needs them */
+  gran_srd_dev_free(s->dev.p);
+  s->dev.p = nullptr;
+  return GRAN_SUCCESS;
+}
+
+}  // namespace
+
+int gran_srd_dev_attach(gran_srd *s, int from_checkpoint) {
+  const gran_srd_options &o = s->opt;
+  GRAN_CHECK(o.precision == 0 || o.precision == 1, GRAN_ERR_ARG,
+             "option 'precision' = %d: must be 0 (double) or 1 (float; device storage)", (int)o.precision);
+  int32_t dev = 0;
+  GRAN_CALL(resolve_id(o.device, from_checkpoint != 0, &dev));
+  if (dev == GRAN_SRD_DEVICE_CPU) return GRAN_SUCCESS;
+  return dev_start(s, dev);
+}
+
+int gran_srd_dev_sync(const gran_srd *cs, int cells) {
+  gran_srd *s = const_cast<gran_srd *>(cs); /* the host arrays are a cache of the device state */
+  gran_srd_dev *d = s->dev.p;
+  if (!d) return GRAN_SUCCESS;
+  if (!d->host_current) {
+    double *x[3], *v[3];
+    host_arrays(s, x, v);
+    GRAN_CALL(d->L->download(d->h, x, v, nullptr, nullptr));
+    d->host_current = true;
+  }
+  if (cells) {
+    std::vector<double> ref((size_t)s->ncell * 3);
+    GRAN_CALL(d->L->download(d->h, nullptr, nullptr, ref.data(), s->rng.data()));
+    srd_refs_set(s, ref.data());
+  }
+  return GRAN_SUCCESS;
+}
+
+void gran_srd_dev_touch(gran_srd *s) {
+  if (s->dev.p) s->dev.p->host_dirty = true;
+}
+
+int gran_srd_dev_advance(gran_srd *s, int64_t steps) {
+  gran_srd_dev *d = s->dev.p;
+  GRAN_CHECK(d != nullptr, GRAN_ERR_INTERNAL, "the run is not on a device");
+  const gran_srd_options &o = s->opt;
+  if (d->host_dirty) {
+    double *x[3], *v[3];
+    host_arrays(s, x, v);
+    GRAN_CALL(d->L->upload(d->h, x, v, nullptr, nullptr));
+    d->host_dirty = false;
+  }
+  if (steps == 0) return GRAN_SUCCESS;
+  d->host_current = false;
+  const double dt = o.dt;
+  int e = GRAN_SUCCESS;
+  for (int64_t st = 0; st < steps && e == GRAN_SUCCESS; ++st) {
+    srd_geom gm = s->gm;
+    if (gm.le_on) { /* offset at the end of the step, as the CPU engine */
+      double dx = std::fmod(o.shear_rate * gm.box[1] * (s->time + dt), gm.box[0]);
+      if (dx < 0) dx += gm.box[0];
+      gm.le_dx = dx;
+    }
+    if (gm.wall_axis >= 0) gm.wall_u_lo = o.vib_amp * o.vib_omega * std::cos(o.vib_omega * (s->time + dt));
+    s->time += dt;
+    for (int k = 0; k < 3; ++k) s->shift[k] = k < o.dim ? srd_rng_uniform(&s->shift_rng) * o.a : 0.0;
+    e = d->L->step(d->h, &gm, s->shift, nullptr, nullptr);
+    if (e != GRAN_SUCCESS) break;
+    s->step += 1;
+    if (o.sort_every > 0 && s->step % o.sort_every == 0) e = d->L->sort(d->h);
+  }
+  double acc[SRD_ACC_N];
+  const int e2 = d->L->ledger(d->h, acc, &s->clamped, &s->dt_max);
+  if (e2 == GRAN_SUCCESS) {
+    s->flux_kin += acc[SRD_ACC_FLUX];
+    s->e_ext += acc[SRD_ACC_EXT] + acc[SRD_ACC_LEW];
+    if (o.wall_axis >= 0) s->wall_impulse[o.wall_axis] += acc[SRD_ACC_IMP];
+    s->e_coll += acc[SRD_ACC_DE];
+    s->flux_coll += acc[SRD_ACC_VIR];
+  }
+  return e != GRAN_SUCCESS ? e : e2;
+}
+
+/* S(k) of a run on a device: the cell counts come from the device (ncell doubles instead of the
+ * particles); the GPU transforms them with cuFFT and returns the power of the half spectrum
+ * (gran_cuda_srd_sk_power), the reference with FFTW; both are binned in shells here exactly as
+ * the CPU engine does (engine.cpp, gran_srd_structure_factor). */
+int gran_srd_dev_structure_factor(gran_srd *s, int64_t nbins, double *k, double *sk, int64_t *count) {
+  gran_srd_dev *d = s->dev.p;
+  GRAN_CHECK(d != nullptr, GRAN_ERR_INTERNAL, "the run is not on a device");
+  const int dim = s->opt.dim;
+  const int n0 = (int)s->gm.L[0], n1 = (int)s->gm.L[1], n2 = dim == 3 ? (int)s->gm.L[2] : 1;
+  const int nh = n0 / 2 + 1;
+  const int64_t ncplx = (int64_t)n2 * n1 * nh;
+  std::vector<double> power((size_t)ncplx);
+  if (d->device == GRAN_SRD_DEVICE_CUDA) {
+    GRAN_CALL(gran_cuda_srd_sk_power(d->h, power.data()));
+  } else {
+    std::vector<double> cnt((size_t)s->ncell);
+    GRAN_CALL(d->L->counts(d->h, cnt.data()));
+    double *in = fftw_alloc_real((size_t)s->ncell_box);
+    fftw_complex *out = fftw_alloc_complex((size_t)ncplx);
+    if (!in || !out) {
+      fftw_free(in);
+      fftw_free(out);
+      return GRAN_ERROR(GRAN_ERR_NOMEM, "out of memory for S(k)");
+    }
+    fftw_plan plan;
+    {
+      std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
+      if (dim == 3) plan = fftw_plan_dft_r2c_3d(n2, n1, n0, in, out, FFTW_ESTIMATE);
+      else plan = fftw_plan_dft_r2c_2d(n1, n0, in, out, FFTW_ESTIMATE);
+    }
+    const double mean = (double)s->n / (double)s->ncell_box;
+    for (int64_t c = 0; c < s->ncell_box; ++c) in[c] = cnt[c] - mean;
+    fftw_execute(plan);
+    for (int64_t q = 0; q < ncplx; ++q) power[q] = (out[q][0] * out[q][0] + out[q][1] * out[q][1]) / (double)s->n;
+    {
+      std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
+      fftw_destroy_plan(plan);
+    }
+    fftw_free(in);
+    fftw_free(out);
+  }
+  double kmax = 0;
+  for (int q = 0; q < dim; ++q) kmax += std::pow(M_PI / s->opt.a, 2);
+  kmax = std::sqrt(kmax);
+  const double w = kmax / (double)nbins;
+  for (int64_t b = 0; b < nbins; ++b) {
+    k[b] = 0;
+    sk[b] = 0;
+    count[b] = 0;
+  }
+  for (int i2 = 0; i2 < n2; ++i2)
+    for (int i1 = 0; i1 < n1; ++i1)
+      for (int i0 = 0; i0 < nh; ++i0) {
+        if (i0 == 0 && i1 == 0 && i2 == 0) continue;
+        const int m1 = i1 <= n1 / 2 ? i1 : i1 - n1, m2 = i2 <= n2 / 2 ? i2 : i2 - n2;
+        const double kx = 2 * M_PI * i0 / s->gm.box[0], ky = 2 * M_PI * m1 / s->gm.box[1],
+                     kz = dim == 3 ? 2 * M_PI * m2 / s->gm.box[2] : 0.0;
+        const double kk = std::sqrt(kx * kx + ky * ky + kz * kz);
+        int64_t b = (int64_t)(kk / w);
+        if (b >= nbins) b = nbins - 1;
+        const double p = power[((int64_t)i2 * n1 + i1) * nh + i0];
+        const int mult = (i0 == 0 || (n0 % 2 == 0 && i0 == n0 / 2)) ? 1 : 2;
+        k[b] += mult * kk;
+        sk[b] += mult * p;
+        count[b] += mult;
+      }
+  for (int64_t b = 0; b < nbins; ++b)
+    if (count[b] > 0) {
+      k[b] /= (double)count[b];
+      sk[b] /= (double)count[b];
+    }
+  return GRAN_SUCCESS;
+}
+
+/* ---- public -------------------------------------------------------------------------------- */
+
+GRAN_EXTERN int gran_srd_set_device(gran_srd *s, int32_t device) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(s);
+    int32_t target = 0;
+    GRAN_CALL(resolve_id(device, false, &target));
+    const int32_t now = s->dev.p ? s->dev.p->device : GRAN_SRD_DEVICE_CPU;
+    if (target != now) {
+      GRAN_CALL(dev_stop(s));
+      if (target != GRAN_SRD_DEVICE_CPU) {
+        const int e = dev_start(s, target);
+        if (e != GRAN_SUCCESS) {
+          s->opt.device = GRAN_SRD_DEVICE_CPU; /* stays on the CPU, state intact */
+          return e;
+        }
+      }
+    }
+    s->opt.device = device; /* what checkpoints record */
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_srd_get_device(const gran_srd *s, int32_t *device) {
+  GRAN_CHECK_PTR(s);
+  GRAN_CHECK_PTR(device);
+  *device = s->dev.p ? s->dev.p->device : GRAN_SRD_DEVICE_CPU;
   return GRAN_SUCCESS;
 }

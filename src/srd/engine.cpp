@@ -649,6 +649,12 @@ GRAN_EXTERN int gran_srd_create(const gran_srd_options *opt, gran_srd **srd) {
       if (opt->shear_rate != 0) s->vx[i] += opt->shear_rate * (s->y[i] - 0.5 * s->gm.box[1]);
     }
     s->e_initial = energy_of(s);
+    /* ---- device hook (owner: CUDA backend, src/srd/device_cuda.cpp) ---- */
+    if ((e = gran_srd_dev_attach(s, 0)) != GRAN_SUCCESS) {
+      delete s;
+      return e;
+    }
+    /* ---- end device hook ---- */
     *srd = s;
     return GRAN_SUCCESS;
   }
@@ -666,6 +672,7 @@ GRAN_EXTERN int gran_srd_advance(gran_srd *s, int64_t steps) {
   GRAN_TRY {
     GRAN_CHECK_PTR(s);
     GRAN_CHECK(steps >= 0, GRAN_ERR_ARG, "argument 'steps' must be >= 0 (got %lld)", (long long)steps);
+    if (s->dev.p) return gran_srd_dev_advance(s, steps); /* device hook (owner: CUDA backend) */
     const gran_srd_options &o = s->opt;
     const bool dis = o.eps < 1.0 || o.thermostat;
     const bool le = o.shear_rate != 0;
@@ -689,6 +696,10 @@ GRAN_EXTERN int gran_srd_particles(gran_srd *s, int64_t *n, double **x, double *
                                    double **vy, double **vz) {
   GRAN_CHECK_PTR(s);
   GRAN_CHECK_PTR(n);
+  if (s->dev.p) { /* device hook (owner: CUDA backend): copy back; changes go to the device at the next advance */
+    GRAN_CALL(gran_srd_dev_sync(s, 0));
+    gran_srd_dev_touch(s);
+  }
   *n = s->n;
   const bool d3 = s->opt.dim == 3;
   if (x) *x = s->x.data();
@@ -736,6 +747,7 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
   GRAN_TRY {
     GRAN_CHECK_PTR(s);
     GRAN_CHECK_PTR(ob);
+    GRAN_CALL(gran_srd_dev_sync(s, 0)); /* device hook (owner: CUDA backend): copy back */
     std::memset(ob, 0, sizeof *ob);
     const int d = s->opt.dim;
     const int64_t n = s->n;
@@ -829,6 +841,7 @@ GRAN_EXTERN int gran_srd_structure_factor(gran_srd *s, int64_t nbins, double *k,
     GRAN_CHECK_PTR(count);
     GRAN_CHECK(nbins >= 1, GRAN_ERR_ARG, "argument 'nbins' must be >= 1");
     GRAN_CHECK(s->opt.wall_axis < 0, GRAN_ERR_ARG, "S(k) needs a periodic box (no walls)");
+    if (s->dev.p) return gran_srd_dev_structure_factor(s, nbins, k, sk, count); /* device hook (CUDA backend) */
     const int d = s->opt.dim;
     const int n0 = (int)s->gm.L[0], n1 = (int)s->gm.L[1], n2 = d == 3 ? (int)s->gm.L[2] : 1;
     std::vector<int64_t> cnt;
@@ -950,6 +963,7 @@ GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
   GRAN_TRY {
     GRAN_CHECK_PTR(s);
     GRAN_CHECK_PTR(path);
+    GRAN_CALL(gran_srd_dev_sync(s, 1)); /* device hook (owner: CUDA backend): copy back, cells too */
     FILE *f = std::fopen(path, "wb");
     GRAN_CHECK(f != nullptr, GRAN_ERR_IO, "cannot open checkpoint '%s' for writing", path);
     const char magic[8] = {'G', 'S', 'R', 'D', 'C', 'K', 'P', '1'};
@@ -1012,6 +1026,12 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
     for (int k = 0; k < 3; ++k) s->wall_impulse[k] = sc[8 + k];
     s->step = ic[0];
     s->clamped = ic[1];
+    /* ---- device hook (owner: CUDA backend): resume on the device the options name ---- */
+    if ((e = gran_srd_dev_attach(s, 1)) != GRAN_SUCCESS) {
+      delete s;
+      return e;
+    }
+    /* ---- end device hook ---- */
     *out = s;
     return GRAN_SUCCESS;
   }

@@ -4,6 +4,7 @@
 
 #include "granary_impl.h"
 #include "srd/srd_kernels.h"
+#include "srd/device_cuda.h" /* device hook (owner: CUDA backend) */
 
 #include <cstddef>
 #include <memory>
@@ -80,7 +81,20 @@ struct gran_srd {
   double wall_impulse[3] = {0, 0, 0};
   /* block partial sums (deterministic reductions independent of thread count) */
   std::vector<double> part;
+  /* ---- device hook (owner: CUDA backend, src/srd/device_cuda.cpp): NULL on the CPU engine ---- */
+  gran_srd_dev_holder dev;
 };
+
+/* The cells' reference velocities as 3 doubles per cell (checkpoint layout; device backends). */
+inline void srd_refs_get(const gran_srd *s, std::vector<double> &out) {
+  out.resize((size_t)s->ncell * 3);
+  for (int64_t c = 0; c < s->ncell; ++c)
+    for (int k = 0; k < 3; ++k) out[(size_t)(3 * c + k)] = s->cell[(size_t)c].acc.V[k];
+}
+inline void srd_refs_set(gran_srd *s, const double *in) {
+  for (int64_t c = 0; c < s->ncell; ++c)
+    for (int k = 0; k < 3; ++k) s->cell[(size_t)c].acc.V[k] = in[3 * c + k];
+}
 
 #define SRD_BLOCK 4096
 #define SRD_CHUNK 512 /* particles whose cells are computed ahead of their use (stack buffers) */

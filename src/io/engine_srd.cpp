@@ -1,0 +1,616 @@
+/* engine_srd.cpp - the GSRD engine (src/srd) behind the run driver's engine interface (engine.h):
+ * `[engine] type = "srd"` scenes (parsed by parse_scene_srd in scene.cpp into gran_scene::srd).
+ *
+ * Time: the engine advances in whole steps; the scene's output times are already on the step
+ * grid (times[i] = out_steps[i] dt). Observables at each output time come from gran_srd_observe
+ * (which also turns eps_eff clamps of the interval into a warning with dt_max), S(k) from
+ * gran_srd_structure_factor, cell fields from gran_srd_fields. The Lees-Edwards stress is the
+ * average over the interval since the previous output time (gran_srd_stress_reset after each
+ * record; NaN for a zero-length interval). Field snapshots are held by replica 0 only (the
+ * replica whose seed is the scene's, or whose checkpoint group is /engine), written into the
+ * output under /fields with an XDMF sidecar (OUTPUT.xmf) that ParaView opens, and kept in the
+ * checkpoint so that a resumed run writes the same file.
+ * Checkpoint: the engine's own binary checkpoint (gran_srd_checkpoint_write: every particle, RNG
+ * state and ledger) stored byte for byte as a uint8 dataset, through a temporary file in $TMPDIR
+ * (else /tmp). */
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <unistd.h>
+
+#include "io/engine.h"
+#include "srd/device_cuda.h"
+#include "srd/fields.h"
+
+namespace {
+
+struct H5Obj {
+  hid_t id = -1;
+  herr_t (*close)(hid_t) = nullptr;
+  H5Obj(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
+  ~H5Obj() {
+    if (id >= 0 && close) close(id);
+  }
+};
+
+/* One field snapshot (replica 0). */
+struct Snap {
+  int64_t index = 0; /* output index */
+  std::vector<double> count, vel, temp;
+};
+
+int write_u8(hid_t loc, const char *name, const std::vector<unsigned char> &b, const char *file) {
+  hsize_t dims[1] = {(hsize_t)b.size()};
+  H5Obj sp(H5Screate_simple(1, dims, nullptr), H5Sclose);
+  H5Obj d(H5Dcreate2(loc, name, H5T_NATIVE_UCHAR, sp.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  GRAN_CHECK(sp.id >= 0 && d.id >= 0, GRAN_ERR_IO, "HDF5: cannot create dataset '%s' in '%s'", name, file);
+  GRAN_CHECK(b.empty() || H5Dwrite(d.id, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data()) >= 0, GRAN_ERR_IO,
+             "HDF5: cannot write dataset '%s' in '%s'", name, file);
+  return GRAN_SUCCESS;
+}
+
+int read_u8(hid_t loc, const char *name, std::vector<unsigned char> &b, const char *file) {
+  GRAN_CHECK(H5Lexists(loc, name, H5P_DEFAULT) > 0, GRAN_ERR_IO, "checkpoint '%s' has no dataset '%s'", file, name);
+  H5Obj d(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose);
+  GRAN_CHECK(d.id >= 0, GRAN_ERR_IO, "checkpoint '%s': cannot open '%s'", file, name);
+  H5Obj sp(H5Dget_space(d.id), H5Sclose);
+  GRAN_CHECK(sp.id >= 0 && H5Sget_simple_extent_ndims(sp.id) == 1, GRAN_ERR_IO, "checkpoint '%s': '%s' is not 1-D", file, name);
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(sp.id, &n, nullptr);
+  GRAN_CHECK(n < ((hsize_t)1 << 40), GRAN_ERR_IO, "checkpoint '%s': '%s' is too large", file, name);
+  b.resize((size_t)n);
+  GRAN_CHECK(n == 0 || H5Dread(d.id, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data()) >= 0, GRAN_ERR_IO,
+             "checkpoint '%s': cannot read '%s'", file, name);
+  return GRAN_SUCCESS;
+}
+
+/* A temporary file (mkstemp) in $TMPDIR (else /tmp; else next to `near`, the checkpoint): local to
+ * the process, also on an MPI rank that does not see the checkpoint's folder. Removed by the
+ * destructor. */
+struct TmpFile {
+  std::string path;
+  ~TmpFile() {
+    if (!path.empty()) std::remove(path.c_str());
+  }
+  int make(const char *near) {
+    const char *td = std::getenv("TMPDIR");
+    const std::string dirs[3] = {td && *td ? td : "/tmp", "/tmp", ""};
+    int err = 0;
+    for (const std::string &d : dirs) {
+      std::string tpl = d.empty() ? std::string(near) + ".srd-XXXXXX" : d + "/granary-srd-XXXXXX";
+      std::vector<char> b(tpl.begin(), tpl.end());
+      b.push_back('\0');
+      const int fd = mkstemp(b.data());
+      if (fd < 0) {
+        err = errno;
+        continue;
+      }
+      close(fd);
+      path = b.data();
+      return GRAN_SUCCESS;
+    }
+    return GRAN_ERROR(GRAN_ERR_IO, "cannot create a temporary file in $TMPDIR, /tmp or next to '%s': %s", near,
+                      std::strerror(err));
+  }
+};
+
+int slurp(const std::string &path, std::vector<unsigned char> &b) {
+  FILE *f = std::fopen(path.c_str(), "rb");
+  GRAN_CHECK(f != nullptr, GRAN_ERR_IO, "cannot read '%s': %s", path.c_str(), std::strerror(errno));
+  b.clear();
+  unsigned char buf[1 << 16];
+  size_t got;
+  while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) b.insert(b.end(), buf, buf + got);
+  const bool err = std::ferror(f) != 0;
+  std::fclose(f);
+  GRAN_CHECK(!err, GRAN_ERR_IO, "cannot read '%s'", path.c_str());
+  return GRAN_SUCCESS;
+}
+
+int spill(const std::string &path, const std::vector<unsigned char> &b) {
+  FILE *f = std::fopen(path.c_str(), "wb");
+  GRAN_CHECK(f != nullptr, GRAN_ERR_IO, "cannot write '%s': %s", path.c_str(), std::strerror(errno));
+  bool ok = b.empty() || std::fwrite(b.data(), 1, b.size(), f) == b.size();
+  ok = std::fclose(f) == 0 && ok;
+  GRAN_CHECK(ok, GRAN_ERR_IO, "cannot write '%s'", path.c_str());
+  return GRAN_SUCCESS;
+}
+
+/* OUTPUT.h5 -> OUTPUT.xmf (any other name: NAME.xmf) */
+std::string xmf_path(const std::string &h5) {
+  const size_t n = h5.size();
+  if (n > 3 && h5.compare(n - 3, 3, ".h5") == 0) return h5.substr(0, n - 3) + ".xmf";
+  return h5 + ".xmf";
+}
+
+std::string base_name(const std::string &p) {
+  const size_t s = p.find_last_of('/');
+  return s == std::string::npos ? p : p.substr(s + 1);
+}
+
+/* XML attribute text: & < > " escaped */
+std::string xml_escape(const std::string &s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '&') o += "&amp;";
+    else if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '"') o += "&quot;";
+    else o += c;
+  }
+  return o;
+}
+
+class SrdEngine : public gran_engine {
+ public:
+  explicit SrdEngine(const gran_scene *s) : s_(s), o_(s->srd.opt) {}
+  ~SrdEngine() override { gran_srd_destroy(&srd_); }
+  const char *type() const override { return "srd"; }
+
+  /* the device: "cuda" needs a GPU; "auto" without one runs on the CPU with a warning */
+  int prepare() {
+    int use_cuda = 0;
+    GRAN_CALL(gran_srd_device_resolve(s_->srd.device.c_str(), &use_cuda));
+    GRAN_CHECK(!use_cuda || s_->srd.device == "auto", GRAN_ERR_UNSUPPORTED,
+               "scene key 'engine.device' = \"cuda\": the run driver runs GSRD scenes on the CPU so far (the CUDA "
+               "launchers are not yet behind gran_srd_create); use device = \"cpu\" or \"auto\"");
+    if (use_cuda)
+      gran_warning_add("device = \"auto\": the run driver runs GSRD scenes on the CPU so far");
+    cells_ = 1;
+    for (int k = 0; k < o_.dim; ++k) cells_ *= o_.cells[k];
+    N_ = (int64_t)std::floor(o_.n0 * (double)cells_ + 0.5);
+    return GRAN_SUCCESS;
+  }
+
+  int declare(std::vector<gran_row_buf> &b) override {
+    const auto &q = s_->srd;
+    gran_row_buf_add(b, "stats", "steps", 1, {}, "1", "collision steps done");
+    if (q.obs_temperature) {
+      gran_row_buf_add(b, "temperature", "T", 0, {}, "energy",
+                       "global temperature sum |v - <v>|^2 / (d N), the mean velocity of the whole gas removed");
+      gran_row_buf_add(b, "temperature", "theta_cells", 0, {}, "energy",
+                       "mean thermal temperature of the unshifted cells, sum over cells of sum |v - V_cell|^2 / (d N)");
+    }
+    if (q.obs_energy) {
+      gran_row_buf_add(b, "energy", "e_kin", 0, {}, "energy", "total kinetic energy sum |v|^2 / 2 (mass 1)");
+      gran_row_buf_add(b, "energy", "e_initial", 0, {}, "energy", "total kinetic energy at the start");
+      gran_row_buf_add(b, "energy", "e_collisions", 0, {}, "energy",
+                       "energy change in collisions so far (< 0: dissipated; thermostat and virtual particles add)");
+      gran_row_buf_add(b, "energy", "e_external", 0, {}, "energy",
+                       "work done by walls, the Lees-Edwards boundary and forces so far");
+      gran_row_buf_add(b, "energy", "ledger_error", 0, {}, "1",
+                       "(e_initial + e_collisions + e_external - e_kin - potential) / e_initial");
+    }
+    if (o_.eps < 1.0) {
+      gran_row_buf_add(b, "clamps", "count", 1, {}, "1",
+                       "cell collisions whose eps_eff (Eq. 2.1) was clamped to [0, 1] since the previous output time");
+      gran_row_buf_add(b, "clamps", "dt_max", 0, {}, "time",
+                       "largest dt that would have avoided those clamps (inf: none)");
+    }
+    if (q.obs_momentum)
+      gran_row_buf_add(b, "momentum", "p", 0, {3}, "mass*length/time", "total momentum (x, y, z) of the gas");
+    if (q.obs_clustering) {
+      gran_row_buf_add(b, "clustering", "E_kin", 0, {}, "energy",
+                       "convective kinetic energy per particle, Eq. 3.1: (1/N) sum_cells n_c |V_c|^2 (unshifted cells)");
+      gran_row_buf_add(b, "clustering", "mach", 0, {}, "1", "global Mach number sqrt(E_kin / theta_cells)");
+      gran_row_buf_add(b, "clustering", "sigma_rho", 0, {}, "1/length^d",
+                       "standard deviation of the cell number density over the unshifted cells");
+    }
+    if (q.obs_a2)
+      gran_row_buf_add(b, "sonine_a2", "a2", 0, {}, "1",
+                       "Sonine coefficient a2 = (d/(d+2)) <u^4>/<u^2>^2 - 1 of u = v - V_cell (cells with n >= 2)");
+    if (q.obs_sk)
+      gran_row_buf_add(b, "structure_factor", "S", 0, {q.sk_bins}, "1",
+                       "density structure factor S(k) of the unshifted cell counts, radially averaged, k = 0 removed [time][shell]");
+    if (q.obs_stress) {
+      gran_row_buf_add(b, "stress", "xy", 0, {}, "mass/(length^(d-2) time^2)",
+                       "Lees-Edwards shear stress (kinetic + collisional) averaged over the interval since the previous output "
+                       "time (NaN for an empty interval)");
+      gran_row_buf_add(b, "stress", "kinetic", 0, {}, "mass/(length^(d-2) time^2)",
+                       "its kinetic (plane-crossing) part, same interval");
+      gran_row_buf_add(b, "stress", "eta", 0, {}, "mass/(length^(d-2) time)", "shear viscosity stress_xy / shear_rate");
+    }
+    if (q.obs_profile)
+      gran_row_buf_add(b, "velocity_profile", "u", 0, {o_.cells[1], 3}, "length/time",
+                       "mean velocity of the particles in each layer of cells along y [time][layer][component]");
+    return GRAN_SUCCESS;
+  }
+
+  /* 48 B of particle state + 4 B cell index per particle; about 200 B per cell of the binning
+   * grid (sums, rotation, reference velocity, RNG); the snapshots of replica 0 */
+  int memory(int64_t *bytes) override {
+    double cells = 1;
+    for (int k = 0; k < o_.dim; ++k) cells *= (double)(o_.cells[k] + (k == o_.wall_axis ? 1 : 0));
+    const double b = (double)N_ * 52.0 + cells * 200.0 + (double)s_->srd.snap_index.size() * (double)cells_ * 40.0;
+    *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
+    return GRAN_SUCCESS;
+  }
+
+  int start(uint64_t seed) override {
+    gran_srd_destroy(&srd_);
+    gran_srd_options o = o_;
+    o.seed = seed;
+    rep0_ = seed == s_->seed;
+    snaps_.clear();
+    return gran_srd_create(&o, &srd_);
+  }
+
+  int advance(double t) override {
+    GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: advance before start");
+    const int64_t target = (int64_t)std::llround(t / o_.dt), now = gran_srd_steps_(srd_);
+    GRAN_CHECK(target >= now, GRAN_ERR_ARG, "GSRD engine: time %g is before the current step %lld", t, (long long)now);
+    return target > now ? gran_srd_advance(srd_, target - now) : GRAN_SUCCESS;
+  }
+
+  /* events: particle collision updates (steps x N) */
+  int state(gran_engine_state *st) override {
+    GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: state before start");
+    const int64_t k = gran_srd_steps_(srd_);
+    st->time = (double)k * o_.dt;
+    st->events = N_ > 0 && k > INT64_MAX / N_ ? INT64_MAX : k * N_;
+    return GRAN_SUCCESS;
+  }
+
+  /* the cost of a step does not depend on time: work is the time span */
+  int work(int64_t n, const double *t, double *w) override {
+    for (int64_t i = 0; i < n; ++i) w[i] = std::max(0.0, t[i]);
+    return GRAN_SUCCESS;
+  }
+
+  int record(std::vector<gran_row_buf> &bufs, int64_t i) override {
+    GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: record before start");
+    const auto &q = s_->srd;
+    gran_srd_obs ob;
+    GRAN_CALL(gran_srd_observe(srd_, &ob));
+    std::vector<double> sk_k, sk_s;
+    std::vector<int64_t> sk_c;
+    if (q.obs_sk) {
+      sk_k.resize((size_t)q.sk_bins);
+      sk_s.resize((size_t)q.sk_bins);
+      sk_c.resize((size_t)q.sk_bins);
+      GRAN_CALL(gran_srd_structure_factor(srd_, q.sk_bins, sk_k.data(), sk_s.data(), sk_c.data()));
+      for (int64_t b = 0; b < q.sk_bins; ++b)
+        if (sk_c[(size_t)b] == 0) sk_s[(size_t)b] = NAN;
+    }
+    std::vector<double> cnt, vel, tmp;
+    const bool snap = rep0_ && std::binary_search(q.snap_index.begin(), q.snap_index.end(), i);
+    if (snap || q.obs_profile) {
+      cnt.resize((size_t)cells_);
+      vel.resize((size_t)cells_ * 3);
+      if (snap) tmp.resize((size_t)cells_);
+      GRAN_CALL(gran_srd_fields(srd_, cnt.data(), vel.data(), snap ? tmp.data() : nullptr));
+    }
+    const double span = ob.time - stress_t0_;
+    for (auto &b : bufs) {
+      double *d = b.is_int ? nullptr : b.d.data() + i * b.row;
+      int64_t *n = b.is_int ? b.n.data() + i * b.row : nullptr;
+      const std::string &g = b.group, &nm = b.name;
+      if (g == "stats") n[0] = ob.steps;
+      else if (g == "temperature") d[0] = nm == "T" ? ob.temperature : ob.theta_cells;
+      else if (g == "energy") {
+        d[0] = nm == "e_kin" ? ob.energy : nm == "e_initial" ? ob.e_initial : nm == "e_collisions" ? ob.e_collisions
+             : nm == "e_external" ? ob.e_external : ob.ledger_error;
+      } else if (g == "clamps") {
+        if (b.is_int) n[0] = ob.clamped;
+        else d[0] = ob.dt_max;
+      } else if (g == "momentum") {
+        for (int k = 0; k < 3; ++k) d[k] = ob.momentum[k];
+      } else if (g == "clustering") {
+        d[0] = nm == "E_kin" ? ob.e_kin : nm == "mach" ? ob.mach : ob.sigma_rho;
+      } else if (g == "sonine_a2") {
+        d[0] = ob.a2;
+      } else if (g == "structure_factor") {
+        std::copy(sk_s.begin(), sk_s.end(), d);
+      } else if (g == "stress") {
+        const double v = nm == "xy" ? ob.stress_xy : nm == "kinetic" ? ob.stress_kin : ob.stress_xy / o_.shear_rate;
+        d[0] = span > 0 ? v : NAN;
+      } else if (g == "velocity_profile") {
+        profile(cnt, vel, d);
+      }
+    }
+    if (q.obs_stress) {
+      GRAN_CALL(gran_srd_stress_reset(srd_));
+      stress_t0_ = ob.time;
+    }
+    if (snap) {
+      Snap sn;
+      sn.index = i;
+      sn.count = std::move(cnt);
+      sn.vel = std::move(vel);
+      sn.temp = std::move(tmp);
+      snaps_.push_back(std::move(sn));
+    }
+    return GRAN_SUCCESS;
+  }
+
+  int write_output(int64_t f, const char *file, int64_t nrec) override {
+    const auto &q = s_->srd;
+    GRAN_CALL(gran_h5::attr_int64(f, "dimension", o_.dim, file));
+    {
+      H5Obj g(-1, H5Gclose);
+      GRAN_CALL(gran_h5::make_group(f, "srd", &g.id, file));
+      std::vector<int64_t> cells = {o_.cells[0], o_.cells[1], o_.dim == 3 ? o_.cells[2] : 1};
+      GRAN_CALL(gran_h5::write_int64(g.id, "cells", {3}, cells.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "cells", "1", "cells per axis (x, y, z; 1 on an unused axis)", file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "a", o_.a, file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "n0", o_.n0, file));
+      GRAN_CALL(gran_h5::attr_int64(g.id, "N", N_, file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "dt", o_.dt, file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "alpha_deg", o_.alpha_deg, file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "eps", o_.eps, file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "sigma", o_.sigma, file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "T0", o_.T0, file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "shear_rate", o_.shear_rate, file));
+      GRAN_CALL(gran_h5::attr_int64(g.id, "wall_axis", o_.wall_axis, file));
+      GRAN_CALL(gran_h5::attr_int64(g.id, "steps", q.steps, file));
+      GRAN_CALL(gran_h5::attr_string(g.id, "device", "cpu", file));
+      std::vector<double> acc = {o_.accel[0], o_.accel[1], o_.accel[2]};
+      GRAN_CALL(gran_h5::write_double(g.id, "accel", {3}, acc.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "accel", "length/time^2", "uniform acceleration: gravity + body force per mass", file));
+    }
+    if (q.obs_sk) {
+      H5Obj g(H5Gopen2((hid_t)f, "structure_factor", H5P_DEFAULT), H5Gclose);
+      std::vector<double> k((size_t)q.sk_bins), sk((size_t)q.sk_bins);
+      std::vector<int64_t> c((size_t)q.sk_bins);
+      GRAN_CALL(gran_srd_structure_factor(srd_, q.sk_bins, k.data(), sk.data(), c.data())); /* k and counts: geometry only */
+      for (int64_t b = 0; b < q.sk_bins; ++b)
+        if (c[(size_t)b] == 0) k[(size_t)b] = NAN;
+      GRAN_CALL(gran_h5::write_double(g.id, "k", {q.sk_bins}, k.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "k", "1/length", "mean |k| of the modes in each shell (NaN: empty shell)", file));
+      GRAN_CALL(gran_h5::write_int64(g.id, "modes", {q.sk_bins}, c.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "modes", "1", "modes in each shell", file));
+    }
+    if (q.obs_temperature && haff_applies() && q.obs_theory) {
+      H5Obj g(H5Gopen2((hid_t)f, "temperature", H5P_DEFAULT), H5Gclose);
+      std::vector<double> th((size_t)nrec);
+      const double rate = haff_rate();
+      for (int64_t i = 0; i < nrec; ++i) {
+        const double x = 1.0 + rate * s_->times[(size_t)i];
+        th[(size_t)i] = o_.T0 / (x * x);
+      }
+      GRAN_CALL(gran_h5::write_double(g.id, "T_theory", {nrec}, th.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "T_theory", "energy",
+                               "Haff's law T0 / (1 + t / tau)^2 with the mean-field rate of Eq. 2.1: 1/tau = k (1 - eps^2) "
+                               "sigma^2 (n0 / a^d) sqrt(T0), k = 1 in 2-D, 2/3 in 3-D (only the components perpendicular "
+                               "to the axis are scaled)", file));
+      GRAN_CALL(gran_h5::attr_double(g.id, "haff_rate", rate, file));
+    }
+    GRAN_CALL(write_snapshots(f, file, nrec));
+    /* a finished run: the sidecar of an earlier partial output goes with it */
+    if (nrec == (int64_t)s_->times.size()) std::remove(xmf_path(gran_partial_path_(file)).c_str());
+    return GRAN_SUCCESS;
+  }
+
+  int checkpoint_write(int64_t file, const char *fname, const char *group) override {
+    GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: checkpoint before start");
+    TmpFile tmp;
+    GRAN_CALL(tmp.make(fname));
+    GRAN_CALL(gran_srd_checkpoint_write(srd_, tmp.path.c_str()));
+    std::vector<unsigned char> blob;
+    GRAN_CALL(slurp(tmp.path, blob));
+    H5Obj lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+    H5Pset_create_intermediate_group(lcpl.id, 1);
+    H5Obj g(H5Gcreate2((hid_t)file, group, lcpl.id, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "HDF5: cannot create group '%s' in '%s'", group, fname);
+    GRAN_CALL(gran_h5::attr_string(g.id, "format", "granary-srd-checkpoint 1", fname));
+    GRAN_CALL(write_u8(g.id, "state", blob, fname));
+    GRAN_CALL(gran_h5::attr_double(g.id, "stress_t0", stress_t0_, fname));
+    const int64_t ns = (int64_t)snaps_.size();
+    GRAN_CALL(gran_h5::attr_int64(g.id, "snapshots", ns, fname));
+    for (int64_t j = 0; j < ns; ++j) {
+      const Snap &sn = snaps_[(size_t)j];
+      H5Obj sg(-1, H5Gclose);
+      GRAN_CALL(gran_h5::make_group(g.id, ("snap" + std::to_string(j)).c_str(), &sg.id, fname));
+      GRAN_CALL(gran_h5::attr_int64(sg.id, "index", sn.index, fname));
+      GRAN_CALL(gran_h5::write_double(sg.id, "count", {cells_}, sn.count.data(), fname));
+      GRAN_CALL(gran_h5::write_double(sg.id, "velocity", {cells_ * 3}, sn.vel.data(), fname));
+      GRAN_CALL(gran_h5::write_double(sg.id, "temperature", {cells_}, sn.temp.data(), fname));
+    }
+    return GRAN_SUCCESS;
+  }
+
+  int checkpoint_read(int64_t file, const char *fname, const char *group) override {
+    gran_srd_destroy(&srd_);
+    snaps_.clear();
+    rep0_ = std::strcmp(group, "/engine") == 0;
+    GRAN_CHECK(H5Lexists((hid_t)file, group, H5P_DEFAULT) > 0, GRAN_ERR_IO, "checkpoint '%s' has no group '%s'", fname, group);
+    H5Obj g(H5Gopen2((hid_t)file, group, H5P_DEFAULT), H5Gclose);
+    GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "checkpoint '%s': cannot open group '%s'", fname, group);
+    std::string fmt;
+    GRAN_CALL(gran_h5::read_attr_string(g.id, "format", fmt, fname));
+    GRAN_CHECK(fmt == "granary-srd-checkpoint 1", GRAN_ERR_IO, "checkpoint '%s': group '%s' is not a GSRD engine state (format '%s')",
+               fname, group, fmt.c_str());
+    std::vector<unsigned char> blob;
+    GRAN_CALL(read_u8(g.id, "state", blob, fname));
+    /* the options in the state's header (after its 8-byte magic) must be the scene's before the
+     * engine allocates anything from them */
+    gran_srd_options c;
+    GRAN_CHECK(blob.size() >= 8 + sizeof c, GRAN_ERR_IO, "checkpoint '%s': the GSRD state in '%s' is truncated", fname, group);
+    std::memcpy(&c, blob.data() + 8, sizeof c);
+    GRAN_CHECK(c.dim == o_.dim && c.cells[0] == o_.cells[0] && c.cells[1] == o_.cells[1] &&
+                   (o_.dim == 2 || c.cells[2] == o_.cells[2]) && c.n0 == o_.n0 && c.dt == o_.dt,
+               GRAN_ERR_IO, "checkpoint '%s': the GSRD state in '%s' does not match the scene (dimension, cells, n0, dt)",
+               fname, group);
+    {
+      TmpFile tmp;
+      GRAN_CALL(tmp.make(fname));
+      GRAN_CALL(spill(tmp.path, blob));
+      GRAN_CALL(gran_srd_checkpoint_read(tmp.path.c_str(), &srd_));
+    }
+    GRAN_CHECK(H5Aexists(g.id, "stress_t0") > 0, GRAN_ERR_IO, "checkpoint '%s': '%s' has no stress_t0", fname, group);
+    H5Obj a(H5Aopen(g.id, "stress_t0", H5P_DEFAULT), H5Aclose);
+    GRAN_CHECK(a.id >= 0 && H5Aread(a.id, H5T_NATIVE_DOUBLE, &stress_t0_) >= 0, GRAN_ERR_IO,
+               "checkpoint '%s': cannot read stress_t0 of '%s'", fname, group);
+    int64_t ns = 0;
+    GRAN_CALL(gran_h5::read_attr_int64(g.id, "snapshots", &ns, fname));
+    GRAN_CHECK(ns >= 0 && ns <= (int64_t)s_->srd.snap_index.size(), GRAN_ERR_IO, "checkpoint '%s': %lld snapshots out of range",
+               fname, (long long)ns);
+    for (int64_t j = 0; j < ns; ++j) {
+      const std::string nm = "snap" + std::to_string(j);
+      GRAN_CHECK(gran_h5::exists(g.id, nm.c_str()), GRAN_ERR_IO, "checkpoint '%s': '%s/%s' missing", fname, group, nm.c_str());
+      H5Obj sg(H5Gopen2(g.id, nm.c_str(), H5P_DEFAULT), H5Gclose);
+      Snap sn;
+      GRAN_CALL(gran_h5::read_attr_int64(sg.id, "index", &sn.index, fname));
+      GRAN_CALL(gran_h5::read_double(sg.id, "count", sn.count, nullptr, fname));
+      GRAN_CALL(gran_h5::read_double(sg.id, "velocity", sn.vel, nullptr, fname));
+      GRAN_CALL(gran_h5::read_double(sg.id, "temperature", sn.temp, nullptr, fname));
+      GRAN_CHECK((int64_t)sn.count.size() == cells_ && (int64_t)sn.vel.size() == 3 * cells_ &&
+                     (int64_t)sn.temp.size() == cells_,
+                 GRAN_ERR_IO, "checkpoint '%s': snapshot '%s' has the wrong size", fname, nm.c_str());
+      snaps_.push_back(std::move(sn));
+    }
+    return GRAN_SUCCESS;
+  }
+
+  std::vector<gran_summary_column> summary_columns() const override {
+    std::vector<gran_summary_column> c;
+    if (s_->srd.obs_temperature)
+      c.push_back({"T", "temperature/T", haff_applies() && s_->srd.obs_theory ? "temperature/T_theory" : ""});
+    if (s_->srd.obs_clustering) c.push_back({"Mach", "clustering/mach", ""});
+    if (s_->srd.obs_stress) c.push_back({"eta", "stress/eta", ""});
+    return c;
+  }
+
+ private:
+  const gran_scene *s_;
+  gran_srd_options o_;
+  gran_srd *srd_ = nullptr;
+  int64_t cells_ = 1, N_ = 0;
+  bool rep0_ = true;
+  double stress_t0_ = 0.0;
+  std::vector<Snap> snaps_;
+
+  /* homogeneous cooling: dissipation and nothing else acting on the gas */
+  bool haff_applies() const {
+    return o_.eps < 1.0 && o_.sigma > 0 && !o_.thermostat && o_.shear_rate == 0 && o_.wall_axis < 0 &&
+           o_.accel[0] == 0 && o_.accel[1] == 0 && o_.accel[2] == 0;
+  }
+  double haff_rate() const {
+    const double vol = o_.dim == 3 ? o_.a * o_.a * o_.a : o_.a * o_.a;
+    return (o_.dim == 3 ? 2.0 / 3.0 : 1.0) * (1.0 - o_.eps * o_.eps) * o_.sigma * o_.sigma * (o_.n0 / vol) * std::sqrt(o_.T0);
+  }
+
+  /* mean velocity of the particles in each y layer from the cell fields */
+  void profile(const std::vector<double> &cnt, const std::vector<double> &vel, double *row) const {
+    const int64_t L0 = o_.cells[0], L1 = o_.cells[1], L2 = o_.dim == 3 ? o_.cells[2] : 1;
+    for (int64_t j = 0; j < L1; ++j) {
+      double m = 0, u[3] = {0, 0, 0};
+      for (int64_t k = 0; k < L2; ++k)
+        for (int64_t i = 0; i < L0; ++i) {
+          const size_t c = (size_t)(i + L0 * (j + L1 * k));
+          m += cnt[c];
+          for (int q = 0; q < 3; ++q) u[q] += cnt[c] * vel[3 * c + q];
+        }
+      for (int q = 0; q < 3; ++q) row[3 * j + q] = m > 0 ? u[q] / m : NAN;
+    }
+  }
+
+  /* /fields/snap_NNNNNN/{count, density, velocity, temperature} and the XDMF sidecar */
+  int write_snapshots(int64_t f, const char *file, int64_t nrec) {
+    std::vector<const Snap *> use;
+    for (const Snap &sn : snaps_)
+      if (sn.index < nrec) use.push_back(&sn);
+    if (use.empty()) return GRAN_SUCCESS;
+    const int d = o_.dim;
+    const int64_t L0 = o_.cells[0], L1 = o_.cells[1], L2 = d == 3 ? o_.cells[2] : 1;
+    std::vector<int64_t> sdims = d == 3 ? std::vector<int64_t>{L2, L1, L0} : std::vector<int64_t>{L1, L0};
+    std::vector<int64_t> vdims = sdims;
+    vdims.push_back(3);
+    const double vol = d == 3 ? o_.a * o_.a * o_.a : o_.a * o_.a;
+    H5Obj g(-1, H5Gclose);
+    GRAN_CALL(gran_h5::make_group(f, "fields", &g.id, file));
+    GRAN_CALL(gran_h5::attr_string(g.id, "layout", d == 3 ? "[z][y][x], cell-centred, x fastest" : "[y][x], cell-centred, x fastest", file));
+    GRAN_CALL(gran_h5::attr_double(g.id, "a", o_.a, file));
+    GRAN_CALL(gran_h5::attr_string(g.id, "xdmf", base_name(xmf_path(file)), file));
+    std::vector<double> times, dens((size_t)cells_);
+    std::vector<int64_t> idx;
+    std::string grids;
+    char buf[512];
+    const std::string h5name = xml_escape(base_name(file));
+    auto dimstr = [](const std::vector<int64_t> &v) {
+      std::string s;
+      for (int64_t x : v) s += (s.empty() ? "" : " ") + std::to_string(x);
+      return s;
+    };
+    for (const Snap *sn : use) {
+      char nm[32];
+      std::snprintf(nm, sizeof nm, "snap_%06lld", (long long)sn->index);
+      const double t = s_->times[(size_t)sn->index];
+      times.push_back(t);
+      idx.push_back(sn->index);
+      for (int64_t c = 0; c < cells_; ++c) dens[(size_t)c] = sn->count[(size_t)c] / vol;
+      H5Obj sg(-1, H5Gclose);
+      GRAN_CALL(gran_h5::make_group(g.id, nm, &sg.id, file));
+      GRAN_CALL(gran_h5::attr_double(sg.id, "time", t, file));
+      GRAN_CALL(gran_h5::attr_int64(sg.id, "output_index", sn->index, file));
+      GRAN_CALL(gran_h5::write_double(sg.id, "count", sdims, sn->count.data(), file));
+      GRAN_CALL(gran_describe_(sg.id, "count", "1", "particles per cell", file));
+      GRAN_CALL(gran_h5::write_double(sg.id, "density", sdims, dens.data(), file));
+      GRAN_CALL(gran_describe_(sg.id, "density", "1/length^d", "number density per cell: count / a^d", file));
+      GRAN_CALL(gran_h5::write_double(sg.id, "velocity", vdims, sn->vel.data(), file));
+      GRAN_CALL(gran_describe_(sg.id, "velocity", "length/time", "mean velocity per cell (x, y, z; z = 0 in 2-D; 0 in empty cells)", file));
+      GRAN_CALL(gran_h5::write_double(sg.id, "temperature", sdims, sn->temp.data(), file));
+      GRAN_CALL(gran_describe_(sg.id, "temperature", "energy", "cell temperature sum |v - V|^2 / (d n) (0 in empty cells)", file));
+      /* XDMF: a uniform grid per snapshot; topology dimensions are node counts (cells + 1) */
+      std::vector<int64_t> nodes = sdims;
+      for (int64_t &x : nodes) x += 1;
+      std::string geo_o = d == 3 ? "0 0 0" : "0 0", geo_s;
+      for (int k = 0; k < d; ++k) {
+        std::snprintf(buf, sizeof buf, "%s%.17g", k ? " " : "", o_.a);
+        geo_s += buf;
+      }
+      std::snprintf(buf, sizeof buf, "%.17g", t);
+      grids += "      <Grid Name=\"" + std::string(nm) + "\" GridType=\"Uniform\">\n";
+      grids += "        <Time Value=\"" + std::string(buf) + "\"/>\n";
+      grids += std::string("        <Topology TopologyType=\"") + (d == 3 ? "3DCORECTMesh" : "2DCORECTMesh") +
+               "\" Dimensions=\"" + dimstr(nodes) + "\"/>\n";
+      grids += std::string("        <Geometry GeometryType=\"") + (d == 3 ? "ORIGIN_DXDYDZ" : "ORIGIN_DXDY") + "\">\n";
+      grids += "          <DataItem Name=\"Origin\" Dimensions=\"" + std::to_string(d) +
+               "\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" + geo_o + "</DataItem>\n";
+      grids += "          <DataItem Name=\"Spacing\" Dimensions=\"" + std::to_string(d) +
+               "\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" + geo_s + "</DataItem>\n";
+      grids += "        </Geometry>\n";
+      const char *attrs[4][2] = {{"density", "Scalar"}, {"count", "Scalar"}, {"temperature", "Scalar"}, {"velocity", "Vector"}};
+      for (auto &at : attrs) {
+        const bool vec = !std::strcmp(at[1], "Vector");
+        grids += std::string("        <Attribute Name=\"") + at[0] + "\" AttributeType=\"" + at[1] + "\" Center=\"Cell\">\n";
+        grids += "          <DataItem Dimensions=\"" + dimstr(vec ? vdims : sdims) +
+                 "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" + h5name + ":/fields/" + nm + "/" + at[0] +
+                 "</DataItem>\n";
+        grids += "        </Attribute>\n";
+      }
+      grids += "      </Grid>\n";
+    }
+    const int64_t ns = (int64_t)times.size();
+    GRAN_CALL(gran_h5::write_double(g.id, "time", {ns}, times.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "time", "time", "times of the snapshots", file));
+    GRAN_CALL(gran_h5::write_int64(g.id, "output_index", {ns}, idx.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "output_index", "1", "output index (row of /time) of each snapshot", file));
+    std::string x = "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n"
+                    "    <Grid Name=\"GSRD fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n" +
+                    grids + "    </Grid>\n  </Domain>\n</Xdmf>\n";
+    const std::string xp = xmf_path(file), tmp = xp + ".tmp";
+    {
+      FILE *fx = std::fopen(tmp.c_str(), "wb");
+      GRAN_CHECK(fx != nullptr, GRAN_ERR_IO, "cannot write the XDMF file '%s': %s", tmp.c_str(), std::strerror(errno));
+      bool ok = std::fwrite(x.data(), 1, x.size(), fx) == x.size();
+      ok = std::fclose(fx) == 0 && ok;
+      if (!ok) std::remove(tmp.c_str());
+      GRAN_CHECK(ok, GRAN_ERR_IO, "cannot write the XDMF file '%s'", tmp.c_str());
+    }
+    return gran_io_commit_file_(tmp, xp);
+  }
+};
+
+}  // namespace
+
+int gran_engine_srd_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out) {
+  std::unique_ptr<SrdEngine> e(new SrdEngine(s));
+  GRAN_CALL(e->prepare());
+  out = std::move(e);
+  return GRAN_SUCCESS;
+}
