@@ -418,6 +418,15 @@ static void test_bad_options(void **state) {
   q = o; q.wall_axis = 2; q.wall_rule = 5; bad(q, "'wall_rule'");
   q = o; q.vib_amp = 1; bad(q, "'vib_amp'");
   q = o; q.thermostat = 3; bad(q, "'thermostat'");
+  {
+    gran_srd *t = NULL; /* the global thermostat is CPU only: a device run (the host reference) refuses it */
+    q = o;
+    q.thermostat = 2;
+    q.device = GRAN_SRD_DEVICE_REFERENCE;
+    GRAN_ASSERT_ERR(gran_srd_create(&q, &t), GRAN_ERR_UNSUPPORTED);
+    assert_non_null(strstr(gran_last_error_message(), "'thermostat'"));
+    assert_null(t);
+  }
   gran_srd *s = NULL;
   GRAN_ASSERT_ERR(gran_srd_create(NULL, &s), GRAN_ERR_ARG);
   GRAN_ASSERT_ERR(gran_srd_advance(NULL, 1), GRAN_ERR_ARG);
