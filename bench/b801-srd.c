@@ -9,7 +9,6 @@
 
 #include <math.h>
 #include <malloc.h>
-#include <unistd.h>
 
 
 static double copy_bw(size_t bytes) {
@@ -46,31 +45,25 @@ static double rate(gran_srd_options o, int threads, int steps, double *setup) {
   return (double)ob.n * steps / t;
 }
 
-/* resident memory now (bytes), from /proc/self/statm */
-static double rss_now(void) {
-  FILE *f = fopen("/proc/self/statm", "r");
-  long pages = 0, res = 0;
-  if (f) {
-    if (fscanf(f, "%ld %ld", &pages, &res) != 2) res = 0;
-    fclose(f);
-  }
-  return (double)res * (double)sysconf(_SC_PAGESIZE);
+/* heap bytes in use now (malloc'ed incl. mmapped chunks), glibc mallinfo2 */
+static double heap_now(void) {
+  const struct mallinfo2 mi = mallinfo2();
+  return (double)mi.uordblks + (double)mi.hblkhd;
 }
 
-/* measured memory per particle: resident growth over create + 2 steps (1 thread: no slab lists;
+/* measured memory per particle: heap growth over create + 2 steps (1 thread: no slab lists;
  * all threads: with the 4 B per particle lists of the parallel cell sums) */
 static void memory_per_particle(gran_srd_options o) {
-  mallopt(M_MMAP_THRESHOLD, 1 << 20); /* big arrays mmapped and returned on free: RSS deltas mean something */
   for (int t = 0; t < 2; ++t) {
     o.threads = t == 0 ? 1 : 0;
-    const double r0 = rss_now();
+    const double r0 = heap_now();
     gran_srd *s = NULL;
     BENCH_CHECK(gran_srd_create(&o, &s));
     BENCH_CHECK(gran_srd_advance(s, 2));
-    const double r1 = rss_now();
+    const double r1 = heap_now();
     gran_srd_obs ob;
     BENCH_CHECK(gran_srd_observe(s, &ob));
-    printf("memory per particle (%lld^3 cells, n0 = %g, %s): %.1f B measured (resident growth / N); "
+    printf("memory per particle (%lld^3 cells, n0 = %g, %s): %.1f B measured (heap in use / N); "
            "model 48 B particle state + 96 B per cell / n0 = %.1f B%s\n",
            (long long)o.cells[0], o.n0, t == 0 ? "1 thread" : "all threads", (r1 - r0) / (double)ob.n,
            48.0 + 96.0 / o.n0, t == 0 ? "" : " + 4 B slab list");
