@@ -7,6 +7,9 @@
  * collide r 4+24 (+cell) w 24 -> about 204 B. */
 #include "bench_util.h"
 
+#include <math.h>
+#include <malloc.h>
+
 
 static double copy_bw(size_t bytes) {
   double *a = malloc(bytes), *b = malloc(bytes);
@@ -31,7 +34,8 @@ static double rate(gran_srd_options o, int threads, int steps, double *setup) {
   double t0 = bench_now();
   BENCH_CHECK(gran_srd_create(&o, &s));
   if (setup) *setup = bench_now() - t0;
-  BENCH_CHECK(gran_srd_advance(s, 2));
+  BENCH_CHECK(gran_srd_advance(s, o.sort_every + 1)); /* through the first sort by cell: the
+                                                         particles of a long run are sorted */
   t0 = bench_now();
   BENCH_CHECK(gran_srd_advance(s, steps));
   double t = bench_now() - t0;
@@ -39,6 +43,146 @@ static double rate(gran_srd_options o, int threads, int steps, double *setup) {
   BENCH_CHECK(gran_srd_observe(s, &ob));
   BENCH_CHECK(gran_srd_destroy(&s));
   return (double)ob.n * steps / t;
+}
+
+/* heap bytes in use now (malloc'ed incl. mmapped chunks), glibc mallinfo2 */
+static double heap_now(void) {
+  const struct mallinfo2 mi = mallinfo2();
+  return (double)mi.uordblks + (double)mi.hblkhd;
+}
+
+/* measured memory per particle: heap growth over create + 2 steps (1 thread: no slab lists;
+ * all threads: with the 4 B per particle lists of the parallel cell sums) */
+static void memory_per_particle(gran_srd_options o) {
+  for (int t = 0; t < 2; ++t) {
+    o.threads = t == 0 ? 1 : 0;
+    const double r0 = heap_now();
+    gran_srd *s = NULL;
+    BENCH_CHECK(gran_srd_create(&o, &s));
+    BENCH_CHECK(gran_srd_advance(s, 2));
+    const double r1 = heap_now();
+    gran_srd_obs ob;
+    BENCH_CHECK(gran_srd_observe(s, &ob));
+    printf("memory per particle (%lld^3 cells, n0 = %g, %s): %.1f B measured (heap in use / N); "
+           "model 48 B particle state + 96 B per cell / n0 = %.1f B%s\n",
+           (long long)o.cells[0], o.n0, t == 0 ? "1 thread" : "all threads", (r1 - r0) / (double)ob.n,
+           48.0 + 96.0 / o.n0, t == 0 ? "" : " + 4 B slab list");
+    BENCH_CHECK(gran_srd_destroy(&s));
+  }
+}
+
+/* Eq. 1.48 (2-D) / 1.49 (3-D) kinetic + collisional viscosity (a = dt = kT = m = 1, M = n0). */
+static double nu_eq(int dim, double M, double alpha_deg, double *kin) {
+  const double al = alpha_deg * 3.14159265358979323846 / 180, q = M - 1 + exp(-M);
+  *kin = dim == 2 ? M / (q * (1 - cos(2 * al))) - 0.5 : 5 * M / (q * (4 - 2 * cos(al) - 2 * cos(2 * al))) - 0.5;
+  return *kin + q / M * (1 - cos(al)) / (dim == 2 ? 12.0 : 18.0);
+}
+
+/* Figs. 3.2 / 3.3 (reduced): total viscosity under Lees-Edwards shear against alpha, global
+ * thermostat (thermostat = 2), n0 = 10; mean and standard error of time blocks. */
+static void viscosity_sweep(int dim, int quick) {
+  const double al2[] = {30, 45, 60, 90, 120, 130, 150}, al3[] = {30, 60, 90, 120, 150, 180};
+  const double *al = dim == 2 ? al2 : al3;
+  const int na = dim == 2 ? 7 : 6;
+  const int L = dim == 2 ? 16 : (quick ? 6 : 10), nblk = quick ? 6 : 12, blk = quick ? 100 : 250;
+  printf("viscosity %d-D (%d^%d cells, n0 = 10, thermostat = 2, %d blocks of %d steps):\n", dim, L, dim, nblk, blk);
+  printf("  alpha   measured     +- se      Eq.%s+coll  (kinetic)   deviation\n", dim == 2 ? "1.48" : "1.49");
+  for (int k = 0; k < na; ++k) {
+    gran_srd_options o;
+    BENCH_CHECK(gran_srd_options_default(&o));
+    o.dim = dim;
+    o.cells[0] = o.cells[1] = o.cells[2] = L;
+    o.n0 = 10;
+    o.alpha_deg = al[k];
+    o.thermostat = 2;
+    double kin;
+    const double th = nu_eq(dim, o.n0, al[k], &kin);
+    /* shear rate: small enough that the stress correlations (about nu steps long) see a small
+     * strain (Weissenberg number rate * nu < 0.1), large enough for the signal */
+    o.shear_rate = fmin(0.06, 0.1 / th);
+    o.seed = 99 + (uint64_t)al[k];
+    o.threads = 1;
+    gran_srd *s = NULL;
+    BENCH_CHECK(gran_srd_create(&o, &s));
+    BENCH_CHECK(gran_srd_advance(s, 2 * blk));
+    double sm = 0, s2 = 0;
+    for (int b = 0; b < nblk; ++b) {
+      BENCH_CHECK(gran_srd_stress_reset(s));
+      BENCH_CHECK(gran_srd_advance(s, blk));
+      gran_srd_obs ob;
+      BENCH_CHECK(gran_srd_observe(s, &ob));
+      const double nu = ob.stress_xy / (o.n0 * o.shear_rate);
+      sm += nu;
+      s2 += nu * nu;
+    }
+    BENCH_CHECK(gran_srd_destroy(&s));
+    const double m = sm / nblk, se = sqrt(fmax(0.0, s2 / nblk - m * m) / (nblk - 1));
+    printf("  %5.0f  %9.4f  %9.4f  %9.4f  (%8.4f)  %+6.1f %% (%+.1f se)\n", al[k], m, se, th, kin,
+           100 * (m / th - 1), (m - th) / se);
+  }
+}
+
+/* Fig. 3.6 (reduced): 2-D GSRD under Lees-Edwards shear without thermostat (the shear heating
+ * balances the dissipation), n0 = 10, eps_eff about 0.998 as in the thesis. Theory: Eq. 2.55 with
+ * the measured thermal temperature theta (relative to the imposed profile) and
+ * kappa = (1 - eps^2) sigma^2 dt sqrt(theta) (Eq. 2.53); printed are the form of Eq. 2.55 as it
+ * stands in the thesis and the form that follows from averaging Eq. 2.52 over the Poisson
+ * occupancy, 1 - h = [q (1 - cos 2a) + n0 (2 n0 kappa - (n0^2 + 2 n0) kappa^2) cos 2a] / n0 with
+ * q = n0 - 1 + e^-n0 (the two differ in the kappa terms), each + collisional. */
+static void granular_viscosity(int quick) {
+  const double al[] = {20, 30, 40};
+  const int nblk = quick ? 6 : 12, blk = quick ? 150 : 300, L = quick ? 24 : 32;
+  printf("GSRD viscosity 2-D (%d^2 cells, n0 = 10, eps = 0.9, no thermostat, %d blocks of %d steps):\n", L, nblk, blk);
+  printf("  alpha  theta   n0 kappa  measured   +- se    Eq.2.55(thesis) Eq.2.52-avg  Eq.1.48 (all + coll)\n");
+  for (int k = 0; k < 3; ++k) {
+    gran_srd_options o;
+    BENCH_CHECK(gran_srd_options_default(&o));
+    o.dim = 2;
+    o.cells[0] = o.cells[1] = L;
+    o.n0 = 10;
+    o.alpha_deg = al[k];
+    o.eps = 0.9;
+    o.sigma = 0.023; /* n0 kappa ~ 1e-3 at theta ~ 0.7: eps_eff ~ 0.999 */
+    o.shear_rate = 0.03;
+    o.T0 = 0.7;
+    o.seed = 7 + (uint64_t)al[k];
+    o.threads = 1;
+    gran_srd *s = NULL;
+    BENCH_CHECK(gran_srd_create(&o, &s));
+    BENCH_CHECK(gran_srd_advance(s, quick ? 1000 : 3000));
+    double sm = 0, s2 = 0, th = 0;
+    int nth = 0;
+    for (int b = 0; b < nblk; ++b) {
+      BENCH_CHECK(gran_srd_stress_reset(s));
+      for (int t = 0; t < blk; t += 10) {
+        BENCH_CHECK(gran_srd_advance(s, 10));
+        int64_t n;
+        double *x, *y, *z, *vx, *vy, *vz, e = 0;
+        BENCH_CHECK(gran_srd_particles(s, &n, &x, &y, &z, &vx, &vy, &vz));
+        for (int64_t i = 0; i < n; ++i) {
+          const double ux = vx[i] - o.shear_rate * (y[i] - 0.5 * L);
+          e += ux * ux + vy[i] * vy[i];
+        }
+        th += e / (2.0 * (double)n);
+        ++nth;
+      }
+      gran_srd_obs ob;
+      BENCH_CHECK(gran_srd_observe(s, &ob));
+      const double nu = ob.stress_xy / (o.n0 * o.shear_rate);
+      sm += nu;
+      s2 += nu * nu;
+    }
+    BENCH_CHECK(gran_srd_destroy(&s));
+    th /= nth;
+    const double m = sm / nblk, se = sqrt(fmax(0.0, s2 / nblk - m * m) / (nblk - 1));
+    const double n0 = o.n0, q = n0 - 1 + exp(-n0), a = al[k] * 3.14159265358979323846 / 180, c2 = cos(2 * a);
+    const double kap = (1 - o.eps * o.eps) * o.sigma * o.sigma * o.dt * sqrt(th), coll = q / n0 * (1 - cos(a)) / 12;
+    const double e148 = th * (n0 / (q * (1 - c2)) - 0.5) + coll;
+    const double e255 = th * (n0 / (q * (1 - c2) - (2 * n0 * kap + (n0 - 2) * kap * kap) * c2) - 0.5) + coll;
+    const double eavg = th * (n0 / (q * (1 - c2) + n0 * (2 * n0 * kap - (n0 * n0 + 2 * n0) * kap * kap) * c2) - 0.5) + coll;
+    printf("  %5.0f  %.4f  %.5f  %8.4f  %7.4f  %8.4f (%+.1f %%)  %8.4f (%+.1f %%)  %8.4f (%+.1f %%)\n", al[k], th, n0 * kap, m,
+           se, e255, 100 * (m / e255 - 1), eavg, 100 * (m / eavg - 1), e148, 100 * (m / e148 - 1));
+  }
 }
 
 int main(void) {
@@ -82,7 +226,22 @@ int main(void) {
   eff[4].o.thermostat = 1;
   printf("effects at 32^3 (all threads), time relative to none (%.3g particle-steps/s):\n", base);
   for (int i = 0; i < 5; ++i) printf("  %-16s %.2f\n", eff[i].name, base / rate(eff[i].o, nmax, 10, NULL));
-  printf("memory per particle: 48 B state + 4 B cell index + 160 B per cell / n0 = %.0f B\n", 52.0 + 160.0 / 10);
+  viscosity_sweep(2, quick);
+  viscosity_sweep(3, quick);
+  granular_viscosity(quick);
+  if (!quick) { /* stream set-up of 256^3 cells (16.8M streams; few particles: only the cells count) */
+    gran_srd_options q = o;
+    q.cells[0] = q.cells[1] = q.cells[2] = 256;
+    q.n0 = 0.01;
+    gran_srd *s = NULL;
+    const double t0 = bench_now();
+    BENCH_CHECK(gran_srd_create(&q, &s));
+    printf("256^3 cells: create (16.8M per-cell RNG streams by consecutive jumps) %.3f s, all threads\n",
+           bench_now() - t0);
+    BENCH_CHECK(gran_srd_destroy(&s));
+  }
+  o.cells[0] = o.cells[1] = o.cells[2] = quick ? 48 : 96;
+  memory_per_particle(o);
   printf("peak RSS %.3g MB\n", bench_peak_rss() / 1e6);
   return 0;
 }

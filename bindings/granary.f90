@@ -1070,6 +1070,7 @@ module granary
   public :: gran_srd_options_default, gran_srd_create, gran_srd_destroy, gran_srd_advance, gran_srd_observe
   public :: gran_srd_stress_reset, gran_srd_particles, gran_srd_structure_factor
   public :: gran_srd_checkpoint_write, gran_srd_checkpoint_read
+  public :: gran_srd_velocity_profile ! GSRD velocity profile
 
   interface
     function c_gran_srd_options_default(opt) bind(C, name='gran_srd_options_default') result(ierr)
@@ -1132,6 +1133,17 @@ module granary
       type(c_ptr), intent(out) :: srd
       integer(c_int) :: ierr
     end function c_gran_srd_checkpoint_read
+    ! GSRD velocity profile
+    function c_gran_srd_velocity_profile(srd, axis, component, nbins, mean, count) &
+        bind(C, name='gran_srd_velocity_profile') result(ierr)
+      import :: c_int, c_ptr, c_int32_t, c_int64_t, c_double
+      type(c_ptr), value :: srd
+      integer(c_int32_t), value :: axis, component
+      integer(c_int64_t), value :: nbins
+      real(c_double), intent(out) :: mean(*)
+      integer(c_int64_t), intent(out) :: count(*)
+      integer(c_int) :: ierr
+    end function c_gran_srd_velocity_profile
   end interface
   ! ---- end GSRD ----
 
@@ -2903,6 +2915,23 @@ contains
     end if
     call gran_check(c_gran_srd_structure_factor(srd, int(size(k), c_int64_t), k, s, count), ierr)
   end subroutine gran_srd_structure_factor
+
+  !> GSRD velocity profile: mean of velocity component `component` (0-based, as in C) in
+  !> size(mean) slabs along `axis` (0-based), and the particle count per slab.
+  subroutine gran_srd_velocity_profile(srd, axis, component, mean, count, ierr)
+    type(c_ptr), intent(in) :: srd
+    integer, intent(in) :: axis, component
+    real(c_double), intent(out) :: mean(:)
+    integer(c_int64_t), intent(out) :: count(:)
+    integer, intent(out), optional :: ierr
+    if (size(count) < size(mean)) then
+      call gran_check(c_gran_srd_velocity_profile(srd, int(axis, c_int32_t), int(component, c_int32_t), &
+                                                  0_c_int64_t, mean, count), ierr)
+      return
+    end if
+    call gran_check(c_gran_srd_velocity_profile(srd, int(axis, c_int32_t), int(component, c_int32_t), &
+                                                int(size(mean), c_int64_t), mean, count), ierr)
+  end subroutine gran_srd_velocity_profile
 
   subroutine gran_srd_checkpoint_write(srd, path, ierr)
     type(c_ptr), intent(in) :: srd

@@ -604,7 +604,8 @@ typedef struct gran_srd_options {
   int32_t dim;          /* 2 or 3 */
   int32_t wall_axis;    /* -1: periodic everywhere; 0..dim-1: walls at 0 and cells[wall_axis]*a */
   int32_t wall_rule;    /* 1: no-slip (bounce-back + virtual particles), 2: slip (specular) */
-  int32_t thermostat;   /* 1: cell-level Maxwell-Boltzmann thermostat at temperature T0 */
+  int32_t thermostat;   /* 1: cell-level Maxwell-Boltzmann thermostat at T0; 2: global rescaling of
+                           the velocities relative to the cell means to T0 (viscosity runs) */
   int64_t cells[3];     /* cells per axis (cells[2] ignored in 2-D) */
   double a;             /* cell size (> 0) */
   double n0;            /* mean particles per cell (> 0); N = round(n0 * cells) */
@@ -664,6 +665,13 @@ GRAN_EXTERN int gran_srd_particles(gran_srd *srd, int64_t *n, double **x, double
 GRAN_EXTERN int gran_srd_structure_factor(gran_srd *srd, int64_t nbins, double *k, double *s, int64_t *count);
 GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *srd, const char *path);
 GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **srd);
+/* ---- GSRD velocity profile (shear and Poiseuille flow analysis, run driver) ----
+ * Instantaneous mean of velocity component `component` (0..dim-1) of the particles in nbins equal
+ * slabs along `axis` (0..dim-1) spanning [0, cells[axis] a): mean[b] (0 where count[b] = 0) and
+ * count[b]. Time averages: sum mean[b] * count[b] and count[b] over calls. */
+GRAN_EXTERN int gran_srd_velocity_profile(const gran_srd *srd, int32_t axis, int32_t component, int64_t nbins,
+                                          double *mean, int64_t *count);
+
 /* ---- GSRD cell fields (src/srd/fields.cpp; snapshots of `granary run`) ----------------------
  * Fields of the unshifted lattice, cells[0] x cells[1] (x cells[2]) cells, cell (i, j, k) at index
  * i + cells[0] (j + cells[1] k): particles per cell (count), mean velocity [cell][3] (third

@@ -80,6 +80,8 @@ static void test_conservation(void **state) {
   conservation_case(2, 0.7, 0);
   conservation_case(3, 0.7, 0);
   conservation_case(3, 1.0, 1);
+  conservation_case(2, 1.0, 2);
+  conservation_case(3, 0.7, 2);
 }
 
 /* Lees-Edwards: momentum changes only by the boundary; the ledger still closes (e_external). */
@@ -265,6 +267,7 @@ static void test_threads(void **state) {
   cases[0] = base(3, 8);
   cases[0].eps = 0.8;
   cases[0].sigma = 0.3;
+  cases[0].thermostat = 2;
   cases[1] = base(2, 12);
   cases[1].shear_rate = 0.02;
   cases[1].thermostat = 1;
@@ -414,6 +417,16 @@ static void test_bad_options(void **state) {
   q = o; q.shear_rate = 0.1; q.wall_axis = 1; bad(q, "same axis");
   q = o; q.wall_axis = 2; q.wall_rule = 5; bad(q, "'wall_rule'");
   q = o; q.vib_amp = 1; bad(q, "'vib_amp'");
+  q = o; q.thermostat = 3; bad(q, "'thermostat'");
+  {
+    gran_srd *t = NULL; /* the global thermostat is CPU only: a device run (the host reference) refuses it */
+    q = o;
+    q.thermostat = 2;
+    q.device = GRAN_SRD_DEVICE_REFERENCE;
+    GRAN_ASSERT_ERR(gran_srd_create(&q, &t), GRAN_ERR_UNSUPPORTED);
+    assert_non_null(strstr(gran_last_error_message(), "'thermostat'"));
+    assert_null(t);
+  }
   gran_srd *s = NULL;
   GRAN_ASSERT_ERR(gran_srd_create(NULL, &s), GRAN_ERR_ARG);
   GRAN_ASSERT_ERR(gran_srd_advance(NULL, 1), GRAN_ERR_ARG);

@@ -1,5 +1,6 @@
 ! t803-srd-f.f90 - the GSRD engine from Fortran: every wrapper of the GSRD section (options,
-! create, advance, observe, stress reset, particle views, S(k), checkpoint write/read, destroy),
+! create, advance, observe, stress reset, particle views, S(k), velocity profile, checkpoint
+! write/read, destroy),
 ! with physics checks: particle number exact, momentum conserved to 1e-12, the energy ledger closed
 ! to 1e-12 for eps < 1, a restart that continues bit for bit; struct sizes against the C library;
 ! bad input (alpha = 0) returns GRAN_ERR_ARG through ierr.
@@ -13,7 +14,8 @@ program t803_srd_f
   real(c_double), pointer :: x(:), y(:), z(:), vx(:), vy(:), vz(:)
   real(c_double), pointer :: x2(:), y2(:), z2(:), vx2(:), vy2(:), vz2(:)
   real(c_double) :: p0(3), k(4), s(4)
-  integer(c_int64_t) :: cnt(4), value
+  integer(c_int64_t) :: cnt(4), value, pc(6)
+  real(c_double) :: pm(6)
   integer :: ierr, failures
   character(len=*), parameter :: ckpt = '/tmp/granary-t803-f.ckp'
 
@@ -42,6 +44,14 @@ program t803_srd_f
   call expect(ob%e_collisions < 0, 'dissipation recorded')
   call gran_srd_structure_factor(srd, k, s, cnt)
   call expect(all(cnt > 0) .and. all(s > 0), 'structure factor')
+
+  ! velocity profile: counts add up to N, count-weighted means to the total momentum
+  call gran_srd_velocity_profile(srd, 2, 0, pm, pc)
+  call expect(sum(pc) == ob%n, 'velocity profile: counts')
+  call gran_srd_particles(srd, x, y, z, vx, vy, vz)
+  call expect(abs(sum(pm * real(pc, c_double)) - sum(vx)) < 1e-12_c_double * sum(abs(vx)), 'velocity profile: momentum')
+  call gran_srd_velocity_profile(srd, 3, 0, pm, pc, ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'velocity profile: bad axis')
 
   call gran_srd_checkpoint_write(srd, ckpt)
   call gran_srd_checkpoint_read(ckpt, srd2)

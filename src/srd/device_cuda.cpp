@@ -392,6 +392,9 @@ void host_arrays(gran_srd *s, double *x[3], double *v[3]) {
 
 /* start the run on device (CUDA or REFERENCE) from the host state, cells included */
 int dev_start(gran_srd *s, int32_t device) {
+  GRAN_CHECK(s->opt.thermostat != 2, GRAN_ERR_UNSUPPORTED,
+             "option 'thermostat' = 2 (global profile-unbiased) runs on the CPU engine only (device %d asked)",
+             (int)device);
   const gran_srd_launchers *L = gran_srd_launchers_get(device);
   GRAN_CHECK(L != nullptr, GRAN_ERR_INTERNAL, "no launchers for device %d", (int)device);
   const gran_cuda_srd_params p = params_of(s);
@@ -399,7 +402,9 @@ int dev_start(gran_srd *s, int32_t device) {
   host_arrays(s, x, v);
   gran_cuda_srd *h = nullptr;
   GRAN_CALL(L->create(&p, x, v, s->rng.data(), &h));
-  int e = L->upload(h, nullptr, nullptr, s->vref.data(), nullptr);
+  std::vector<double> ref;
+  srd_refs_get(s, ref); /* the cells' reference velocities (engine.cpp keeps them in its cell records) */
+  int e = L->upload(h, nullptr, nullptr, ref.data(), nullptr);
   gran_srd_dev *d = e == GRAN_SUCCESS ? new (std::nothrow) gran_srd_dev : nullptr;
   if (!d) {
     L->destroy(&h);
@@ -412,9 +417,8 @@ int dev_start(gran_srd *s, int32_t device) {
   gran_srd_dev_free(s->dev.p);
   s->dev.p = d;
   /* the CPU engine's step buffers are not used while the run is on a device */
-  std::vector<uint32_t>().swap(s->ci);
-  std::vector<srd_cell_sum>().swap(s->sum);
-  std::vector<srd_cell_rot>().swap(s->rot);
+  std::vector<uint32_t>().swap(s->slab_list);
+  std::vector<int64_t>().swap(s->slab_off);
   std::vector<double>().swap(s->part);
   return GRAN_SUCCESS;
 }
@@ -423,9 +427,7 @@ int dev_start(gran_srd *s, int32_t device) {
 int dev_stop(gran_srd *s) {
   if (!s->dev.p) return GRAN_SUCCESS;
   GRAN_CALL(gran_srd_dev_sync(s, 1));
-  s->ci.resize((size_t)s->n); /* the CPU engine's step buffers back */
-  s->sum.resize((size_t)s->ncell);
-  s->rot.resize((size_t)s->ncell);
+  /* the CPU engine allocates its step buffers as it needs them */
   gran_srd_dev_free(s->dev.p);
   s->dev.p = nullptr;
   return GRAN_SUCCESS;
@@ -453,7 +455,11 @@ int gran_srd_dev_sync(const gran_srd *cs, int cells) {
     GRAN_CALL(d->L->download(d->h, x, v, nullptr, nullptr));
     d->host_current = true;
   }
-  if (cells) GRAN_CALL(d->L->download(d->h, nullptr, nullptr, s->vref.data(), s->rng.data()));
+  if (cells) {
+    std::vector<double> ref((size_t)s->ncell * 3);
+    GRAN_CALL(d->L->download(d->h, nullptr, nullptr, ref.data(), s->rng.data()));
+    srd_refs_set(s, ref.data());
+  }
   return GRAN_SUCCESS;
 }
 

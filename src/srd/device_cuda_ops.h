@@ -54,7 +54,7 @@ GRAN_HD static inline double srd_dev_planes(double y0, double y1, double a, int6
   return (double)(up - dn);
 }
 
-/* Pass 1 body: stream (with g), Lees-Edwards plane flux, wall reflection, periodic / Lees-Edwards
+/* Pass 1 body: stream (with g), Lees-Edwards kinetic flux, wall reflection, periodic / Lees-Edwards
  * wrap of one particle; acc[FLUX], acc[EXT], acc[IMP] accumulate (engine.cpp step phase 1). */
 GRAN_HD static inline void srd_dev_move(const srd_dev_const *k, const srd_geom *gm, double p[3], double v[3],
                                         double acc[SRD_ACC_N]) {
@@ -63,7 +63,11 @@ GRAN_HD static inline void srd_dev_move(const srd_dev_const *k, const srd_geom *
   const double e0 = ledger ? 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) : 0.0;
   const double y0 = p[1];
   srd_stream(p, v, k->dt, k->g, k->dim, fx & SRD_FX_ACCEL);
-  if (fx & SRD_FX_LE) acc[SRD_ACC_FLUX] += v[0] * srd_dev_planes(y0, p[1], gm->a, gm->L[1]);
+  if (fx & SRD_FX_LE) { /* kinetic flux averaged over every plane y = const (engine.cpp phase 1) */
+    const double dy = p[1] - y0, rate = gm->le_dv / gm->box[1];
+    const double vxm = (fx & SRD_FX_ACCEL) ? v[0] - 0.5 * k->g[0] * k->dt : v[0];
+    acc[SRD_ACC_FLUX] += (vxm - rate * (y0 + 0.5 * dy - 0.5 * gm->box[1])) * dy;
+  }
   if (fx & SRD_FX_WALL) {
     double dpw[3];
     if (srd_wall_reflect(gm, p, v, dpw)) acc[SRD_ACC_IMP] += dpw[gm->wall_axis];

@@ -1,9 +1,10 @@
 /* engine.cpp - GSRD CPU engine: set-up, the step loop, observables, checkpoints.
  *
- * One step: (1) stream, wall reflection, periodic/Lees-Edwards wrap, plane-crossing momentum flux
- * (parallel over particles); (2) draw the grid shift (stream 0); (3) bin every particle under the
- * shift (parallel); (4) accumulate the cell sums relative to the reference velocity (serial pass
- * in particle order: the sums are then the same for any thread count); (5) per cell: moments,
+ * One step: (1) stream, wall reflection, periodic/Lees-Edwards wrap, kinetic momentum flux
+ * (parallel over particles); (2) draw the grid shift (stream 0); (3) + (4) bin every particle
+ * under the shift and accumulate the cell sums relative to the reference velocity, each cell in
+ * particle order (serial with 1 thread, slab lists in parallel otherwise: the sums are bit for bit
+ * the same for any thread count); (5) per cell: moments,
  * eps_eff, random axis, thermostat, virtual particles (parallel over cells, each cell's own RNG
  * stream); (6) rotate-and-scale (parallel over particles). Global sums use fixed blocks of
  * SRD_BLOCK particles added in block order (independent of the thread count).
@@ -31,12 +32,12 @@ int nthreads_of(const gran_srd *s) {
 #endif
 }
 
-/* ---- fast consecutive jumps: the jump polynomial as a nibble-table linear map over GF(2) ----
+/* ---- fast consecutive jumps: the jump polynomial as a byte-table linear map over GF(2) ----
  * jump(s) is linear in the 256 state bits: J s = XOR over set bits b of J e_b. Grouping the bits in
- * 64 nibbles, t[p][v] = XOR of the columns of the bits set in v at nibble p (64 x 16 x 32 B = 32 KiB,
- * in L1): one jump = 64 look-ups instead of 256 xoshiro steps. */
+ * 32 bytes, t[p][v] = XOR of the columns of the bits set in v at byte p (32 x 256 x 32 B = 256 KiB,
+ * in L2): one jump = 32 independent 32-byte look-ups instead of 256 xoshiro steps. */
 struct JumpTab {
-  uint64_t t[64][16][4];
+  uint64_t t[32][256][4];
 };
 const JumpTab *jump_tab() {
   static JumpTab *tab = nullptr;
@@ -51,11 +52,11 @@ const JumpTab *jump_tab() {
       gran_rng_jump(&r);
       std::memcpy(col[b], r.s, sizeof r.s);
     }
-    for (int p = 0; p < 64; ++p) {
+    for (int p = 0; p < 32; ++p) {
       std::memset(jt->t[p][0], 0, sizeof jt->t[p][0]);
-      for (int v = 1; v < 16; ++v) {
-        int low = __builtin_ctz(v);
-        for (int w = 0; w < 4; ++w) jt->t[p][v][w] = jt->t[p][v & (v - 1)][w] ^ col[p * 4 + low][w];
+      for (int v = 1; v < 256; ++v) {
+        const int low = __builtin_ctz(v);
+        for (int w = 0; w < 4; ++w) jt->t[p][v][w] = jt->t[p][v & (v - 1)][w] ^ col[p * 8 + low][w];
       }
     }
     tab = jt;
@@ -64,9 +65,9 @@ const JumpTab *jump_tab() {
 }
 inline void fast_jump(const JumpTab *jt, gran_rng *r) {
   uint64_t o[4] = {0, 0, 0, 0};
-  for (int p = 0; p < 64; ++p) {
-    const unsigned nib = (unsigned)(r->s[p / 16] >> (4 * (p % 16))) & 15u;
-    const uint64_t *e = jt->t[p][nib];
+  for (int p = 0; p < 32; ++p) {
+    const unsigned byte = (unsigned)(r->s[p / 8] >> (8 * (p % 8))) & 255u;
+    const uint64_t *e = jt->t[p][byte];
     o[0] ^= e[0];
     o[1] ^= e[1];
     o[2] ^= e[2];
@@ -131,10 +132,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
   s->part.assign((size_t)nb * 4, 0.0);
   double *px = s->x.data(), *py = s->y.data(), *pz = DIM == 3 ? s->z.data() : nullptr;
   double *vx = s->vx.data(), *vy = s->vy.data(), *vz = DIM == 3 ? s->vz.data() : nullptr;
-  uint32_t *ci = s->ci.data();
-  srd_cell_sum *sum = s->sum.data();
-  srd_cell_rot *rot = s->rot.data();
-  double *vref = s->vref.data();
+  srd_cpu_cell *cell = s->cell.data();
   gran_rng *rng = s->rng.data();
   const gran_srd_options &o = s->opt;
   const double dt = o.dt;
@@ -158,8 +156,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     /* (1) stream */
     {
       const double ga[3] = {o.accel[0], o.accel[1], o.accel[2]};
-      const double a = o.a;
-      const int64_t Ly = gm.L[1];
+      const double rate = o.shear_rate, hy = 0.5 * gm.box[1];
 #pragma omp parallel for schedule(static) num_threads(nth)
       for (int64_t b = 0; b < nb; ++b) {
         const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
@@ -171,13 +168,14 @@ void do_steps(gran_srd *s, int64_t nsteps) {
           const double y0 = p[1];
           srd_stream(p, v, dt, ga, DIM, ACCEL);
           if (LE) {
-            /* interior planes y = j a, j = 1..Ly-1, crossed by this particle */
-            const int64_t k0 = (int64_t)std::floor(y0 / a), k1 = (int64_t)std::floor(p[1] / a);
-            int64_t up = std::min(k1, Ly - 1) - std::max(k0 + 1, (int64_t)1) + 1;
-            int64_t dn = std::min(k0, Ly - 1) - std::max(k1 + 1, (int64_t)1) + 1;
-            up = up > 0 ? up : 0;
-            dn = dn > 0 ? dn : 0;
-            flux += v[0] * (double)(up - dn);
+            /* kinetic momentum flux averaged over every plane y = const (Eq. 1.43 integrated over
+             * the plane position): each plane y_p between y0 and y1 sees this particle cross with
+             * vx relative to the imposed flow there, u(y_p) = rate (y_p - Ly/2); the integral over
+             * y_p is (vx_mid - u((y0 + y1)/2)) (y1 - y0) (y unwrapped during the step). Same mean
+             * as counting crossings of discrete planes, far less noise (no plane is missed). */
+            const double dy = p[1] - y0;
+            const double vxm = ACCEL ? v[0] - 0.5 * ga[0] * dt : v[0];
+            flux += (vxm - rate * (y0 + 0.5 * dy - hy)) * dy;
           }
           if (WALL) {
             double dpw[3];
@@ -216,40 +214,129 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     /* (2) shift */
     for (int k = 0; k < 3; ++k) s->shift[k] = k < DIM ? srd_rng_uniform(&s->shift_rng) * o.a : 0.0;
     const double sh[3] = {s->shift[0], s->shift[1], s->shift[2]};
-    /* (3) bin */
+    /* (3) + (4) bin and sum. Every cell adds its particles in increasing particle order, so the
+     * sums are bit for bit those of a serial pass, for any thread count. The cell index is not
+     * stored (4 B per particle less): it is recomputed where needed.
+     * 1 thread: one serial pass. More: the binning grid is cut into slabs along its slowest axis
+     * (z in 3-D, y in 2-D; a cell lies in one slab); fixed blocks of SRD_BLOCK particles count
+     * their particles per slab, a prefix sum in (slab, block) order gives each block its places,
+     * the blocks write their particle indices into the slab lists (increasing order inside each
+     * slab), and the slabs are summed in parallel. */
 #pragma omp parallel for schedule(static) num_threads(nth)
-    for (int64_t i = 0; i < n; ++i) {
-      const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-      double dvx;
-      ci[i] = (uint32_t)srd_bin(&gm, sh, p, &dvx);
-    }
-    /* (4) sums: serial, particle order */
+    for (int64_t c = 0; c < ncell; ++c) srd_sum_clear(&cell[c].acc.s);
+    const int64_t nslab = gm.nc[DIM - 1], slab_cells = ncell / nslab;
+    if (nth > 1 && nslab > 1) {
+      std::vector<int64_t> &bs = s->slab_off;
+      std::vector<uint32_t> &list = s->slab_list;
+      bs.assign((size_t)(nb * nslab), 0);
+      list.resize((size_t)n);
+      std::vector<int64_t> start((size_t)nslab + 1, 0);
 #pragma omp parallel for schedule(static) num_threads(nth)
-    for (int64_t c = 0; c < ncell; ++c) srd_sum_clear(&sum[c]);
-    for (int64_t i = 0; i < n; ++i) {
-      const int64_t c = ci[i];
-      double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-      if (LE && gm.le_on) {
-        double dvx;
-        const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-        (void)srd_bin(&gm, sh, p, &dvx);
-        v[0] += dvx;
+      for (int64_t b = 0; b < nb; ++b) {
+        int64_t *cb = &bs[(size_t)(b * nslab)];
+        for (int64_t i = b * SRD_BLOCK; i < std::min(n, (b + 1) * SRD_BLOCK); ++i) {
+          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+          double dvx;
+          cb[srd_bin(&gm, sh, p, &dvx) / slab_cells] += 1;
+        }
       }
-      srd_sum_add(&sum[c], v, &vref[3 * c], DIM);
+      int64_t run = 0;
+      for (int64_t sl = 0; sl < nslab; ++sl) {
+        start[sl] = run;
+        for (int64_t b = 0; b < nb; ++b) {
+          const int64_t k = bs[(size_t)(b * nslab + sl)];
+          bs[(size_t)(b * nslab + sl)] = run;
+          run += k;
+        }
+      }
+      start[nslab] = run;
+#pragma omp parallel for schedule(static) num_threads(nth)
+      for (int64_t b = 0; b < nb; ++b) {
+        int64_t *ob = &bs[(size_t)(b * nslab)];
+        for (int64_t i = b * SRD_BLOCK; i < std::min(n, (b + 1) * SRD_BLOCK); ++i) {
+          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+          double dvx;
+          list[(size_t)(ob[srd_bin(&gm, sh, p, &dvx) / slab_cells]++)] = (uint32_t)i;
+        }
+      }
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
+      for (int64_t sl = 0; sl < nslab; ++sl) {
+        for (int64_t k = start[sl]; k < start[sl + 1]; ++k) {
+          const int64_t i = list[(size_t)k];
+          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+          double dvx;
+          const int64_t c = srd_bin(&gm, sh, p, &dvx);
+          double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+          if (LE) v[0] += dvx;
+          srd_sum_add(&cell[c].acc.s, v, cell[c].acc.V, DIM);
+        }
+      }
+    } else {
+      /* chunks: the cells of SRD_CHUNK particles first (no dependence between them), then the
+       * additions (whose chain through a cell's sums is what the core waits for) */
+      uint32_t cidx[SRD_CHUNK];
+      double cdv[SRD_CHUNK];
+      for (int64_t lo = 0; lo < n; lo += SRD_CHUNK) {
+        const int64_t m = std::min<int64_t>(SRD_CHUNK, n - lo);
+        for (int64_t j = 0; j < m; ++j) {
+          const int64_t i = lo + j;
+          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+          cidx[j] = (uint32_t)srd_bin(&gm, sh, p, &cdv[j]);
+        }
+        for (int64_t j = 0; j < m; ++j) {
+          const int64_t i = lo + j;
+          srd_cpu_cell &ce = cell[cidx[j]];
+          double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+          if (LE) v[0] += cdv[j];
+          srd_sum_add(&ce.acc.s, v, ce.acc.V, DIM);
+        }
+      }
+    }
+    /* (5a) global profile-unbiased thermostat (thermostat = 2): one factor for the thermal
+     * velocities of every cell, relative to the cell means (so the shear profile is not heated or
+     * cooled), that makes the thermal energy d T0 sum (n_c - 1) / 2. Cell partials in fixed blocks,
+     * added in block order: the same factor for any thread count. */
+    double gscale = 1.0;
+    if (DISSIP && o.thermostat == 2) {
+      const int64_t ncb = (ncell + SRD_BLOCK - 1) / SRD_BLOCK;
+      std::vector<double> tp((size_t)ncb * 2, 0.0);
+#pragma omp parallel for schedule(static) num_threads(nth)
+      for (int64_t b = 0; b < ncb; ++b) {
+        double e = 0.0, dof = 0.0;
+        for (int64_t c = b * SRD_BLOCK; c < std::min(ncell, (b + 1) * SRD_BLOCK); ++c) {
+          const srd_cell_sum &cs = cell[c].acc.s;
+          if (cs.n < 2) continue;
+          double V[3], th;
+          srd_cell_moments(&cs, cell[c].acc.V, DIM, V, &th);
+          e += (double)(DIM * cs.n) * th;
+          dof += (double)(DIM * (cs.n - 1));
+        }
+        tp[2 * b] = e;
+        tp[2 * b + 1] = dof;
+      }
+      double e = 0.0, dof = 0.0;
+      for (int64_t b = 0; b < ncb; ++b) {
+        e += tp[2 * b];
+        dof += tp[2 * b + 1];
+      }
+      if (e > 0.0) gscale = std::sqrt(dof * o.T0 / e);
     }
     /* (5) per cell */
     int64_t nclamp = 0;
     double dtmax = INFINITY;
 #pragma omp parallel for schedule(static) num_threads(nth) reduction(+ : nclamp) reduction(min : dtmax)
     for (int64_t c = 0; c < ncell; ++c) {
-      srd_cell_rot &cr = rot[c];
+      /* the sums are read into locals, then the same slot receives the collision record; its
+       * V (the cell mean, or the old reference in an empty cell) is next step's reference */
+      const srd_cell_sum csum = cell[c].acc.s;
       double V[3], th;
-      srd_cell_moments(&sum[c], &vref[3 * c], DIM, V, &th);
-      const int64_t nc = sum[c].n;
+      srd_cell_moments(&csum, cell[c].acc.V, DIM, V, &th);
+      const int64_t nc = csum.n;
+      if (nc == 0)
+        for (int k = 0; k < 3; ++k) V[k] = cell[c].acc.V[k];
+      srd_cell_rot cr;
       cr.f = 1.0;
       cr.g = 1.0;
-      if (nc > 0)
-        for (int k = 0; k < 3; ++k) vref[3 * c + k] = V[k];
       if (WALL) {
         int lo;
         if (srd_cell_cut(&gm, sh, c, &lo) && (double)nc < n0) {
@@ -268,10 +355,9 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       }
       for (int k = 0; k < 3; ++k) cr.V[k] = V[k];
       if (nc < 2) {
-        cr.r[0] = cr.r[1] = 0.0;
-        cr.r[2] = 1.0;
+        cr.r[0] = cr.r[1] = cr.r[2] = 0.0; /* no collision in this cell */
         cr.f = cr.g = 1.0;
-        if (!WALL) cr.V[0] = cr.V[1] = cr.V[2] = 0.0;
+        cell[c].rot = cr;
         continue;
       }
       srd_draw_axis(&rng[c], DIM, cr.r);
@@ -287,7 +373,9 @@ void do_steps(gran_srd *s, int64_t nsteps) {
           }
         }
         double sc = 1.0;
-        if (o.thermostat && th > 0.0) {
+        if (o.thermostat == 2) {
+          sc = gscale;
+        } else if (o.thermostat == 1 && th > 0.0) {
           /* cell-level MB thermostat: kinetic energy of the d (n - 1) thermal dof redrawn */
           const double k = 0.5 * DIM * (double)(nc - 1);
           const double enew = srd_rng_gamma(&rng[c], k) * o.T0;
@@ -297,6 +385,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
         cr.f = f * sc;
         cr.g = sc;
       }
+      cell[c].rot = cr;
     }
     s->clamped += nclamp;
     s->dt_max = std::min(s->dt_max, dtmax);
@@ -305,18 +394,22 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     for (int64_t b = 0; b < nb; ++b) {
       const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
       double de = 0.0, vir = 0.0, lew = 0.0;
+      uint32_t cidx[SRD_CHUNK];
+      double cdv[SRD_CHUNK];
       for (int64_t i = lo; i < hi; ++i) {
-        const srd_cell_rot &cr = rot[ci[i]];
+        const int64_t j = (i - lo) % SRD_CHUNK;
+        if (j == 0) /* the cells of the next chunk first (see the sums) */
+          for (int64_t q = i; q < std::min(hi, i + SRD_CHUNK); ++q) {
+            const double p[3] = {px[q], py[q], DIM == 3 ? pz[q] : 0.0};
+            cidx[q - i] = (uint32_t)srd_bin(&gm, sh, p, &cdv[q - i]);
+          }
         double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-        double dvx = 0.0;
-        if (LE) {
-          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-          (void)srd_bin(&gm, sh, p, &dvx);
-          v[0] += dvx;
-        }
+        const double dvx = LE ? cdv[j] : 0.0;
+        const srd_cell_rot &cr = cell[cidx[j]].rot;
+        if (LE) v[0] += dvx;
         const double e0 = DISSIP || WALL ? v[0] * v[0] + v[1] * v[1] + v[2] * v[2] : 0.0;
         const double vx0 = v[0];
-        if (sum[ci[i]].n >= 2) srd_rotate(v, &cr, s->ca, s->sa, DIM, DISSIP);
+        if (cr.r[0] != 0.0 || cr.r[1] != 0.0 || cr.r[2] != 0.0) srd_rotate(v, &cr, s->ca, s->sa, DIM, DISSIP);
         if (DISSIP || WALL) de += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - e0);
         if (LE) {
           const double yy = (dvx != 0.0) ? py[i] - gm.box[1] : py[i];
@@ -346,11 +439,19 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     s->step += 1;
     if (o.sort_every > 0 && s->step % o.sort_every == 0) {
       /* sort by the (last) cell index: counting sort, stable */
+      std::vector<uint32_t> perm((size_t)n); /* first the cell of each particle, then the order */
+#pragma omp parallel for schedule(static) num_threads(nth)
+      for (int64_t i = 0; i < n; ++i) {
+        const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+        double dvx;
+        perm[i] = (uint32_t)srd_bin(&gm, sh, p, &dvx);
+      }
       std::vector<int64_t> start((size_t)ncell + 1, 0);
-      for (int64_t i = 0; i < n; ++i) start[ci[i] + 1]++;
+      for (int64_t i = 0; i < n; ++i) start[perm[i] + 1]++;
       for (int64_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
-      std::vector<uint32_t> perm((size_t)n);
-      for (int64_t i = 0; i < n; ++i) perm[start[ci[i]]++] = (uint32_t)i;
+      std::vector<uint32_t> order((size_t)n);
+      for (int64_t i = 0; i < n; ++i) order[start[perm[i]]++] = (uint32_t)i;
+      perm.swap(order);
       std::vector<double> tmp((size_t)n);
       std::vector<double> *arr[6] = {&s->x, &s->y, &s->z, &s->vx, &s->vy, &s->vz};
       for (int q = 0; q < 6; ++q) {
@@ -416,6 +517,9 @@ int check_options(const gran_srd_options *o) {
   GRAN_CHECK((o->vib_amp == 0 && o->vib_omega == 0) || o->wall_axis >= 0, GRAN_ERR_ARG,
              "option 'vib_amp' needs walls (wall_axis >= 0)");
   GRAN_CHECK(std::isfinite(o->wall_T) && o->wall_T >= 0, GRAN_ERR_ARG, "option 'wall_T' must be >= 0");
+  GRAN_CHECK(o->thermostat >= 0 && o->thermostat <= 2, GRAN_ERR_ARG,
+             "option 'thermostat' must be 0 (off), 1 (cell-level) or 2 (global, profile-unbiased) (got %d)",
+             (int)o->thermostat);
   GRAN_CHECK(o->sort_every >= 0, GRAN_ERR_ARG, "option 'sort_every' must be >= 0");
   GRAN_CHECK(o->threads >= 0, GRAN_ERR_ARG, "option 'threads' must be >= 0");
   return GRAN_SUCCESS;
@@ -456,11 +560,14 @@ int alloc_state(gran_srd *s) {
     s->z.resize(n);
     s->vz.resize(n);
   }
-  s->ci.resize(n);
-  s->sum.resize((size_t)s->ncell);
-  s->rot.resize((size_t)s->ncell);
-  s->vref.assign((size_t)s->ncell * 3, 0.0);
-  s->rng.resize((size_t)s->ncell);
+  s->cell.resize((size_t)s->ncell); /* uninitialised: zeroed here in parallel (first touch) */
+  {
+    srd_cpu_cell *ce = s->cell.data();
+    const int64_t nc = s->ncell;
+#pragma omp parallel for schedule(static) num_threads(nthreads_of(s))
+    for (int64_t c = 0; c < nc; ++c) std::memset((void *)&ce[c], 0, sizeof(srd_cpu_cell));
+  }
+  s->rng.resize((size_t)s->ncell); /* uninitialised: every state is written by setup_streams or read */
   const double al = o.alpha_deg * M_PI / 180.0;
   s->ca = std::cos(al);
   s->sa = std::sin(al);
@@ -715,7 +822,7 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     if (s->opt.shear_rate != 0 && s->time > s->stress_t0) {
       double A = s->gm.box[0] * (d == 3 ? s->gm.box[2] : 1.0);
       const double tt = s->time - s->stress_t0;
-      const double fk = s->flux_kin / (A * tt * (double)(s->gm.L[1] - 1));
+      const double fk = s->flux_kin / (A * s->gm.box[1] * tt);
       const double Vt = A * s->gm.box[1];
       const double fc = s->flux_coll / (Vt * tt);
       ob->stress_kin = -fk;
@@ -804,10 +911,52 @@ GRAN_EXTERN int gran_srd_structure_factor(gran_srd *s, int64_t nbins, double *k,
   GRAN_CATCH
 }
 
+GRAN_EXTERN int gran_srd_velocity_profile(const gran_srd *s, int32_t axis, int32_t component, int64_t nbins,
+                                          double *mean, int64_t *count) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(s);
+    GRAN_CHECK_PTR(mean);
+    GRAN_CHECK_PTR(count);
+    const int d = s->opt.dim;
+    GRAN_CHECK(axis >= 0 && axis < d, GRAN_ERR_ARG, "argument 'axis' must be in [0, %d] (got %d)", d - 1, (int)axis);
+    GRAN_CHECK(component >= 0 && component < d, GRAN_ERR_ARG, "argument 'component' must be in [0, %d] (got %d)", d - 1,
+               (int)component);
+    GRAN_CHECK(nbins >= 1, GRAN_ERR_ARG, "argument 'nbins' must be >= 1 (got %lld)", (long long)nbins);
+    const double *p = axis == 0 ? s->x.data() : axis == 1 ? s->y.data() : s->z.data();
+    const double *v = component == 0 ? s->vx.data() : component == 1 ? s->vy.data() : s->vz.data();
+    const double w = (double)nbins / s->gm.box[axis];
+    for (int64_t b = 0; b < nbins; ++b) {
+      mean[b] = 0.0;
+      count[b] = 0;
+    }
+    for (int64_t i = 0; i < s->n; ++i) { /* serial, particle order: deterministic */
+      int64_t b = (int64_t)(p[i] * w);
+      b = b < 0 ? 0 : (b >= nbins ? nbins - 1 : b);
+      mean[b] += v[i];
+      count[b] += 1;
+    }
+    for (int64_t b = 0; b < nbins; ++b)
+      if (count[b] > 0) mean[b] /= (double)count[b];
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
 /* ---- checkpoint: binary, "GSRDCKP1", options, scalars, arrays ---- */
 namespace {
 template <class T> bool wr(FILE *f, const T *p, size_t n) { return n == 0 || fwrite(p, sizeof(T), n, f) == n; }
 template <class T> bool rd(FILE *f, T *p, size_t n) { return n == 0 || fread(p, sizeof(T), n, f) == n; }
+/* the cells' reference velocities, 3 doubles per cell (the layout of the GSRDCKP1 format) */
+bool wr_refs(FILE *f, const gran_srd *s) {
+  for (const srd_cpu_cell &c : s->cell)
+    if (!wr(f, c.acc.V, 3)) return false;
+  return true;
+}
+bool rd_refs(FILE *f, gran_srd *s) {
+  for (srd_cpu_cell &c : s->cell)
+    if (!rd(f, c.acc.V, 3)) return false;
+  return true;
+}
 } // namespace
 
 GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
@@ -825,7 +974,7 @@ GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
     bool ok = wr(f, magic, 8) && wr(f, &s->opt, 1) && wr(f, sc, 12) && wr(f, ic, 3) && wr(f, &s->shift_rng, 1) &&
               wr(f, s->x.data(), n) && wr(f, s->y.data(), n) && wr(f, s->vx.data(), n) && wr(f, s->vy.data(), n) &&
               (s->opt.dim == 2 || (wr(f, s->z.data(), n) && wr(f, s->vz.data(), n))) &&
-              wr(f, s->vref.data(), s->vref.size()) && wr(f, s->rng.data(), s->rng.size());
+              wr_refs(f, s) && wr(f, s->rng.data(), s->rng.size());
     ok = (std::fclose(f) == 0) && ok;
     GRAN_CHECK(ok, GRAN_ERR_IO, "writing checkpoint '%s' failed", path);
     return GRAN_SUCCESS;
@@ -860,7 +1009,7 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
     bool ok = e == GRAN_SUCCESS && rd(f, sc, 12) && rd(f, ic, 3) && ic[2] == s->n && rd(f, &s->shift_rng, 1) &&
               rd(f, s->x.data(), n) && rd(f, s->y.data(), n) && rd(f, s->vx.data(), n) && rd(f, s->vy.data(), n) &&
               (o.dim == 2 || (rd(f, s->z.data(), n) && rd(f, s->vz.data(), n))) &&
-              rd(f, s->vref.data(), s->vref.size()) && rd(f, s->rng.data(), s->rng.size());
+              rd_refs(f, s) && rd(f, s->rng.data(), s->rng.size());
     std::fclose(f);
     if (!ok) {
       delete s;

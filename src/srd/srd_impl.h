@@ -6,7 +6,46 @@
 #include "srd/srd_kernels.h"
 #include "srd/device_cuda.h" /* device hook (owner: CUDA backend) */
 
+#include <cstddef>
+#include <memory>
+#include <utility>
 #include <vector>
+
+/* One cell of the CPU engine, 64 B. During binning `acc` is active: V = the reference velocity
+ * (the cell's mean at its previous collision) and the sums relative to it; the per-cell pass reads
+ * them and writes `rot` into the same bytes (V = the new mean: the next reference). V is the
+ * common initial sequence of both members, so it may be read through either. */
+struct srd_cpu_cell_acc {
+  double V[3];
+  srd_cell_sum s;
+};
+union alignas(64) srd_cpu_cell { /* one cache line */
+  srd_cpu_cell_acc acc;
+  srd_cell_rot rot;
+};
+
+/* Allocator that leaves trivial elements uninitialised on resize: big per-cell arrays are then
+ * first touched (and zeroed or filled) in parallel by the engine, not serially by std::vector. */
+template <class T>
+struct srd_uninit_alloc : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = srd_uninit_alloc<U>;
+  };
+  srd_uninit_alloc() = default;
+  template <class U>
+  srd_uninit_alloc(const srd_uninit_alloc<U> &) {}
+  template <class U>
+  void construct(U *p) noexcept {
+    ::new ((void *)p) U;
+  }
+  template <class U, class... A>
+  void construct(U *p, A &&...a) {
+    ::new ((void *)p) U(std::forward<A>(a)...);
+  }
+};
+static_assert(sizeof(srd_cpu_cell) == 64, "GSRD cell record is 64 B");
+static_assert(offsetof(srd_cell_rot, V) == 0 && offsetof(srd_cpu_cell_acc, V) == 0, "V first in both");
 
 struct gran_srd {
   gran_srd_options opt;
@@ -14,14 +53,15 @@ struct gran_srd {
   int64_t n = 0;          /* particles */
   int64_t ncell = 0;      /* cells of the binning grid */
   int64_t ncell_box = 0;  /* cells of the box (unshifted lattice) */
-  /* particles, SoA (48 B) + cell index (4 B) */
+  /* particles, SoA (48 B; the cell index is recomputed, not stored) */
   std::vector<double> x, y, z, vx, vy, vz;
-  std::vector<uint32_t> ci;
-  /* cells */
-  std::vector<srd_cell_sum> sum;
-  std::vector<srd_cell_rot> rot;
-  std::vector<double> vref; /* 3 per cell: reference velocity (last cell mean) */
-  std::vector<gran_rng> rng; /* one stream per cell: stream c + 1 */
+  /* cells: 64 B record (reference velocity + sums, then the collision record) + 32 B RNG state */
+  std::vector<srd_cpu_cell, srd_uninit_alloc<srd_cpu_cell>> cell; /* zeroed by alloc_state */
+  std::vector<gran_rng, srd_uninit_alloc<gran_rng>> rng; /* one stream per cell: stream c + 1 */
+  /* work space of the parallel cell sums (more than one thread only): particle indices listed by
+   * slab of the binning grid (4 B per particle) and per-block slab offsets */
+  std::vector<uint32_t> slab_list;
+  std::vector<int64_t> slab_off;
   gran_rng shift_rng;        /* stream 0 */
   double shift[3] = {0, 0, 0};
   /* state */
@@ -35,7 +75,7 @@ struct gran_srd {
   int64_t clamped = 0;    /* eps_eff clamps since the last observe */
   double dt_max = INFINITY; /* smallest dt_max over clamped cells */
   /* stress (Lees-Edwards) */
-  double flux_kin = 0.0;  /* sum vx (up - down) over interior planes */
+  double flux_kin = 0.0;  /* sum over streaming moves of (vx - u(y)) dy (all planes y = const) */
   double flux_coll = 0.0; /* sum dvx * y in collisions */
   double stress_t0 = 0.0; /* time at the last stress reset */
   double wall_impulse[3] = {0, 0, 0};
@@ -45,6 +85,18 @@ struct gran_srd {
   gran_srd_dev_holder dev;
 };
 
+/* The cells' reference velocities as 3 doubles per cell (checkpoint layout; device backends). */
+inline void srd_refs_get(const gran_srd *s, std::vector<double> &out) {
+  out.resize((size_t)s->ncell * 3);
+  for (int64_t c = 0; c < s->ncell; ++c)
+    for (int k = 0; k < 3; ++k) out[(size_t)(3 * c + k)] = s->cell[(size_t)c].acc.V[k];
+}
+inline void srd_refs_set(gran_srd *s, const double *in) {
+  for (int64_t c = 0; c < s->ncell; ++c)
+    for (int k = 0; k < 3; ++k) s->cell[(size_t)c].acc.V[k] = in[3 * c + k];
+}
+
 #define SRD_BLOCK 4096
+#define SRD_CHUNK 512 /* particles whose cells are computed ahead of their use (stack buffers) */
 
 #endif
