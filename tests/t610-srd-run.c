@@ -54,6 +54,7 @@ static void test_bad_scenes(void **state) {
       {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 3\neps = 0.9\n", "bad.toml:5: key 'engine.eps'"},
       {"[mixture]\nnspecies = 1\n[engine]\ntype = \"srd\"\ncells = 4\nsteps = 3\n", "bad.toml:1: key 'mixture'"},
       {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 3\ndevice = \"gpu\"\n", "bad.toml:5: key 'engine.device'"},
+      {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 3\nthermostat = \"hot\"\n", "bad.toml:5: key 'engine.thermostat'"},
       {"[engine]\ntype = \"srd\"\ncells = [4, 4]\nsteps = 3\n", "bad.toml:3: key 'engine.cells'"},
       {"[engine]\ntype = \"srd\"\ncells = 4\ndt = 0.5\nt_end = 1.2\n", "bad.toml:5: key 'engine.t_end'"},
       {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 10\n[observables]\nevery = 5\nsnapshots = {times = [3.0, 12.0]}\n",

@@ -588,7 +588,16 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   const int64_t th = en.count("threads", 0);
   require(th >= 0 && th <= 4096, en, "threads", "must be in 0..4096 (0: all cores)");
   o.threads = (int32_t)th;
-  o.thermostat = en.boolean("thermostat", false) ? 1 : 0;
+  /* thermostat: false / true (= "cell"), "cell" (cell-level Maxwell-Boltzmann) or "global" (one
+   * factor on the velocities relative to the cell means: the one for viscosity measurements) */
+  if (en.has("thermostat") && en.get("thermostat").is_string()) {
+    const std::string th_name = en.string("thermostat", "off");
+    if (th_name != "off" && th_name != "cell" && th_name != "global")
+      en.fail("thermostat", "expected false, true, \"off\", \"cell\" or \"global\", got \"" + th_name + "\"");
+    o.thermostat = th_name == "cell" ? 1 : th_name == "global" ? 2 : 0;
+  } else {
+    o.thermostat = en.boolean("thermostat", false) ? 1 : 0;
+  }
   s.srd.device = en.string("device", "cpu");
   if (s.srd.device != "cpu" && s.srd.device != "cuda" && s.srd.device != "auto" && s.srd.device != "reference")
     en.fail("device", "expected \"cpu\", \"cuda\", \"auto\" or \"reference\", got \"" + s.srd.device + "\"");
