@@ -321,6 +321,55 @@ static void test_checkpoint(void **state) {
   fclose(f);
   GRAN_ASSERT_ERR(gran_srd_checkpoint_read(path, &t), GRAN_ERR_IO);
   assert_null(t);
+  /* damaged files: every one of 200 single-bit flips (spread over the file, header and trailer
+   * included), a truncation and an extension is refused with GRAN_ERR_IO, never a crash or an
+   * allocation the file does not justify */
+  GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+  GRAN_ASSERT_OK(gran_srd_advance(s, 3));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path));
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+  f = fopen(path, "rb");
+  assert_non_null(f);
+  fseek(f, 0, SEEK_END);
+  const long len = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  unsigned char *img = malloc((size_t)len);
+  assert_non_null(img);
+  assert_int_equal(fread(img, 1, (size_t)len, f), (size_t)len);
+  fclose(f);
+  char bad[300];
+  snprintf(bad, sizeof bad, "%s.bad", path);
+  for (int trial = 0; trial < 203; ++trial) {
+    long at = trial < 200 ? (long)((double)trial / 200.0 * (double)len) : 0;
+    f = fopen(bad, "wb");
+    assert_non_null(f);
+    if (trial < 200) {
+      img[at] ^= (unsigned char)(1u << (trial % 8));
+      fwrite(img, 1, (size_t)len, f);
+      img[at] ^= (unsigned char)(1u << (trial % 8));
+    } else if (trial == 200) {
+      fwrite(img, 1, (size_t)len - 100, f); /* truncated */
+    } else if (trial == 201) {
+      fwrite(img, 1, (size_t)len, f); /* extended */
+      fputc(0, f);
+    } else {
+      img[7] = '1'; /* the format before device options */
+      fwrite(img, 1, (size_t)len, f);
+      img[7] = '2';
+    }
+    fclose(f);
+    const int rc = gran_srd_checkpoint_read(bad, &t);
+    if (rc != GRAN_ERR_IO) fprintf(stderr, "trial %d (byte %ld): rc %d\n", trial, at, rc);
+    assert_int_equal(rc, GRAN_ERR_IO);
+    assert_null(t);
+    if (trial == 202) assert_non_null(strstr(gran_last_error_message(), "format 1"));
+  }
+  free(img);
+  remove(bad);
+  /* a write that cannot happen leaves nothing behind */
+  GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+  GRAN_ASSERT_ERR(gran_srd_checkpoint_write(s, "/nonexistent-dir/x.ckp"), GRAN_ERR_IO);
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
   remove(path);
 }
 

@@ -5,6 +5,8 @@
  * particles, thermostat, gravity, Lees-Edwards stress, clamps) agrees to rounding. The engine hooks
  * (src/srd/device_cuda.cpp) are the ones a GPU run takes; tests/gpu/t850-srd-gpu.c runs the same
  * bodies on the GPU. */
+#include <zlib.h>
+
 #include "srd_device_body.h"
 #include "srd/device_cuda.h"
 
@@ -134,6 +136,17 @@ static void test_checkpoint_cuda_without_gpu(void **state) {
   const int32_t cuda = GRAN_SRD_DEVICE_CUDA;
   assert_int_equal(fseek(f, 8 + (long)offsetof(gran_srd_options, device), SEEK_SET), 0);
   assert_int_equal(fwrite(&cuda, sizeof cuda, 1, f), 1);
+  /* the file ends with the CRC-32 of every byte before it: recompute it for the edited file */
+  assert_int_equal(fseek(f, 0, SEEK_END), 0);
+  const long len = ftell(f);
+  unsigned char *img = malloc((size_t)len);
+  assert_non_null(img);
+  assert_int_equal(fseek(f, 0, SEEK_SET), 0);
+  assert_int_equal(fread(img, 1, (size_t)len, f), (size_t)len);
+  const uint32_t crc = (uint32_t)crc32(crc32(0L, Z_NULL, 0), img, (uInt)(len - 4));
+  free(img);
+  assert_int_equal(fseek(f, len - 4, SEEK_SET), 0);
+  assert_int_equal(fwrite(&crc, 4, 1, f), 1);
   assert_int_equal(fclose(f), 0);
   int64_t w0, w1;
   GRAN_ASSERT_OK(gran_warning_count(&w0));

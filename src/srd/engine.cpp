@@ -16,6 +16,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <cerrno>
+#include <memory>
+#include <string>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
 #include <fftw3.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -942,12 +948,37 @@ GRAN_EXTERN int gran_srd_velocity_profile(const gran_srd *s, int32_t axis, int32
   GRAN_CATCH
 }
 
-/* ---- checkpoint: binary, "GSRDCKP1", options, scalars, arrays ---- */
+/* ---- checkpoint: binary, "GSRDCKP2": magic, options, scalars, arrays, then a trailer of the
+ * total length (uint64) and the CRC-32 (zlib) of every byte before the CRC. Written to PATH.tmp,
+ * flushed, fsync'd and renamed, so a failed write never leaves a half-written PATH. Read: the
+ * length is compared with the size the options imply before any allocation, the CRC is checked
+ * before any value is used, and then every value is validated (finite, positions in the box,
+ * counters non-negative, RNG states non-zero). ---- */
 namespace {
-template <class T> bool wr(FILE *f, const T *p, size_t n) { return n == 0 || fwrite(p, sizeof(T), n, f) == n; }
+const char kSrdMagic[8] = {'G', 'S', 'R', 'D', 'C', 'K', 'P', '2'};
+/* a FILE with a running CRC-32 and byte count */
+struct CkFile {
+  FILE *f = nullptr;
+  uLong crc = crc32(0L, Z_NULL, 0);
+  uint64_t bytes = 0;
+};
+template <class T> bool wr(CkFile &c, const T *p, size_t n) {
+  if (n == 0) return true;
+  if (fwrite(p, sizeof(T), n, c.f) != n) return false;
+  const unsigned char *q = (const unsigned char *)p;
+  size_t len = sizeof(T) * n;
+  c.bytes += len;
+  while (len > 0) {
+    const uInt k = (uInt)std::min<size_t>(len, (size_t)1 << 30);
+    c.crc = crc32(c.crc, q, k);
+    q += k;
+    len -= k;
+  }
+  return true;
+}
 template <class T> bool rd(FILE *f, T *p, size_t n) { return n == 0 || fread(p, sizeof(T), n, f) == n; }
-/* the cells' reference velocities, 3 doubles per cell (the layout of the GSRDCKP1 format) */
-bool wr_refs(FILE *f, const gran_srd *s) {
+/* the cells' reference velocities, 3 doubles per cell */
+bool wr_refs(CkFile &f, const gran_srd *s) {
   for (const srd_cpu_cell &c : s->cell)
     if (!wr(f, c.acc.V, 3)) return false;
   return true;
@@ -957,6 +988,25 @@ bool rd_refs(FILE *f, gran_srd *s) {
     if (!rd(f, c.acc.V, 3)) return false;
   return true;
 }
+/* bytes of a checkpoint of a run with these (checked) options; -1 if they give no valid run */
+int64_t ckp_bytes(const gran_srd_options &o) {
+  double ncb = 1, nc = 1;
+  for (int k = 0; k < 3; ++k) {
+    const double L = k < o.dim ? (double)o.cells[k] : 1.0;
+    ncb *= L;
+    nc *= L + (k == o.wall_axis ? 1 : 0);
+  }
+  const double nn = std::floor(o.n0 * ncb + 0.5);
+  if (!(nn >= 1 && nn < 4e9) || !(nc < (double)UINT32_MAX)) return -1;
+  const double b = 8.0 + (double)sizeof(gran_srd_options) + 12 * 8 + 3 * 8 + (double)sizeof(gran_rng) +
+                   nn * 8.0 * 2 * o.dim + nc * 3 * 8 + nc * (double)sizeof(gran_rng) + 8 + 4;
+  return (int64_t)b;
+}
+bool finite_all(const double *p, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (!std::isfinite(p[i])) return false;
+  return true;
+}
 } // namespace
 
 GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
@@ -964,19 +1014,28 @@ GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
     GRAN_CHECK_PTR(s);
     GRAN_CHECK_PTR(path);
     GRAN_CALL(gran_srd_dev_sync(s, 1)); /* device hook (owner: CUDA backend): copy back, cells too */
-    FILE *f = std::fopen(path, "wb");
-    GRAN_CHECK(f != nullptr, GRAN_ERR_IO, "cannot open checkpoint '%s' for writing", path);
-    const char magic[8] = {'G', 'S', 'R', 'D', 'C', 'K', 'P', '1'};
+    const std::string tmp = std::string(path) + ".tmp";
+    CkFile c;
+    c.f = std::fopen(tmp.c_str(), "wb");
+    GRAN_CHECK(c.f != nullptr, GRAN_ERR_IO, "cannot open checkpoint '%s' for writing", tmp.c_str());
     const double sc[12] = {s->time, s->e_initial, s->e_coll, s->e_ext, s->dt_max, s->flux_kin,
                            s->flux_coll, s->stress_t0, s->wall_impulse[0], s->wall_impulse[1], s->wall_impulse[2], 0};
     const int64_t ic[3] = {s->step, s->clamped, s->n};
     const size_t n = (size_t)s->n;
-    bool ok = wr(f, magic, 8) && wr(f, &s->opt, 1) && wr(f, sc, 12) && wr(f, ic, 3) && wr(f, &s->shift_rng, 1) &&
-              wr(f, s->x.data(), n) && wr(f, s->y.data(), n) && wr(f, s->vx.data(), n) && wr(f, s->vy.data(), n) &&
-              (s->opt.dim == 2 || (wr(f, s->z.data(), n) && wr(f, s->vz.data(), n))) &&
-              wr_refs(f, s) && wr(f, s->rng.data(), s->rng.size());
-    ok = (std::fclose(f) == 0) && ok;
-    GRAN_CHECK(ok, GRAN_ERR_IO, "writing checkpoint '%s' failed", path);
+    bool ok = wr(c, kSrdMagic, 8) && wr(c, &s->opt, 1) && wr(c, sc, 12) && wr(c, ic, 3) && wr(c, &s->shift_rng, 1) &&
+              wr(c, s->x.data(), n) && wr(c, s->y.data(), n) && wr(c, s->vx.data(), n) && wr(c, s->vy.data(), n) &&
+              (s->opt.dim == 2 || (wr(c, s->z.data(), n) && wr(c, s->vz.data(), n))) &&
+              wr_refs(c, s) && wr(c, s->rng.data(), s->rng.size());
+    const uint64_t total = c.bytes + 8 + 4;
+    ok = ok && wr(c, &total, 1);
+    const uint32_t crc = (uint32_t)c.crc;
+    ok = ok && fwrite(&crc, 4, 1, c.f) == 1;
+    ok = ok && std::fflush(c.f) == 0 && fsync(fileno(c.f)) == 0;
+    ok = (std::fclose(c.f) == 0) && ok;
+    ok = ok && std::rename(tmp.c_str(), path) == 0;
+    if (!ok) std::remove(tmp.c_str());
+    GRAN_CHECK(ok, GRAN_ERR_IO, "writing checkpoint '%s' failed (%s); no file was left there", path,
+               std::strerror(errno));
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
@@ -987,34 +1046,82 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
     GRAN_CHECK_PTR(path);
     GRAN_CHECK_PTR(out);
     *out = nullptr;
+    struct stat st;
+    GRAN_CHECK(stat(path, &st) == 0, GRAN_ERR_IO, "cannot open checkpoint '%s' (%s)", path, std::strerror(errno));
+    GRAN_CHECK(S_ISREG(st.st_mode), GRAN_ERR_IO, "checkpoint '%s' is not a regular file", path);
     FILE *f = std::fopen(path, "rb");
     GRAN_CHECK(f != nullptr, GRAN_ERR_IO, "cannot open checkpoint '%s'", path);
+    std::unique_ptr<FILE, int (*)(FILE *)> fg(f, std::fclose);
     char magic[8];
     gran_srd_options o;
-    if (!rd(f, magic, 8) || std::memcmp(magic, "GSRDCKP1", 8) != 0 || !rd(f, &o, 1)) {
-      std::fclose(f);
-      return GRAN_ERROR(GRAN_ERR_IO, "'%s' is not a GSRD checkpoint", path);
+    GRAN_CHECK(rd(f, magic, 8) && std::memcmp(magic, kSrdMagic, 7) == 0, GRAN_ERR_IO,
+               "'%s' is not a GSRD checkpoint", path);
+    GRAN_CHECK(magic[7] == kSrdMagic[7], GRAN_ERR_IO,
+               "'%s' is a GSRD checkpoint of format %c; this granary reads format %c", path, magic[7], kSrdMagic[7]);
+    GRAN_CHECK(rd(f, &o, 1), GRAN_ERR_IO, "checkpoint '%s' is truncated (options)", path);
+    /* the length the options imply, before anything is allocated or trusted */
+    const int64_t want = ckp_bytes(o);
+    GRAN_CHECK(want > 0 && (int64_t)st.st_size == want, GRAN_ERR_IO,
+               "checkpoint '%s' has %lld bytes; its options imply %lld (truncated, or damaged options)", path,
+               (long long)st.st_size, (long long)want);
+    /* CRC of everything before the last 4 bytes */
+    {
+      GRAN_CHECK(std::fseek(f, 0, SEEK_SET) == 0, GRAN_ERR_IO, "cannot read checkpoint '%s'", path);
+      uLong crc = crc32(0L, Z_NULL, 0);
+      std::vector<unsigned char> buf((size_t)1 << 20);
+      int64_t left = want - 4;
+      while (left > 0) {
+        const size_t k = (size_t)std::min<int64_t>(left, (int64_t)buf.size());
+        GRAN_CHECK(std::fread(buf.data(), 1, k, f) == k, GRAN_ERR_IO, "checkpoint '%s' is truncated", path);
+        crc = crc32(crc, buf.data(), (uInt)k);
+        left -= (int64_t)k;
+      }
+      uint32_t stored = 0;
+      GRAN_CHECK(std::fread(&stored, 4, 1, f) == 1, GRAN_ERR_IO, "checkpoint '%s' is truncated", path);
+      GRAN_CHECK(stored == (uint32_t)crc, GRAN_ERR_IO,
+                 "checkpoint '%s' is damaged: CRC-32 %08x, stored %08x", path, (unsigned)crc, (unsigned)stored);
+      GRAN_CHECK(std::fseek(f, 8 + (long)sizeof o, SEEK_SET) == 0, GRAN_ERR_IO, "cannot read checkpoint '%s'", path);
     }
-    int e = check_options(&o);
-    if (e != GRAN_SUCCESS) {
-      std::fclose(f);
-      return e;
-    }
-    gran_srd *s = new gran_srd;
+    GRAN_CALL(check_options(&o));
+    std::unique_ptr<gran_srd> s(new gran_srd);
     s->opt = o;
-    e = alloc_state(s);
+    GRAN_CALL(alloc_state(s.get()));
     double sc[12];
     int64_t ic[3];
+    uint64_t total = 0;
     const size_t n = (size_t)s->n;
-    bool ok = e == GRAN_SUCCESS && rd(f, sc, 12) && rd(f, ic, 3) && ic[2] == s->n && rd(f, &s->shift_rng, 1) &&
+    bool ok = rd(f, sc, 12) && rd(f, ic, 3) && rd(f, &s->shift_rng, 1) &&
               rd(f, s->x.data(), n) && rd(f, s->y.data(), n) && rd(f, s->vx.data(), n) && rd(f, s->vy.data(), n) &&
               (o.dim == 2 || (rd(f, s->z.data(), n) && rd(f, s->vz.data(), n))) &&
-              rd_refs(f, s) && rd(f, s->rng.data(), s->rng.size());
-    std::fclose(f);
-    if (!ok) {
-      delete s;
-      return e != GRAN_SUCCESS ? e : GRAN_ERROR(GRAN_ERR_IO, "checkpoint '%s' is truncated or inconsistent", path);
+              rd_refs(f, s.get()) && rd(f, s->rng.data(), s->rng.size()) && rd(f, &total, 1);
+    GRAN_CHECK(ok, GRAN_ERR_IO, "checkpoint '%s' is truncated", path);
+    GRAN_CHECK(total == (uint64_t)want, GRAN_ERR_IO, "checkpoint '%s': stored length %llu, file %lld", path,
+               (unsigned long long)total, (long long)want);
+    /* values: a CRC-consistent file may still have been written by a foreign or edited program */
+    GRAN_CHECK(ic[2] == s->n, GRAN_ERR_IO, "checkpoint '%s': particle count %lld, options give %lld", path,
+               (long long)ic[2], (long long)s->n);
+    GRAN_CHECK(ic[0] >= 0 && ic[1] >= 0, GRAN_ERR_IO, "checkpoint '%s': negative step (%lld) or clamp count (%lld)",
+               path, (long long)ic[0], (long long)ic[1]);
+    GRAN_CHECK(finite_all(sc, 4) && finite_all(sc + 5, 7), GRAN_ERR_IO,
+               "checkpoint '%s': a non-finite time, energy or stress sum", path);
+    GRAN_CHECK(sc[4] > 0, GRAN_ERR_IO, "checkpoint '%s': largest safe dt %g (must be > 0 or inf)", path, sc[4]);
+    const double *pv[3] = {s->vx.data(), s->vy.data(), o.dim == 3 ? s->vz.data() : nullptr};
+    const double *px[3] = {s->x.data(), s->y.data(), o.dim == 3 ? s->z.data() : nullptr};
+    const char *ax = "xyz";
+    for (int k = 0; k < o.dim; ++k) {
+      GRAN_CHECK(finite_all(pv[k], n), GRAN_ERR_IO, "checkpoint '%s': a non-finite velocity v%c", path, ax[k]);
+      const double hi = s->gm.box[k];
+      for (size_t i = 0; i < n; ++i)
+        GRAN_CHECK(px[k][i] >= 0.0 && px[k][i] <= hi, GRAN_ERR_IO,
+                   "checkpoint '%s': particle %zu has %c = %g outside the box [0, %g]", path, i, ax[k], px[k][i], hi);
     }
+    for (const srd_cpu_cell &c : s->cell)
+      GRAN_CHECK(finite_all(c.acc.V, 3), GRAN_ERR_IO, "checkpoint '%s': a non-finite cell reference velocity", path);
+    auto zero = [](const gran_rng &r) { return (r.s[0] | r.s[1] | r.s[2] | r.s[3]) == 0; };
+    GRAN_CHECK(!zero(s->shift_rng), GRAN_ERR_IO, "checkpoint '%s': the grid-shift RNG state is zero", path);
+    for (const gran_rng &r : s->rng)
+      GRAN_CHECK(!zero(r), GRAN_ERR_IO, "checkpoint '%s': a cell RNG state is zero", path);
+    fg.reset();
     s->time = sc[0];
     s->e_initial = sc[1];
     s->e_coll = sc[2];
@@ -1027,12 +1134,10 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
     s->step = ic[0];
     s->clamped = ic[1];
     /* ---- device hook (owner: CUDA backend): resume on the device the options name ---- */
-    if ((e = gran_srd_dev_attach(s, 1)) != GRAN_SUCCESS) {
-      delete s;
-      return e;
-    }
+    const int e = gran_srd_dev_attach(s.get(), 1);
+    if (e != GRAN_SUCCESS) return e;
     /* ---- end device hook ---- */
-    *out = s;
+    *out = s.release();
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
