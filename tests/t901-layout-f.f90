@@ -13,6 +13,8 @@ program t901_layout_f
   type(gran_run_result) :: result
   type(gran_srd_options) :: srd_opt ! GSRD
   type(gran_srd_obs) :: srd_obs     ! GSRD
+  type(gran_dsmc_options) :: dsmc_opt ! DSMC (speed classes, issue 11)
+  type(gran_dsmc_stats) :: dsmc_st    ! DSMC (speed classes, issue 11)
   integer(c_int64_t) :: value
   integer :: nfail = 0, ierr
 
@@ -24,6 +26,8 @@ program t901_layout_f
   call check('sizeof(gran_run_result)', c_sizeof(result))
   call check('sizeof(gran_srd_options)', c_sizeof(srd_opt))
   call check('sizeof(gran_srd_obs)', c_sizeof(srd_obs))
+  call check('sizeof(gran_dsmc_options)', c_sizeof(dsmc_opt)) ! DSMC (speed classes, issue 11)
+  call check('sizeof(gran_dsmc_stats)', c_sizeof(dsmc_st))    ! DSMC (speed classes, issue 11)
 
   call check('GRAN_VERSION_MAJOR', int(GRAN_VERSION_MAJOR, c_size_t))
   call check('GRAN_VERSION_MINOR', int(GRAN_VERSION_MINOR, c_size_t))
