@@ -105,20 +105,22 @@ struct SelLowRank {
  * beyond its leaf's filling is rejected at use time (rate 0). */
 struct SelClass {
   enum { kNum = 4, kClasses = 1 };
+  /* The pipeline holds draws of the part of the law fixed between sorts (the alias table of the
+   * pairs (r, a)); the part the raises of top bounds added since (the tree ud) is drawn at use
+   * time with probability D / (A + D) (draw_raise): a raise changes the rate, never the pipeline. */
   __attribute__((noinline)) static void draw(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
-    /* (r, a): the alias table of the weights at the last sort, or the tree of what raises added */
-    const double A = s->ua_tot, D = s->ud.node[1];
-    const double x = u64_uniform(r[0]) * (A + D);
-    int64_t qa;
-    const int64_t L = s->L, L3 = 3 * L;
-    if (x < A) {
-      const double t = x * s->ua_scale; /* uniform in [0, 3L): column and coin */
-      int64_t col = (int64_t)t;
-      col = col < L3 ? col : L3 - 1;
-      qa = t - (double)col < s->ua_p[(size_t)col] ? col : s->ua_k[(size_t)col];
-    } else {
-      qa = tree_find(&s->ud, x - A);
-    }
+    const int64_t L3 = 3 * s->L;
+    const double t = u64_uniform(r[0]) * (double)L3; /* column and coin of the alias table */
+    int64_t col = (int64_t)t;
+    col = col < L3 ? col : L3 - 1;
+    const int64_t qa = t - (double)col < s->ua_p[(size_t)col] ? col : s->ua_k[(size_t)col];
+    finish(s, r, qa, c);
+  }
+  static void draw_raise(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
+    finish(s, r, tree_find(&s->ud, u64_uniform(r[0]) * s->ud.node[1]), c);
+  }
+  static inline void finish(const gran_dsmc *s, const uint64_t *r, int64_t qa, DsmcCand *c) {
+    const int64_t L = s->L;
     const int q = (int)(qa >= L) + (int)(qa >= 2 * L);
     const int64_t a = qa - q * L;
     const unsigned __int128 km = (unsigned __int128)r[1] * (unsigned __int128)(uint64_t)s->L;
@@ -380,14 +382,17 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     ++coll;
     const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
     const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
-    bool changed = false;
+    bool changed = false, flush = !Sel::kClasses; /* classes: a raise keeps the pipeline (SelClass) */
     if (Sel::kClasses) {
       int64_t hf;
       const int rj = class_relocate<kDisp>(s, v, R, c.j, c.a, sj, &hf);
-      if (rj) changed = true;
+      changed = rj != 0;
+      flush = rj == 2;
       if (rj != 2 || c.i != c.k) { /* after a re-sort of species i its particles all fit */
         const int64_t l = hf == c.l ? c.j : c.l; /* l (the last of leaf a) filled j's hole */
-        if (class_relocate<kDisp>(s, v, R, l, c.b, sl, &hf)) changed = true;
+        const int rl = class_relocate<kDisp>(s, v, R, l, c.b, sl, &hf);
+        changed = changed || rl != 0;
+        flush = flush || rl == 2;
       }
     } else {
       if (sj > s->bound2[(size_t)c.i]) {
@@ -405,6 +410,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       if (kDisp) s->t = t; /* the displacements are corrected to the time of this collision */
       dsmc_refresh_bounds(s);
       changed = true;
+      flush = true;
     }
     if (changed) {
       if (!kDisp) { /* the rate changes now: the trial times restart from this collision */
@@ -414,7 +420,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       }
       inv_rate = s->inv_rate;
       set_thr();
-      count = 0; /* the selection law changed: discard the pre-drawn candidates */
+      if (flush) count = 0; /* the selection law changed: discard the pre-drawn candidates */
     }
   };
 
@@ -454,15 +460,30 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       head = 0;
       count = K;
     }
-    DsmcCand c = s->cand[head];
-    need(Sel::kNum + 2);
-    Sel::draw(s, buf + pos, &s->cand[head]);
-    pos += Sel::kNum;
-    if (kDisp && kPrefetchR) { /* speculative: only accepted candidates need r */
-      prefetch_particle(R, s->cand[head].j);
-      prefetch_particle(R, s->cand[head].l);
+    DsmcCand c;
+    bool fresh = false; /* speed classes: the part of the law added by raises, drawn now */
+    if constexpr (Sel::kClasses) {
+      const double D = s->ud.node[1];
+      if (D > 0) {
+        need(2 * Sel::kNum + 3);
+        fresh = u64_uniform(buf[pos++]) * (s->ua_tot + D) >= s->ua_tot;
+        if (fresh) {
+          Sel::draw_raise(s, buf + pos, &c);
+          pos += Sel::kNum;
+        }
+      }
     }
-    head = (head + 1) & (K - 1);
+    if (!fresh) {
+      c = s->cand[head];
+      need(Sel::kNum + 2);
+      Sel::draw(s, buf + pos, &s->cand[head]);
+      pos += Sel::kNum;
+      if (kDisp && kPrefetchR) { /* speculative: only accepted candidates need r */
+        prefetch_particle(R, s->cand[head].j);
+        prefetch_particle(R, s->cand[head].l);
+      }
+      head = (head + 1) & (K - 1);
+    }
     const uint64_t wsplit = kRngSplit ? buf[pos] : 0;
     tprod *= kRngSplit ? ((double)(wsplit >> 32) + 1.0) * 0x1.0p-32 : u64_uniform_pos(buf[pos]);
     pos++;
