@@ -212,6 +212,40 @@ static void test_option_and_identity(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* The scene key `[engine] speed_classes` (bool, default false) sets the option; a non-boolean
+ * value is refused naming the key. */
+static void test_scene_key(void **state) {
+  (void)state;
+  const char *base = "[mixture]\ndensity = [0.1]\n[restitution]\neps = 0.8\n[engine]\ncounts = [1000]\nt_end = 10\n";
+  char txt[512];
+  gran_scene *sc;
+  gran_dsmc_options o;
+  GRAN_ASSERT_OK(gran_scene_parse(base, "a.toml", &sc));
+  GRAN_ASSERT_OK(gran_scene_dsmc_options(sc, &o, NULL, NULL));
+  assert_int_equal(o.speed_classes, 0);
+  gran_scene_destroy(&sc);
+  snprintf(txt, sizeof txt, "%sspeed_classes = true\n", base);
+  GRAN_ASSERT_OK(gran_scene_parse(txt, "b.toml", &sc));
+  GRAN_ASSERT_OK(gran_scene_dsmc_options(sc, &o, NULL, NULL));
+  assert_int_equal(o.speed_classes, 1);
+  gran_mixture *mix;
+  gran_dsmc *sim;
+  GRAN_ASSERT_OK(gran_scene_mixture(sc, &mix));
+  GRAN_ASSERT_OK(gran_scene_dsmc(sc, mix, &sim));
+  GRAN_ASSERT_OK(gran_dsmc_advance(sim, 2.0));
+  gran_dsmc_stats st;
+  GRAN_ASSERT_OK(gran_dsmc_get_stats(sim, &st));
+  assert_true(st.class_moves > 0);
+  gran_dsmc_destroy(&sim);
+  gran_mixture_destroy(&mix);
+  gran_scene_destroy(&sc);
+  snprintf(txt, sizeof txt, "%sspeed_classes = 2\n", base);
+  sc = NULL;
+  assert_int_not_equal(gran_scene_parse(txt, "c.toml", &sc), GRAN_SUCCESS);
+  assert_non_null(strstr(gran_last_error_message(), "speed_classes"));
+  assert_null(sc);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_table1),
@@ -219,6 +253,7 @@ int main(void) {
       cmocka_unit_test(test_powerlaw_1e4),
       cmocka_unit_test(test_invariants),
       cmocka_unit_test(test_option_and_identity),
+      cmocka_unit_test(test_scene_key),
   };
   return cmocka_run_group_tests_name("t511-dsmc-classes", tests, NULL, NULL);
 }

@@ -60,7 +60,7 @@ struct DsmcCand {
 #define GRAN_DSMC_CLASS_NUM 11 /* classes of a large species: thresholds up to ~2.5 rms, then the top */
 #endif
 #ifndef GRAN_DSMC_CLASS_SLACK
-#define GRAN_DSMC_CLASS_SLACK 0.1 /* free slots per particle of a large species */
+#define GRAN_DSMC_CLASS_SLACK 0.05 /* free slots per particle of a large species (0.1: lower acceptance) */
 #endif
 #ifndef GRAN_DSMC_CLASS_DOWN
 #define GRAN_DSMC_CLASS_DOWN 1 /* 1: a particle that fits a lower class moves down when there is room */
