@@ -489,6 +489,7 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
     o.volume = od[0];
     o.t_start = od[1];
     o.traj_dt = od[2];
+    o.speed_classes = 0; /* a file without the dataset: off, whatever the default */
     if (H5Lexists(g.id, "options_speed_classes", H5P_DEFAULT) > 0) { /* speed classes (issue 11) */
       int64_t sc;
       GRAN_CALL(rd.i1("options_speed_classes", &sc));

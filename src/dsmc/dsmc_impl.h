@@ -63,7 +63,7 @@ struct DsmcCand {
 #define GRAN_DSMC_CLASS_SLACK 0.05 /* free slots per particle of a large species (0.1: lower acceptance) */
 #endif
 #ifndef GRAN_DSMC_CLASS_DOWN
-#define GRAN_DSMC_CLASS_DOWN 1 /* 1: a particle that fits a lower class moves down when there is room */
+#define GRAN_DSMC_CLASS_DOWN 2 /* 1: a particle that fits the class below moves down when there is room; 2: only when it fits two classes below (fewer moves, same acceptance: b501) */
 #endif
 enum { kClassNum = GRAN_DSMC_CLASS_NUM, kClassMin = 256, kClassExtra = 4 };
 static_assert(kClassNum >= 2 && kClassNum <= 64, "GRAN_DSMC_CLASS_NUM out of range");

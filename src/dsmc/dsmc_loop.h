@@ -161,7 +161,9 @@ static inline int class_relocate(gran_dsmc *s, double *v, double *R, int64_t x, 
   DsmcLeaf *const lf = s->leaf.data();
   *hole_from = -1;
   const bool up = s2 > lf[a].b2;
-  if (!up && !(kClassDown && s2 < lf[a].lo2)) return 0;
+  /* down: when it fits the class below (GRAN_DSMC_CLASS_DOWN 1) or two below (2: fewer moves) */
+  const double lo2 = GRAN_DSMC_CLASS_DOWN == 2 ? (lf[a].lo2 < 0 ? -1.0 : lf[a - 1].lo2) : lf[a].lo2;
+  if (!up && !(kClassDown && s2 < lo2)) return 0;
   const int64_t i = lf[a].species;
   const int64_t f = s->sleaf[(size_t)i], e = s->sleaf[(size_t)i + 1];
   int ret = 0;

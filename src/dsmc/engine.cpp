@@ -413,6 +413,7 @@ GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt) {
   opt->traj_per_species = 0;
   opt->traj_dt = 1.0;
   opt->traj_samples = 0;
+  opt->speed_classes = 0; /* off: speed classes do not win on every b501 system (README, issue 11) */
   return GRAN_SUCCESS;
 }
 
