@@ -336,8 +336,10 @@ typedef struct gran_dsmc_options {
   double traj_dt;            /* sampling interval of the trajectories */
   int64_t traj_samples;      /* samples per trajectory (first at t_start) */
   /* speed classes (issue 11): 1 = the low-rank selectors bin each large species' particles by
-   * speed into classes with their own bounds (higher acceptance, same statistics); 0 = off (one
-   * bound per species, the layout of gran_dsmc_particles as stored). Ignored by Bird. */
+   * speed into classes with their own bounds (higher acceptance, same statistics); particles then
+   * move between slots, and gran_dsmc_particles fills its view at each call (by creation order
+   * with GRAN_OBSERVE_TRAJECTORIES, else grouped by species in no fixed order within a species).
+   * 0 = off (one bound per species; the view is the live state). Ignored by Bird. */
   int32_t speed_classes;
   int32_t pad_classes_;
 } gran_dsmc_options;
