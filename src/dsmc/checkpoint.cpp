@@ -115,6 +115,7 @@ int class_io(F &f, D *s) {
     x.n = li[(size_t)(3 * a + 2)];
   }
   GRAN_CALL(f.d("class_ub", L, s->ub.data()));
+  GRAN_CALL(f.d("class_wref", s->M, s->cwref.data()));
   GRAN_CALL(f.d("class_ud", 2 * s->ud.base, s->ud.node));
   int64_t ct[3] = {s->class_moves, s->class_rebuilds, s->ud.nupdate};
   GRAN_CALL(f.i64("class_counters", 3, ct));
@@ -258,6 +259,7 @@ void validate_classes(const gran_dsmc *s, Need &need) {
     need(x == s->sslot[(size_t)k + 1] && nk == s->count[(size_t)k], "class slots");
     if (!(x == s->sslot[(size_t)k + 1] && nk == s->count[(size_t)k])) return;
   }
+  for (double w : s->cwref) need(std::isfinite(w) && w >= 0, "class reference speeds");
   /* the leaves of the trees are the weights of the leaves (species, class), bit for bit */
   for (int64_t a = 0; a < s->L; a++) {
     const DsmcLeaf &l = s->leaf[(size_t)a];

@@ -49,6 +49,7 @@ int dsmc_class_setup(gran_dsmc *s) {
   int64_t nmax = 0;
   for (int64_t k = 0; k < M; k++) nmax = std::max(nmax, s->count[(size_t)k]);
   s->ckey.assign((size_t)nmax, 0);
+  s->cwref.assign((size_t)M, 0.0);
   if (s->opt.observe & (GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_TRAJECTORIES)) s->cr.assign((size_t)(3 * s->S), 0.0);
   if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) {
     s->cid.assign((size_t)s->S, 0);
@@ -92,7 +93,8 @@ struct Rec {
 
 }  // namespace
 
-/* Sort species k into its classes: thresholds from its rms speed, the top bound = bound[k] (the
+/* Sort species k into its classes: thresholds from its rms speed w (rounded to w_ref rho^m with
+ * GRAN_DSMC_CLASS_ANCHOR, w_ref its rms speed at the first sort), the top bound = bound[k] (the
  * species' largest speed, set by the caller), capacities from the new occupations. In place: the
  * filled blocks are packed, sorted by class (American flag sort), and spread to their slots. */
 void dsmc_class_layout(gran_dsmc *s, int64_t k) {
@@ -120,7 +122,14 @@ void dsmc_class_layout(gran_dsmc *s, int64_t k) {
   }
   double sum = 0;
   for (int64_t x = r0; x < r0 + Nk; x++) sum += v[3 * x] * v[3 * x] + v[3 * x + 1] * v[3 * x + 1] + v[3 * x + 2] * v[3 * x + 2];
-  const double w = std::sqrt(sum / (double)Nk);
+  double w = std::sqrt(sum / (double)Nk);
+#if GRAN_DSMC_CLASS_ANCHOR
+  { /* thresholds on a fixed geometric grid: w rounded to w_ref rho^m */
+    double &wr = s->cwref[(size_t)k];
+    if (!(wr > 0) && w > 0) wr = w;
+    if (wr > 0 && w > 0) w = wr * std::pow(GRAN_DSMC_CLASS_RHO, std::nearbyint(std::log(w / wr) / std::log(GRAN_DSMC_CLASS_RHO)));
+  }
+#endif
   double b[kClassNum], b2[kClassNum];
   for (int64_t c = 0; c < C; c++) {
     const double th = c < C - 1 ? w * GRAN_DSMC_CLASS_A0 * std::pow(GRAN_DSMC_CLASS_RHO, (double)c) : vmax;
