@@ -43,6 +43,7 @@ typedef struct {
   int selector, observe;
   double t_end;   /* simulated */
   double frac;    /* fraction of Table I's t = 100 simulated (reported as measured, never extrapolated) */
+  int classes;    /* opt.speed_classes (issue 11) */
 } variant;
 
 static void table1(double N1) {
@@ -56,14 +57,17 @@ static void table1(double N1) {
   double fbird = fb ? atof(fb) : 1.0;
   if (!(fbird > 0 && fbird <= 1)) fbird = 1.0;
   const variant vs[] = {
-      {"low-rank", GRAN_SELECTOR_LOWRANK, 0, 100.0, 1.0},
-      {"low-rank + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, 100.0, 1.0},
+      {"low-rank", GRAN_SELECTOR_LOWRANK, 0, 100.0, 1.0, 0},
+      {"low-rank + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, 100.0, 1.0, 0},
       {"low-rank + MSD + counts", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_COLLISION_COUNTS,
-       100.0, 1.0},
-      {"low-rank, paper's rule", GRAN_SELECTOR_LOWRANK_PAPER, 0, 100.0, 1.0},
-      {"Bird", GRAN_SELECTOR_BIRD, 0, 100.0 * fbird, fbird},
-      {"Bird + MSD", GRAN_SELECTOR_BIRD, GRAN_OBSERVE_DISPLACEMENT, 100.0 * fbird, fbird},
-      {"Bird, paper's rule", GRAN_SELECTOR_BIRD_PAPER, 0, 25.0, 0.25},
+       100.0, 1.0, 0},
+      {"low-rank, paper's rule", GRAN_SELECTOR_LOWRANK_PAPER, 0, 100.0, 1.0, 0},
+      /* speed classes (issue 11): rows 4, 5 */
+      {"low-rank + classes", GRAN_SELECTOR_LOWRANK, 0, 100.0, 1.0, 1},
+      {"low-rank + classes + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, 100.0, 1.0, 1},
+      {"Bird", GRAN_SELECTOR_BIRD, 0, 100.0 * fbird, fbird, 0},
+      {"Bird + MSD", GRAN_SELECTOR_BIRD, GRAN_OBSERVE_DISPLACEMENT, 100.0 * fbird, fbird, 0},
+      {"Bird, paper's rule", GRAN_SELECTOR_BIRD_PAPER, 0, 25.0, 0.25, 0},
   };
   const int nv = (int)(sizeof vs / sizeof vs[0]);
   printf("\nTable I (seed 000): N_1 = %.0e, n_k = 0.1 k^-3, N_k = round(N_1 k^-3) >= 1 -> %d species, ", N1, M);
@@ -91,6 +95,7 @@ static void table1(double N1) {
     o.observe = vs[q].observe;
     o.volume = N1 / 0.1;
     o.seed = 2024;
+    o.speed_classes = vs[q].classes;
     gran_dsmc *sim;
     BENCH_CHECK(gran_dsmc_create(mix, NULL, T0, &o, &sim));
     const double w0 = bench_now(), c0 = cpu_now();
@@ -103,8 +108,12 @@ static void table1(double N1) {
     rate[q] = (double)st.collisions / cpu;
     printf("%-26s %8.4g %12lld %11.4e %9.2f %9.2f %11.3e %8.4f", vs[q].name, vs[q].t_end, (long long)st.collisions, ek,
            wall, cpu, rate[q], (double)st.collisions / (double)st.trials);
-    if (q > 3) printf(" %9.2f\n", rate[q] / rate[3]);
-    else printf(" %9s\n", q == 3 ? "1" : "");
+    if (q > 3) printf(" %9.2f", rate[q] / rate[3]);
+    else printf(" %9s", q == 3 ? "1" : "");
+    if (vs[q].classes) /* speed classes: moves per collision, overflow re-sorts, raises of top bounds */
+      printf("  moves/coll %.2f, overflow re-sorts %lld, raises %lld", (double)st.class_moves / (double)st.collisions,
+             (long long)st.class_rebuilds, (long long)st.bound_raises);
+    printf("\n");
     fflush(stdout);
     gran_dsmc_destroy(&sim);
   }
@@ -112,9 +121,11 @@ static void table1(double N1) {
   printf("speed in collisions per CPU second, measured side by side in this run:\n");
   printf("  low-rank / low-rank paper's rule: %.2f without displacements, %.2f with (issue 11 targets 5.3 and 4.2)\n",
          rate[0] / rate[3], rate[1] / rate[3]);
-  printf("  low-rank / Bird: %.2f (the paper's machine: 1128 s / 28 s = 40 with their codes)\n", rate[0] / rate[4]);
+  printf("  low-rank + speed classes / paper's rule: %.2f without displacements, %.2f with; classes / without: %.2f, %.2f\n",
+         rate[4] / rate[3], rate[5] / rate[3], rate[4] / rate[0], rate[5] / rate[1]);
+  printf("  low-rank / Bird: %.2f (the paper's machine: 1128 s / 28 s = 40 with their codes)\n", rate[0] / rate[6]);
   printf("  Bird / Bird paper's rule: %.2f (the paper-rule row ran to t = 25 only: its rate, not its time, is compared)\n",
-         rate[4] / rate[6]);
+         rate[6] / rate[8]);
   free(T0);
   gran_mixture_destroy(&mix);
 }
@@ -128,7 +139,8 @@ static void memory(double N1) {
   printf("\nMemory per particle (Table I, N_1 = %.0e): budget 32 B without displacements, 64 B with\n", N1);
   printf("%-22s %12s %16s %16s %16s\n", "observables", "N", "arrays B/part", "RSS B/part", "peak RSS B/part");
   fflush(stdout);
-  for (int disp = 0; disp <= 1; disp++) {
+  for (int row = 0; row < 4; row++) {
+    const int disp = row & 1, classes = row >> 1; /* rows 2, 3: speed classes (issue 11) */
     const pid_t pid = fork();
     if (pid == 0) {
       gran_mixture *mix;
@@ -138,6 +150,7 @@ static void memory(double N1) {
       BENCH_CHECK(gran_dsmc_options_default(&o));
       o.volume = N1 / 0.1;
       o.observe = disp ? GRAN_OBSERVE_DISPLACEMENT : 0;
+      o.speed_classes = classes;
       const double r0 = rss_now(), p0 = bench_peak_rss();
       gran_dsmc *sim;
       BENCH_CHECK(gran_dsmc_create(mix, NULL, NULL, &o, &sim));
@@ -145,10 +158,14 @@ static void memory(double N1) {
       const double r1 = rss_now(), p1 = bench_peak_rss();
       const gran_particles *p;
       int64_t bytes;
-      BENCH_CHECK(gran_dsmc_particles(sim, &p));
+      BENCH_CHECK(gran_dsmc_particles(sim, &p)); /* with classes: a view filled now (after the RSS readings) */
       BENCH_CHECK(gran_particles_memory(p, &bytes));
-      printf("%-22s %12lld %16.1f %16.1f %16.1f\n", disp ? "MSD (displacements)" : "none", (long long)p->n,
-             (double)bytes / (double)p->n, (r1 - r0) / (double)p->n, (p1 - p0) / (double)p->n);
+      if (classes) /* the slot arrays are internal: only the RSS growth measures them */
+        printf("%-22s %12lld %16s %16.1f %16.1f\n", disp ? "classes + MSD" : "classes", (long long)p->n, "-",
+               (r1 - r0) / (double)p->n, (p1 - p0) / (double)p->n);
+      else
+        printf("%-22s %12lld %16.1f %16.1f %16.1f\n", disp ? "MSD (displacements)" : "none", (long long)p->n,
+               (double)bytes / (double)p->n, (r1 - r0) / (double)p->n, (p1 - p0) / (double)p->n);
       fflush(stdout);
       _exit(0);
     }
@@ -213,20 +230,23 @@ typedef struct {
 } speed_sys;
 
 static void speed_system(const speed_sys *sy, int reps) {
-  const struct { const char *name; int sel, obs; } ms[] = {
-      {"low-rank", GRAN_SELECTOR_LOWRANK, 0},
-      {"low-rank + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT},
-      {"low-rank, paper's rule", GRAN_SELECTOR_LOWRANK_PAPER, 0},
-      {"low-rank paper + MSD", GRAN_SELECTOR_LOWRANK_PAPER, GRAN_OBSERVE_DISPLACEMENT},
-      {"Bird", GRAN_SELECTOR_BIRD, 0},
+  const struct { const char *name; int sel, obs, classes; } ms[] = {
+      {"low-rank", GRAN_SELECTOR_LOWRANK, 0, 0},
+      {"low-rank + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, 0},
+      {"low-rank, paper's rule", GRAN_SELECTOR_LOWRANK_PAPER, 0, 0},
+      {"low-rank paper + MSD", GRAN_SELECTOR_LOWRANK_PAPER, GRAN_OBSERVE_DISPLACEMENT, 0},
+      {"Bird", GRAN_SELECTOR_BIRD, 0, 0},
+      /* speed classes (issue 11) */
+      {"low-rank + classes", GRAN_SELECTOR_LOWRANK, 0, 1},
+      {"low-rank + classes + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, 1},
   };
-  enum { NM = 5 };
+  enum { NM = 7 };
   int64_t M;
   BENCH_CHECK(gran_mixture_nspecies(sy->mix, &M));
   double *T0 = malloc(sizeof(double) * (size_t)M);
   for (int64_t k = 0; k < M; k++) T0[k] = 1.0;
   double cmin[NM], wmin[NM], rate[NM];
-  long long coll[NM], npart = 0;
+  long long coll[NM], npart = 0, moves[NM], rebuilds[NM];
   double acc[NM];
   for (int q = 0; q < NM; q++) cmin[q] = wmin[q] = INFINITY;
   for (int r = 0; r < reps; r++)
@@ -237,6 +257,7 @@ static void speed_system(const speed_sys *sy, int reps) {
       o.observe = ms[q].obs;
       o.volume = sy->volume;
       o.seed = 2024;
+      o.speed_classes = ms[q].classes;
       gran_dsmc *sim;
       BENCH_CHECK(gran_dsmc_create(sy->mix, sy->counts, T0, &o, &sim));
       const double te = ms[q].sel == GRAN_SELECTOR_BIRD ? sy->t_bird : sy->t_end;
@@ -249,6 +270,8 @@ static void speed_system(const speed_sys *sy, int reps) {
       if (wall < wmin[q]) wmin[q] = wall;
       coll[q] = (long long)st.collisions;
       acc[q] = (double)st.collisions / (double)st.trials;
+      moves[q] = (long long)st.class_moves;
+      rebuilds[q] = (long long)st.class_rebuilds;
       npart = (long long)st.nparticles;
       gran_dsmc_destroy(&sim);
     }
@@ -259,12 +282,17 @@ static void speed_system(const speed_sys *sy, int reps) {
   for (int q = 0; q < NM; q++) rate[q] = (double)coll[q] / cmin[q];
   for (int q = 0; q < NM; q++) {
     const double te = ms[q].sel == GRAN_SELECTOR_BIRD ? sy->t_bird : sy->t_end;
-    printf("%-24s %8.4g %12lld %9.2f %9.2f %11.3e %8.4f %12.2f\n", ms[q].name, te, coll[q], wmin[q], cmin[q], rate[q],
+    printf("%-24s %8.4g %12lld %9.2f %9.2f %11.3e %8.4f %12.2f", ms[q].name, te, coll[q], wmin[q], cmin[q], rate[q],
            acc[q], rate[q] / rate[ms[q].obs ? 3 : 2]);
+    if (ms[q].classes)
+      printf("  moves/coll %.2f, overflow re-sorts %lld", (double)moves[q] / (double)coll[q], rebuilds[q]);
+    printf("\n");
   }
   printf("  low-rank / paper's rule: %.2f without displacements, %.2f with (issue 11 targets 5.3 and 4.2); "
          "low-rank / Bird: %.2f (rates)\n",
          rate[0] / rate[2], rate[1] / rate[3], rate[0] / rate[4]);
+  printf("  with speed classes: / paper's rule %.2f without displacements, %.2f with; / without classes %.2f, %.2f\n",
+         rate[5] / rate[2], rate[6] / rate[3], rate[5] / rate[0], rate[6] / rate[1]);
   fflush(stdout);
   free(T0);
 }

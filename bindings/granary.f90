@@ -124,6 +124,8 @@ module granary
     integer(c_int64_t) :: traj_per_species = 0
     real(c_double) :: traj_dt = 1
     integer(c_int64_t) :: traj_samples = 0
+    integer(c_int32_t) :: speed_classes = 0    ! 1: speed classes (low-rank selectors)
+    integer(c_int32_t) :: pad_classes_ = 0
   end type gran_dsmc_options
 
   type, bind(C), public :: gran_dsmc_stats
@@ -136,6 +138,8 @@ module granary
     real(c_double) :: volume = 0
     real(c_double) :: time = 0
     real(c_double) :: acceptance = 0
+    integer(c_int64_t) :: class_moves = 0      ! speed classes: moves between classes
+    integer(c_int64_t) :: class_rebuilds = 0   ! speed classes: re-sorts forced by full classes
   end type gran_dsmc_stats
 
   public :: gran_dsmc_options_default, gran_dsmc_create, gran_dsmc_destroy, gran_dsmc_advance

@@ -336,6 +336,13 @@ typedef struct gran_dsmc_options {
   int64_t traj_per_species;  /* tracer particles per species whose trajectories are recorded */
   double traj_dt;            /* sampling interval of the trajectories */
   int64_t traj_samples;      /* samples per trajectory (first at t_start) */
+  /* speed classes (issue 11): 1 = the low-rank selectors bin each large species' particles by
+   * speed into classes with their own bounds (higher acceptance, same statistics); particles then
+   * move between slots, and gran_dsmc_particles fills its view at each call (by creation order
+   * with GRAN_OBSERVE_TRAJECTORIES, else grouped by species in no fixed order within a species).
+   * 0 = off (one bound per species; the view is the live state). Ignored by Bird. */
+  int32_t speed_classes;
+  int32_t pad_classes_;
 } gran_dsmc_options;
 
 typedef struct gran_dsmc_stats {
@@ -348,6 +355,8 @@ typedef struct gran_dsmc_stats {
   double volume;
   double time;
   double acceptance;    /* collisions / trials since the last tightening of the bounds */
+  int64_t class_moves;    /* speed classes: particles moved between classes (0 without) */
+  int64_t class_rebuilds; /* speed classes: re-sorts of a species forced by full classes */
 } gran_dsmc_stats;
 
 GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt);

@@ -8,6 +8,11 @@
 
 static const char *sel_name[4] = {"lowrank", "bird", "lowrank-paper", "bird-paper"};
 
+/* Speed classes (issue 11): the *_classes tests rerun a test with opt.speed_classes = 1 (only the
+ * low-rank selectors: Bird ignores the option). */
+static int g_classes = 0;
+static int skip_sel(int sel) { return g_classes && (sel == GRAN_SELECTOR_BIRD || sel == GRAN_SELECTOR_BIRD_PAPER); }
+
 /* Elastic monodisperse gas: the Maxwellian is exact, so collisions per particle and unit time are
  * omega = 4 sqrt(pi) n sigma^2 sqrt(T/m) with T = 2E/(3N) conserved exactly.
  * N = 1e4, n = 0.1, 20 windows of 15 time units: about 1e5 collisions per window, expected total
@@ -20,7 +25,9 @@ static void test_collision_frequency(void **state) {
   const double tw = 15.0 * (sc < 1 ? 0.2 : 1.0);
   gran_mixture *mix = dsmc_mono(0.1, 1.0);
   for (int sel = 0; sel < 4; sel++) {
+    if (skip_sel(sel)) continue;
     gran_dsmc_options o = dsmc_opts(sel, 100 + sel, N / 0.1, 0);
+    o.speed_classes = g_classes;
     gran_dsmc *sim;
     GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, NULL, &o, &sim));
     double ek, e0, ed;
@@ -37,7 +44,7 @@ static void test_collision_frequency(void **state) {
     }
     double mean, se;
     dsmc_mean_se(ratio, nw, &mean, &se);
-    print_message("%-14s collisions / theory = %.5f (se %.1e)\n", sel_name[sel], mean, se);
+    print_message("%-14s%s collisions / theory = %.5f (se %.1e)\n", sel_name[sel], g_classes ? " classes" : "", mean, se);
     GRAN_ASSERT_SIGMA(mean, 1.0, se, 4);
     assert_true(se < 3e-3 / sqrt(sc < 1 ? 0.2 : 1.0)); /* the test resolves the rate to ~1e-2 */
     GRAN_ASSERT_OK(gran_dsmc_energy(sim, &ek, &e0, &ed));
@@ -62,7 +69,9 @@ static void test_pair_rates(void **state) {
   const int nw = 16;
   const double tw = 6.0 * (sc < 1 ? 0.25 : 1.0);
   for (int sel = 0; sel < 4; sel++) {
+    if (skip_sel(sel)) continue;
     gran_dsmc_options o = dsmc_opts(sel, 200 + sel, V, GRAN_OBSERVE_COLLISION_COUNTS);
+    o.speed_classes = g_classes;
     gran_dsmc *sim;
     double T0[3] = {1.0, 1.0, 1.0};
     GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, T0, &o, &sim));
@@ -92,8 +101,8 @@ static void test_pair_rates(void **state) {
       for (int k = i; k < 3; k++) {
         double mean, se;
         dsmc_mean_se(ratio[i * 3 + k], nw, &mean, &se);
-        print_message("%-14s pair %d-%d: collisions / theory = %.4f (se %.1e)\n", sel_name[sel], i + 1, k + 1, mean,
-                      se);
+        print_message("%-14s%s pair %d-%d: collisions / theory = %.4f (se %.1e)\n", sel_name[sel],
+                      g_classes ? " classes" : "", i + 1, k + 1, mean, se);
         GRAN_ASSERT_SIGMA(mean, 1.0, se, 4);
         /* even the rarest pair (3-3, ~700 collisions per window) is resolved to 12% (24% under ASan) */
         assert_true(se < (sc < 1 ? 0.07 : 0.03));
@@ -145,6 +154,7 @@ static void haff(double eps, double slope_hcs, double slope_maxw, double a2_hcs,
   const int nw = 50;
   gran_mixture *mix = dsmc_mono(0.1, eps);
   gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, 300, (double)N / 0.1, 0);
+  o.speed_classes = g_classes;
   gran_dsmc *sim;
   GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, NULL, &o, &sim));
   GRAN_ASSERT_OK(gran_dsmc_advance_collisions(sim, 5 * N));
@@ -167,9 +177,9 @@ static void haff(double eps, double slope_hcs, double slope_maxw, double a2_hcs,
   dsmc_mean_se(slope, nw, &s, &se);
   dsmc_mean_se(diff, nw, &dm, &dse);
   dsmc_mean_se(a2s, nw, &am, &ase);
-  print_message("eps %.1f: d lnT/dc = %.7f (se %.1e), sampled-pair prediction %+.1e (se %.1e), HCS %.7f, "
+  print_message("%seps %.1f: d lnT/dc = %.7f (se %.1e), sampled-pair prediction %+.1e (se %.1e), HCS %.7f, "
                 "Maxwell %.7f; a2 = %.4f (se %.1e), vNE %.4f\n",
-                eps, s, se, dm, dse, slope_hcs, slope_maxw, am, ase, a2_hcs);
+                g_classes ? "classes: " : "", eps, s, se, dm, dse, slope_hcs, slope_maxw, am, ase, a2_hcs);
   GRAN_ASSERT_SIGMA(dm, 0.0, dse, 4);
   GRAN_ASSERT_ABS(s, slope_hcs, 4 * se + 3e-3 * fabs(slope_hcs));
   if (!DSMC_ASAN) {
@@ -201,6 +211,7 @@ static void msd_linear(double eps) {
   const int64_t N = sc < 1 ? 4000 : 20000;
   gran_mixture *mix = dsmc_mono(0.1, eps);
   gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, 400, (double)N / 0.1, GRAN_OBSERVE_DISPLACEMENT);
+  o.speed_classes = g_classes;
   gran_dsmc *sim;
   GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, NULL, &o, &sim));
   const double th = 9.0 / (4.0 * M_PI * (1 + eps) * (1 + eps) * 0.01);
@@ -220,7 +231,7 @@ static void msd_linear(double eps) {
   }
   const double slope = (13 * sxy - sx * sy) / (13 * sxx - sx * sx);
   const double s1 = (y[6] - y[0]) / (c[6] - c[0]), s2 = (y[12] - y[6]) / (c[12] - c[6]);
-  print_message("eps %.1f: dMSD/dc / theory = %.4f (halves %.4f, %.4f)\n", eps, slope / th, s1 / th, s2 / th);
+  print_message("%seps %.1f: dMSD/dc / theory = %.4f (halves %.4f, %.4f)\n", g_classes ? "classes: " : "", eps, slope / th, s1 / th, s2 / th);
   GRAN_ASSERT_REL(slope, th, 0.08);
   GRAN_ASSERT_REL(s1, s2, 0.06);
   gran_dsmc_destroy(&sim);
@@ -233,11 +244,32 @@ static void test_msd_linear_in_c(void **state) {
   msd_linear(0.9);
 }
 
+/* speed classes (issue 11): the same tests and tolerances with opt.speed_classes = 1 */
+static int classes_on(void **state) {
+  (void)state;
+  g_classes = 1;
+  return 0;
+}
+static int classes_off(void **state) {
+  (void)state;
+  g_classes = 0;
+  return 0;
+}
+static void test_msd_linear_classes(void **state) {
+  (void)state;
+  msd_linear(0.5);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_collision_frequency), cmocka_unit_test(test_pair_rates),
       cmocka_unit_test(test_haff_eps09),          cmocka_unit_test(test_haff_eps05),
       cmocka_unit_test(test_msd_linear_in_c),
+      /* speed classes */
+      cmocka_unit_test_setup_teardown(test_collision_frequency, classes_on, classes_off),
+      cmocka_unit_test_setup_teardown(test_pair_rates, classes_on, classes_off),
+      cmocka_unit_test_setup_teardown(test_haff_eps05, classes_on, classes_off),
+      cmocka_unit_test_setup_teardown(test_msd_linear_classes, classes_on, classes_off),
   };
   return cmocka_run_group_tests_name("t503-dsmc-rates", tests, NULL, NULL);
 }

@@ -77,9 +77,11 @@ static void test_restart_bit_for_bit(void **state) {
                            GRAN_OBSERVE_TRAJECTORIES | GRAN_OBSERVE_COLLISION_COUNTS};
   for (int visco = 0; visco < 2; visco++) {
     gran_mixture *mix = five_species(visco);
-    for (int sel = 0; sel < 4; sel++)
+    for (int sel = 0; sel < 6; sel++) /* 4, 5: the low-rank selectors with speed classes (issue 11) */
       for (int q = 0; q < 3; q++) {
-        gran_dsmc_options o = dsmc_opts(sel, 77 + (uint64_t)sel, 2e4, observes[q]);
+        gran_dsmc_options o = dsmc_opts(sel < 4 ? sel : sel == 4 ? GRAN_SELECTOR_LOWRANK : GRAN_SELECTOR_LOWRANK_PAPER,
+                                        77 + (uint64_t)sel, 2e4, observes[q]);
+        o.speed_classes = sel >= 4;
         o.bound_refresh = 700; /* several tightenings before and after the checkpoint */
         o.traj_per_species = 2;
         o.traj_dt = 0.5;

@@ -15,6 +15,8 @@ program t901_layout_f
   type(gran_srd_obs) :: srd_obs     ! GSRD
   type(gran_dsmc_cell_options) :: cell_opt ! cell selector
   type(gran_dsmc_cluster_stats) :: cluster_st
+  type(gran_dsmc_options) :: dsmc_opt ! DSMC (speed classes, issue 11)
+  type(gran_dsmc_stats) :: dsmc_st    ! DSMC (speed classes, issue 11)
   integer(c_int64_t) :: value
   integer :: nfail = 0, ierr
 
@@ -31,6 +33,8 @@ program t901_layout_f
   call check('GRAN_SELECTOR_CELL', int(GRAN_SELECTOR_CELL, c_size_t))
   call check('GRAN_PLACE_RANDOM', int(GRAN_PLACE_RANDOM, c_size_t))
   call check('GRAN_PLACE_COLLISION', int(GRAN_PLACE_COLLISION, c_size_t))
+  call check('sizeof(gran_dsmc_options)', c_sizeof(dsmc_opt)) ! DSMC (speed classes, issue 11)
+  call check('sizeof(gran_dsmc_stats)', c_sizeof(dsmc_st))    ! DSMC (speed classes, issue 11)
 
   call check('GRAN_VERSION_MAJOR', int(GRAN_VERSION_MAJOR, c_size_t))
   call check('GRAN_VERSION_MINOR', int(GRAN_VERSION_MINOR, c_size_t))

@@ -87,14 +87,73 @@ struct Reader {
   int i1(const char *name, int64_t *x) { return i64(name, 1, x); }
 };
 
+/* Speed classes (issue 11): slots, leaves, the bounds of the alias table and the tree of raises,
+ * class counters, the leaves of the pre-drawn candidates. Identities (cid) with trajectories. */
+template <class F, class D>
+int class_io(F &f, D *s) {
+  const int64_t S = s->S, L = s->L;
+  GRAN_CALL(f.d("class_v", 3 * S, s->cv.data()));
+  if (!s->cr.empty()) GRAN_CALL(f.d("class_r", 3 * S, s->cr.data()));
+  if (!s->cid.empty()) GRAN_CALL(f.i32("class_id", S, s->cid.data()));
+  std::vector<double> lr((size_t)(3 * L));
+  std::vector<int64_t> li((size_t)(3 * L));
+  for (int64_t a = 0; a < L; a++) {
+    const DsmcLeaf &x = s->leaf[(size_t)a];
+    lr[(size_t)(3 * a)] = x.b;
+    lr[(size_t)(3 * a + 1)] = x.b2;
+    lr[(size_t)(3 * a + 2)] = x.lo2;
+    li[(size_t)(3 * a)] = x.start;
+    li[(size_t)(3 * a + 1)] = x.cap;
+    li[(size_t)(3 * a + 2)] = x.n;
+  }
+  GRAN_CALL(f.d("class_leaf_real", 3 * L, lr.data()));
+  GRAN_CALL(f.i64("class_leaf_int", 3 * L, li.data()));
+  for (int64_t a = 0; a < L; a++) {
+    DsmcLeaf &x = s->leaf[(size_t)a];
+    x.b = lr[(size_t)(3 * a)];
+    x.b2 = lr[(size_t)(3 * a + 1)];
+    x.lo2 = lr[(size_t)(3 * a + 2)];
+    x.start = li[(size_t)(3 * a)];
+    x.cap = li[(size_t)(3 * a + 1)];
+    x.n = li[(size_t)(3 * a + 2)];
+  }
+  GRAN_CALL(f.d("class_ub", L, s->ub.data()));
+  GRAN_CALL(f.d("class_wref", s->M, s->cwref.data()));
+  GRAN_CALL(f.d("class_ud", 2 * s->ud.base, s->ud.node));
+  int64_t ct[3] = {s->class_moves, s->class_rebuilds, s->ud.nupdate};
+  GRAN_CALL(f.i64("class_counters", 3, ct));
+  s->class_moves = ct[0];
+  s->class_rebuilds = ct[1];
+  s->ud.nupdate = ct[2];
+  int32_t ab[2 * kDsmcPipe + 2];
+  for (int q = 0; q < kDsmcPipe; q++) {
+    ab[2 * q] = s->cand[q].a;
+    ab[2 * q + 1] = s->cand[q].b;
+  }
+  ab[2 * kDsmcPipe] = s->pend_c.a;
+  ab[2 * kDsmcPipe + 1] = s->pend_c.b;
+  GRAN_CALL(f.i32("class_cand_ab", 2 * kDsmcPipe + 2, ab));
+  for (int q = 0; q < kDsmcPipe; q++) {
+    s->cand[q].a = ab[2 * q];
+    s->cand[q].b = ab[2 * q + 1];
+  }
+  s->pend_c.a = ab[2 * kDsmcPipe];
+  s->pend_c.b = ab[2 * kDsmcPipe + 1];
+  return GRAN_SUCCESS;
+}
+
 /* Everything but the options, counts and mixture check (shared by write and read through F). */
 template <class F, class D>
 int state_io(F &f, D *s) {
   const int64_t N = s->N, M = s->M;
+  if (s->classes) {
+    GRAN_CALL(class_io(f, s)); /* speed classes: the slots instead of the particles */
+  } else {
   GRAN_CALL(f.d("v", 3 * N, s->p.v));
   if (s->p.r) {
     GRAN_CALL(f.d("r", 3 * N, s->p.r));
     GRAN_CALL(f.d("t_last", N, s->p.t_last));
+  }
   }
   GRAN_CALL(f.d("bound", M, s->bound.data()));
   GRAN_CALL(f.d("bound2", M, s->bound2.data()));
@@ -177,6 +236,61 @@ int state_io(F &f, D *s) {
   return GRAN_SUCCESS;
 }
 
+/* Speed classes: the leaves partition each species' slots in order, hold its particles, bound
+ * their occupants; the trees are the weights of the leaves; identities a permutation. */
+template <class Need>
+void validate_classes(const gran_dsmc *s, Need &need) {
+  const double *v = s->cv.data();
+  for (int64_t k = 0; k < s->M; k++) {
+    int64_t x = s->sslot[(size_t)k], nk = 0;
+    for (int64_t a = s->sleaf[(size_t)k]; a < s->sleaf[(size_t)k + 1]; a++) {
+      const DsmcLeaf &l = s->leaf[(size_t)a];
+      need(l.start == x && l.cap >= 0 && l.n >= 0 && l.n <= l.cap, "class slots");
+      if (!(l.start == x && l.cap >= 0 && l.n >= 0 && l.n <= l.cap)) return;
+      need(std::isfinite(l.b) && l.b >= 0 && l.b == std::sqrt(l.b2) && std::isfinite(l.lo2), "class bounds");
+      need(l.b2 <= s->bound2[(size_t)k] || s->bound2[(size_t)k] == 0, "class bounds");
+      for (int64_t j = l.start; j < l.start + l.n; j++) {
+        const double *w = v + 3 * j;
+        const double q = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        need(std::isfinite(q) && q <= l.b2 * (1 + 1e-12), "class bounds");
+      }
+      const double ub = s->ub[(size_t)a];
+      need(std::isfinite(ub) && ub >= 0 && ub <= l.b, "class alias bounds");
+      x += l.cap;
+      nk += l.n;
+    }
+    need(x == s->sslot[(size_t)k + 1] && nk == s->count[(size_t)k], "class slots");
+    if (!(x == s->sslot[(size_t)k + 1] && nk == s->count[(size_t)k])) return;
+  }
+  for (double w : s->cwref) need(std::isfinite(w) && w >= 0, "class reference speeds");
+  /* the leaves of the trees are the weights of the leaves (species, class), bit for bit */
+  for (int64_t a = 0; a < s->L; a++) {
+    const DsmcLeaf &l = s->leaf[(size_t)a];
+    const double sg = s->mix.sigma[(size_t)l.species], cap = (double)l.cap, bn = l.b * cap;
+    need(s->u[0].node[s->u[0].base + a] == bn * sg * sg && s->u[1].node[s->u[1].base + a] == 2.0 * bn * sg &&
+             s->u[2].node[s->u[2].base + a] == bn,
+         "class tree leaves");
+    need(s->v[0].node[s->v[0].base + a] == cap && s->v[1].node[s->v[1].base + a] == cap * sg &&
+             s->v[2].node[s->v[2].base + a] == cap * sg * sg,
+         "class tree leaves");
+  }
+  const gran_segtree *t = &s->ud;
+  for (int64_t i = t->base; i < 2 * t->base; i++) need(std::isfinite(t->node[i]) && t->node[i] >= 0, "class raise tree");
+  for (int64_t i = 1; i < t->base; i++) need(t->node[i] == t->node[2 * i] + t->node[2 * i + 1], "class raise tree");
+  if (!s->cid.empty()) {
+    std::vector<uint8_t> seen((size_t)s->N, 0);
+    for (int64_t k = 0; k < s->M; k++)
+      dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+        for (int64_t j = ja; j < jb; j++) {
+          const int64_t id = s->cid[(size_t)j];
+          const bool ok = id >= s->offset[(size_t)k] && id < s->offset[(size_t)k + 1] && !seen[(size_t)id];
+          need(ok, "class identities");
+          if (ok) seen[(size_t)id] = 1;
+        }
+      });
+  }
+}
+
 /* Everything read from a file is used without further checks by the hot loop: refuse a state
  * whose indices lie outside their arrays, whose numbers are not finite, or whose trees are not
  * the sums of their leaves (a damaged or edited file that still passed the file checksum). */
@@ -206,12 +320,19 @@ int validate_state(const gran_dsmc *s, const char *path) {
   need(!s->pend_on || (std::isfinite(s->pend_t) && s->pend_t >= s->t), "pending collision time");
   for (int d = 0; d < 3; d++) need(std::isfinite(s->pend_e[d]), "pending collision direction");
   auto cand_ok = [&](const DsmcCand &c) {
+    if (s->classes) { /* slots within the capacities of their leaves (species, class) */
+      if (!(c.a >= 0 && c.a < s->L && c.b >= 0 && c.b < s->L)) return false;
+      const DsmcLeaf &A = s->leaf[(size_t)c.a], &B = s->leaf[(size_t)c.b];
+      return c.j >= A.start && c.j < A.start + A.cap && c.l >= B.start && c.l < B.start + B.cap &&
+             c.i == A.species && c.k == B.species;
+    }
     return c.j >= 0 && c.j < N && c.l >= 0 && c.l < N && c.i >= 0 && c.i < M && c.k >= 0 && c.k < M;
   };
+  if (s->classes) validate_classes(s, need); /* before the candidates: they index the leaves */
   if (s->cand_count > 0)
-    for (int q = 0; q < kDsmcPipe; q++) need(cand_ok(s->cand[q]), "candidate pairs");
-  if (s->pend_on) need(cand_ok(s->pend_c), "pending collision");
-  for (int64_t j = 0; j < 3 * N && !bad; j++) need(std::isfinite(s->p.v[j]), "velocities");
+    for (int q = 0; q < kDsmcPipe; q++) need(!bad && cand_ok(s->cand[q]), "candidate pairs");
+  if (s->pend_on) need(!bad && cand_ok(s->pend_c), "pending collision");
+  for (int64_t j = 0; j < 3 * N && !bad && !s->classes; j++) need(std::isfinite(s->p.v[j]), "velocities");
   if (s->p.r)
     for (int64_t j = 0; j < N && !bad; j++)
       need(std::isfinite(s->p.r[3 * j]) && std::isfinite(s->p.r[3 * j + 1]) && std::isfinite(s->p.r[3 * j + 2]) &&
@@ -221,10 +342,12 @@ int validate_state(const gran_dsmc *s, const char *path) {
     const double b = s->bound[(size_t)k];
     need(std::isfinite(b) && b >= 0 && b == std::sqrt(s->bound2[(size_t)k]), "speed bounds");
     /* a bound is an upper bound of the speeds of its species */
-    for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1] && !bad; j++) {
-      const double *v = s->p.v + 3 * j;
-      need(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] <= s->bound2[(size_t)k] * (1 + 1e-12), "speed bounds");
-    }
+    dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+      for (int64_t j = ja; j < jb && !bad; j++) {
+        const double *v = dsmc_hv(s) + 3 * j;
+        need(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] <= s->bound2[(size_t)k] * (1 + 1e-12), "speed bounds");
+      }
+    });
   }
   for (int r = 0; r < 3 && !bad; r++) need(std::isfinite(s->uv[r]) && s->uv[r] >= 0, "rank-one weights");
   if (s->selector == GRAN_SELECTOR_LOWRANK) {
@@ -365,6 +488,7 @@ int options_io_write(Writer &w, const gran_dsmc *s) {
   GRAN_CALL(w.i64("options_int", 6, oi));
   GRAN_CALL(w.d("options_real", 3, od));
   GRAN_CALL(w.u64("options_seed", 1, &o.seed));
+  if (o.speed_classes) GRAN_CALL(w.i1("options_speed_classes", o.speed_classes)); /* absent: 0 */
   if (s->cell && s->cell->agg) { /* aggregation: unordered particles, all in the first slot range */
     std::vector<int64_t> lay((size_t)s->M, 0);
     lay[0] = s->N;
@@ -501,6 +625,13 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
     o.volume = od[0];
     o.t_start = od[1];
     o.traj_dt = od[2];
+    o.speed_classes = 0; /* a file without the dataset: off, whatever the default */
+    if (H5Lexists(g.id, "options_speed_classes", H5P_DEFAULT) > 0) { /* speed classes (issue 11) */
+      int64_t sc;
+      GRAN_CALL(rd.i1("options_speed_classes", &sc));
+      GRAN_CHECK(sc == 0 || sc == 1, GRAN_ERR_IO, "checkpoint '%s' holds invalid engine options (speed_classes)", path);
+      o.speed_classes = (int32_t)sc;
+    }
     const int64_t M = oi[5];
     GRAN_CHECK(M == mix->M, GRAN_ERR_ARG,
                "mixture 'mix' has " GRAN_I64_FMT " species, the checkpoint '%s' " GRAN_I64_FMT, mix->M, path, M);
@@ -531,9 +662,18 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
                  "checkpoint '%s': count of species %" PRId64 " is %" PRId64, path, k, counts[(size_t)k]);
       N += counts[(size_t)k];
     }
+    const bool lowrank = oi[0] == GRAN_SELECTOR_LOWRANK || oi[0] == GRAN_SELECTOR_LOWRANK_PAPER;
+    if (o.speed_classes && lowrank && N > 0 && N < INT32_MAX) { /* speed classes: the slots */
+      int64_t S = 0;
+      for (int64_t k = 0; k < M; k++) S += dsmc_class_slots(counts[(size_t)k], dsmc_class_count(counts[(size_t)k]));
+      GRAN_CHECK(rd.npoints("class_v") == 3 * S, GRAN_ERR_IO,
+                 "checkpoint '%s': %" PRId64 " slot velocity values for %" PRId64 " slots (damaged or edited file?)", path,
+                 rd.npoints("class_v"), S);
+    } else {
     GRAN_CHECK(rd.npoints("v") == 3 * N, GRAN_ERR_IO,
                "checkpoint '%s': %" PRId64 " velocity values for %" PRId64 " particles (damaged or edited file?)", path,
                rd.npoints("v"), N);
+    }
     if (o.observe & GRAN_OBSERVE_TRAJECTORIES) {
       int64_t ntraj = 0;
       for (int64_t k = 0; k < M; k++) ntraj += std::min(o.traj_per_species, counts[(size_t)k]);
@@ -568,7 +708,8 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
       if (ierr == GRAN_SUCCESS && s->cell->agg) ierr = cell_agg_read(rd, s);
       if (ierr == GRAN_SUCCESS) ierr = cell_validate(s, path);
     }
-    if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK)
+    if (ierr == GRAN_SUCCESS && s->classes) dsmc_class_read_done(s); /* alias tables, identities' slots */
+    if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK && !s->classes)
       for (int r = 0; r < 3 && ierr == GRAN_SUCCESS; r++)
         if (std::memcmp(vtree[r].data(), s->v[r].node, sizeof(double) * vtree[r].size()) != 0)
           ierr = GRAN_ERROR(GRAN_ERR_IO, "checkpoint '%s': the species trees do not match the counts (damaged file?)",

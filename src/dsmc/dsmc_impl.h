@@ -31,9 +31,60 @@ namespace gran {
 enum { kDsmcPipe = GRAN_DSMC_PIPE };
 
 struct DsmcCand {
-  int64_t j, l;   /* particle indices */
+  int64_t j, l;   /* particle indices (with speed classes: slots) */
   int32_t i, k;   /* their species (low-rank: known at draw time; Bird: filled at use) */
+  int32_t a, b;   /* speed classes: the leaves (species, class) of the slots j, l; else 0 */
 };
+
+/* ---- speed classes (issue 11; opt.speed_classes with the low-rank selectors) ----
+ * Within each species with at least kClassMin particles the slots are split into kClassNum
+ * classes c, each owning the fixed slots [start, start + cap) of which [start, start + n) hold
+ * particles. The trees are built over the leaves (species, class) with the capacity in place of
+ * the count and the class bound b in place of the species bound, so the law of the proposed slot
+ * pairs depends on capacities and bounds only, which change at a tightening (and when a top class
+ * is raised), never when a particle changes class: a proposed slot that is empty at use time is
+ * rejected (a rate-0 virtual particle), an occupied one stands for whoever occupies it then. A
+ * particle may sit in any class of its species whose bound is at least its speed; after a
+ * collision it moves to the lowest such class with room (up when it became too fast, down when
+ * it fits a lower class), copied into that class's first free slot, its hole filled by the last
+ * particle of its old class. Thresholds b_c = w a0 rho^c (w: the species' rms speed at the last
+ * tightening), the top class open (the species' largest speed, raised like a species bound).
+ * Small species keep one class of cap = N_k (no holes, never moves). */
+#ifndef GRAN_DSMC_CLASS_RHO
+#define GRAN_DSMC_CLASS_RHO 1.25 /* threshold ratio; measured in bench/b501-dsmc.c */
+#endif
+#ifndef GRAN_DSMC_CLASS_A0
+#define GRAN_DSMC_CLASS_A0 0.4 /* bottom threshold / rms speed */
+#endif
+#ifndef GRAN_DSMC_CLASS_NUM
+#define GRAN_DSMC_CLASS_NUM 11 /* classes of a large species: thresholds up to ~2.5 rms, then the top */
+#endif
+#ifndef GRAN_DSMC_CLASS_SLACK
+#define GRAN_DSMC_CLASS_SLACK 0.05 /* free slots per particle of a large species (0.1: lower acceptance) */
+#endif
+#ifndef GRAN_DSMC_CLASS_ANCHOR
+#define GRAN_DSMC_CLASS_ANCHOR 1 /* 1: w rounded to w_ref rho^m (w_ref: the rms speed at the first sort), so
+                                  * that most particles keep their class at a sort (2-4% faster: b501 note) */
+#endif
+#ifndef GRAN_DSMC_CLASS_DOWN
+#define GRAN_DSMC_CLASS_DOWN 2 /* 1: a particle that fits the class below moves down when there is room; 2: only when it fits two classes below (fewer moves, same acceptance: b501) */
+#endif
+enum { kClassNum = GRAN_DSMC_CLASS_NUM, kClassMin = 256, kClassExtra = 4 };
+static_assert(kClassNum >= 2 && kClassNum <= 64, "GRAN_DSMC_CLASS_NUM out of range");
+
+struct alignas(64) DsmcLeaf {
+  double b, b2;      /* bound of the class (speed) and its square: every occupant's speed <= b */
+  double lo2;        /* b2 of the class below (a speed^2 below it fits there); -1 for the lowest */
+  int64_t start, cap, n;
+  int32_t species;
+  int32_t top;       /* 1: the species' last class (open above: raised like a species bound) */
+};
+
+/* slots of a species of Nk particles with C classes (C = 1: exactly Nk) */
+static inline int64_t dsmc_class_slots(int64_t Nk, int C) {
+  return C == 1 ? Nk : Nk + (int64_t)((double)Nk * GRAN_DSMC_CLASS_SLACK) + (int64_t)C * kClassExtra;
+}
+static inline int dsmc_class_count(int64_t Nk) { return Nk >= kClassMin ? kClassNum : 1; }
 
 /* Buffered random numbers for the hot loop: kRngLanes xoshiro256** streams (gran_rng_stream
  * 1..kRngLanes of the seed: independent, non-overlapping) advanced together in a loop the compiler
@@ -170,6 +221,33 @@ struct gran_dsmc {
   /* pipeline of pre-drawn candidates */
   gran::DsmcCand cand[gran::kDsmcPipe]{};
   int32_t cand_head = 0, cand_count = 0;
+  /* ---- speed classes (issue 11): on only with opt.speed_classes and a low-rank selector ----
+   * The particles then live in the slot arrays cv (velocities) and cr (displacements: R(t) = r +
+   * v (t - t_start)); with trajectories also cid (identity of the particle in a slot: its index at
+   * creation) and cslot (slot of each identity). Identities cost a cache miss per class move (b501),
+   * so they are kept only where trajectories need them; p is only the view handed out by
+   * gran_dsmc_particles, filled at that call (by identity with trajectories, else grouped by
+   * species in slot order). */
+  int classes = 0;
+  int64_t L = 0, S = 0;          /* leaves, slots */
+  std::vector<int64_t> sleaf;    /* M+1: leaves of species k are [sleaf[k], sleaf[k+1]) */
+  std::vector<int64_t> sslot;    /* M+1: slots of species k are [sslot[k], sslot[k+1]) */
+  std::vector<gran::DsmcLeaf> leaf; /* L */
+  std::vector<double> cv, cr;    /* 3 S */
+  std::vector<int32_t> cid;      /* S, with trajectories only (ids of empty slots: stale) */
+  std::vector<int32_t> cslot;    /* N, with trajectories only */
+  std::vector<uint8_t> ckey;     /* scratch of the sort: the new class of each particle of a species */
+  std::vector<double> cwref;     /* M: rms speed at the first sort (GRAN_DSMC_CLASS_ANCHOR: thresholds on its grid) */
+  /* The draw of (r, leaf) in O(1): a Walker alias table over the 3 L pairs (r, a) with weights
+   * u^(r)_a V_r built from the class bounds ub at the last sort (total ua_tot), plus a segment
+   * tree ud over the same pairs holding what raises of top bounds added since (b - ub) cap ...:
+   * the law is the sum of both, exactly the trees' u^(r) (which still give the rate). */
+  std::vector<double> ua_p;      /* 3 L */
+  std::vector<int32_t> ua_k;     /* 3 L */
+  std::vector<double> ub;        /* L */
+  double ua_tot = 0, ua_scale = 0; /* sum of the alias weights; 3 L / ua_tot */
+  gran_segtree ud{};             /* 3 L */
+  int64_t class_moves = 0, class_rebuilds = 0; /* particles moved between classes; overflow rebuilds */
   /* trajectories */
   int64_t ntraj = 0;
   std::vector<int64_t> traj_index;  /* ntraj particle indices */
@@ -193,6 +271,38 @@ void dsmc_refresh_bounds(gran_dsmc *s);
 void dsmc_raise_bound(gran_dsmc *s, int32_t i, double s2);
 /* Rate and 1/rate from the current selector state. */
 void dsmc_update_rate(gran_dsmc *s);
+/* Speed classes: raise the bound of top leaf a to speed^2 s2; re-sort species i into its classes
+ * (an overflow: every higher class of a particle full). Both change the selection law. */
+void dsmc_class_raise(gran_dsmc *s, int64_t a, double s2);
+void dsmc_class_rebuild(gran_dsmc *s, int64_t i);
+/* Speed classes (classes.cpp): leaves and slots for the counts (dsmc_alloc); sort species k into
+ * its classes with top bound bound[k]; the leaf weights, alias tables and rate from the leaves;
+ * the identity-ordered view of gran_dsmc_particles. */
+int dsmc_class_setup(gran_dsmc *s);
+void dsmc_class_layout(gran_dsmc *s, int64_t k);
+void dsmc_class_trees(gran_dsmc *s);
+int dsmc_class_view(gran_dsmc *s);
+void dsmc_class_alias(gran_dsmc *s);
+void dsmc_class_read_done(gran_dsmc *s);
+/* Walker's alias table of the weights w (engine.cpp) */
+void dsmc_build_alias(const std::vector<double> &w, std::vector<double> *p, std::vector<int32_t> *a);
+/* The particle velocities the loop works on (the slots with speed classes). */
+static inline double *dsmc_hv(gran_dsmc *s) { return s->classes ? s->cv.data() : s->p.v; }
+static inline const double *dsmc_hv(const gran_dsmc *s) { return s->classes ? s->cv.data() : s->p.v; }
+static inline const double *dsmc_hr(const gran_dsmc *s) { return s->classes ? (s->cr.empty() ? nullptr : s->cr.data()) : s->p.r; }
+/* f(a, b) for the ranges [a, b) of hot indices holding species k's particles (one range without
+ * speed classes: the order of every sum is then the stored order) */
+template <class F>
+static inline void dsmc_species_ranges(const gran_dsmc *s, int64_t k, F f) {
+  if (!s->classes) {
+    f(s->offset[(size_t)k], s->offset[(size_t)k + 1]);
+    return;
+  }
+  for (int64_t a = s->sleaf[(size_t)k]; a < s->sleaf[(size_t)k + 1]; a++) {
+    const DsmcLeaf &x = s->leaf[(size_t)a];
+    if (x.n > 0) f(x.start, x.start + x.n);
+  }
+}
 int dsmc_check(const gran_dsmc *s, const char *name);
 
 /* ---- hot loops (lowrank.cpp, bird.cpp) ----
@@ -200,6 +310,7 @@ int dsmc_check(const gran_dsmc *s, const char *name);
 typedef void (*DsmcLoopFn)(gran_dsmc *s, double t_stop, int64_t coll_stop);
 DsmcLoopFn dsmc_lowrank_loop(int paper, int disp, int counts, int rest, int tracers);
 DsmcLoopFn dsmc_bird_loop(int paper, int disp, int counts, int rest, int tracers);
+DsmcLoopFn dsmc_class_loop(int paper, int disp, int counts, int rest, int tracers); /* low-rank with speed classes */
 
 /* ---- cell.cpp (GRAN_SELECTOR_CELL) ---- */
 void dsmc_cell_free(gran_dsmc *s);

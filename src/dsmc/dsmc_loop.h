@@ -70,7 +70,7 @@ static inline int64_t tree_find(const gran_segtree *t, double x) {
  * within the species.
  * Uses kNum random words r[0..kNum-1]. */
 struct SelLowRank {
-  enum { kNum = 4 };
+  enum { kNum = 4, kClasses = 0 };
   /* Kept out of line on purpose: inlined into the loop, gcc 12 schedules the prefetches so that
    * they no longer run ahead (measured 2.6x slower at N = 1.2e6, b501). */
   __attribute__((noinline)) static void draw(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
@@ -92,16 +92,126 @@ struct SelLowRank {
     prefetch_particle(s->p.v, c->l);
   }
   static inline void species(const gran_dsmc *, DsmcCand *) {}
+  static inline bool occupied(const gran_dsmc *, const DsmcCand &) { return true; }
   /* bound B of w |g| and weight w of the pair */
-  static inline double bound(const gran_dsmc *s, int32_t i, int32_t k, double *w) {
+  static inline double bound(const gran_dsmc *s, const DsmcCand &c, double *w) {
     *w = 1.0;
-    return s->bound[(size_t)i] + s->bound[(size_t)k];
+    return s->bound[(size_t)c.i] + s->bound[(size_t)c.k];
   }
 };
 
+/* Low-rank selector over speed classes (dsmc_impl.h): the same draw over the leaves (species,
+ * class) with capacities and class bounds, slots uniform within the leaves' capacities; a slot
+ * beyond its leaf's filling is rejected at use time (rate 0). */
+struct SelClass {
+  enum { kNum = 4, kClasses = 1 };
+  /* The pipeline holds draws of the part of the law fixed between sorts (the alias table of the
+   * pairs (r, a)); the part the raises of top bounds added since (the tree ud) is drawn at use
+   * time with probability D / (A + D) (draw_raise): a raise changes the rate, never the pipeline. */
+  __attribute__((noinline)) static void draw(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
+    const int64_t L3 = 3 * s->L;
+    const double t = u64_uniform(r[0]) * (double)L3; /* column and coin of the alias table */
+    int64_t col = (int64_t)t;
+    col = col < L3 ? col : L3 - 1;
+    const int64_t qa = t - (double)col < s->ua_p[(size_t)col] ? col : s->ua_k[(size_t)col];
+    finish(s, r, qa, c);
+  }
+  static void draw_raise(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
+    finish(s, r, tree_find(&s->ud, u64_uniform(r[0]) * s->ud.node[1]), c);
+  }
+  static inline void finish(const gran_dsmc *s, const uint64_t *r, int64_t qa, DsmcCand *c) {
+    const int64_t L = s->L;
+    const int q = (int)(qa >= L) + (int)(qa >= 2 * L);
+    const int64_t a = qa - q * L;
+    const unsigned __int128 km = (unsigned __int128)r[1] * (unsigned __int128)(uint64_t)s->L;
+    const int64_t b0 = (int64_t)(km >> 64);
+    const int64_t b = (double)(uint64_t)km * 0x1.0p-64 < s->alias_p[q][(size_t)b0] ? b0 : s->alias_k[q][(size_t)b0];
+    const DsmcLeaf *lf = s->leaf.data();
+    c->a = (int32_t)a;
+    c->b = (int32_t)b;
+    c->i = lf[a].species;
+    c->k = lf[b].species;
+    c->j = lf[a].start + u64_below(r[2], lf[a].cap);
+    c->l = lf[b].start + u64_below(r[3], lf[b].cap);
+    /* (skipping the prefetch of a slot empty at draw time did not pay: b501 note in the README) */
+    prefetch_particle(s->cv.data(), c->j);
+    prefetch_particle(s->cv.data(), c->l);
+  }
+  static inline void species(const gran_dsmc *, DsmcCand *) {}
+  static inline bool occupied(const gran_dsmc *s, const DsmcCand &c) {
+    const DsmcLeaf *lf = s->leaf.data();
+    return c.j < lf[c.a].start + lf[c.a].n && c.l < lf[c.b].start + lf[c.b].n;
+  }
+  static inline double bound(const gran_dsmc *s, const DsmcCand &c, double *w) {
+    *w = 1.0;
+    return s->leaf[(size_t)c.a].b + s->leaf[(size_t)c.b].b;
+  }
+};
+
+constexpr bool kClassDown = GRAN_DSMC_CLASS_DOWN != 0;
+
+/* Speed classes: after a collision the particle in slot x of leaf a has speed^2 s2; move it to the
+ * lowest class of its species that admits it and has room, if that differs from a (up: it must;
+ * down: when there is room). Returns 0 (the law unchanged), 1 (a top bound was raised) or 2 (the
+ * species was re-sorted into its classes: every slot of it may have changed). *hole_from: the
+ * slot whose particle now fills x (the last of leaf a), or -1. */
+template <bool kDisp>
+static inline int class_relocate(gran_dsmc *s, double *v, double *R, int64_t x, int64_t a, double s2,
+                                 int64_t *hole_from) {
+  DsmcLeaf *const lf = s->leaf.data();
+  *hole_from = -1;
+  const bool up = s2 > lf[a].b2;
+  /* down: when it fits the class below (GRAN_DSMC_CLASS_DOWN 1) or two below (2: fewer moves) */
+  const double lo2 = GRAN_DSMC_CLASS_DOWN == 2 ? (lf[a].lo2 < 0 ? -1.0 : lf[a - 1].lo2) : lf[a].lo2;
+  if (!up && !(kClassDown && s2 < lo2)) return 0;
+  const int64_t i = lf[a].species;
+  const int64_t f = s->sleaf[(size_t)i], e = s->sleaf[(size_t)i + 1];
+  int ret = 0;
+  int64_t d;
+  if (up) {
+    for (d = a + 1; d < e; d++)
+      if (s2 <= lf[d].b2 && lf[d].n < lf[d].cap) break;
+    if (d == e) {
+      if (s2 > lf[e - 1].b2) {
+        dsmc_class_raise(s, e - 1, s2);
+        ret = 1;
+        if (e - 1 == a) return 1; /* the top class itself: it now admits the particle */
+        if (lf[e - 1].n < lf[e - 1].cap) d = e - 1;
+      }
+      if (d == e) {
+        dsmc_class_rebuild(s, i);
+        return 2;
+      }
+    }
+  } else {
+    for (d = f; d < a; d++)
+      if (s2 <= lf[d].b2 && lf[d].n < lf[d].cap) break;
+    if (d == a) return 0;
+  }
+  int32_t *const id = s->cid.empty() ? nullptr : s->cid.data(); /* identities: with trajectories only */
+  auto move = [&](int64_t from, int64_t to) {
+    for (int q = 0; q < 3; q++) v[3 * to + q] = v[3 * from + q];
+    if (kDisp)
+      for (int q = 0; q < 3; q++) R[3 * to + q] = R[3 * from + q];
+    if (id) {
+      id[to] = id[from];
+      s->cslot[(size_t)id[to]] = (int32_t)to;
+    }
+  };
+  const int64_t y = lf[d].start + lf[d].n++;
+  move(x, y);
+  const int64_t last = lf[a].start + --lf[a].n;
+  if (last != x) {
+    move(last, x);
+    *hole_from = last;
+  }
+  s->class_moves++;
+  return ret;
+}
+
 /* Bird's selector: j, l uniformly among all N particles (ordered), one global bound C_max (Eq. 49). */
 struct SelBird {
-  enum { kNum = 2 };
+  enum { kNum = 2, kClasses = 0 };
   __attribute__((noinline)) static void draw(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
     c->j = u64_below(r[0], s->N);
     c->l = u64_below(r[1], s->N);
@@ -114,8 +224,9 @@ struct SelBird {
     c->i = s->p.species[c->j];
     c->k = s->p.species[c->l];
   }
-  static inline double bound(const gran_dsmc *s, int32_t i, int32_t k, double *w) {
-    const double sik = 0.5 * (s->mix.sigma[(size_t)i] + s->mix.sigma[(size_t)k]);
+  static inline bool occupied(const gran_dsmc *, const DsmcCand &) { return true; }
+  static inline double bound(const gran_dsmc *s, const DsmcCand &c, double *w) {
+    const double sik = 0.5 * (s->mix.sigma[(size_t)c.i] + s->mix.sigma[(size_t)c.k]);
     *w = sik * sik;
     return s->cmax;
   }
@@ -149,9 +260,9 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     e[1] = b * f;
     e[2] = 1.0 - 2.0 * q;
   };
-  double *const v = s->p.v;
-  double *const R = kDisp ? s->p.r : nullptr;
-  double *const tl = kDisp ? s->p.t_last : nullptr;
+  double *const v = Sel::kClasses ? s->cv.data() : s->p.v;
+  double *const R = kDisp ? (Sel::kClasses ? s->cr.data() : s->p.r) : nullptr;
+  double *const tl = (kDisp && !Sel::kClasses) ? s->p.t_last : nullptr;
   /* The engine's clock counts from t_start (t, t_ref, pend_t, t_stop): a run that starts at
    * t_start = 1e20 keeps the resolution of one that starts at 0. t_last holds absolute times. */
   const double t0 = s->opt.t_start;
@@ -215,7 +326,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
         sb = std::sqrt(mix_beta(&s->mix, c.i, c.k));
       eps = visco_eps(sb * std::pow(gn2, 0.05)); /* x = sqrt(beta) |v_n|^(1/10) */
     }
-    if (kDisp && kDispTlast) { /* Eq. 45 literally: r += v (t - t_last), t_last = t */
+    if (kDisp && kDispTlast && !Sel::kClasses) { /* Eq. 45 literally: r += v (t - t_last), t_last = t */
       double *const rj = R + 3 * c.j, *const rl = R + 3 * c.l;
       const double dj = (t + t0) - tl[c.j], dl = (t + t0) - tl[c.l]; /* t_last: absolute times */
       for (int d = 0; d < 3; d++) {
@@ -253,7 +364,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     vl[0] += al * gn[0];
     vl[1] += al * gn[1];
     vl[2] += al * gn[2];
-    if (kDisp && !kDispTlast) {
+    if (kDisp && (!kDispTlast || Sel::kClasses)) {
       /* Eq. 45 with the reference time fixed at t_start (t_last stays t_start): R(t) = r + v (t - t_start)
        * holds when r absorbs -dv (t - t_start) at each velocity change dv. One array per particle. */
       double *const rj = R + 3 * c.j, *const rl = R + 3 * c.l;
@@ -274,14 +385,27 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     ++coll;
     const double sj = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
     const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
-    bool changed = false;
-    if (sj > s->bound2[(size_t)c.i]) {
-      dsmc_raise_bound(s, c.i, sj);
-      changed = true;
-    }
-    if (sl > s->bound2[(size_t)c.k]) {
-      dsmc_raise_bound(s, c.k, sl);
-      changed = true;
+    bool changed = false, flush = !Sel::kClasses; /* classes: a raise keeps the pipeline (SelClass) */
+    if (Sel::kClasses) {
+      int64_t hf;
+      const int rj = class_relocate<kDisp>(s, v, R, c.j, c.a, sj, &hf);
+      changed = rj != 0;
+      flush = rj == 2;
+      if (rj != 2 || c.i != c.k) { /* after a re-sort of species i its particles all fit */
+        const int64_t l = hf == c.l ? c.j : c.l; /* l (the last of leaf a) filled j's hole */
+        const int rl = class_relocate<kDisp>(s, v, R, l, c.b, sl, &hf);
+        changed = changed || rl != 0;
+        flush = flush || rl == 2;
+      }
+    } else {
+      if (sj > s->bound2[(size_t)c.i]) {
+        dsmc_raise_bound(s, c.i, sj);
+        changed = true;
+      }
+      if (sl > s->bound2[(size_t)c.k]) {
+        dsmc_raise_bound(s, c.k, sl);
+        changed = true;
+      }
     }
     if (coll >= s->next_refresh) {
       s->collisions = coll;
@@ -289,6 +413,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       if (kDisp) s->t = t; /* the displacements are corrected to the time of this collision */
       dsmc_refresh_bounds(s);
       changed = true;
+      flush = true;
     }
     if (changed) {
       if (!kDisp) { /* the rate changes now: the trial times restart from this collision */
@@ -298,7 +423,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       }
       inv_rate = s->inv_rate;
       set_thr();
-      count = 0; /* the selection law changed: discard the pre-drawn candidates */
+      if (flush) count = 0; /* the selection law changed: discard the pre-drawn candidates */
     }
   };
 
@@ -338,15 +463,30 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       head = 0;
       count = K;
     }
-    DsmcCand c = s->cand[head];
-    need(Sel::kNum + 2);
-    Sel::draw(s, buf + pos, &s->cand[head]);
-    pos += Sel::kNum;
-    if (kDisp && kPrefetchR) { /* speculative: only accepted candidates need r */
-      prefetch_particle(R, s->cand[head].j);
-      prefetch_particle(R, s->cand[head].l);
+    DsmcCand c;
+    bool fresh = false; /* speed classes: the part of the law added by raises, drawn now */
+    if constexpr (Sel::kClasses) {
+      const double D = s->ud.node[1];
+      if (D > 0) {
+        need(2 * Sel::kNum + 3);
+        fresh = u64_uniform(buf[pos++]) * (s->ua_tot + D) >= s->ua_tot;
+        if (fresh) {
+          Sel::draw_raise(s, buf + pos, &c);
+          pos += Sel::kNum;
+        }
+      }
     }
-    head = (head + 1) & (K - 1);
+    if (!fresh) {
+      c = s->cand[head];
+      need(Sel::kNum + 2);
+      Sel::draw(s, buf + pos, &s->cand[head]);
+      pos += Sel::kNum;
+      if (kDisp && kPrefetchR) { /* speculative: only accepted candidates need r */
+        prefetch_particle(R, s->cand[head].j);
+        prefetch_particle(R, s->cand[head].l);
+      }
+      head = (head + 1) & (K - 1);
+    }
     const uint64_t wsplit = kRngSplit ? buf[pos] : 0;
     tprod *= kRngSplit ? ((double)(wsplit >> 32) + 1.0) * 0x1.0p-32 : u64_uniform_pos(buf[pos]);
     pos++;
@@ -356,10 +496,11 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       set_thr();
     }
     if (c.j == c.l) continue; /* the same particle twice: no pair */
+    if (!Sel::occupied(s, c)) continue; /* speed classes: an empty slot (rate 0) */
     Sel::species(s, &c);
     if (kTracer && (trc[c.i] & trc[c.k])) continue; /* tracer-tracer: rate 0 (Sec. II F) */
     double w;
-    const double B = Sel::bound(s, c.i, c.k, &w);
+    const double B = Sel::bound(s, c, &w);
     if (kRest != kRestConst && pair) w *= pair[(size_t)c.i * (size_t)M + (size_t)c.k].g2r;
     const double *const vj = v + 3 * c.j;
     const double *const vl = v + 3 * c.l;

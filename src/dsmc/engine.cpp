@@ -33,6 +33,8 @@ int check_options(const gran_dsmc_options *opt) {
              opt->traj_per_species);
   GRAN_CHECK(opt->traj_samples >= 0, GRAN_ERR_ARG, "option 'traj_samples' is negative (" GRAN_I64_FMT ")",
              opt->traj_samples);
+  GRAN_CHECK(opt->speed_classes == 0 || opt->speed_classes == 1, GRAN_ERR_ARG,
+             "option 'speed_classes' = %d must be 0 (off) or 1 (on)", (int)opt->speed_classes);
   if (opt->observe & GRAN_OBSERVE_TRAJECTORIES) {
     GRAN_CHECK(std::isfinite(opt->traj_dt) && opt->traj_dt > 0, GRAN_ERR_ARG,
                "option 'traj_dt' = %g must be finite and > 0 with GRAN_OBSERVE_TRAJECTORIES", opt->traj_dt);
@@ -44,10 +46,12 @@ int check_options(const gran_dsmc_options *opt) {
   return GRAN_SUCCESS;
 }
 
+}  // namespace
+
 /* Walker's alias table (Vose's construction) for weights w >= 0 with a positive sum: column c is
  * taken with probability p[c], else its alias a[c]. A zero weight gets p = 0 and a positive alias,
  * so it is never returned. */
-void build_alias(const std::vector<double> &w, std::vector<double> *p, std::vector<int32_t> *a) {
+void dsmc_build_alias(const std::vector<double> &w, std::vector<double> *p, std::vector<int32_t> *a) {
   const size_t m = w.size();
   p->assign(m, 0.0);
   a->assign(m, 0);
@@ -87,6 +91,8 @@ void build_alias(const std::vector<double> &w, std::vector<double> *p, std::vect
     if ((*p)[c] < 1.0 && w[(size_t)(*a)[c]] <= 0) (*a)[c] = any;
 }
 
+namespace {
+
 /* Decide how the hot loop finds eps (and g2) of a pair; fill the pair table where one is used. */
 void setup_pairs(gran_dsmc *s) {
   const gran_mixture *x = &s->mix;
@@ -124,7 +130,7 @@ void setup_pairs(gran_dsmc *s) {
 
 int dsmc_check(const gran_dsmc *s, const char *name) {
   GRAN_CHECK(s != nullptr, GRAN_ERR_ARG, "argument '%s' is NULL", name);
-  GRAN_CHECK(s->M >= 1 && (s->p.v != nullptr || s->N == 0), GRAN_ERR_STATE,
+  GRAN_CHECK(s->M >= 1 && (s->p.v != nullptr || s->N == 0 || s->classes), GRAN_ERR_STATE,
              "argument '%s' is not a DSMC engine made by gran_dsmc_create", name);
   return GRAN_SUCCESS;
 }
@@ -147,7 +153,9 @@ void dsmc_update_rate(gran_dsmc *s) {
 
 void dsmc_selector_rebuild(gran_dsmc *s) {
   const int64_t M = s->M;
-  if (s->selector == GRAN_SELECTOR_LOWRANK) {
+  if (s->classes) {
+    dsmc_class_trees(s); /* speed classes (classes.cpp) */
+  } else if (s->selector == GRAN_SELECTOR_LOWRANK) {
     for (int64_t i = 0; i < M; i++) {
       const double bn = s->bound[(size_t)i] * (double)s->count[(size_t)i];
       const double sg = s->mix.sigma[(size_t)i];
@@ -178,24 +186,32 @@ void dsmc_selector_rebuild(gran_dsmc *s) {
  * dissipated so that the ledger still closes. */
 static void remove_mean_flow(gran_dsmc *s) {
   if (s->n_gas == 0) return;
-  double *v = s->p.v;
+  double *v = dsmc_hv(s);
   double u[3];
   dsmc_mean_flow(s, u);
   if (u[0] == 0 && u[1] == 0 && u[2] == 0) return;
   double de = 0, dec = 0; /* E_after - E_before = sum m (|v - u|^2 - |v|^2)/2 = sum m u.(u/2 - v) */
   for (int64_t k = 0; k < s->M; k++) {
     const double mk = s->mix.m[(size_t)k];
-    for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1]; j++) {
-      double *x = v + 3 * j;
-      neumaier_add(de, dec, mk * (u[0] * (0.5 * u[0] - x[0]) + u[1] * (0.5 * u[1] - x[1]) + u[2] * (0.5 * u[2] - x[2])));
-      x[0] -= u[0];
-      x[1] -= u[1];
-      x[2] -= u[2];
-    }
+    dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+      for (int64_t j = ja; j < jb; j++) {
+        double *x = v + 3 * j;
+        neumaier_add(de, dec, mk * (u[0] * (0.5 * u[0] - x[0]) + u[1] * (0.5 * u[1] - x[1]) + u[2] * (0.5 * u[2] - x[2])));
+        x[0] -= u[0];
+        x[1] -= u[1];
+        x[2] -= u[2];
+      }
+    });
   }
   neumaier_add(s->e_diss, s->e_diss_c, -(de + dec));
   /* displacements: R(t) = r + v (t - t_start) must not jump when v changes by -u */
-  if (s->p.r)
+  if (s->classes && !s->cr.empty()) /* speed classes: t_last = t_start for every particle */
+    for (int64_t k = 0; k < s->M; k++)
+      dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+        for (int64_t j = ja; j < jb; j++)
+          for (int d = 0; d < 3; d++) s->cr[(size_t)(3 * j + d)] += u[d] * s->t;
+      });
+  if (s->p.r && !s->classes)
     for (int64_t j = 0; j < s->N; j++) {
       const double ts = s->t - (s->p.t_last[j] - s->opt.t_start);
       for (int d = 0; d < 3; d++) s->p.r[3 * j + d] += u[d] * ts;
@@ -204,15 +220,18 @@ static void remove_mean_flow(gran_dsmc *s) {
 
 void dsmc_refresh_bounds(gran_dsmc *s) {
   if (s->collisions > 0) remove_mean_flow(s);
-  const double *v = s->p.v;
+  const double *v = dsmc_hv(s);
   for (int64_t i = 0; i < s->M; i++) {
     double m2 = 0;
-    for (int64_t j = s->offset[(size_t)i]; j < s->offset[(size_t)i + 1]; j++) {
-      const double q = v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2];
-      m2 = q > m2 ? q : m2;
-    }
+    dsmc_species_ranges(s, i, [&](int64_t ja, int64_t jb) {
+      for (int64_t j = ja; j < jb; j++) {
+        const double q = v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2];
+        m2 = q > m2 ? q : m2;
+      }
+    });
     s->bound2[(size_t)i] = m2;
     s->bound[(size_t)i] = std::sqrt(m2);
+    if (s->classes) dsmc_class_layout(s, i); /* speed classes: thresholds and capacities */
   }
   dsmc_selector_rebuild(s);
   const int64_t dt = s->trials - s->trials_at_refresh;
@@ -313,6 +332,10 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
   }
   setup_pairs(s);
 
+  /* speed classes (classes.cpp): the slot arrays instead of p (N < 2^31) */
+  if (opt->speed_classes && s->selector == GRAN_SELECTOR_LOWRANK && N > 0 && N < INT32_MAX) {
+    GRAN_CALL(dsmc_class_setup(s));
+  } else {
   /* particles, grouped by species; displacement arrays only when observed */
   const int flags = (opt->observe & (GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_TRAJECTORIES)) ? GRAN_PARTICLES_DISPLACEMENT : 0;
   GRAN_CALL(gran_particles_init(&s->p, N, flags));
@@ -323,10 +346,16 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
     std::memset(s->p.r, 0, sizeof(double) * 3 * (size_t)N);
     for (int64_t j = 0; j < N; j++) s->p.t_last[j] = opt->t_start;
   }
+  }
 
   s->bound.assign((size_t)M, 0.0);
   s->bound2.assign((size_t)M, 0.0);
-  if (s->selector == GRAN_SELECTOR_LOWRANK) {
+  if (s->classes) {
+    for (int r = 0; r < 3; r++) { /* trees made by dsmc_class_setup, weights by dsmc_class_trees */
+      s->alias_p[r].assign((size_t)s->L, 0.0);
+      s->alias_k[r].assign((size_t)s->L, 0);
+    }
+  } else if (s->selector == GRAN_SELECTOR_LOWRANK) {
     std::vector<double> w((size_t)M);
     for (int r = 0; r < 3; r++) {
       GRAN_CALL(gran_segtree_init(&s->u[r], M, nullptr));
@@ -336,7 +365,7 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
       }
       GRAN_CALL(gran_segtree_init(&s->v[r], M, w.data()));
       s->inv_vtot[r] = s->v[r].node[1] > 0 ? 1.0 / s->v[r].node[1] : 0.0;
-      build_alias(w, &s->alias_p[r], &s->alias_k[r]);
+      dsmc_build_alias(w, &s->alias_p[r], &s->alias_k[r]);
     }
   } else {
     double smax = 0;
@@ -386,6 +415,7 @@ GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt) {
   opt->traj_per_species = 0;
   opt->traj_dt = 1.0;
   opt->traj_samples = 0;
+  opt->speed_classes = 0; /* off: speed classes do not win on every b501 system (README, issue 11) */
   return GRAN_SUCCESS;
 }
 
@@ -444,28 +474,35 @@ int dsmc_create_impl(const gran_mixture *mix, const int64_t *counts, const doubl
       for (int w = 0; w < 4; w++) s->vrng.s[w][l] = lane.s[w];
     }
     s->vrng.pos = kRngBuf;
-    double *v = s->p.v;
+    double *v = dsmc_hv(s);
     double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mtot = 0;
     for (int64_t k = 0; k < M; k++) {
       const double sd = std::sqrt(T[(size_t)k] / s->mix.m[(size_t)k]), mk = s->mix.m[(size_t)k];
       const bool gas = !s->tracer[(size_t)k];
-      for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1]; j++)
+      dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+      for (int64_t j = ja; j < jb; j++)
         for (int d = 0; d < 3; d++) {
           v[3 * j + d] = sd * rng_normal(&s->rng);
           if (gas) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
         }
+      });
       if (gas) mtot += mk * (double)s->count[(size_t)k];
     }
     if (mtot > 0) {
       const double u[3] = {(P[0] + Pc[0]) / mtot, (P[1] + Pc[1]) / mtot, (P[2] + Pc[2]) / mtot};
-      for (int64_t j = 0; j < s->N; j++)
-        for (int d = 0; d < 3; d++) v[3 * j + d] -= u[d];
+      for (int64_t k = 0; k < M; k++)
+        dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+          for (int64_t j = ja; j < jb; j++)
+            for (int d = 0; d < 3; d++) v[3 * j + d] -= u[d];
+        });
     }
     double e = 0, ec = 0;
     for (int64_t k = 0; k < M; k++) {
       const double mk = s->mix.m[(size_t)k];
-      for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1]; j++)
-        neumaier_add(e, ec, 0.5 * mk * (v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2]));
+      dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+        for (int64_t j = ja; j < jb; j++)
+          neumaier_add(e, ec, 0.5 * mk * (v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2]));
+      });
     }
     s->e_initial = e + ec;
     dsmc_refresh_bounds(s);
@@ -506,6 +543,7 @@ GRAN_EXTERN int gran_dsmc_destroy(gran_dsmc **sim) {
       gran_segtree_free(&s->u[r]);
       gran_segtree_free(&s->v[r]);
     }
+    gran_segtree_free(&s->ud); /* speed classes */
     delete s;
     *sim = nullptr;
     return GRAN_SUCCESS;
@@ -518,6 +556,7 @@ namespace {
 DsmcLoopFn pick_loop(const gran_dsmc *s) {
   const int disp = (s->opt.observe & (GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_TRAJECTORIES)) != 0;
   const int counts = (s->opt.observe & GRAN_OBSERVE_COLLISION_COUNTS) != 0;
+  if (s->classes) return dsmc_class_loop(s->paper, disp, counts, s->rest, s->has_tracers); /* speed classes */
   return s->selector == GRAN_SELECTOR_LOWRANK ? dsmc_lowrank_loop(s->paper, disp, counts, s->rest, s->has_tracers)
                                               : dsmc_bird_loop(s->paper, disp, counts, s->rest, s->has_tracers);
 }
@@ -609,6 +648,8 @@ GRAN_EXTERN int gran_dsmc_get_stats(const gran_dsmc *sim, gran_dsmc_stats *stats
     stats->volume = sim->volume;
     stats->time = sim->opt.t_start + sim->t;
     const int64_t dt = sim->trials - sim->trials_at_refresh;
+    stats->class_moves = sim->class_moves;
+    stats->class_rebuilds = sim->class_rebuilds;
     stats->acceptance = dt > 0 ? (double)(sim->collisions - sim->coll_at_refresh) / (double)dt : sim->acc_last;
     return GRAN_SUCCESS;
   }
@@ -629,6 +670,7 @@ GRAN_EXTERN int gran_dsmc_particles(const gran_dsmc *sim, const gran_particles *
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(p);
+    if (sim->classes) GRAN_CALL(dsmc_class_view(const_cast<gran_dsmc *>(sim))); /* speed classes: filled now */
     *p = &sim->p;
     return GRAN_SUCCESS;
   }

@@ -12,12 +12,14 @@ namespace gran {
 void dsmc_mean_flow(const gran_dsmc *s, double u[3]) {
   if (s->cell && s->cell->agg) return dsmc_agg_mean_flow(s, u); /* cell selector: clusters */
   double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0;
-  const double *v = s->p.v;
+  const double *v = dsmc_hv(s);
   for (int64_t k = 0; k < s->M; k++) {
     if (s->tracer[(size_t)k]) continue;
     const double mk = s->mix.m[(size_t)k];
-    for (int64_t j = s->offset[(size_t)k]; j < s->offset[(size_t)k + 1]; j++)
-      for (int d = 0; d < 3; d++) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
+    dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+      for (int64_t j = ja; j < jb; j++)
+        for (int d = 0; d < 3; d++) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
+    });
     mt += mk * (double)s->count[(size_t)k];
   }
   for (int d = 0; d < 3; d++) u[d] = mt > 0 ? (P[d] + Pc[d]) / mt : 0.0;
@@ -30,6 +32,11 @@ void dsmc_record_trajectories(gran_dsmc *s) {
   for (int64_t q = 0; q < s->ntraj; q++) {
     const int64_t j = s->traj_index[(size_t)q];
     double *x = &s->traj_xyz[(size_t)((q * S + g) * 3)];
+    if (s->classes) { /* speed classes: the particle's slot; t_last = t_start */
+      const int64_t h = s->cslot[(size_t)j];
+      for (int d = 0; d < 3; d++) x[d] = s->cr[(size_t)(3 * h + d)] + s->cv[(size_t)(3 * h + d)] * t;
+      continue;
+    }
     const double dt = t - (s->p.t_last[j] - s->opt.t_start);
     for (int d = 0; d < 3; d++) x[d] = s->p.r[3 * j + d] + s->p.v[3 * j + d] * dt;
   }
@@ -49,13 +56,15 @@ GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T) {
     if (sim->cell && sim->cell->agg) return dsmc_agg_temperatures(sim, T, nullptr), GRAN_SUCCESS; /* clusters */
     double u[3];
     dsmc_mean_flow(sim, u);
-    const double *v = sim->p.v;
+    const double *v = dsmc_hv(sim);
     for (int64_t k = 0; k < sim->M; k++) {
       double s2 = 0, c = 0;
-      for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++) {
-        const double a = v[3 * j] - u[0], b = v[3 * j + 1] - u[1], e = v[3 * j + 2] - u[2];
-        neumaier_add(s2, c, a * a + b * b + e * e);
-      }
+      dsmc_species_ranges(sim, k, [&](int64_t ja, int64_t jb) {
+        for (int64_t j = ja; j < jb; j++) {
+          const double a = v[3 * j] - u[0], b = v[3 * j + 1] - u[1], e = v[3 * j + 2] - u[2];
+          neumaier_add(s2, c, a * a + b * b + e * e);
+        }
+      });
       const int64_t n = sim->count[(size_t)k];
       T[k] = n > 0 ? sim->mix.m[(size_t)k] * (s2 + c) / (3.0 * (double)n) : NAN;
     }
@@ -70,18 +79,21 @@ GRAN_EXTERN int gran_dsmc_msd(const gran_dsmc *sim, double *msd, double *msd_tot
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK(msd || msd_total, GRAN_ERR_ARG, "arguments 'msd' and 'msd_total' are both NULL");
-    GRAN_CHECK(sim->p.r != nullptr, GRAN_ERR_STATE,
+    GRAN_CHECK(dsmc_hr(sim) != nullptr, GRAN_ERR_STATE,
                "MSD needs displacements: create the engine with GRAN_OBSERVE_DISPLACEMENT");
-    const double t = sim->t, t0 = sim->opt.t_start, *v = sim->p.v, *r = sim->p.r, *tl = sim->p.t_last;
+    const double t = sim->t, t0 = sim->opt.t_start, *v = dsmc_hv(sim), *r = dsmc_hr(sim);
+    const double *tl = sim->classes ? nullptr : sim->p.t_last; /* speed classes: t_last = t_start */
     double tot = 0, totc = 0;
     for (int64_t k = 0; k < sim->M; k++) {
       double s2 = 0, c = 0;
-      for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++) {
-        const double dt = t - (tl[j] - t0); /* t: elapsed since t_start; t_last: absolute */
-        const double a = r[3 * j] + v[3 * j] * dt, b = r[3 * j + 1] + v[3 * j + 1] * dt,
-                     e = r[3 * j + 2] + v[3 * j + 2] * dt;
-        neumaier_add(s2, c, a * a + b * b + e * e);
-      }
+      dsmc_species_ranges(sim, k, [&](int64_t ja, int64_t jb) {
+        for (int64_t j = ja; j < jb; j++) {
+          const double dt = tl ? t - (tl[j] - t0) : t; /* t: elapsed since t_start; t_last: absolute */
+          const double a = r[3 * j] + v[3 * j] * dt, b = r[3 * j + 1] + v[3 * j + 1] * dt,
+                       e = r[3 * j + 2] + v[3 * j + 2] * dt;
+          neumaier_add(s2, c, a * a + b * b + e * e);
+        }
+      });
       const int64_t n = sim->count[(size_t)k];
       if (msd) msd[k] = n > 0 ? (s2 + c) / (double)n : NAN;
       neumaier_add(tot, totc, s2 + c);
@@ -116,15 +128,17 @@ GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2) {
     if (sim->cell && sim->cell->agg) return dsmc_agg_temperatures(sim, nullptr, a2), GRAN_SUCCESS; /* clusters */
     double u[3];
     dsmc_mean_flow(sim, u);
-    const double *v = sim->p.v;
+    const double *v = dsmc_hv(sim);
     for (int64_t k = 0; k < sim->M; k++) {
       double s2 = 0, c2 = 0, s4 = 0, c4 = 0;
-      for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++) {
-        const double a = v[3 * j] - u[0], b = v[3 * j + 1] - u[1], e = v[3 * j + 2] - u[2];
-        const double q = a * a + b * b + e * e;
-        neumaier_add(s2, c2, q);
-        neumaier_add(s4, c4, q * q);
-      }
+      dsmc_species_ranges(sim, k, [&](int64_t ja, int64_t jb) {
+        for (int64_t j = ja; j < jb; j++) {
+          const double a = v[3 * j] - u[0], b = v[3 * j + 1] - u[1], e = v[3 * j + 2] - u[2];
+          const double q = a * a + b * b + e * e;
+          neumaier_add(s2, c2, q);
+          neumaier_add(s4, c4, q * q);
+        }
+      });
       const double n = (double)sim->count[(size_t)k];
       const double m2 = (s2 + c2) / n, m4 = (s4 + c4) / n;
       a2[k] = (n > 0 && m2 > 0) ? 0.6 * m4 / (m2 * m2) - 1.0 : NAN;
@@ -145,11 +159,13 @@ GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_
     }
     if (e_kin) {
       double e = 0, c = 0;
-      const double *v = sim->p.v;
+      const double *v = dsmc_hv(sim);
       for (int64_t k = 0; k < sim->M; k++) {
         const double mk = sim->mix.m[(size_t)k];
-        for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++)
-          neumaier_add(e, c, 0.5 * mk * (v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2]));
+        dsmc_species_ranges(sim, k, [&](int64_t ja, int64_t jb) {
+          for (int64_t j = ja; j < jb; j++)
+            neumaier_add(e, c, 0.5 * mk * (v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2]));
+        });
       }
       *e_kin = e + c;
     }
@@ -172,11 +188,13 @@ GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]) {
     GRAN_CHECK_PTR(p);
     if (sim->cell && sim->cell->agg) return dsmc_agg_energy_momentum(sim, nullptr, p), GRAN_SUCCESS; /* clusters */
     double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0};
-    const double *v = sim->p.v;
+    const double *v = dsmc_hv(sim);
     for (int64_t k = 0; k < sim->M; k++) {
       const double mk = sim->mix.m[(size_t)k];
-      for (int64_t j = sim->offset[(size_t)k]; j < sim->offset[(size_t)k + 1]; j++)
-        for (int d = 0; d < 3; d++) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
+      dsmc_species_ranges(sim, k, [&](int64_t ja, int64_t jb) {
+        for (int64_t j = ja; j < jb; j++)
+          for (int d = 0; d < 3; d++) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
+      });
     }
     for (int d = 0; d < 3; d++) p[d] = P[d] + Pc[d];
     return GRAN_SUCCESS;

@@ -1016,7 +1016,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   if (!top.has("engine")) top.fail_missing("engine", "the [engine] table is required");
   Tab en = top.sub("engine");
   en.set_known({"type", "selector", "seed", "t_end", "counts", "N1", "volume", "bound_refresh", "replicas",
-                "keep_replicas", "max_memory_gb"});
+                "keep_replicas", "max_memory_gb", "speed_classes"});
   if (en.has("max_memory_gb")) {
     const double g = en.number("max_memory_gb");
     require(g > 0, en, "max_memory_gb", "must be > 0 (GB of memory the run may use)");
@@ -1068,6 +1068,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   }
   s.bound_refresh = en.count("bound_refresh", 0);
   require(s.bound_refresh >= 0, en, "bound_refresh", "must be >= 0");
+  s.speed_classes = en.boolean("speed_classes", false) ? 1 : 0; /* issue 11 */
   /* replicas (driver: src/io/run.cpp) */
   s.replicas = en.count("replicas", 1);
   require(s.replicas >= 1 && s.replicas <= 1000000, en, "replicas", "must be in 1..1000000");
@@ -1440,6 +1441,7 @@ GRAN_EXTERN int gran_scene_dsmc_options(const gran_scene *scene, gran_dsmc_optio
     opt->seed = s->seed;
     opt->t_start = s->t_start;
     opt->bound_refresh = s->bound_refresh;
+    opt->speed_classes = s->speed_classes; /* issue 11 */
     opt->observe = 0;
     if (s->obs_msd) opt->observe |= GRAN_OBSERVE_DISPLACEMENT;
     if (s->obs_collision_counts) opt->observe |= GRAN_OBSERVE_COLLISION_COUNTS;
