@@ -5,9 +5,10 @@
  *    a fine time grid (trapezoid rule). A mean flow of thermal order is put into the gas at t = 20
  *    (white-box: through the particle arrays) so that the next tightening removes a flow that
  *    matters: a removal that did not shift the displacements consistently would move every
- *    R_j by -u t (about 1, against MSD_2 ~ 10 at t = 20: a 10-20 % error). The trapezoid rule
- *    misses up to dt/2 of each velocity jump; measured |engine/trapezoid - 1| <= 4e-4 (5e-4 at the ASan size) with the
- *    steps below (tolerance 3e-3: not a statistical comparison, both see the same trajectories).
+ *    R_j by -u t (with the shift switched off in engine.cpp the test fails: MSD_1 off by 1.3 %
+ *    at t = 30). The trapezoid rule misses up to dt/2 of each velocity jump; measured
+ *    |engine/trapezoid - 1| <= 4e-4 (5e-4 at the ASan size) with the steps below (tolerance
+ *    3e-3: not a statistical comparison, both see the same trajectories).
  *  - The theory's inverse velocity correlation time (Eq. 11) is the Maxwellian momentum-transfer
  *    rate minus half the cooling rate, nu_k - xi_k/2 (the first Chapman-Enskog diffusion
  *    coefficient D_k = T_k / (m_k (nu_k - xi_k/2)) of a cooling gas), with nu_k summed over
