@@ -189,16 +189,16 @@ def srd_a2(args, f):
     ax.axhline(0, color="k", lw=0.8)
     ax.set_xscale("log")
     ax.set_xlabel("t")
-    ax.set_ylabel("a2 (velocities relative to the cell means)")
+    ax.set_ylabel("a2 (thermal velocities v - V_cell)")
     ax.legend(fontsize=7.5)
     fig.suptitle("Second Sonine coefficient of the freely cooling GSRD gas (thesis Fig. 3.15, reduced)", fontsize=10)
     finish(fig, o0, "srd-a2.png", args,
-           "a2 first decreases, then returns towards zero, as in the thesis. Minima (eps_eff(t0): a2): %s; the thesis "
-           "reports lower minima for higher eps_eff(t0); here the order is the reverse (the four runs share their seed, "
-           "so the order is not noise; the box, n0 = 5 against 25 and the eps values differ from the thesis; not "
-           "investigated further). No theory is drawn (PHYSICS-NOTES: in "
-           "GSRD a2 comes from cell-to-cell fluctuations and is an observable, not a test). eps differs between the "
-           "four runs, the line above names the first." % "; ".join(mins))
+           "a2 first decreases, then returns towards zero, as in the thesis. Minima (eps_eff(t0): a2): %s. As in "
+           "the thesis, the minima are lower for higher eps_eff(t0), and the strongly dissipating runs turn positive "
+           "later. The scenes keep the thesis' n0 = 25, T0 = 100, dt = 0.01 (streaming length dt sqrt(T0) = 0.1 a); "
+           "with dt sqrt(T0) = a the order reverses (README, GSRD Sonine a2). a2 is that of the thermal velocities, "
+           "corrected for the cell-mean subtraction (0 for a Maxwellian). No theory is drawn (PHYSICS-NOTES: GSRD "
+           "a2 is an observable, not a test). eps differs between the four runs, the line above names the first." % "; ".join(mins))
     o0.close()
 
 
