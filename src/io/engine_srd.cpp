@@ -195,7 +195,7 @@ class SrdEngine : public gran_engine {
     }
     if (q.obs_a2)
       gran_row_buf_add(b, "sonine_a2", "a2", 0, {}, "1",
-                       "Sonine coefficient a2 = (d/(d+2)) <u^4>/<u^2>^2 - 1 of u = v - V_cell (cells with n >= 2)");
+                       "Sonine coefficient a2 = (d/(d+2)) <c^4>/<c^2>^2 - 1 of the thermal velocities u = v - V_cell (cells with n >= 2), corrected for the cell-mean subtraction: 0 for a Maxwellian at any n0");
     if (q.obs_sk)
       gran_row_buf_add(b, "structure_factor", "S", 0, {q.sk_bins}, "1",
                        "density structure factor S(k) of the unshifted cell counts, radially averaged, k = 0 removed [time][shell]");

@@ -798,26 +798,38 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     const double vol = d == 3 ? s->opt.a * s->opt.a * s->opt.a : s->opt.a * s->opt.a;
     const double mr = r1 / nbox;
     ob->sigma_rho = std::sqrt(std::max(0.0, r2 / nbox - mr * mr)) / vol;
-    /* a2 of v relative to the cell means: (d/(d+2)) <u^4>/<u^2>^2 - 1 */
+    /* ---- Sonine a2 of the thermal velocities (issue 8, helper s8a2) ----
+     * u = v - V_cell in the unshifted cells with n >= 2. Removing the cell mean shrinks the second
+     * cumulant of u by (n-1)/n and the fourth by g(n) = (n-1)(n^2-3n+3)/n^3 (cumulants are
+     * multilinear), so w = u sqrt(n/(n-1)) has the population variance and a fourth cumulant
+     * h(n) = (n^2-3n+3)/(n(n-1)) times the population's. Hence, for velocities drawn independently
+     * in each cell about its flow velocity (any distribution, 2-D or 3-D):
+     *   E sum|w|^4 = d(d+2) T^2 sum_c n_c (1 + a2 h(n_c)),
+     *   a2 = [(d/(d+2)) N_in sum|w|^4 / (sum|w|^2)^2 - 1] N_in / sum_c n_c h(n_c),
+     * N_in = particles in cells with n >= 2 (a Maxwellian gives 0, not +0.018 as the plain
+     * (d/(d+2)) <u^4>/<u^2>^2 - 1 with N in place of N_in did at n0 = 5). */
     {
-      std::vector<uint32_t> c((size_t)n);
       srd_geom g = s->gm;
       g.le_on = 0;
       const double zero[3] = {0, 0, 0};
-      double m2 = 0, m4 = 0;
+      double m2 = 0, m4 = 0, nin = 0, hsum = 0;
       for (int64_t i = 0; i < n; ++i) {
         const double p[3] = {s->x[i], s->y[i], d == 3 ? s->z[i] : 0.0};
         double dvx;
         const int64_t cc = srd_bin(&g, zero, p, &dvx);
-        if (cnt[cc] < 2) continue;
+        const double nc = (double)cnt[cc];
+        if (nc < 2) continue;
         const double *m = &V[3 * cc];
         const double ux = s->vx[i] - m[0], uy = s->vy[i] - m[1], uz = d == 3 ? s->vz[i] - m[2] : 0.0;
-        const double u2 = ux * ux + uy * uy + uz * uz;
-        m2 += u2;
-        m4 += u2 * u2;
+        const double w2 = (ux * ux + uy * uy + uz * uz) * nc / (nc - 1.0);
+        m2 += w2;
+        m4 += w2 * w2;
+        nin += 1.0;
+        hsum += (nc * nc - 3.0 * nc + 3.0) / (nc * (nc - 1.0));
       }
-      ob->a2 = m2 > 0 ? (double)d / (d + 2.0) * m4 * (double)n / (m2 * m2) - 1.0 : 0.0;
+      ob->a2 = m2 > 0 ? ((double)d / (d + 2.0) * m4 * nin / (m2 * m2) - 1.0) * nin / hsum : 0.0;
     }
+    /* ---- end Sonine a2 ---- */
     ob->clamped = s->clamped;
     ob->dt_max = s->dt_max;
     if (s->clamped > 0)
