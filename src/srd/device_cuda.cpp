@@ -525,60 +525,9 @@ int gran_srd_dev_structure_factor(gran_srd *s, int64_t nbins, double *k, double 
   } else {
     std::vector<double> cnt((size_t)s->ncell);
     GRAN_CALL(d->L->counts(d->h, cnt.data()));
-    double *in = fftw_alloc_real((size_t)s->ncell_box);
-    fftw_complex *out = fftw_alloc_complex((size_t)ncplx);
-    if (!in || !out) {
-      fftw_free(in);
-      fftw_free(out);
-      return GRAN_ERROR(GRAN_ERR_NOMEM, "out of memory for S(k)");
-    }
-    fftw_plan plan;
-    {
-      std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
-      if (dim == 3) plan = fftw_plan_dft_r2c_3d(n2, n1, n0, in, out, FFTW_ESTIMATE);
-      else plan = fftw_plan_dft_r2c_2d(n1, n0, in, out, FFTW_ESTIMATE);
-    }
-    const double mean = (double)s->n / (double)s->ncell_box;
-    for (int64_t c = 0; c < s->ncell_box; ++c) in[c] = cnt[c] - mean;
-    fftw_execute(plan);
-    for (int64_t q = 0; q < ncplx; ++q) power[q] = (out[q][0] * out[q][0] + out[q][1] * out[q][1]) / (double)s->n;
-    {
-      std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
-      fftw_destroy_plan(plan);
-    }
-    fftw_free(in);
-    fftw_free(out);
+    GRAN_CALL(srd_sk_power(s, cnt.data(), power));
   }
-  double kmax = 0;
-  for (int q = 0; q < dim; ++q) kmax += std::pow(M_PI / s->opt.a, 2);
-  kmax = std::sqrt(kmax);
-  const double w = kmax / (double)nbins;
-  for (int64_t b = 0; b < nbins; ++b) {
-    k[b] = 0;
-    sk[b] = 0;
-    count[b] = 0;
-  }
-  for (int i2 = 0; i2 < n2; ++i2)
-    for (int i1 = 0; i1 < n1; ++i1)
-      for (int i0 = 0; i0 < nh; ++i0) {
-        if (i0 == 0 && i1 == 0 && i2 == 0) continue;
-        const int m1 = i1 <= n1 / 2 ? i1 : i1 - n1, m2 = i2 <= n2 / 2 ? i2 : i2 - n2;
-        const double kx = 2 * M_PI * i0 / s->gm.box[0], ky = 2 * M_PI * m1 / s->gm.box[1],
-                     kz = dim == 3 ? 2 * M_PI * m2 / s->gm.box[2] : 0.0;
-        const double kk = std::sqrt(kx * kx + ky * ky + kz * kz);
-        int64_t b = (int64_t)(kk / w);
-        if (b >= nbins) b = nbins - 1;
-        const double p = power[((int64_t)i2 * n1 + i1) * nh + i0];
-        const int mult = (i0 == 0 || (n0 % 2 == 0 && i0 == n0 / 2)) ? 1 : 2;
-        k[b] += mult * kk;
-        sk[b] += mult * p;
-        count[b] += mult;
-      }
-  for (int64_t b = 0; b < nbins; ++b)
-    if (count[b] > 0) {
-      k[b] /= (double)count[b];
-      sk[b] /= (double)count[b];
-    }
+  srd_sk_shells(s, power.data(), nbins, k, sk, count);
   return GRAN_SUCCESS;
 }
 

@@ -717,6 +717,79 @@ GRAN_EXTERN int gran_srd_particles(gran_srd *s, int64_t *n, double **x, double *
   return GRAN_SUCCESS;
 }
 
+/* S(k), step 1: the power |FFT(n - <n>)|^2 / N of the unshifted cell counts (FFTW r2c; layout
+ * row-major (n2, n1, n0/2 + 1), the last index fastest). Shared by the CPU engine and the host
+ * reference of the device algorithm (the GPU computes the same power with cuFFT). */
+int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &power) {
+  const int d = s->opt.dim;
+  const int n0 = (int)s->gm.L[0], n1 = (int)s->gm.L[1], n2 = d == 3 ? (int)s->gm.L[2] : 1;
+  const int nh = n0 / 2 + 1;
+  const int64_t ncplx = (int64_t)n2 * n1 * nh;
+  double *in = fftw_alloc_real((size_t)s->ncell_box);
+  fftw_complex *out = fftw_alloc_complex((size_t)ncplx);
+  if (!in || !out) {
+    fftw_free(in);
+    fftw_free(out);
+    return GRAN_ERROR(GRAN_ERR_NOMEM, "out of memory for S(k)");
+  }
+  fftw_plan plan;
+  {
+    std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
+    if (d == 3) plan = fftw_plan_dft_r2c_3d(n2, n1, n0, in, out, FFTW_ESTIMATE);
+    else plan = fftw_plan_dft_r2c_2d(n1, n0, in, out, FFTW_ESTIMATE);
+  }
+  const double mean = (double)s->n / (double)s->ncell_box;
+  for (int64_t c = 0; c < s->ncell_box; ++c) in[c] = counts[c] - mean;
+  fftw_execute(plan);
+  power.resize((size_t)ncplx);
+  for (int64_t q = 0; q < ncplx; ++q) power[(size_t)q] = (out[q][0] * out[q][0] + out[q][1] * out[q][1]) / (double)s->n;
+  {
+    std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
+    fftw_destroy_plan(plan);
+  }
+  fftw_free(in);
+  fftw_free(out);
+  return GRAN_SUCCESS;
+}
+
+/* S(k), step 2: radial average of the half-spectrum power in nbins shells of |k| up to
+ * sqrt(d) pi / a, k = 0 left out; modes 0 < i0 < n0/2 stand for two (their conjugates). */
+void srd_sk_shells(const gran_srd *s, const double *power, int64_t nbins, double *k, double *sk, int64_t *count) {
+  const int d = s->opt.dim;
+  const int n0 = (int)s->gm.L[0], n1 = (int)s->gm.L[1], n2 = d == 3 ? (int)s->gm.L[2] : 1;
+  const int nh = n0 / 2 + 1;
+  double kmax = 0;
+  for (int q = 0; q < d; ++q) kmax += std::pow(M_PI / s->opt.a, 2);
+  kmax = std::sqrt(kmax);
+  const double w = kmax / (double)nbins;
+  for (int64_t b = 0; b < nbins; ++b) {
+    k[b] = 0;
+    sk[b] = 0;
+    count[b] = 0;
+  }
+  for (int i2 = 0; i2 < n2; ++i2)
+    for (int i1 = 0; i1 < n1; ++i1)
+      for (int i0 = 0; i0 < nh; ++i0) {
+        if (i0 == 0 && i1 == 0 && i2 == 0) continue;
+        const int m1 = i1 <= n1 / 2 ? i1 : i1 - n1, m2 = i2 <= n2 / 2 ? i2 : i2 - n2;
+        const double kx = 2 * M_PI * i0 / s->gm.box[0], ky = 2 * M_PI * m1 / s->gm.box[1],
+                     kz = d == 3 ? 2 * M_PI * m2 / s->gm.box[2] : 0.0;
+        const double kk = std::sqrt(kx * kx + ky * ky + kz * kz);
+        int64_t b = (int64_t)(kk / w);
+        if (b >= nbins) b = nbins - 1;
+        const double p = power[((int64_t)i2 * n1 + i1) * nh + i0];
+        const int mult = (i0 == 0 || (n0 % 2 == 0 && i0 == n0 / 2)) ? 1 : 2;
+        k[b] += mult * kk;
+        sk[b] += mult * p;
+        count[b] += mult;
+      }
+  for (int64_t b = 0; b < nbins; ++b)
+    if (count[b] > 0) {
+      k[b] /= (double)count[b];
+      sk[b] /= (double)count[b];
+    }
+}
+
 /* cell counts and mean velocities of the unshifted lattice (serial, particle order) */
 static void unshifted_cells(const gran_srd *s, std::vector<int64_t> &cnt, std::vector<double> &V,
                             std::vector<double> &Q) {
@@ -860,70 +933,12 @@ GRAN_EXTERN int gran_srd_structure_factor(gran_srd *s, int64_t nbins, double *k,
     GRAN_CHECK(nbins >= 1, GRAN_ERR_ARG, "argument 'nbins' must be >= 1");
     GRAN_CHECK(s->opt.wall_axis < 0, GRAN_ERR_ARG, "S(k) needs a periodic box (no walls)");
     if (s->dev.p) return gran_srd_dev_structure_factor(s, nbins, k, sk, count); /* device hook (CUDA backend) */
-    const int d = s->opt.dim;
-    const int n0 = (int)s->gm.L[0], n1 = (int)s->gm.L[1], n2 = d == 3 ? (int)s->gm.L[2] : 1;
     std::vector<int64_t> cnt;
     std::vector<double> V, Q;
     unshifted_cells(s, cnt, V, Q);
-    /* FFTW layout: row-major with the last index fastest: dims (n2, n1, n0) */
-    const int nh = n0 / 2 + 1;
-    const int64_t ncplx = (int64_t)n2 * n1 * nh;
-    double *in = fftw_alloc_real((size_t)s->ncell_box);
-    fftw_complex *out = fftw_alloc_complex((size_t)ncplx);
-    if (!in || !out) {
-      fftw_free(in);
-      fftw_free(out);
-      return GRAN_ERROR(GRAN_ERR_NOMEM, "out of memory for S(k)");
-    }
-    fftw_plan plan;
-    {
-      std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
-      if (d == 3) plan = fftw_plan_dft_r2c_3d(n2, n1, n0, in, out, FFTW_ESTIMATE);
-      else plan = fftw_plan_dft_r2c_2d(n1, n0, in, out, FFTW_ESTIMATE);
-    }
-    const double mean = (double)s->n / (double)s->ncell_box;
-    for (int64_t c = 0; c < s->ncell_box; ++c) in[c] = (double)cnt[c] - mean;
-    fftw_execute(plan);
-    const double dk = 2.0 * M_PI / (s->gm.box[0]);
-    double kmax = 0;
-    for (int q = 0; q < d; ++q) kmax += std::pow(M_PI / s->opt.a, 2);
-    kmax = std::sqrt(kmax);
-    const double w = kmax / (double)nbins;
-    for (int64_t b = 0; b < nbins; ++b) {
-      k[b] = 0;
-      sk[b] = 0;
-      count[b] = 0;
-    }
-    for (int i2 = 0; i2 < n2; ++i2)
-      for (int i1 = 0; i1 < n1; ++i1)
-        for (int i0 = 0; i0 < nh; ++i0) {
-          if (i0 == 0 && i1 == 0 && i2 == 0) continue;
-          const int m1 = i1 <= n1 / 2 ? i1 : i1 - n1, m2 = i2 <= n2 / 2 ? i2 : i2 - n2;
-          const double kx = 2 * M_PI * i0 / s->gm.box[0], ky = 2 * M_PI * m1 / s->gm.box[1],
-                       kz = d == 3 ? 2 * M_PI * m2 / s->gm.box[2] : 0.0;
-          const double kk = std::sqrt(kx * kx + ky * ky + kz * kz);
-          int64_t b = (int64_t)(kk / w);
-          if (b >= nbins) b = nbins - 1;
-          const fftw_complex &z = out[((int64_t)i2 * n1 + i1) * nh + i0];
-          const double p = (z[0] * z[0] + z[1] * z[1]) / (double)s->n;
-          /* the half spectrum: modes 0 < i0 < n0/2 (not Nyquist) stand for two */
-          const int mult = (i0 == 0 || (n0 % 2 == 0 && i0 == n0 / 2)) ? 1 : 2;
-          k[b] += mult * kk;
-          sk[b] += mult * p;
-          count[b] += mult;
-        }
-    for (int64_t b = 0; b < nbins; ++b)
-      if (count[b] > 0) {
-        k[b] /= (double)count[b];
-        sk[b] /= (double)count[b];
-      }
-    (void)dk;
-    {
-      std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
-      fftw_destroy_plan(plan);
-    }
-    fftw_free(in);
-    fftw_free(out);
+    std::vector<double> counts(cnt.begin(), cnt.end()), power;
+    GRAN_CALL(srd_sk_power(s, counts.data(), power));
+    srd_sk_shells(s, power.data(), nbins, k, sk, count);
     return GRAN_SUCCESS;
   }
   GRAN_CATCH

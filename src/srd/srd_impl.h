@@ -99,4 +99,9 @@ inline void srd_refs_set(gran_srd *s, const double *in) {
 #define SRD_BLOCK 4096
 #define SRD_CHUNK 512 /* particles whose cells are computed ahead of their use (stack buffers) */
 
+/* S(k) of the unshifted cell counts (engine.cpp): the half-spectrum power |FFT(n - <n>)|^2 / N
+ * (FFTW), and its radial average in shells; the CPU engine and the devices share both. */
+int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &power);
+void srd_sk_shells(const gran_srd *s, const double *power, int64_t nbins, double *k, double *sk, int64_t *count);
+
 #endif
