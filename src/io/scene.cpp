@@ -489,6 +489,25 @@ void srd_vector(Tab &t, const std::string &k, int dim, double out[3]) {
 /* rounds time t to the step grid */
 int64_t srd_step_of(double t, double dt) { return (int64_t)std::llround(t / dt); }
 
+/* [output] (the same keys for every engine): path, checkpoint and its cadence */
+static void parse_output_table(Tab &top, const std::string &F, gran_scene &s) {
+  Tab ou(nullptr, "output", F);
+  if (top.has("output")) ou = top.sub("output");
+  ou.set_known({"path", "checkpoint", "checkpoint_interval", "checkpoint_every", "keep_checkpoint"});
+  s.output_path = ou.string("path", stem_of(F) + ".h5");
+  require(!s.output_path.empty(), ou, "path", "must not be empty");
+  s.checkpoint_explicit = ou.has("checkpoint");
+  s.checkpoint_path = ou.string("checkpoint", s.output_path + ".ckpt");
+  s.checkpoint_interval = ou.number("checkpoint_interval", 600.0);
+  require(s.checkpoint_interval >= 0, ou, "checkpoint_interval", "must be >= 0 (0: no time-based checkpoints)");
+  s.checkpoint_every = ou.count("checkpoint_every", 0);
+  require(s.checkpoint_every >= 0, ou, "checkpoint_every", "must be >= 0 (0: off)");
+  s.keep_checkpoint = ou.boolean("keep_checkpoint", false);
+  if (!s.checkpoint_path.empty() && s.checkpoint_path == s.output_path)
+    ou.fail("checkpoint", "must differ from the output path");
+  ou.finish();
+}
+
 void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   const std::string &F = s.name;
   Tab top(&root, "", F);
@@ -775,21 +794,7 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   s.t_end = (double)steps * o.dt;
 
   /* ---- [output] (the same keys as a DSMC scene) ---- */
-  Tab ou(nullptr, "output", F);
-  if (top.has("output")) ou = top.sub("output");
-  ou.set_known({"path", "checkpoint", "checkpoint_interval", "checkpoint_every", "keep_checkpoint"});
-  s.output_path = ou.string("path", stem_of(F) + ".h5");
-  require(!s.output_path.empty(), ou, "path", "must not be empty");
-  s.checkpoint_explicit = ou.has("checkpoint");
-  s.checkpoint_path = ou.string("checkpoint", s.output_path + ".ckpt");
-  s.checkpoint_interval = ou.number("checkpoint_interval", 600.0);
-  require(s.checkpoint_interval >= 0, ou, "checkpoint_interval", "must be >= 0 (0: no time-based checkpoints)");
-  s.checkpoint_every = ou.count("checkpoint_every", 0);
-  require(s.checkpoint_every >= 0, ou, "checkpoint_every", "must be >= 0 (0: off)");
-  s.keep_checkpoint = ou.boolean("keep_checkpoint", false);
-  if (!s.checkpoint_path.empty() && s.checkpoint_path == s.output_path)
-    ou.fail("checkpoint", "must differ from the output path");
-  ou.finish();
+  parse_output_table(top, F, s);
 
   /* memory: 52 B per particle (twice while a checkpoint image is built), 200 B per cell of the
    * binning grid, 5 doubles per cell and snapshot, the recorded rows */
@@ -1205,21 +1210,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   ob.finish();
 
   /* ---- [output] ---- */
-  Tab ou(nullptr, "output", F);
-  if (top.has("output")) ou = top.sub("output");
-  ou.set_known({"path", "checkpoint", "checkpoint_interval", "checkpoint_every", "keep_checkpoint"});
-  s.output_path = ou.string("path", stem_of(F) + ".h5");
-  require(!s.output_path.empty(), ou, "path", "must not be empty");
-  s.checkpoint_explicit = ou.has("checkpoint");
-  s.checkpoint_path = ou.string("checkpoint", s.output_path + ".ckpt");
-  s.checkpoint_interval = ou.number("checkpoint_interval", 600.0);
-  require(s.checkpoint_interval >= 0, ou, "checkpoint_interval", "must be >= 0 (0: no time-based checkpoints)");
-  s.checkpoint_every = ou.count("checkpoint_every", 0);
-  require(s.checkpoint_every >= 0, ou, "checkpoint_every", "must be >= 0 (0: off)");
-  s.keep_checkpoint = ou.boolean("keep_checkpoint", false);
-  if (!s.checkpoint_path.empty() && s.checkpoint_path == s.output_path)
-    ou.fail("checkpoint", "must differ from the output path");
-  ou.finish();
+  parse_output_table(top, F, s);
   check_memory(s, mem_limit, mx, en, ob);
 
   top.finish();
