@@ -616,21 +616,7 @@ int cell_step(gran_dsmc *s) {
         }
         continue;
       }
-      double eps;
-      if (kRest == kRestConst) {
-        eps = s->eps0;
-      } else if (kRest == kRestTable) {
-        eps = pair[pik].a;
-      } else {
-        double sb;
-        if (pair)
-          sb = pair[pik].a;
-        else if (s->visco_sqrt_beta0 >= 0)
-          sb = s->visco_sqrt_beta0;
-        else
-          sb = std::sqrt(mix_beta(&s->mix, i, k));
-        eps = visco_eps(sb * std::pow(gn2, 0.05));
-      }
+      const double eps = dsmc_pair_eps<kRest>(s, pair, pik, i, k, gn2);
       const double a = (1.0 + eps) * inv;
       const double aj = a * mk, al = a * mi;
       for (int d = 0; d < 3; d++) {

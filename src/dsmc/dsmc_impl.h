@@ -260,6 +260,23 @@ struct gran_dsmc {
 
 namespace gran {
 
+/* Restitution of a colliding pair of species (i, k) with normal relative velocity squared gn2, by
+ * the engine's restitution mode (every selector's collision uses it). */
+template <int kRest>
+static inline double dsmc_pair_eps(const gran_dsmc *s, const DsmcPair *pair, size_t pik, int64_t i, int64_t k,
+                                   double gn2) {
+  if (kRest == kRestConst) return s->eps0;
+  if (kRest == kRestTable) return pair[pik].a;
+  double sb; /* viscoelastic: x = sqrt(beta) |v_n|^(1/10) */
+  if (pair)
+    sb = pair[pik].a;
+  else if (s->visco_sqrt_beta0 >= 0)
+    sb = s->visco_sqrt_beta0;
+  else
+    sb = std::sqrt(mix_beta(&s->mix, i, k));
+  return visco_eps(sb * std::pow(gn2, 0.05));
+}
+
 /* ---- engine.cpp ---- */
 /* Allocate everything for mix/counts/options, no velocities drawn (used by create and checkpoint read). */
 int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_options *opt, gran_dsmc *s);

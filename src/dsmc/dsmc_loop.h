@@ -311,21 +311,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       gn2 = gn[0] * gn[0] + gn[1] * gn[1] + gn[2] * gn[2];
     }
     const size_t pik = (size_t)c.i * (size_t)M + (size_t)c.k;
-    double eps;
-    if (kRest == kRestConst) {
-      eps = s->eps0;
-    } else if (kRest == kRestTable) {
-      eps = pair[pik].a;
-    } else {
-      double sb;
-      if (pair)
-        sb = pair[pik].a;
-      else if (s->visco_sqrt_beta0 >= 0)
-        sb = s->visco_sqrt_beta0;
-      else
-        sb = std::sqrt(mix_beta(&s->mix, c.i, c.k));
-      eps = visco_eps(sb * std::pow(gn2, 0.05)); /* x = sqrt(beta) |v_n|^(1/10) */
-    }
+    const double eps = dsmc_pair_eps<kRest>(s, pair, pik, c.i, c.k, gn2);
     if (kDisp && kDispTlast && !Sel::kClasses) { /* Eq. 45 literally: r += v (t - t_last), t_last = t */
       double *const rj = R + 3 * c.j, *const rl = R + 3 * c.l;
       const double dj = (t + t0) - tl[c.j], dl = (t + t0) - tl[c.l]; /* t_last: absolute times */
