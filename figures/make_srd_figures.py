@@ -374,7 +374,7 @@ def srd_viscosity_gsrd(args, f):
                 "GSRD, eps = 0.9, no thermostat: the shear heating balances the dissipation; the lines are drawn at the "
                 "mean theta = %.3f and mean kappa, the lower panel compares each run with Eq. 2.55 + collisional at its own steady "
                 "theta (%.3f-%.3f, theta_cells corrected for n - 1) and kappa (Eq. 2.53; n0 kappa = %.1e-%.1e, "
-                "eps_eff about 0.998 as in the thesis; there Eq. 2.55 differs from Eq. 1.48 at the same theta by "
+                "eps_eff = 1 - n0 kappa >= 0.998 as in the thesis; there Eq. 2.55 differs from Eq. 1.48 at the same theta by "
                 "%.2f %% at most). 8 x 8 cells, sigma and shear rate chosen per angle (scene files)."
                 % (fig_theta, thetas.min(), thetas.max(), min(kap), max(kap), dmax), who="GSRD")
 
