@@ -11,6 +11,9 @@ file; every scene takes seconds), reads the HDF5 output through granary_h5 only,
   srd-a2          Fig. 3.15  Sonine a2 against time for four eps_eff(t0)
   srd-bed         Ch. 5      vibrated bed under gravity: T(t), density and temperature profiles,
                              the hydrostatic balance n theta = g x (particles above)
+  srd-viscosity-2d  Fig. 3.2  standard SRD viscosity against alpha (2-D) beside Eq. 1.48 + collisional
+  srd-viscosity-3d  Fig. 3.3  the same in 3-D beside Eq. 1.49 + collisional
+  srd-viscosity-gsrd Fig. 3.6 GSRD (eps = 0.9) viscosity against alpha beside Eq. 2.55 + collisional
 
     /usr/bin/python3 figures/make_srd_figures.py [--quick] [--granary build/granary]
                                                  [--out build/figures] [--only srd-haff] [--replot]
@@ -33,11 +36,17 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from granary_h5 import Output  # noqa: E402
 
 A2_EFF = ["0.900", "0.935", "0.960", "0.980"]
+VISC_2D = [30, 45, 60, 90, 120, 150]
+VISC_3D = [30, 60, 90, 120, 150, 180]
+VISC_GSRD = [20, 30, 45, 60, 90, 120]
 SCENES = {
     "srd-haff": ["haff"],
     "srd-clustering": ["clustering"],
     "srd-a2": ["a2-eff" + e for e in A2_EFF],
     "srd-bed": ["vibrated-bed"],
+    "srd-viscosity-2d": ["viscosity-2d-a%03d" % a for a in VISC_2D],
+    "srd-viscosity-3d": ["viscosity-3d-a%03d" % a for a in VISC_3D],
+    "srd-viscosity-gsrd": ["viscosity-gsrd-a%03d" % a for a in VISC_GSRD],
 }
 
 
@@ -67,8 +76,8 @@ def size_text(o):
     return s
 
 
-def finish(fig, o, fname, args, caption, top=0.86):
-    fig.text(0.5, 0.935, size_text(o), ha="center", va="top", fontsize=8, color="0.25")
+def finish(fig, o, fname, args, caption, top=0.86, size=None):
+    fig.text(0.5, 0.935, size or size_text(o), ha="center", va="top", fontsize=8, color="0.25")
     text = "\n".join(textwrap.wrap(caption, 125))
     fig.text(0.01, 0.01, text, fontsize=7.5, va="bottom", ha="left")
     nlines = text.count("\n") + 1
@@ -250,6 +259,124 @@ def srd_bed(args, f):
                "the median deviation is %.0f %% (the thermal pressure leaves out the momentum flux of the mean flow "
                "the wall drives, and theta of sparsely filled cells is biased low at the top)." % (len(use), dev),
                top=0.8)
+
+
+# ---- viscosity (Figs. 3.2, 3.3, 3.6) ------------------------------------------------------------------
+# Units a = dt = m = 1; M = n0 (mean particles per cell), q = M - 1 + e^-M (Poisson occupancy).
+
+
+def nu_kinetic(dim, M, alpha_deg, theta=1.0):
+    """Eq. 1.48 (2-D) / Eq. 1.49 (3-D): kinetic viscosity of standard SRD (the formulas of bench/b801)."""
+    al = np.radians(alpha_deg)
+    q = M - 1 + np.exp(-M)
+    if dim == 2:
+        return theta * (M / (q * (1 - np.cos(2 * al))) - 0.5)
+    return theta * (5 * M / (q * (4 - 2 * np.cos(al) - 2 * np.cos(2 * al))) - 0.5)
+
+
+def nu_collisional(dim, M, alpha_deg):
+    """Collisional viscosity (a^2 / (6 d dt)) (M - 1 + e^-M) / M (1 - cos alpha)."""
+    q = M - 1 + np.exp(-M)
+    return q / M * (1 - np.cos(np.radians(alpha_deg))) / (6.0 * dim)
+
+
+def nu_eq255(M, alpha_deg, theta, kappa):
+    """Eq. 2.55 (2-D GSRD kinetic viscosity, as it stands in the thesis; bench/b801 prints it too)
+    with kappa = (1 - eps^2) sigma^2 dt sqrt(theta) (Eq. 2.53); kappa = 0 gives Eq. 1.48."""
+    al = np.radians(alpha_deg)
+    q = M - 1 + np.exp(-M)
+    c2 = np.cos(2 * al)
+    return theta * (M / (q * (1 - c2) - (2 * M * kappa + (M - 2) * kappa * kappa) * c2) - 0.5)
+
+
+def visc_runs(f, names, drop):
+    """Per scene: alpha, nu = eta / n0 (mean and s.e. over the output intervals after the first
+    `drop`), the mean thermal temperature theta (cell temperatures corrected for n - 1), the output."""
+    rows = []
+    for name in names:
+        o = Output(f[name])
+        n0 = o.attr("n0", 0, "srd")
+        eta = o.get("stress/eta")[1 + drop:] / n0  # row 0 is t = 0 (NaN)
+        tc = o.get("temperature/theta_cells")[1 + drop:]
+        theta = tc.mean() / (1 - (1 - np.exp(-n0)) / n0)
+        rows.append(dict(alpha=o.attr("alpha_deg", 0, "srd"), nu=eta.mean(), se=eta.std(ddof=1) / np.sqrt(len(eta)),
+                         nblk=len(eta), theta=theta, n0=n0, o=o))
+    return rows
+
+
+def visc_figure(args, rows, dim, fname, fig_no, eq, kinetic, theory_pts, extra_caption, who="SRD"):
+    al = np.array([r["alpha"] for r in rows])
+    nu = np.array([r["nu"] for r in rows])
+    se = np.array([r["se"] for r in rows])
+    M = rows[0]["n0"]
+    th = np.array(theory_pts)
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 7.6), sharex=True, gridspec_kw={"height_ratios": [2.2, 1]})
+    a = np.linspace(min(10.0, al.min()), 180.0 if dim == 3 else 170.0, 400)
+    kin = kinetic(a)
+    col = nu_collisional(dim, M, a)
+    ax.plot(a, kin + col, "k-", lw=1.3, label="total: %s + collisional" % eq)
+    ax.plot(a, kin, "--", color="C0", lw=1, label="kinetic (%s)" % eq)
+    ax.plot(a, col, ":", color="C3", lw=1.2, label="collisional, (M - 1 + e^-M) / (6 d M) (1 - cos alpha)")
+    ax.errorbar(al, nu, yerr=se, fmt="o", ms=5, mfc="none", color="C2", capsize=2, label="%s under Lees-Edwards shear (+- 1 s.e.)" % who)
+    ax.set_yscale("log")
+    ax.set_ylabel("kinematic viscosity nu [a^2 / dt]")
+    ax.legend(fontsize=7.5)
+    bx.errorbar(al, 100 * (nu / th - 1), yerr=100 * se / th, fmt="o", ms=5, mfc="none", color="C2", capsize=2)
+    bx.axhline(0, color="k", lw=0.8)
+    bx.set_xlabel("rotation angle alpha [deg]")
+    bx.set_ylabel("measured / theory - 1 [%]")
+    bx.set_xlim(0, 180)
+    tab = "; ".join("%g: %.4f +- %.4f (%.4f)" % (r["alpha"], r["nu"], r["se"], t) for r, t in zip(rows, th))
+    fig.suptitle("%s shear viscosity against the rotation angle (thesis Fig. %s, reduced)" % (who, fig_no), fontsize=10)
+    o = rows[0]["o"]
+    cells = o.get("srd/cells")
+    size = "%s %d-D, %s cells, n0 = %g, dt = %g, eps = %g, %d scenes (one per alpha), error bars: 1 s.e." % (
+        who, dim, " x ".join("%d" % c for c in cells[:dim]), M, o.attr("dt", 0, "srd"), o.attr("eps", 1, "srd"), len(rows))
+    finish(fig, o, fname, args, size=size, caption=
+           "Symbols: nu = Lees-Edwards stress / (n0 shear rate), mean and standard error of %d output intervals "
+           "after the start-up. alpha: measured +- s.e. (theory): %s. %s" % (rows[0]["nblk"], tab, extra_caption),
+           top=0.9)
+    for r in rows:
+        r["o"].close()
+
+
+def srd_viscosity_2d(args, f):
+    rows = visc_runs(f, ["viscosity-2d-a%03d" % a for a in VISC_2D], 2)
+    th = [nu_kinetic(2, r["n0"], r["alpha"]) + nu_collisional(2, r["n0"], r["alpha"]) for r in rows]
+    visc_figure(args, rows, 2, "srd-viscosity-2d.png", "3.2", "Eq. 1.48", lambda a: nu_kinetic(2, rows[0]["n0"], a), th,
+                "8 x 8 cells on purpose: the 2-D viscosity grows with the box (hydrodynamic long-time tails, which Eq. 1.48 "
+                "leaves out). Global thermostat at kT = 1; shear rate min(0.1, 0.05 / nu).")
+
+
+def srd_viscosity_3d(args, f):
+    rows = visc_runs(f, ["viscosity-3d-a%03d" % a for a in VISC_3D], 2)
+    th = [nu_kinetic(3, r["n0"], r["alpha"]) + nu_collisional(3, r["n0"], r["alpha"]) for r in rows]
+    visc_figure(args, rows, 3, "srd-viscosity-3d.png", "3.3", "Eq. 1.49", lambda a: nu_kinetic(3, rows[0]["n0"], a), th,
+                "Global thermostat at kT = 1; shear rate min(0.05, 0.05 / nu).")
+
+
+def srd_viscosity_gsrd(args, f):
+    rows = visc_runs(f, ["viscosity-gsrd-a%03d" % a for a in VISC_GSRD], 8)
+    th, kap = [], []
+    for r in rows:
+        o = r["o"]
+        eps, sig, dt = o.attr("eps", 1, "srd"), o.attr("sigma", 0, "srd"), o.attr("dt", 1, "srd")
+        k = (1 - eps * eps) * sig * sig * dt * np.sqrt(r["theta"])
+        kap.append(r["n0"] * k)
+        th.append(nu_eq255(r["n0"], r["alpha"], r["theta"], k) + nu_collisional(2, r["n0"], r["alpha"]))
+    thetas = np.array([r["theta"] for r in rows])
+    e148 = [nu_kinetic(2, r["n0"], r["alpha"], r["theta"]) + nu_collisional(2, r["n0"], r["alpha"]) for r in rows]
+    dmax = max(abs(a / b - 1) for a, b in zip(th, e148)) * 100
+    fig_theta = float(np.mean(thetas))
+    fig_kappa = float(np.mean(kap)) / rows[0]["n0"]
+    visc_figure(args, rows, 2, "srd-viscosity-gsrd.png", "3.6", "Eq. 2.55",
+                lambda a: nu_eq255(rows[0]["n0"], a, fig_theta, fig_kappa), th,
+                "GSRD, eps = 0.9, no thermostat: the shear heating balances the dissipation; the lines are drawn at the "
+                "mean theta = %.3f and mean kappa, the lower panel compares each run with Eq. 2.55 + collisional at its own steady "
+                "theta (%.3f-%.3f, theta_cells corrected for n - 1) and kappa (Eq. 2.53; n0 kappa = %.1e-%.1e, "
+                "eps_eff = 1 - n0 kappa >= 0.998 as in the thesis; there Eq. 2.55 differs from Eq. 1.48 at the same theta by "
+                "%.2f %% at most). 8 x 8 cells, sigma and shear rate chosen per angle (scene files)."
+                % (fig_theta, thetas.min(), thetas.max(), min(kap), max(kap), dmax), who="GSRD")
 
 
 def main():
