@@ -445,8 +445,19 @@ int cli_run(int argc, char **argv) {
     gran_last_warning_copy(w, sizeof w);
     std::fprintf(stderr, "granary run: %" PRId64 " warning(s); last: %s\n", nwarn, w);
   }
-  std::printf("granary run: wrote %s (%" PRId64 " collisions, t = %.6g, %.1f s, %.3g collisions/s)\n", out_path.c_str(),
-              res.collisions, res.time, res.wall_seconds, res.wall_seconds > 0 ? (double)res.collisions / res.wall_seconds : 0.0);
+  /* the work unit of the engine that wrote the file: DSMC collisions, GSRD particle-steps */
+  std::string eng = "dsmc";
+  {
+    const int64_t f = gran_h5::open_file(out_path.c_str(), 0);
+    if (f >= 0) {
+      if (gran_h5::read_attr_string(f, "engine", eng, out_path.c_str()) != GRAN_SUCCESS) eng = "dsmc";
+      gran_h5::close_file(f);
+    }
+    gran_clear_error();
+  }
+  const char *unit = eng == "srd" ? "particle-steps" : "collisions";
+  std::printf("granary run: wrote %s (%" PRId64 " %s, t = %.6g, %.1f s, %.3g %s/s)\n", out_path.c_str(), res.collisions,
+              unit, res.time, res.wall_seconds, res.wall_seconds > 0 ? (double)res.collisions / res.wall_seconds : 0.0, unit);
   if (!quiet) summary(out_path);
   if (!quiet && cli_mpi_size() > 1) {
     long long steps = 0, bytes = 0;

@@ -35,6 +35,10 @@ int check_options(const gran_dsmc_options *opt) {
              opt->traj_samples);
   GRAN_CHECK(opt->speed_classes == 0 || opt->speed_classes == 1, GRAN_ERR_ARG,
              "option 'speed_classes' = %d must be 0 (off) or 1 (on)", (int)opt->speed_classes);
+  GRAN_CHECK(!opt->speed_classes || opt->selector == GRAN_SELECTOR_LOWRANK ||
+                 opt->selector == GRAN_SELECTOR_LOWRANK_PAPER,
+             GRAN_ERR_ARG, "option 'speed_classes' = 1 needs a low-rank selector (selector = %d has no speed classes)",
+             (int)opt->selector);
   if (opt->observe & GRAN_OBSERVE_TRAJECTORIES) {
     GRAN_CHECK(std::isfinite(opt->traj_dt) && opt->traj_dt > 0, GRAN_ERR_ARG,
                "option 'traj_dt' = %g must be finite and > 0 with GRAN_OBSERVE_TRAJECTORIES", opt->traj_dt);
@@ -333,6 +337,9 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
   setup_pairs(s);
 
   /* speed classes (classes.cpp): the slot arrays instead of p (N < 2^31) */
+  if (opt->speed_classes && N >= INT32_MAX)
+    gran_warning_add("option 'speed_classes': " GRAN_I64_FMT " particles exceed the 2^31 slots of the class layout; "
+                     "running without speed classes", N);
   if (opt->speed_classes && s->selector == GRAN_SELECTOR_LOWRANK && N > 0 && N < INT32_MAX) {
     GRAN_CALL(dsmc_class_setup(s));
   } else {
