@@ -1,6 +1,7 @@
 /* fuzz_resume.c - libFuzzer harness for the entry points that read files: the input is written to
  * a file and handed to gran_scene_resume (a checkpoint), gran_scene_load (a scene file) and
- * gran_dsmc_checkpoint_read. A resumed run is stopped at its first output time. Every input must
+ * gran_srd_checkpoint_read (a GSRD checkpoint; one step is run from what it accepts). A resumed
+ * run is stopped at its first output time. Every input must
  * end in GRAN_SUCCESS or a named error, without a crash, a hang or unbounded memory. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,6 +36,11 @@ int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size) {
   st = gran_scene_load(in, &s);
   if (st != GRAN_SUCCESS && gran_last_error_message()[0] == '\0') abort();
   gran_scene_destroy(&s);
+  gran_srd *srd = NULL;
+  st = gran_srd_checkpoint_read(in, &srd);
+  if (st != GRAN_SUCCESS && gran_last_error_message()[0] == '\0') abort();
+  if (st == GRAN_SUCCESS && gran_srd_advance(srd, 1) != GRAN_SUCCESS && gran_last_error_message()[0] == '\0') abort();
+  gran_srd_destroy(&srd);
   remove(out);
   return 0;
 }
