@@ -8,10 +8,8 @@
  *  - Poiseuille flow between no-slip walls under a body force g (global thermostat): a parabolic
  *    profile (rms residual of the block-averaged profile about its parabola), symmetric no-slip walls, and
  *    the viscosity from the curvature equal to the Lees-Edwards one (see test_poiseuille).
- *  - Haff's law for the homogeneous cooling GSRD gas (2-D, eps = 0.9): sqrt(T0 / T) is linear in t
- *    over two decades of T (residual < 3 %), and the slope agrees with the mean-field rate
- *    (1 - eps^2) sigma^2 n0 sqrt(T0) / dt of Eq. 2.1 within 25 % (Poisson cell occupancy and the
- *    (n - 1)/n of the cell temperature shift it; the thesis fits it).
+ *  (Haff's law of the CPU engine: the shared body sde_body_haff of tests/srd_device_body.h, run by
+ *  t890 on the CPU engine and on the reference device.)
  * Sizes are reduced under the sanitizers. */
 #include "granary_test.h"
 
@@ -216,55 +214,8 @@ static void test_poiseuille(void **state) {
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
 }
 
-static void test_haff(void **state) {
-  (void)state;
-  gran_srd_options o;
-  GRAN_ASSERT_OK(gran_srd_options_default(&o));
-  o.dim = 2;
-  o.cells[0] = o.cells[1] = SAN ? 12 : 24;
-  o.n0 = 10;
-  o.alpha_deg = 90;
-  o.eps = 0.9;
-  const double c = 0.01; /* (1 - eps^2) sigma^2 n0 sqrt(T0) dt */
-  o.sigma = sqrt(c / ((1 - o.eps * o.eps) * o.n0));
-  o.seed = 5;
-  o.threads = 1; /* small systems: no OpenMP barriers on a loaded 2-core machine */
-  gran_srd *s = NULL;
-  GRAN_ASSERT_OK(gran_srd_create(&o, &s));
-  gran_srd_obs ob;
-  enum { NT = 100 };
-  double t[NT], u[NT];
-  int m = 0;
-  for (int k = 0; k < NT; ++k) {
-    GRAN_ASSERT_OK(gran_srd_advance(s, 10));
-    GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
-    GRAN_ASSERT_ABS(ob.ledger_error, 0.0, 1e-12);
-    t[m] = ob.time;
-    u[m] = sqrt(o.T0 / ob.temperature);
-    ++m;
-    if (ob.temperature < 0.008 * o.T0) break;
-  }
-  assert_true(ob.temperature < 0.01 * o.T0); /* two decades covered */
-  double st = 0, su = 0, stt = 0, stu = 0;
-  for (int k = 0; k < m; ++k) {
-    st += t[k];
-    su += u[k];
-    stt += t[k] * t[k];
-    stu += t[k] * u[k];
-  }
-  const double slope = (m * stu - st * su) / (m * stt - st * st), icpt = (su - slope * st) / m;
-  double worst = 0;
-  for (int k = 0; k < m; ++k) worst = fmax(worst, fabs(icpt + slope * t[k] - u[k]) / u[k]);
-  printf("Haff: %d samples to T/T0 = %.3g, 1/tau = %.5f (mean field %.5f), intercept %.4f, worst residual %.3g\n",
-         m, ob.temperature, slope, c, icpt, worst);
-  assert_true(worst < 0.03);
-  GRAN_ASSERT_REL(slope, c, 0.25);
-  GRAN_ASSERT_OK(gran_srd_destroy(&s));
-}
-
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_haff),
       cmocka_unit_test(test_viscosity),
       cmocka_unit_test(test_poiseuille),
   };

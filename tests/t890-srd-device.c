@@ -217,10 +217,16 @@ static void test_particles_write_through(void **state) {
   GRAN_ASSERT_OK(gran_srd_destroy(&r));
 }
 
-/* the physics bodies on the reference (small sizes: they are what t850 runs on the GPU, larger) */
+/* the physics bodies on the reference (small sizes: they are what t850 runs on the GPU, larger);
+ * Haff's law also on the CPU engine itself (2-D 24^2, 12^2 under sanitizers) */
 static void test_physics_reference(void **state) {
   (void)state;
   const int R = GRAN_SRD_DEVICE_REFERENCE;
+#if defined(__SANITIZE_ADDRESS__)
+  sde_body_haff(GRAN_SRD_DEVICE_CPU, 0, 12);
+#else
+  sde_body_haff(GRAN_SRD_DEVICE_CPU, 0, 24);
+#endif
   sde_body_haff(R, 0, 24);
   sde_body_haff(R, 1, 24);
   sde_body_viscosity(R, 0, 2, 16, 130, 8, 100);

@@ -121,6 +121,15 @@ inline double sum_blocks(const double *p, int64_t nb) {
   for (int64_t b = 0; b < nb; ++b) t += p[b];
   return t;
 }
+/* the same for the three partials each block keeps in part[4 b .. 4 b + 2], in block order */
+inline void sum_blocks3(const double *part, int64_t nb, double t[3]) {
+  t[0] = t[1] = t[2] = 0.0;
+  for (int64_t b = 0; b < nb; ++b) {
+    t[0] += part[4 * b];
+    t[1] += part[4 * b + 1];
+    t[2] += part[4 * b + 2];
+  }
+}
 
 struct StepCtx {
   double g[3];
@@ -205,15 +214,11 @@ void do_steps(gran_srd *s, int64_t nsteps) {
         part[4 * b + 2] = imp;
       }
       if (LE || ACCEL || WALL) {
-        double fl = 0, ex = 0, im = 0;
-        for (int64_t b = 0; b < nb; ++b) {
-          fl += part[4 * b];
-          ex += part[4 * b + 1];
-          im += part[4 * b + 2];
-        }
-        s->flux_kin += fl;
-        s->e_ext += ex;
-        if (WALL) s->wall_impulse[gm.wall_axis] += im;
+        double t[3]; /* kinetic flux, external work, wall impulse */
+        sum_blocks3(part, nb, t);
+        s->flux_kin += t[0];
+        s->e_ext += t[1];
+        if (WALL) s->wall_impulse[gm.wall_axis] += t[2];
       }
     }
     s->time += dt;
@@ -432,15 +437,11 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       part[4 * b + 2] = lew;
     }
     if (DISSIP || LE || WALL) {
-      double de = 0, vir = 0, lew = 0;
-      for (int64_t b = 0; b < nb; ++b) {
-        de += part[4 * b];
-        vir += part[4 * b + 1];
-        lew += part[4 * b + 2];
-      }
-      s->e_coll += de;
-      s->flux_coll += vir;
-      s->e_ext += lew;
+      double t[3]; /* collision energy, virial, Lees-Edwards work */
+      sum_blocks3(part, nb, t);
+      s->e_coll += t[0];
+      s->flux_coll += t[1];
+      s->e_ext += t[2];
     }
     s->step += 1;
     if (o.sort_every > 0 && s->step % o.sort_every == 0) {
