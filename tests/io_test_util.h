@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <hdf5.h>
+#include <zlib.h>
 
 #include "granary_test.h"
 
@@ -69,6 +70,40 @@ static inline char *io_read_file(const char *path) {
   s[got] = '\0';
   fclose(f);
   return s;
+}
+
+/* ---- whole files as bytes (damaged-file tests) ---------------------------------------------- */
+static inline unsigned char *io_read_all(const char *path, size_t *n) {
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  fseek(f, 0, SEEK_END);
+  *n = (size_t)ftell(f);
+  fseek(f, 0, SEEK_SET);
+  unsigned char *b = (unsigned char *)malloc(*n);
+  assert_non_null(b);
+  assert_int_equal(fread(b, 1, *n, f), *n);
+  fclose(f);
+  return b;
+}
+static inline void io_write_all(const char *path, const unsigned char *b, size_t n) {
+  FILE *f = fopen(path, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite(b, 1, n, f), n);
+  fclose(f);
+}
+/* Rewrite the 512-byte header of a granary file (src/io/h5.cpp: length and CRC-32 of the HDF5
+ * image after it) for its current contents: an edit made through HDF5 then passes the checksum,
+ * so the value checks behind it are what a test sees. */
+static inline void io_refresh_crc(const char *path) {
+  size_t n = 0;
+  unsigned char *b = io_read_all(path, &n);
+  uLong c = crc32(crc32(0L, Z_NULL, 0), b + 512, (uInt)(n - 512));
+  char head[512];
+  memset(head, 0, sizeof head);
+  snprintf(head, sizeof head, "granary-file 1\nlength %zu\ncrc32 %08lx\n", n, (unsigned long)c);
+  memcpy(b, head, 512);
+  io_write_all(path, b, n);
+  free(b);
 }
 
 /* ---- HDF5 comparison ---------------------------------------------------------------------- */

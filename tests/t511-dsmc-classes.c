@@ -5,6 +5,7 @@
  * Here: the class invariants seen from outside (every particle of the view, counts, the ledger
  * closes, momentum conserved, tracers and viscoelastic restitution with classes), the option's
  * checks, the view by identity with trajectories, damaged class state in a checkpoint. */
+#include "io_test_util.h" /* first: it sets the feature-test macros */
 #include "dsmc_util.h"
 
 #include <hdf5.h>
@@ -151,40 +152,12 @@ static void test_scene_key(void **state) {
 
 /* A damaged class state (an edit made through HDF5 with granary's file checksum recomputed, as
  * t606 does for the other datasets) is refused naming what is wrong, never used. */
-static unsigned char *read_all(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  fseek(f, 0, SEEK_END);
-  *n = (size_t)ftell(f);
-  fseek(f, 0, SEEK_SET);
-  unsigned char *b = (unsigned char *)malloc(*n);
-  assert_true(fread(b, 1, *n, f) == *n);
-  fclose(f);
-  return b;
-}
-static void write_all(const char *path, const unsigned char *b, size_t n) {
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_true(fwrite(b, 1, n, f) == n);
-  fclose(f);
-}
-static void refresh_crc(const char *path) {
-  size_t n = 0;
-  unsigned char *b = read_all(path, &n);
-  uLong c = crc32(crc32(0L, Z_NULL, 0), b + 512, (uInt)(n - 512));
-  char head[512];
-  memset(head, 0, sizeof head);
-  snprintf(head, sizeof head, "granary-file 1\nlength %zu\ncrc32 %08lx\n", n, (unsigned long)c);
-  memcpy(b, head, 512);
-  write_all(path, b, n);
-  free(b);
-}
 /* copy `ck` to `ed`, set dataset[index] = value (int64 or double), expect the read to fail naming `why` */
 static void edit_and_expect(const char *ck, const char *ed, const gran_mixture *mix, const char *dataset,
                             int64_t index, double value, int is_int, const char *why) {
   size_t n = 0;
-  unsigned char *b = read_all(ck, &n);
-  write_all(ed, b, n);
+  unsigned char *b = io_read_all(ck, &n);
+  io_write_all(ed, b, n);
   free(b);
   hid_t f = H5Fopen(ed, H5F_ACC_RDWR, H5P_DEFAULT);
   assert_true(f >= 0);
@@ -209,7 +182,7 @@ static void edit_and_expect(const char *ck, const char *ed, const gran_mixture *
   H5Sclose(sp);
   H5Dclose(d);
   H5Fclose(f);
-  refresh_crc(ed);
+  io_refresh_crc(ed);
   gran_dsmc *sim = (gran_dsmc *)0x1;
   const int st = gran_dsmc_checkpoint_read(ed, "/engine", mix, &sim);
   if (st == GRAN_SUCCESS || !strstr(gran_last_error_message(), why))

@@ -6,6 +6,7 @@
  * box, a carried fraction outside [0, 1), a speed bound below a particle's speed; the file
  * checksum recomputed, as after a deliberate edit) is refused with GRAN_ERR_IO naming it. */
 #define _POSIX_C_SOURCE 200809L
+#include "io_test_util.h" /* first: it sets the feature-test macros */
 #include <unistd.h>
 
 #include <hdf5.h>
@@ -168,33 +169,8 @@ static void test_resume_agg(void **state) {
   gran_mixture_destroy(&mix);
 }
 
-static unsigned char *read_all(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  fseek(f, 0, SEEK_END);
-  *n = (size_t)ftell(f);
-  fseek(f, 0, SEEK_SET);
-  unsigned char *b = malloc(*n);
-  assert_int_equal(fread(b, 1, *n, f), *n);
-  fclose(f);
-  return b;
-}
 
 /* after an edit through HDF5: recompute granary's file checksum (as t606 does) */
-static void refresh_crc(const char *path) {
-  size_t n = 0;
-  unsigned char *b = read_all(path, &n);
-  uLong c = crc32(crc32(0L, Z_NULL, 0), b + 512, (uInt)(n - 512));
-  char head[512];
-  memset(head, 0, sizeof head);
-  snprintf(head, sizeof head, "granary-file 1\nlength %zu\ncrc32 %08lx\n", n, (unsigned long)c);
-  memcpy(b, head, 512);
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(b, 1, n, f), n);
-  fclose(f);
-  free(b);
-}
 
 static void edit(const char *dataset, int64_t index, double value) {
   hid_t f = H5Fopen(g_path, H5F_ACC_RDWR, H5P_DEFAULT);
@@ -211,7 +187,7 @@ static void edit(const char *dataset, int64_t index, double value) {
   H5Sclose(sp);
   H5Dclose(d);
   H5Fclose(f);
-  refresh_crc(g_path);
+  io_refresh_crc(g_path);
 }
 
 static void test_damaged(void **state) {

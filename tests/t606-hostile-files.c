@@ -97,23 +97,6 @@ static void test_full_disk(void **state) {
 }
 
 /* ---- damaged checkpoints ------------------------------------------------------------------- */
-static unsigned char *read_all(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  fseek(f, 0, SEEK_END);
-  *n = (size_t)ftell(f);
-  fseek(f, 0, SEEK_SET);
-  unsigned char *b = malloc(*n);
-  assert_int_equal(fread(b, 1, *n, f), *n);
-  fclose(f);
-  return b;
-}
-static void write_all(const char *path, const unsigned char *b, size_t n) {
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(b, 1, n, f), n);
-  fclose(f);
-}
 
 /* a checkpoint of the tiny run, stopped after its first checkpoint */
 static void make_checkpoint(const char *ck, const char *out) {
@@ -135,7 +118,7 @@ static void test_bit_flips(void **state) {
   snprintf(bad, sizeof bad, "%s", io_path("flipped.ckpt"));
   make_checkpoint(ck, io_path("flip.h5"));
   size_t n = 0;
-  unsigned char *img = read_all(ck, &n);
+  unsigned char *img = io_read_all(ck, &n);
   assert_true(n > 4096);
   uint64_t x = 12345;
   for (int trial = 0; trial < 300; trial++) {
@@ -143,7 +126,7 @@ static void test_bit_flips(void **state) {
     const size_t pos = trial < 40 ? (size_t)trial * 13 : (size_t)((x >> 11) % n);
     const int bit = (int)((x >> 3) & 7);
     img[pos] ^= (unsigned char)(1u << bit);
-    write_all(bad, img, n);
+    io_write_all(bad, img, n);
     img[pos] ^= (unsigned char)(1u << bit);
     gran_clear_error();
     int st = gran_scene_resume(bad, io_path("flipped.h5"), NULL, NULL);
@@ -152,7 +135,7 @@ static void test_bit_flips(void **state) {
       fail_msg("flip of bit %d at byte %zu: message does not name the file: %s", bit, pos, gran_last_error_message());
   }
   /* a truncated file */
-  write_all(bad, img, n / 2);
+  io_write_all(bad, img, n / 2);
   GRAN_ASSERT_ERR(gran_scene_resume(bad, io_path("flipped.h5"), NULL, NULL), GRAN_ERR_IO);
   free(img);
   /* the undamaged checkpoint still resumes */
@@ -162,25 +145,13 @@ static void test_bit_flips(void **state) {
 }
 
 /* An edit made through HDF5 with the checksum recomputed (a deliberate edit, or damage the CRC
- * missed): the values themselves are checked against the scene and the invariants. */
-static void refresh_crc(const char *path) {
-  size_t n = 0;
-  unsigned char *b = read_all(path, &n);
-  uLong c = crc32(crc32(0L, Z_NULL, 0), b + 512, (uInt)(n - 512));
-  char head[512];
-  memset(head, 0, sizeof head);
-  snprintf(head, sizeof head, "granary-file 1\nlength %zu\ncrc32 %08lx\n", n, (unsigned long)c);
-  memcpy(b, head, 512);
-  write_all(path, b, n);
-  free(b);
-}
-
+ * missed, io_refresh_crc): the values themselves are checked against the scene and the invariants. */
 static void edit_and_expect(const char *ck, const char *dataset, int64_t index, double value, int is_int,
                             const char *why) {
   const char *ed = io_path("edited.ckpt");
   size_t n = 0;
-  unsigned char *b = read_all(ck, &n);
-  write_all(ed, b, n);
+  unsigned char *b = io_read_all(ck, &n);
+  io_write_all(ed, b, n);
   free(b);
   hid_t f = H5Fopen(ed, H5F_ACC_RDWR, H5P_DEFAULT);
   assert_true(f >= 0);
@@ -204,7 +175,7 @@ static void edit_and_expect(const char *ck, const char *dataset, int64_t index, 
   H5Sclose(sp);
   H5Dclose(d);
   H5Fclose(f);
-  refresh_crc(ed);
+  io_refresh_crc(ed);
   gran_clear_error();
   int st = gran_scene_resume(ed, io_path("edited.h5"), NULL, NULL);
   if (st == GRAN_SUCCESS || !strstr(gran_last_error_message(), why))
