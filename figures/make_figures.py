@@ -11,13 +11,10 @@ over replicas where the file has X_se) with the kinetic theory the run wrote (li
                                              [--out build/figures] [--only fig1,table1] [--replot]
 """
 
-import argparse
 import json
 import os
-import subprocess
 import sys
 import textwrap
-import time
 
 import matplotlib
 matplotlib.use("Agg")
@@ -26,6 +23,8 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from granary_h5 import Output  # noqa: E402
+import figure_driver  # noqa: E402
+from figure_driver import run_granary  # noqa: E402
 
 # figure -> the scenes it needs (full mode, quick mode)
 SCENES = {
@@ -75,17 +74,7 @@ def scene_path(name, quick):
 def run_scene(args, name, walls):
     """Run a scene once per invocation; return its output path."""
     out = os.path.join(args.out, "data", ("quick-" if args.quick else "") + name + ".h5")
-    if args.replot and os.path.exists(out):
-        return out
-    if out in walls:
-        return out
-    src = scene_path(name, args.quick)
-    t0 = time.time()
-    cmd = [args.granary, "run", src, "-o", out, "--force", "--no-checkpoint", "--quiet"]
-    print("figures: %s" % " ".join(cmd), flush=True)
-    subprocess.run(cmd, check=True)
-    walls[out] = time.time() - t0
-    return out
+    return run_granary(args, scene_path(name, args.quick), out, walls)
 
 
 def size_text(o):
@@ -420,29 +409,18 @@ def fig8(args, f):
                    "1.13), visible at long times.")
 
 
+def draw(args, fig, walls):
+    files = {name: run_scene(args, name, walls) for name in SCENES[fig]}
+    if fig == "table1":
+        table1(args, files, walls)
+    else:
+        globals()[fig](args, files)
+
+
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="reduced scenes (scenes/quick)")
-    ap.add_argument("--granary", default="build/granary")
-    ap.add_argument("--out", default="build/figures")
-    ap.add_argument("--only", default="", help="comma-separated subset, e.g. fig1,table1")
-    ap.add_argument("--replot", action="store_true", help="reuse existing outputs, run nothing new")
-    ap.add_argument("--dpi", type=int, default=110)
-    args = ap.parse_args()
-    os.makedirs(os.path.join(args.out, "data"), exist_ok=True)
-    todo = [s for s in args.only.split(",") if s] or list(SCENES)
-    for s in todo:
-        if s not in SCENES:
-            ap.error("unknown figure '%s' (known: %s)" % (s, ", ".join(SCENES)))
-    walls = {}
-    t0 = time.time()
-    for fig in todo:
-        files = {name: run_scene(args, name, walls) for name in SCENES[fig]}
-        if fig == "table1":
-            table1(args, files, walls)
-        else:
-            globals()[fig](args, files)
-    print("figures: %d figure(s) in %s (%.0f s)" % (len(todo), args.out, time.time() - t0))
+    args, todo, walls, secs = figure_driver.main(__doc__, SCENES, draw, "reduced scenes (scenes/quick)",
+                                                 "fig1,table1")
+    print("figures: %d figure(s) in %s (%.0f s)" % (len(todo), args.out, secs))
 
 
 if __name__ == "__main__":

@@ -20,12 +20,9 @@ file; every scene takes seconds), reads the HDF5 output through granary_h5 only,
 --quick changes nothing here (the scenes are already small); it only prefixes the data files.
 """
 
-import argparse
 import os
-import subprocess
 import sys
 import textwrap
-import time
 
 import matplotlib
 matplotlib.use("Agg")
@@ -34,6 +31,8 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from granary_h5 import Output  # noqa: E402
+import figure_driver  # noqa: E402
+from figure_driver import run_granary  # noqa: E402
 
 A2_EFF = ["0.900", "0.935", "0.960", "0.980"]
 VISC_2D = [30, 45, 60, 90, 120, 150]
@@ -53,15 +52,7 @@ SCENES = {
 def run_scene(args, name, walls):
     """Run scenes/srd/NAME.toml once per invocation; return its output path."""
     out = os.path.join(args.out, "data", ("quick-" if args.quick else "") + "srd-" + name + ".h5")
-    if (args.replot and os.path.exists(out)) or out in walls:
-        return out
-    src = "scenes/srd/%s.toml" % name
-    t0 = time.time()
-    cmd = [args.granary, "run", src, "-o", out, "--force", "--no-checkpoint", "--quiet"]
-    print("figures: %s" % " ".join(cmd), flush=True)
-    subprocess.run(cmd, check=True)
-    walls[out] = time.time() - t0
-    return out
+    return run_granary(args, "scenes/srd/%s.toml" % name, out, walls)
 
 
 def size_text(o):
@@ -379,27 +370,16 @@ def srd_viscosity_gsrd(args, f):
                 % (fig_theta, thetas.min(), thetas.max(), min(kap), max(kap), dmax), who="GSRD")
 
 
+def draw(args, fig, walls):
+    files = {name: run_scene(args, name, walls) for name in SCENES[fig]}
+    globals()[fig.replace("-", "_")](args, files)
+
+
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="accepted for `make figures QUICK=1`; the scenes are small")
-    ap.add_argument("--granary", default="build/granary")
-    ap.add_argument("--out", default="build/figures")
-    ap.add_argument("--only", default="", help="comma-separated subset, e.g. srd-haff,srd-a2")
-    ap.add_argument("--replot", action="store_true", help="reuse existing outputs, run nothing new")
-    ap.add_argument("--dpi", type=int, default=110)
-    args = ap.parse_args()
-    os.makedirs(os.path.join(args.out, "data"), exist_ok=True)
-    todo = [s for s in args.only.split(",") if s] or list(SCENES)
-    for s in todo:
-        if s not in SCENES:
-            ap.error("unknown figure '%s' (known: %s)" % (s, ", ".join(SCENES)))
-    walls = {}
-    t0 = time.time()
-    for fig in todo:
-        files = {name: run_scene(args, name, walls) for name in SCENES[fig]}
-        globals()[fig.replace("-", "_")](args, files)
+    args, todo, walls, secs = figure_driver.main(
+        __doc__, SCENES, draw, "accepted for `make figures QUICK=1`; the scenes are small", "srd-haff,srd-a2")
     print("figures: %d GSRD figure(s) in %s (%.0f s; scene runs: %s)" % (
-        len(todo), args.out, time.time() - t0, ", ".join("%s %.1f s" % (os.path.basename(k), v) for k, v in walls.items())))
+        len(todo), args.out, secs, ", ".join("%s %.1f s" % (os.path.basename(k), v) for k, v in walls.items())))
 
 
 if __name__ == "__main__":
