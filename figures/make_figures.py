@@ -298,8 +298,9 @@ def fig5(args, f):
         axs[0].set_title("MSD", fontsize=9)
         finish(fig, axs[0], o, "fig5.png", args,
                "n = (0.1, 0), m = (1, 100), T(0) = (1, 412.93), tau0 = %.4g (caption: 11.3). TAMSD "
-               "theory: Eq. 26 on the simulation's sample grid; the TAMSD comes from replica 0 only "
-               "(no error bars there). " % o.tau0 + THEORY_OFF +
+               "theory: Eq. 26 on the simulation's sample grid; the TAMSD comes from the tracers of replica 0, "
+               "its error bars from their spread (at the largest lags the gas lies about 2.5 standard "
+               "errors below the theory: the -4 %% of its MSD plus noise that is correlated across lags). " % o.tau0 + THEORY_OFF +
                "heavy tracers (b > 1 in Eq. 35) are in the ordered phase of Santos and Dufty: "
                "T_2/T_1 is about 1.53x the Maxwellian value, so the tracers' MSD and TAMSD lie "
                "above the theory (the difference is physics, not noise). " + MSD_BELOW % MSD_WHY["fig5"] +

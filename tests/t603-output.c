@@ -75,6 +75,7 @@ static void test_layout_and_values(void **state) {
   expect_dims(f, "tamsd/lag", 1, 3, 0, 0);
   expect_dims(f, "tamsd/tamsd", 2, 3, M, 0);
   expect_dims(f, "tamsd/tamsd_theory", 2, 3, M, 0);
+  expect_dims(f, "tamsd/tamsd_se", 2, 3, M, 0);
   expect_dims(f, "tamsd/tracers", 1, M, 0, 0);
 
   /* every dataset says what it holds and in which units, as UTF-8 strings (h5py: str) */
@@ -132,6 +133,38 @@ static void test_layout_and_values(void **state) {
     assert_true(sum > 0.97 && sum <= 1.0 + 1e-12);
   }
   assert_true(lag[0] == 0.5 && lag[1] == 1.0 && lag[2] == 5.0);
+  /* the TAMSD and its standard error: mean and spread of the per-tracer TAMSDs of the engine's
+   * own trajectories (the direct O(N nlag) sum, another method than the file's FFT) */
+  {
+    double *ta = io_h5_read_double(f, "tamsd/tamsd", NULL), *tse = io_h5_read_double(f, "tamsd/tamsd_se", NULL);
+    double *dt = NULL; /* one tracer's TAMSD at lags 0..L */
+    int64_t ntraj = 0, ns = 0;
+    const double *xyz = NULL;
+    const int32_t *sp = NULL;
+    GRAN_ASSERT_OK(gran_dsmc_trajectories(sim, &ntraj, &ns, &xyz, &sp));
+    assert_true(ta && tse && ntraj >= 2 * (int64_t)M);
+    dt = malloc(sizeof(double) * (size_t)ns);
+    for (size_t l = 0; l < 3; l++) {
+      const int64_t L = llround(lag[l] / 0.5); /* the tiny scene samples every 0.5 */
+      for (size_t k = 0; k < M; k++) {
+        double sum = 0, sum2 = 0;
+        int n = 0;
+        for (int64_t j = 0; j < ntraj; j++) {
+          if (sp[j] != (int32_t)k) continue;
+          GRAN_ASSERT_OK(gran_tamsd_direct(1, ns, xyz + j * ns * 3, L + 1, dt));
+          sum += dt[L];
+          sum2 += dt[L] * dt[L];
+          n++;
+        }
+        assert_true(n >= 2);
+        const double mean = sum / n, se = sqrt((sum2 / n - mean * mean) * n / (n - 1) / n);
+        GRAN_ASSERT_REL(ta[l * M + k], mean, 1e-9);
+        GRAN_ASSERT_REL(tse[l * M + k], se, 1e-6);
+        assert_true(tse[l * M + k] > 0);
+      }
+    }
+    free(ta), free(tse), free(dt);
+  }
   gran_dsmc_destroy(&sim);
   gran_mixture_destroy(&mix);
   free(T), free(msd), free(ek), free(e0), free(ed), free(lag), free(pdf), free(time);

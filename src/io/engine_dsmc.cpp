@@ -379,21 +379,30 @@ class DsmcEngine : public gran_engine {
     GRAN_CHECK(Lmax < ns, GRAN_ERR_STATE, "TAMSD lag of %" PRId64 " samples >= the %" PRId64 " recorded samples", Lmax, ns);
     gran_tamsd_plan *plan = nullptr;
     GRAN_CALL(gran_tamsd_plan_create(ns, &plan));
-    std::vector<double> xs, full((size_t)Lmax + 1);
+    /* One trajectory at a time: the mean over the tracers of a species and its standard error
+     * from their spread (Welford; the tracers are distinct particles of one gas, independent up to
+     * O(1/N) correlations), so that a figure can tell a deviation from the theory from noise. */
+    std::vector<double> full((size_t)Lmax + 1), mean((size_t)nl), m2((size_t)nl), se((size_t)(nl * M), NAN);
     int st = GRAN_SUCCESS;
     for (int64_t k = 0; k < M && st == GRAN_SUCCESS; k++) {
-      xs.clear();
-      for (int64_t j = 0; j < ntraj; j++)
-        if (sp[j] == k) {
-          ntr[(size_t)k]++;
-          xs.insert(xs.end(), xyz + j * ns * 3, xyz + (j + 1) * ns * 3);
+      std::fill(mean.begin(), mean.end(), 0.0);
+      std::fill(m2.begin(), m2.end(), 0.0);
+      int64_t n = 0;
+      for (int64_t j = 0; j < ntraj && st == GRAN_SUCCESS; j++) {
+        if (sp[j] != k) continue;
+        st = gran_tamsd_plan_execute(plan, 1, xyz + j * ns * 3, Lmax + 1, full.data());
+        n++;
+        for (int64_t l = 0; l < nl && st == GRAN_SUCCESS; l++) {
+          const double x = full[(size_t)L[(size_t)l]], d = x - mean[(size_t)l];
+          mean[(size_t)l] += d / (double)n;
+          m2[(size_t)l] += d * (x - mean[(size_t)l]);
         }
-      if (!ntr[(size_t)k]) {
-        for (int64_t l = 0; l < nl; l++) ta[(size_t)(l * M + k)] = NAN;
-        continue;
       }
-      st = gran_tamsd_plan_execute(plan, ntr[(size_t)k], xs.data(), Lmax + 1, full.data());
-      for (int64_t l = 0; l < nl && st == GRAN_SUCCESS; l++) ta[(size_t)(l * M + k)] = full[(size_t)L[(size_t)l]];
+      ntr[(size_t)k] = n;
+      for (int64_t l = 0; l < nl; l++) {
+        ta[(size_t)(l * M + k)] = n ? mean[(size_t)l] : NAN;
+        if (n > 1) se[(size_t)(l * M + k)] = std::sqrt(m2[(size_t)l] / (double)(n - 1) / (double)n);
+      }
     }
     gran_tamsd_plan_destroy(&plan);
     GRAN_CALL(st);
@@ -404,6 +413,12 @@ class DsmcEngine : public gran_engine {
     GRAN_CALL(gran_describe_(g.id, "lag", "time", "lag times used (whole sampling intervals)", file));
     GRAN_CALL(gran_h5::write_double(g.id, "tamsd", {nl, M}, ta.data(), file));
     GRAN_CALL(gran_describe_(g.id, "tamsd", "length^2", "time-averaged MSD of the tracers, averaged over the tracers of each species [lag][k]", file));
+    bool have_se = true; /* a species with one tracer has no spread: then no tamsd_se at all */
+    for (int64_t k = 0; k < M; k++) have_se = have_se && ntr[(size_t)k] != 1;
+    if (have_se) {
+      GRAN_CALL(gran_h5::write_double(g.id, "tamsd_se", {nl, M}, se.data(), file));
+      GRAN_CALL(gran_describe_(g.id, "tamsd_se", "length^2", "standard error of tamsd from the spread over the tracers of each species [lag][k]", file));
+    }
     GRAN_CALL(gran_h5::write_int64(g.id, "tracers", {M}, ntr.data(), file));
     GRAN_CALL(gran_describe_(g.id, "tracers", "1", "tracers per species in the TAMSD average", file));
     GRAN_CALL(gran_h5::attr_double(g.id, "t_meas", t_meas, file));
