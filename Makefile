@@ -53,20 +53,18 @@ $(CONFIG): Makefile
 	@echo "CMOCKA_LIBS := $$(pkg-config --libs cmocka)" >> $@.tmp
 	@mv $@.tmp $@
 
+# $(call apt_install,PACKAGES,WHO,ON_FAIL): apt-get install -y as root or with password-less sudo,
+# once more after an `apt-get update` when the package lists are stale; without either, print the
+# command to run and do ON_FAIL (exit 1: the target needs them; exit 0: optional). One shell line.
+apt_install = if [ "$$(id -u)" = 0 ]; then SUDO=; elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then SUDO=sudo; \
+	  else echo "$(2) needs Debian packages it cannot install without root. Run: sudo apt-get install -y $(1)" >&2; $(3); fi; \
+	  echo "$(2): installing $(1)$${SUDO:+ with sudo}"; \
+	  $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(1) >/dev/null || \
+	  { $$SUDO apt-get update -q >/dev/null && $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(1) >/dev/null; }
+
 deps:
 	@if ( $(DEPS_OK) ); then echo "deps: everything granary needs is installed"; \
-	elif [ "$$(id -u)" = 0 ]; then \
-	  echo "deps: installing $(DEB_PKGS)"; \
-	  DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(DEB_PKGS) >/dev/null || \
-	  { apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(DEB_PKGS) >/dev/null; }; \
-	elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then \
-	  echo "deps: installing $(DEB_PKGS) with sudo"; \
-	  sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(DEB_PKGS) >/dev/null || \
-	  { sudo apt-get update -q >/dev/null && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(DEB_PKGS) >/dev/null; }; \
-	else \
-	  echo "granary needs Debian packages it cannot install without root. Run:" >&2; \
-	  echo "  sudo apt-get install -y $(DEB_PKGS)" >&2; exit 1; \
-	fi
+	else $(call apt_install,$(DEB_PKGS),deps,exit 1); fi
 
 # ---- flags ------------------------------------------------------------------------------------
 WARN       := -Wall -Wextra
@@ -226,12 +224,14 @@ bench: $(BENCH_BIN) $(CLI)
 # FUZZ_SECONDS from the seed corpus in fuzz/corpus/NAME (new inputs go to build-fuzz/corpus/NAME,
 # crashes to build-fuzz/artifacts/).
 FUZZ_SECONDS ?= 60
+FUZZ_DEB_PKGS := clang libclang-rt-dev
 FUZZ_BUILD   := build-fuzz
 FUZZ_SAN     := -fsanitize=address,undefined -fno-sanitize-recover=all
 FUZZ_NAMES   := $(patsubst fuzz/fuzz_%.c,%,$(wildcard fuzz/fuzz_*.c))
 
 fuzz:
-	@command -v clang >/dev/null 2>&1 || { echo "make fuzz needs clang: apt-get install -y clang libclang-rt-dev" >&2; exit 1; }
+	@if ! command -v clang >/dev/null 2>&1; then $(call apt_install,$(FUZZ_DEB_PKGS),fuzz,exit 1); fi
+	@command -v clang >/dev/null 2>&1 || { echo "make fuzz: clang still missing ($(FUZZ_DEB_PKGS))" >&2; exit 1; }
 	@$(MAKE) --no-print-directory BUILD=$(FUZZ_BUILD) NVCC= CC=clang CXX=clang++ OPT="-O1 -g" \
 	  SAN="$(FUZZ_SAN) -fsanitize=fuzzer-no-link" $(FUZZ_BUILD)/libgranary.a
 	@mkdir -p $(FUZZ_BUILD)/artifacts
@@ -260,11 +260,7 @@ FIG_DEB_PKGS := python3-matplotlib python3-h5py python3-numpy
 FIG_PYTHON   ?= /usr/bin/python3
 FIG_OUT      ?= $(BUILD)/figures
 FIG_OK        = $(FIG_PYTHON) -c 'import matplotlib, h5py, numpy' >/dev/null 2>&1
-FIG_INSTALL   = if [ "$$(id -u)" = 0 ]; then SUDO=; elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then SUDO=sudo; \
-	  else echo "figures need: sudo apt-get install -y $(FIG_DEB_PKGS)" >&2; exit 1; fi; \
-	  echo "figures-deps: installing $(FIG_DEB_PKGS)"; \
-	  $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(FIG_DEB_PKGS) >/dev/null || \
-	  { $$SUDO apt-get update -q >/dev/null && $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(FIG_DEB_PKGS) >/dev/null; }
+FIG_INSTALL   = $(call apt_install,$(FIG_DEB_PKGS),figures,exit 1)
 
 .PHONY: figures figures-deps figures-deps-soft
 figures: figures-deps all
@@ -305,10 +301,7 @@ install-mpi: all
 deps: mpi-deps-soft
 mpi-deps-soft:
 	@if ! command -v mpicxx >/dev/null 2>&1; then \
-	  if [ "$$(id -u)" = 0 ]; then SUDO=; elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then SUDO=sudo; \
-	  else echo "deps: MPI not installed (only build/granary-mpi needs it): sudo apt-get install -y $(MPI_DEB_PKGS)"; exit 0; fi; \
-	  echo "deps: installing $(MPI_DEB_PKGS)"; \
-	  $$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(MPI_DEB_PKGS) >/dev/null || \
+	  ( $(call apt_install,$(MPI_DEB_PKGS),deps (MPI: only build/granary-mpi needs it),exit 0) ) || \
 	  echo "deps: MPI not installed (only build/granary-mpi needs it)"; fi
 -include $(shell find $(BUILD)/obj-mpi -name "*.d" 2>/dev/null)
 # ---- end MPI block ----

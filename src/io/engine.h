@@ -20,8 +20,11 @@
  * An engine never writes the output file's common parts and never prints.
  * Replicas: the driver creates one engine per replica (`[engine] replicas`), drives them in OpenMP
  * threads (different engine objects may run concurrently; one object is used by one thread at a
- * time), reduces the row buffers in replica order (mean and standard error) and calls
- * write_output on replica 0 only (its theory and species table serve all replicas).
+ * time) and, in build/granary-mpi, spreads them over the MPI processes (replica r on rank r mod P;
+ * src/io/run_comm.h: rank 0 gathers every replica's rows at each output time and writes the one
+ * checkpoint), reduces the row buffers in replica order (mean and standard error: bit for bit the
+ * same for any P and thread count) and calls write_output on replica 0 only (its theory and
+ * species table serve all replicas). An engine needs nothing of this: it never sees MPI.
  * Every method returns a granary status (GRAN_ERROR with a named message on failure). */
 #ifndef GRANARY_IO_ENGINE_H
 #define GRANARY_IO_ENGINE_H

@@ -1,4 +1,4 @@
-/* t606-run-driver.c - the run driver (src/io/run.cpp) around any engine: files compared by
+/* t613-run-driver.c - the run driver (src/io/run.cpp) around any engine: files compared by
  * identity (two spellings, a symbolic link, the scene file itself are refused before any work),
  * the default checkpoint follows the output path, a stopped run leaves its recorded rows in
  * OUTPUT.partial.h5 (equal to the first rows of the finished run), every dataset carries `units`
@@ -264,7 +264,7 @@ static void test_cli(void **state) {
 }
 
 int main(void) {
-  io_tmp("t606");
+  io_tmp("t613");
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_identity),
       cmocka_unit_test(test_checkpoint_follows_output_and_partial),

@@ -1,4 +1,4 @@
-/* b503-mpi.c - replicas over MPI processes: replicas per second on P = 1 and 2 processes of this
+/* b504-mpi.c - replicas over MPI processes: replicas per second on P = 1 and 2 processes of this
  * machine (build/granary-mpi under mpirun, one thread each), measured side by side in one run,
  * the bytes rank 0 gathers per output time (measured: the driver's count; model: R x row bytes),
  * and a model of the wall time on P machines.
@@ -79,7 +79,7 @@ static double row_bytes(const char *path, int R, int nt) {
 int main(void) {
   const char *cli = getenv("GRAN_MPI_CLI");
   if (!cli || !*cli || access(cli, X_OK) != 0 || system("command -v mpirun >/dev/null 2>&1") != 0) {
-    printf("b503-mpi: skipped (MPI not installed: no mpirun or build/granary-mpi)\n");
+    printf("b504-mpi: skipped (MPI not installed: no mpirun or build/granary-mpi)\n");
     return 0;
   }
   const int R = bench_quick() ? 16 : 64, nt = 3;
