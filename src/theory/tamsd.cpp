@@ -87,6 +87,27 @@ int integrate(TParams &P, double V, double rtol, gsl_integration_workspace *w, d
   return GRAN_SUCCESS;
 }
 
+/* What every TAMSD function needs: the HCS diffusion coefficients D_k and velocity correlation
+ * times tau_v,k (hcs_state), and a GSL quadrature workspace (released with the struct). */
+struct HcsTamsd {
+  std::vector<double> D, tv;
+  gsl_integration_workspace *w = nullptr;
+  HcsTamsd() = default;
+  HcsTamsd(const HcsTamsd &) = delete;
+  HcsTamsd &operator=(const HcsTamsd &) = delete;
+  ~HcsTamsd() {
+    if (w) gsl_integration_workspace_free(w);
+  }
+  int setup(const gran_mixture *mix, const double *T0, double tau0) {
+    D.resize((size_t)mix->M);
+    tv.resize((size_t)mix->M);
+    GRAN_CALL(hcs_state(mix, T0, tau0, D.data(), tv.data()));
+    w = gsl_integration_workspace_alloc(1000);
+    GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
+    return GRAN_SUCCESS;
+  }
+};
+
 int check_tamsd_args(const gran_mixture *mix, const double *T0, double tau0, double t_meas, int64_t nlag,
                      const double *lag, double rtol) {
   GRAN_CALL(check_hcs_args(mix, T0, tau0));
@@ -143,10 +164,10 @@ GRAN_EXTERN int gran_theory_tamsd_sampled(const gran_mixture *mix, const double 
       GRAN_CHECK(lag[j] >= 0 && lag[j] < nsamples, GRAN_ERR_ARG,
                  "argument 'lag[%" PRId64 "]' = %" PRId64 " outside [0, nsamples = %" PRId64 ")", j, lag[j], nsamples);
     const int64_t M = mix->M;
-    std::vector<double> D((size_t)M), tv((size_t)M);
-    GRAN_CALL(hcs_state(mix, T0, tau0, D.data(), tv.data()));
-    gsl_integration_workspace *w = gsl_integration_workspace_alloc(1000);
-    GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
+    HcsTamsd st;
+    GRAN_CALL(st.setup(mix, T0, tau0));
+    const std::vector<double> &D = st.D, &tv = st.tv;
+    gsl_integration_workspace *const w = st.w;
     int ret = GRAN_SUCCESS;
     for (int64_t j = 0; j < nlag && ret == GRAN_SUCCESS; j++) {
       const int64_t L = lag[j], n = nsamples - L;
@@ -186,7 +207,6 @@ GRAN_EXTERN int gran_theory_tamsd_sampled(const gran_mixture *mix, const double 
         tamsd[j * M + k] = val;
       }
     }
-    gsl_integration_workspace_free(w);
     return ret;
   }
   GRAN_CATCH
@@ -207,10 +227,10 @@ GRAN_EXTERN int gran_theory_tamsd(const gran_mixture *mix, const double *T0, dou
     if (nlag == 0) return GRAN_SUCCESS;
     GRAN_CHECK_PTR(tamsd);
     const int64_t M = mix->M;
-    std::vector<double> D((size_t)M), tv((size_t)M);
-    GRAN_CALL(hcs_state(mix, T0, tau0, D.data(), tv.data()));
-    gsl_integration_workspace *w = gsl_integration_workspace_alloc(1000);
-    GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
+    HcsTamsd st;
+    GRAN_CALL(st.setup(mix, T0, tau0));
+    const std::vector<double> &D = st.D, &tv = st.tv;
+    gsl_integration_workspace *const w = st.w;
     int ret = GRAN_SUCCESS;
     for (int64_t j = 0; j < nlag && ret == GRAN_SUCCESS; j++) {
       const double dl = lag[j], rest = t_meas - dl;
@@ -236,7 +256,6 @@ GRAN_EXTERN int gran_theory_tamsd(const gran_mixture *mix, const double *T0, dou
         tamsd[j * M + k] = val;
       }
     }
-    gsl_integration_workspace_free(w);
     return ret;
   }
   GRAN_CATCH
@@ -253,10 +272,10 @@ GRAN_EXTERN int gran_theory_tamsd_parts(const gran_mixture *mix, const double *T
     GRAN_CALL(check_tamsd_args(mix, T0, tau0, t_meas, nlag, lag, rtol));
     if (nlag == 0 || (!delta0 && !xi)) return GRAN_SUCCESS;
     const int64_t M = mix->M;
-    std::vector<double> D((size_t)M), tv((size_t)M);
-    GRAN_CALL(hcs_state(mix, T0, tau0, D.data(), tv.data()));
-    gsl_integration_workspace *w = gsl_integration_workspace_alloc(1000);
-    GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
+    HcsTamsd st;
+    GRAN_CALL(st.setup(mix, T0, tau0));
+    const std::vector<double> &D = st.D, &tv = st.tv;
+    gsl_integration_workspace *const w = st.w;
     int ret = GRAN_SUCCESS;
     for (int64_t j = 0; j < nlag && ret == GRAN_SUCCESS; j++) {
       const double dl = lag[j], rest = t_meas - dl;
@@ -284,7 +303,6 @@ GRAN_EXTERN int gran_theory_tamsd_parts(const gran_mixture *mix, const double *T
         if (xi) xi[j * M + k] = x;
       }
     }
-    gsl_integration_workspace_free(w);
     return ret;
   }
   GRAN_CATCH
