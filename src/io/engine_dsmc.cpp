@@ -77,20 +77,10 @@ class DsmcEngine : public gran_engine {
                                    &s_->cell, &sim_);
     return gran_dsmc_create(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt, &sim_);
   }
-  /* particles x (28 B state, +32 B displacement; gran_particles_memory) plus the engine's trees and
-   * speed classes (counted as 24 B per particle) and the trajectories */
+  /* one engine of this scene: gran_scene_dsmc_bytes_ (the estimate the scene check uses too) */
   int memory(int64_t *bytes) override {
-    std::vector<int64_t> c((size_t)s_->nspecies);
-    gran_dsmc_options opt;
-    GRAN_CALL(gran_scene_dsmc_options(s_, &opt, c.data(), nullptr));
-    double N = 0;
-    for (int64_t x : c) N += (double)x;
-    const double per = 28.0 + 24.0 + (s_->obs_msd ? 32.0 : 0.0) +
-                       (s_->selector == GRAN_SELECTOR_CELL ? 36.0 : 0.0); /* cell: positions, cell lists */
-    double b = N * per + (double)s_->nspecies * (double)s_->nspecies * 64.0;
-    if (s_->selector == GRAN_SELECTOR_CELL) /* cell selector: 48 B per cell */
-      b += 48.0 * (double)s_->cell.cells * (double)s_->cell.cells * (double)s_->cell.cells;
-    if (s_->obs_tamsd) b += (double)s_->nspecies * (double)s_->tamsd_tracers * (double)s_->tamsd_samples * 24.0;
+    gran_dsmc_bytes parts;
+    const double b = gran_scene_dsmc_bytes_(*s_, &parts);
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
     return GRAN_SUCCESS;
   }

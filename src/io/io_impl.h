@@ -97,6 +97,15 @@ struct gran_scene {
 int gran_scene_parse_text_(const std::string &text, const std::string &name, gran_scene **scene);
 /* Initial temperatures of the scene (HCS solved with the theory module when asked) and tau0. */
 int gran_scene_T0_(const gran_scene *s, const gran_mixture *mix, double *T0, double *tau0);
+/* Memory of one DSMC engine of this scene, in bytes, by part (the scene check at load time and the
+ * DSMC adapter's gran_engine::memory both use it): particles (28 B of state, +32 B of displacement
+ * with msd or tamsd, +24 B for the selector's trees and speed classes, +36 B of positions and cell
+ * lists and 48 B per cell for the cell selector), species arrays and trees, M x M tables where the
+ * scene asks for them, TAMSD trajectories. Returns the sum. */
+struct gran_dsmc_bytes {
+  double particles, species, pairs, trajectories;
+};
+double gran_scene_dsmc_bytes_(const gran_scene &s, gran_dsmc_bytes *b);
 
 /* h5.cpp: thin helpers. Every function returns a granary status; the file name goes in messages. */
 namespace gran_h5 {

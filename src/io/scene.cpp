@@ -401,35 +401,48 @@ std::string gb(double bytes) {
   return b;
 }
 
-/* The memory of the run this scene asks for, by part, against the limit: fail naming the key of
- * the largest part. Per particle: 28 B (+32 B with displacements, gran_particles_memory), twice
- * over while a checkpoint image is assembled; per species: scene, mixture, engine arrays and six
- * segment trees; M x M tables where the scene asks for them; the recorded rows of every output
- * time; trajectories for the TAMSD; the dense theory Jacobian (M <= 2048). */
-void check_memory(const gran_scene &s, double limit, Tab &mx, Tab &en, Tab &ob) {
-  const double M = (double)s.nspecies, nt = (double)s.times.size();
+}  // namespace
+
+double gran_scene_dsmc_bytes_(const gran_scene &s, gran_dsmc_bytes *b) {
+  const double M = (double)s.nspecies;
   double N = 0;
   for (int64_t k = 0; k < s.nspecies; k++)
     N += s.counts_kind == 0 ? (double)s.counts[(size_t)k] : std::nearbyint(s.density[(size_t)k] * s.volume);
   double pow2 = 1;
   while (pow2 < M) pow2 *= 2;
-  const bool disp = s.obs_msd || s.obs_tamsd;
-  const double per_particle = 28.0 + (disp ? 32.0 : 0.0);
+  const bool disp = s.obs_msd || s.obs_tamsd, cell = s.selector == GRAN_SELECTOR_CELL;
+  const double nc = cell ? (double)s.cell.cells : 0.0;
+  b->particles = N * (28.0 + 24.0 + (disp ? 32.0 : 0.0) + (cell ? 36.0 : 0.0)) + 48.0 * nc * nc * nc;
+  b->species = 8.0 * M * 40.0 + 6.0 * 2.0 * pow2 * 8.0;
+  b->pairs = (s.model == GRAN_RESTITUTION_MATRIX || s.g2_is_matrix || s.visco_kind == 1 ? 40.0 * M * M : 0.0) +
+             (s.obs_collision_counts ? 8.0 * M * M * 2.0 : 0.0);
+  b->trajectories = s.obs_tamsd ? 24.0 * (double)s.tamsd_tracers * M * (double)s.tamsd_samples : 0.0;
+  return b->particles + b->species + b->pairs + b->trajectories;
+}
+
+namespace {
+
+/* The memory of the run this scene asks for, by part, against the limit: fail naming the key of
+ * the largest part. One engine (gran_scene_dsmc_bytes_), its particles twice over while a
+ * checkpoint image is assembled and its trajectories twice while the TAMSD is computed; the
+ * recorded rows of every output time (M x M collision counts per time too); the dense theory
+ * Jacobian (M <= 2048). */
+void check_memory(const gran_scene &s, double limit, Tab &mx, Tab &en, Tab &ob) {
+  const double M = (double)s.nspecies, nt = (double)s.times.size();
+  gran_dsmc_bytes e;
+  gran_scene_dsmc_bytes_(s, &e);
   struct Part {
     const char *what;
     double bytes;
     Tab *tab;
     const char *key;
   } parts[] = {
-      {"particles", N * per_particle * (s.checkpoint_path.empty() ? 1.0 : 2.0), &en,
+      {"particles", e.particles * (s.checkpoint_path.empty() ? 1.0 : 2.0), &en,
        s.counts_kind == 0 ? "counts" : s.counts_kind == 1 ? "N1" : "volume"},
-      {"species arrays and trees", 8.0 * M * 40.0 + 6.0 * 2.0 * pow2 * 8.0, &mx, "nspecies"},
-      {"M x M tables", (s.model == GRAN_RESTITUTION_MATRIX || s.g2_is_matrix || s.visco_kind == 1 ? 40.0 * M * M : 0.0) +
-                           (s.obs_collision_counts ? 8.0 * M * M * (2.0 + nt) : 0.0),
-       &ob, "collision_counts"},
+      {"species arrays and trees", e.species, &mx, "nspecies"},
+      {"M x M tables", e.pairs + (s.obs_collision_counts ? 8.0 * M * M * nt : 0.0), &ob, "collision_counts"},
       {"recorded rows", nt * 8.0 * (10.0 + 4.0 * M + (s.obs_veldist ? M * (double)s.vd_bins : 0.0)), &ob, "times"},
-      {"trajectories", s.obs_tamsd ? 2.0 * 24.0 * (double)s.tamsd_tracers * M * (double)s.tamsd_samples : 0.0, &ob,
-       "tamsd"},
+      {"trajectories", 2.0 * e.trajectories, &ob, "tamsd"},
       {"theory", s.obs_theory ? (M <= 2048 ? 32.0 * M * M : 0.0) + 3.0 * nt * M * 8.0 : 0.0, &ob, "theory"},
   };
   double total = 0;
