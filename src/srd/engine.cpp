@@ -158,6 +158,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
   const double inv_vol = 1.0 / cellvol;
   const double wallT = o.wall_T > 0 ? o.wall_T : o.T0;
   const double n0 = o.n0;
+  const double ca = s->ca, sa = s->sa;
   double *part = s->part.data();
   /* slabs of the binning grid: runs of whole layers along its slowest axis (z in 3-D, y in 2-D), the
    * cells of a slab a contiguous index range. A slab holds about SRD_SLAB_CELLS cells (its
@@ -199,8 +200,10 @@ void do_steps(gran_srd *s, int64_t nsteps) {
    * particle order, so the sums are bit for bit those of one serial pass, for any thread count.
    * The cells of a chunk are computed first (no dependence between them), then the additions
    * (whose chain through a cell's sums is what the core waits for). */
-  auto slab_sums = [&](int64_t sl, int64_t c0, int64_t mc, srd_slab_cell *W, const srd_geom *g, const double *sh) {
+  auto slab_sums = [&](int64_t sl, int64_t c0, int64_t mc, srd_slab_cell *W, const srd_geom *g, const double *sh,
+                       uint32_t *pc) {
     for (int64_t c = 0; c < mc; ++c) srd_sum_clear(&W[c].s);
+    int64_t done = 0;
     slab_chunks(sl, [&](const int64_t *ib, int64_t m) {
       uint32_t cidx[SRD_CHUNK];
       double cdv[SRD_CHUNK];
@@ -215,8 +218,18 @@ void do_steps(gran_srd *s, int64_t nsteps) {
         if (LE) v[0] += cdv[j];
         srd_sum_add(&W[cidx[j]].s, v, cell[c0 + cidx[j]].V, DIM);
       }
+      if (pc) /* the cells for the rotation; the top bit: seen across the Lees-Edwards boundary */
+        for (int64_t j = 0; j < m; ++j) pc[done + j] = cidx[j] | (LE && cdv[j] != 0.0 ? 0x80000000u : 0u);
+      done += m;
     });
   };
+  /* particles in slab sl */
+  auto slab_count = [&](int64_t sl) {
+    int64_t k = 0;
+    for (int64_t b = 0; b < nb; ++b) k += off[b * srow + sl + 1] - off[b * srow + sl];
+    return k;
+  };
+  std::vector<std::vector<uint32_t>> pcell((size_t)nth); /* per thread: the slab's particles' cells */
 
   for (int64_t st = 0; st < nsteps; ++st) {
     srd_geom gm = s->gm;
@@ -315,7 +328,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
 #endif
         if ((int64_t)W.size() < slab_cells) W.resize((size_t)slab_cells);
         const int64_t c0 = sl * slab_cells, mc = std::min(ncell, c0 + slab_cells) - c0;
-        slab_sums(sl, c0, mc, W.data(), &gm, sh);
+        slab_sums(sl, c0, mc, W.data(), &gm, sh, nullptr);
         double e = 0.0, dof = 0.0;
         for (int64_t c = 0; c < mc; ++c) {
           const srd_cell_sum &cs = W[c].s;
@@ -352,7 +365,15 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       if ((int64_t)Wv.size() < slab_cells) Wv.resize((size_t)slab_cells);
       srd_slab_cell *W = Wv.data();
       const int64_t c0 = sl * slab_cells, mc = std::min(ncell, c0 + slab_cells) - c0;
-      slab_sums(sl, c0, mc, W, &gm, sh);
+#ifdef _OPENMP
+      std::vector<uint32_t> &pcv = pcell[(size_t)omp_get_thread_num()];
+#else
+      std::vector<uint32_t> &pcv = pcell[0];
+#endif
+      const int64_t np = slab_count(sl);
+      if ((int64_t)pcv.size() < np) pcv.resize((size_t)np);
+      uint32_t *pc = pcv.data();
+      slab_sums(sl, c0, mc, W, &gm, sh, pc);
       for (int64_t lc = 0; lc < mc; ++lc) {
         const int64_t c = c0 + lc;
         /* the sums are read into locals, then the same slot receives the collision record; its
@@ -416,25 +437,21 @@ void do_steps(gran_srd *s, int64_t nsteps) {
         }
         W[lc].rot = cr;
       }
-      /* rotate-and-scale the slab's particles (the cells of a chunk first, see slab_sums) */
+      /* rotate-and-scale the slab's particles (in the same order: their cells from slab_sums) */
       double de = 0.0, vir = 0.0, lew = 0.0;
+      int64_t done = 0;
       slab_chunks(sl, [&](const int64_t *ib, int64_t m) {
-        uint32_t cidx[SRD_CHUNK];
-        double cdv[SRD_CHUNK];
-        for (int64_t j = 0; j < m; ++j) {
-          const int64_t i = ib[j];
-          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-          cidx[j] = (uint32_t)(srd_bin(&gm, sh, p, &cdv[j]) - c0);
-        }
+        const uint32_t *pcc = pc + done;
+        done += m;
         for (int64_t j = 0; j < m; ++j) {
           const int64_t i = ib[j];
           double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-          const double dvx = LE ? cdv[j] : 0.0;
-          const srd_cell_rot &cr = W[cidx[j]].rot;
+          const double dvx = LE && (pcc[j] & 0x80000000u) ? -gm.le_dv : 0.0;
+          const srd_cell_rot &cr = W[pcc[j] & 0x7fffffffu].rot;
           if (LE) v[0] += dvx;
           const double e0 = DISSIP || WALL ? v[0] * v[0] + v[1] * v[1] + v[2] * v[2] : 0.0;
           const double vx0 = v[0];
-          if (cr.r[0] != 0.0 || cr.r[1] != 0.0 || cr.r[2] != 0.0) srd_rotate(v, &cr, s->ca, s->sa, DIM, DISSIP);
+          if (cr.r[0] != 0.0 || cr.r[1] != 0.0 || cr.r[2] != 0.0) srd_rotate(v, &cr, ca, sa, DIM, DISSIP);
           if (DISSIP || WALL) de += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - e0);
           if (LE) {
             const double yy = (dvx != 0.0) ? py[i] - gm.box[1] : py[i];
@@ -476,6 +493,8 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       std::vector<uint32_t> order((size_t)n);
       for (int64_t i = 0; i < n; ++i) order[start[perm[i]]++] = (uint32_t)i;
       perm.swap(order);
+      std::vector<uint32_t>().swap(order); /* the cells: not needed now (peak 4 B per particle less) */
+      std::vector<int64_t>().swap(start);
       std::vector<double> tmp((size_t)n);
       std::vector<double> *arr[6] = {&s->x, &s->y, &s->z, &s->vx, &s->vy, &s->vz};
       for (int q = 0; q < 6; ++q) {
@@ -572,6 +591,10 @@ int alloc_state(gran_srd *s) {
   g.le_dv = o.shear_rate * g.box[1];
   GRAN_CHECK(s->ncell < (int64_t)UINT32_MAX, GRAN_ERR_ARG, "options 'cells': %lld cells exceed 2^32",
              (long long)s->ncell);
+  /* a slab's cell indices take 31 bits in the step (the top bit marks the Lees-Edwards image) */
+  GRAN_CHECK(s->ncell / g.nc[o.dim - 1] < ((int64_t)1 << 30), GRAN_ERR_ARG,
+             "options 'cells': a layer of %lld cells across the last axis exceeds 2^30",
+             (long long)(s->ncell / g.nc[o.dim - 1]));
   const double nn = std::floor(o.n0 * (double)s->ncell_box + 0.5);
   GRAN_CHECK(nn >= 1 && nn < 4e9, GRAN_ERR_ARG, "options 'n0' x 'cells' give %g particles (need 1 .. 4e9)", nn);
   s->n = (int64_t)nn;

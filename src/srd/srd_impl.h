@@ -18,8 +18,8 @@
 struct srd_cpu_cell {
   double V[3];
 };
-/* Per-cell work record of one slab (thread-local): the sums while the slab's particles are binned,
- * then the collision record in the same bytes (the sums are read into locals first). */
+/* Per-cell work record of one slab (thread-local, 64 B): the sums while the slab's particles are
+ * binned, then the collision record in the same bytes (the sums are read into locals first). */
 union srd_slab_cell {
   srd_cell_sum s;
   srd_cell_rot rot;
