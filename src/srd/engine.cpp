@@ -163,8 +163,8 @@ void do_steps(gran_srd *s, int64_t nsteps) {
   /* slabs of the binning grid: runs of whole layers along its slowest axis (z in 3-D, y in 2-D), the
    * cells of a slab a contiguous index range. A slab holds about SRD_SLAB_CELLS cells (its
    * particles are then read nearly in order from the few blocks that hold them, and its particles
-   * stay in cache between the sums and the rotation), but a box has at least SRD_MIN_SLABS slabs
-   * where it has that many layers and at most SRD_MAX_SLABS. The slabs depend on the geometry
+   * stay in cache between the sums and the rotation), but no slab is thicker than 1 / SRD_MIN_SLABS
+   * of the layers (rounded up), and there are at most SRD_MAX_SLABS. The slabs depend on the geometry
    * only, never on the thread count. */
   const int64_t nlayer = s->gm.nc[DIM - 1], layer_cells = ncell / nlayer;
   int64_t lps = std::min((SRD_SLAB_CELLS + layer_cells - 1) / layer_cells, (nlayer + SRD_MIN_SLABS - 1) / SRD_MIN_SLABS);

@@ -98,8 +98,8 @@ inline void srd_refs_set(gran_srd *s, const double *in) {
 }
 
 #define SRD_BLOCK 4096 /* <= 65535: slab_list / slab_off hold offsets inside a block as uint16_t */
-/* slabs of the binning grid (engine.cpp): about SRD_SLAB_CELLS cells each, at least SRD_MIN_SLABS
- * of them where the grid has that many layers, at most SRD_MAX_SLABS (slab indices fit uint8_t) */
+/* slabs of the binning grid (engine.cpp): about SRD_SLAB_CELLS cells each, no thicker than
+ * 1 / SRD_MIN_SLABS of the layers (rounded up), at most SRD_MAX_SLABS (slab indices fit uint8_t) */
 #define SRD_SLAB_CELLS 4096
 #define SRD_MIN_SLABS 8
 #define SRD_MAX_SLABS 256
