@@ -3,8 +3,10 @@
  * (a model count of the passes, stated below) against a memory-copy roofline measured in the same
  * run; the cost of each effect on/off (32^3); memory per particle; the set-up time of the per-cell
  * RNG streams. Anchor: HOOMD-blue MPCD ~7e6 particle-steps/s per CPU core; target 2e7 per core.
- * Bytes per particle-step of the model: stream r+w 48+48, bin r 24 w 4, sums r 4+24 (+cell),
- * collide r 4+24 (+cell) w 24 -> about 204 B. */
+ * Bytes per particle-step of the model (the passes of src/srd/engine.cpp): stream r+w 48+48 and
+ * the block's slab list w 2; per slab: sums r 2 (list) + 48 (positions and velocities), rotation
+ * r 2 + 48, w 24 (velocities) -> 222 B (the rotation's second read of a slab's particles, 2 MB at
+ * n0 = 10, is counted although it often still comes from cache). */
 #include "bench_util.h"
 
 #include <math.h>
@@ -51,23 +53,29 @@ static double heap_now(void) {
   return (double)mi.uordblks + (double)mi.hblkhd;
 }
 
-/* measured memory per particle: heap growth over create + 2 steps (1 thread: no slab lists;
- * all threads: with the 4 B per particle lists of the parallel cell sums) */
+/* measured memory per particle: heap growth over create + 2 steps over N, 1 thread and all threads,
+ * at n0 = 5, 10, 20; model: 48 B of positions and velocities + 2 B slab list per particle + 56 B
+ * per cell (24 B reference velocity + 32 B RNG state) / n0 (the slab starts of each block of 4096
+ * particles and the thread-local slab records are below 0.1 B per particle here) */
 static void memory_per_particle(gran_srd_options o) {
-  for (int t = 0; t < 2; ++t) {
-    o.threads = t == 0 ? 1 : 0;
-    const double r0 = heap_now();
-    gran_srd *s = NULL;
-    BENCH_CHECK(gran_srd_create(&o, &s));
-    BENCH_CHECK(gran_srd_advance(s, 2));
-    const double r1 = heap_now();
-    gran_srd_obs ob;
-    BENCH_CHECK(gran_srd_observe(s, &ob));
-    printf("memory per particle (%lld^3 cells, n0 = %g, %s): %.1f B measured (heap in use / N); "
-           "model 48 B particle state + 96 B per cell / n0 = %.1f B%s\n",
-           (long long)o.cells[0], o.n0, t == 0 ? "1 thread" : "all threads", (r1 - r0) / (double)ob.n,
-           48.0 + 96.0 / o.n0, t == 0 ? "" : " + 4 B slab list");
-    BENCH_CHECK(gran_srd_destroy(&s));
+  const double n0s[3] = {5, 10, 20};
+  for (int k = 0; k < 3; ++k) {
+    o.n0 = n0s[k];
+    for (int t = 0; t < 2; ++t) {
+      o.threads = t == 0 ? 1 : 0;
+      const double r0 = heap_now();
+      gran_srd *s = NULL;
+      BENCH_CHECK(gran_srd_create(&o, &s));
+      BENCH_CHECK(gran_srd_advance(s, 2));
+      const double r1 = heap_now();
+      gran_srd_obs ob;
+      BENCH_CHECK(gran_srd_observe(s, &ob));
+      printf("memory per particle (%lld^3 cells, n0 = %g, %s): %.1f B measured (heap in use / N); "
+             "model 48 B particle state + 2 B slab list + 56 B per cell / n0 = %.1f B\n",
+             (long long)o.cells[0], o.n0, t == 0 ? "1 thread" : "all threads", (r1 - r0) / (double)ob.n,
+             50.0 + 56.0 / o.n0);
+      BENCH_CHECK(gran_srd_destroy(&s));
+    }
   }
 }
 
@@ -191,7 +199,7 @@ int main(void) {
   BENCH_CHECK(gran_srd_options_default(&o));
   o.n0 = 10;
   const double bw = copy_bw((size_t)1 << 28);
-  const double model_bytes = 204.0;
+  const double model_bytes = 222.0;
   printf("b801-srd: GSRD 3-D, n0 = 10 (machine may be shared: compare ratios within this run)\n");
   printf("memory copy: %.3g GB/s (read + write); roofline at %.0f B/particle-step: %.3g particle-steps/s\n",
          bw * 1e-9, model_bytes, bw / model_bytes);

@@ -417,8 +417,8 @@ int dev_start(gran_srd *s, int32_t device) {
   gran_srd_dev_free(s->dev.p);
   s->dev.p = d;
   /* the CPU engine's step buffers are not used while the run is on a device */
-  std::vector<uint32_t>().swap(s->slab_list);
-  std::vector<int64_t>().swap(s->slab_off);
+  decltype(s->slab_list)().swap(s->slab_list);
+  decltype(s->slab_off)().swap(s->slab_off);
   std::vector<double>().swap(s->part);
   return GRAN_SUCCESS;
 }

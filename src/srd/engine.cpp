@@ -1,13 +1,15 @@
 /* engine.cpp - GSRD CPU engine: set-up, the step loop, observables, checkpoints.
  *
- * One step: (1) stream, wall reflection, periodic/Lees-Edwards wrap, kinetic momentum flux
- * (parallel over particles); (2) draw the grid shift (stream 0); (3) + (4) bin every particle
- * under the shift and accumulate the cell sums relative to the reference velocity, each cell in
- * particle order (serial with 1 thread, slab lists in parallel otherwise: the sums are bit for bit
- * the same for any thread count); (5) per cell: moments,
- * eps_eff, random axis, thermostat, virtual particles (parallel over cells, each cell's own RNG
- * stream); (6) rotate-and-scale (parallel over particles). Global sums use fixed blocks of
- * SRD_BLOCK particles added in block order (independent of the thread count).
+ * One step: (1) draw the grid shift (stream 0); (2) stream, wall reflection, periodic/Lees-Edwards
+ * wrap, kinetic momentum flux (parallel over fixed blocks of SRD_BLOCK particles), and each block
+ * lists its particles by slab of the shifted binning grid (2 B per particle); (3) only with the
+ * global thermostat: a pass over the slabs for its one factor; (4) per slab (parallel over slabs,
+ * each slab's cells in thread-local records): the cell sums relative to the reference velocity,
+ * each cell in particle order (bit for bit the same for any thread count), then per cell moments,
+ * eps_eff, random axis, thermostat, virtual particles (each cell's own RNG stream), then
+ * rotate-and-scale of the slab's particles. Per cell only the reference velocity (24 B) and the
+ * RNG state (32 B) persist. Global sums use fixed blocks of SRD_BLOCK particles (streaming) or the
+ * slabs (collisions) added in order (independent of the thread count).
  * Templates: DIM, DISSIP (eps < 1 or thermostat), LE, WALL, ACCEL; an effect that is off is
  * compiled out of the loops.
  */
@@ -156,7 +158,78 @@ void do_steps(gran_srd *s, int64_t nsteps) {
   const double inv_vol = 1.0 / cellvol;
   const double wallT = o.wall_T > 0 ? o.wall_T : o.T0;
   const double n0 = o.n0;
+  const double ca = s->ca, sa = s->sa;
   double *part = s->part.data();
+  /* slabs of the binning grid: runs of whole layers along its slowest axis (z in 3-D, y in 2-D), the
+   * cells of a slab a contiguous index range. A slab holds about SRD_SLAB_CELLS cells (its
+   * particles are then read nearly in order from the few blocks that hold them, and its particles
+   * stay in cache between the sums and the rotation), but no slab is thicker than 1 / SRD_MIN_SLABS
+   * of the layers (rounded up), and there are at most SRD_MAX_SLABS. The slabs depend on the geometry
+   * only, never on the thread count. */
+  const int64_t nlayer = s->gm.nc[DIM - 1], layer_cells = ncell / nlayer;
+  int64_t lps = std::min((SRD_SLAB_CELLS + layer_cells - 1) / layer_cells, (nlayer + SRD_MIN_SLABS - 1) / SRD_MIN_SLABS);
+  lps = std::max<int64_t>({lps, 1, (nlayer + SRD_MAX_SLABS - 1) / SRD_MAX_SLABS});
+  const int64_t slab_cells = lps * layer_cells, nslab = (nlayer + lps - 1) / lps;
+  std::vector<uint8_t> layer_slab((size_t)nlayer); /* slab of each layer (nslab <= 256) */
+  for (int64_t l = 0; l < nlayer; ++l) layer_slab[(size_t)l] = (uint8_t)(l / lps);
+  const int64_t srow = nslab + 1; /* slab starts per block */
+  s->slab_list.resize((size_t)n);
+  s->slab_off.resize((size_t)(nb * srow));
+  uint16_t *list = s->slab_list.data(), *off = s->slab_off.data();
+  std::vector<double> spart((size_t)nslab * 4, 0.0); /* per-slab partials of the collisions */
+  std::vector<std::vector<srd_slab_cell>> work((size_t)nth); /* per-thread slab cell records */
+  /* the particles of slab sl in increasing index order (blocks in order, each block's list in
+   * increasing order), handed to f in chunks of up to SRD_CHUNK indices */
+  auto slab_chunks = [&](int64_t sl, auto &&f) {
+    int64_t ib[SRD_CHUNK];
+    int64_t m = 0;
+    for (int64_t b = 0; b < nb; ++b) {
+      const uint16_t *row = off + b * srow;
+      const int64_t base = b * SRD_BLOCK;
+      for (int64_t k = row[sl]; k < row[sl + 1]; ++k) {
+        ib[m++] = base + list[base + k];
+        if (m == SRD_CHUNK) {
+          f(ib, m);
+          m = 0;
+        }
+      }
+    }
+    if (m > 0) f(ib, m);
+  };
+  /* the cell sums of slab sl (cells c0 ..) into W: every cell adds its particles in increasing
+   * particle order, so the sums are bit for bit those of one serial pass, for any thread count.
+   * The cells of a chunk are computed first (no dependence between them), then the additions
+   * (whose chain through a cell's sums is what the core waits for). */
+  auto slab_sums = [&](int64_t sl, int64_t c0, int64_t mc, srd_slab_cell *W, const srd_geom *g, const double *sh,
+                       uint32_t *pc) {
+    for (int64_t c = 0; c < mc; ++c) srd_sum_clear(&W[c].s);
+    int64_t done = 0;
+    slab_chunks(sl, [&](const int64_t *ib, int64_t m) {
+      uint32_t cidx[SRD_CHUNK];
+      double cdv[SRD_CHUNK];
+      for (int64_t j = 0; j < m; ++j) {
+        const int64_t i = ib[j];
+        const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+        cidx[j] = (uint32_t)(srd_bin(g, sh, p, &cdv[j]) - c0);
+      }
+      for (int64_t j = 0; j < m; ++j) {
+        const int64_t i = ib[j];
+        double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+        if (LE) v[0] += cdv[j];
+        srd_sum_add(&W[cidx[j]].s, v, cell[c0 + cidx[j]].V, DIM);
+      }
+      if (pc) /* the cells for the rotation; the top bit: seen across the Lees-Edwards boundary */
+        for (int64_t j = 0; j < m; ++j) pc[done + j] = cidx[j] | (LE && cdv[j] != 0.0 ? 0x80000000u : 0u);
+      done += m;
+    });
+  };
+  /* particles in slab sl */
+  auto slab_count = [&](int64_t sl) {
+    int64_t k = 0;
+    for (int64_t b = 0; b < nb; ++b) k += off[b * srow + sl + 1] - off[b * srow + sl];
+    return k;
+  };
+  std::vector<std::vector<uint32_t>> pcell((size_t)nth); /* per thread: the slab's particles' cells */
 
   for (int64_t st = 0; st < nsteps; ++st) {
     srd_geom gm = s->gm;
@@ -168,7 +241,12 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     if (WALL) {
       gm.wall_u_lo = o.vib_amp * o.vib_omega * std::cos(o.vib_omega * (s->time + dt));
     }
-    /* (1) stream */
+    /* (1) grid shift of this step's collision (stream 0, which nothing else draws from: drawn
+     * before the streaming so that the streaming pass can bin under it) */
+    for (int k = 0; k < 3; ++k) s->shift[k] = k < DIM ? srd_rng_uniform(&s->shift_rng) * o.a : 0.0;
+    const double sh[3] = {s->shift[0], s->shift[1], s->shift[2]};
+    /* (2) stream; each fixed block of SRD_BLOCK particles then lists its particles by slab of the
+     * shifted binning grid (a counting sort inside the block, increasing order in each slab) */
     {
       const double ga[3] = {o.accel[0], o.accel[1], o.accel[2]};
       const double rate = o.shear_rate, hy = 0.5 * gm.box[1];
@@ -176,6 +254,9 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       for (int64_t b = 0; b < nb; ++b) {
         const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
         double flux = 0.0, ext = 0.0, imp = 0.0;
+        uint16_t *row = off + b * srow;
+        for (int64_t k = 0; k < srow; ++k) row[k] = 0;
+        uint32_t sid[SRD_BLOCK];
         for (int64_t i = lo; i < hi; ++i) {
           double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
           double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
@@ -208,7 +289,14 @@ void do_steps(gran_srd *s, int64_t nsteps) {
             pz[i] = p[2];
             vz[i] = v[2];
           }
+          const uint32_t sl = layer_slab[srd_bin_layer(&gm, sh, p)];
+          sid[i - lo] = sl;
+          row[sl + 1] += 1;
         }
+        for (int64_t k = 1; k < srow; ++k) row[k] = (uint16_t)(row[k] + row[k - 1]);
+        uint16_t cur[SRD_MAX_SLABS + 1];
+        for (int64_t k = 0; k < nslab; ++k) cur[k] = row[k];
+        for (int64_t i = lo; i < hi; ++i) list[lo + cur[sid[i - lo]]++] = (uint16_t)(i - lo);
         part[4 * b] = flux;
         part[4 * b + 1] = ext;
         part[4 * b + 2] = imp;
@@ -222,223 +310,169 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       }
     }
     s->time += dt;
-    /* (2) shift */
-    for (int k = 0; k < 3; ++k) s->shift[k] = k < DIM ? srd_rng_uniform(&s->shift_rng) * o.a : 0.0;
-    const double sh[3] = {s->shift[0], s->shift[1], s->shift[2]};
-    /* (3) + (4) bin and sum. Every cell adds its particles in increasing particle order, so the
-     * sums are bit for bit those of a serial pass, for any thread count. The cell index is not
-     * stored (4 B per particle less): it is recomputed where needed.
-     * 1 thread: one serial pass. More: the binning grid is cut into slabs along its slowest axis
-     * (z in 3-D, y in 2-D; a cell lies in one slab); fixed blocks of SRD_BLOCK particles count
-     * their particles per slab, a prefix sum in (slab, block) order gives each block its places,
-     * the blocks write their particle indices into the slab lists (increasing order inside each
-     * slab), and the slabs are summed in parallel. */
-#pragma omp parallel for schedule(static) num_threads(nth)
-    for (int64_t c = 0; c < ncell; ++c) srd_sum_clear(&cell[c].acc.s);
-    const int64_t nslab = gm.nc[DIM - 1], slab_cells = ncell / nslab;
-    if (nth > 1 && nslab > 1) {
-      std::vector<int64_t> &bs = s->slab_off;
-      std::vector<uint32_t> &list = s->slab_list;
-      bs.assign((size_t)(nb * nslab), 0);
-      list.resize((size_t)n);
-      std::vector<int64_t> start((size_t)nslab + 1, 0);
-#pragma omp parallel for schedule(static) num_threads(nth)
-      for (int64_t b = 0; b < nb; ++b) {
-        int64_t *cb = &bs[(size_t)(b * nslab)];
-        for (int64_t i = b * SRD_BLOCK; i < std::min(n, (b + 1) * SRD_BLOCK); ++i) {
-          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-          double dvx;
-          cb[srd_bin(&gm, sh, p, &dvx) / slab_cells] += 1;
-        }
-      }
-      int64_t run = 0;
-      for (int64_t sl = 0; sl < nslab; ++sl) {
-        start[sl] = run;
-        for (int64_t b = 0; b < nb; ++b) {
-          const int64_t k = bs[(size_t)(b * nslab + sl)];
-          bs[(size_t)(b * nslab + sl)] = run;
-          run += k;
-        }
-      }
-      start[nslab] = run;
-#pragma omp parallel for schedule(static) num_threads(nth)
-      for (int64_t b = 0; b < nb; ++b) {
-        int64_t *ob = &bs[(size_t)(b * nslab)];
-        for (int64_t i = b * SRD_BLOCK; i < std::min(n, (b + 1) * SRD_BLOCK); ++i) {
-          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-          double dvx;
-          list[(size_t)(ob[srd_bin(&gm, sh, p, &dvx) / slab_cells]++)] = (uint32_t)i;
-        }
-      }
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
-      for (int64_t sl = 0; sl < nslab; ++sl) {
-        for (int64_t k = start[sl]; k < start[sl + 1]; ++k) {
-          const int64_t i = list[(size_t)k];
-          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-          double dvx;
-          const int64_t c = srd_bin(&gm, sh, p, &dvx);
-          double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-          if (LE) v[0] += dvx;
-          srd_sum_add(&cell[c].acc.s, v, cell[c].acc.V, DIM);
-        }
-      }
-    } else {
-      /* chunks: the cells of SRD_CHUNK particles first (no dependence between them), then the
-       * additions (whose chain through a cell's sums is what the core waits for) */
-      uint32_t cidx[SRD_CHUNK];
-      double cdv[SRD_CHUNK];
-      for (int64_t lo = 0; lo < n; lo += SRD_CHUNK) {
-        const int64_t m = std::min<int64_t>(SRD_CHUNK, n - lo);
-        for (int64_t j = 0; j < m; ++j) {
-          const int64_t i = lo + j;
-          const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-          cidx[j] = (uint32_t)srd_bin(&gm, sh, p, &cdv[j]);
-        }
-        for (int64_t j = 0; j < m; ++j) {
-          const int64_t i = lo + j;
-          srd_cpu_cell &ce = cell[cidx[j]];
-          double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-          if (LE) v[0] += cdv[j];
-          srd_sum_add(&ce.acc.s, v, ce.acc.V, DIM);
-        }
-      }
-    }
-    /* (5a) global profile-unbiased thermostat (thermostat = 2): one factor for the thermal
+    /* (3) global profile-unbiased thermostat (thermostat = 2): one factor for the thermal
      * velocities of every cell, relative to the cell means (so the shear profile is not heated or
-     * cooled), that makes the thermal energy d T0 sum (n_c - 1) / 2. Cell partials in fixed blocks,
-     * added in block order: the same factor for any thread count. */
+     * cooled), that makes the thermal energy d T0 sum (n_c - 1) / 2. It needs every cell's sums
+     * before any cell collides: a first pass over the slabs (only with this thermostat) sums the
+     * cells and adds their thermal energies per slab; the slab partials are added in slab order
+     * (the same factor for any thread count). */
     double gscale = 1.0;
     if (DISSIP && o.thermostat == 2) {
-      const int64_t ncb = (ncell + SRD_BLOCK - 1) / SRD_BLOCK;
-      std::vector<double> tp((size_t)ncb * 2, 0.0);
-#pragma omp parallel for schedule(static) num_threads(nth)
-      for (int64_t b = 0; b < ncb; ++b) {
+      std::vector<double> tp((size_t)nslab * 2, 0.0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
+      for (int64_t sl = 0; sl < nslab; ++sl) {
+#ifdef _OPENMP
+        std::vector<srd_slab_cell> &W = work[(size_t)omp_get_thread_num()];
+#else
+        std::vector<srd_slab_cell> &W = work[0];
+#endif
+        if ((int64_t)W.size() < slab_cells) W.resize((size_t)slab_cells);
+        const int64_t c0 = sl * slab_cells, mc = std::min(ncell, c0 + slab_cells) - c0;
+        slab_sums(sl, c0, mc, W.data(), &gm, sh, nullptr);
         double e = 0.0, dof = 0.0;
-        for (int64_t c = b * SRD_BLOCK; c < std::min(ncell, (b + 1) * SRD_BLOCK); ++c) {
-          const srd_cell_sum &cs = cell[c].acc.s;
+        for (int64_t c = 0; c < mc; ++c) {
+          const srd_cell_sum &cs = W[c].s;
           if (cs.n < 2) continue;
           double V[3], th;
-          srd_cell_moments(&cs, cell[c].acc.V, DIM, V, &th);
+          srd_cell_moments(&cs, cell[c0 + c].V, DIM, V, &th);
           e += (double)(DIM * cs.n) * th;
           dof += (double)(DIM * (cs.n - 1));
         }
-        tp[2 * b] = e;
-        tp[2 * b + 1] = dof;
+        tp[2 * sl] = e;
+        tp[2 * sl + 1] = dof;
       }
       double e = 0.0, dof = 0.0;
-      for (int64_t b = 0; b < ncb; ++b) {
-        e += tp[2 * b];
-        dof += tp[2 * b + 1];
+      for (int64_t sl = 0; sl < nslab; ++sl) {
+        e += tp[2 * sl];
+        dof += tp[2 * sl + 1];
       }
       if (e > 0.0) gscale = std::sqrt(dof * o.T0 / e);
     }
-    /* (5) per cell */
+    /* (4) collision, slab by slab (parallel over slabs): the slab's cell sums relative to the
+     * reference velocities, then per cell the moments, eps_eff, random axis (the cell's own RNG
+     * stream), thermostat and virtual particles into the slab's thread-local records (the new
+     * mean becomes the cell's reference), then rotate-and-scale of the slab's particles. Only the
+     * reference velocities and the RNG states persist per cell. */
     int64_t nclamp = 0;
     double dtmax = INFINITY;
-#pragma omp parallel for schedule(static) num_threads(nth) reduction(+ : nclamp) reduction(min : dtmax)
-    for (int64_t c = 0; c < ncell; ++c) {
-      /* the sums are read into locals, then the same slot receives the collision record; its
-       * V (the cell mean, or the old reference in an empty cell) is next step's reference */
-      const srd_cell_sum csum = cell[c].acc.s;
-      double V[3], th;
-      srd_cell_moments(&csum, cell[c].acc.V, DIM, V, &th);
-      const int64_t nc = csum.n;
-      if (nc == 0)
-        for (int k = 0; k < 3; ++k) V[k] = cell[c].acc.V[k];
-      srd_cell_rot cr;
-      cr.f = 1.0;
-      cr.g = 1.0;
-      if (WALL) {
-        int lo;
-        if (srd_cell_cut(&gm, sh, c, &lo) && (double)nc < n0) {
-          /* virtual particles (Sec. 1.3.5.5): n0 - n of them, Maxwellian about the wall velocity */
-          const double m = std::floor(n0 - (double)nc + 0.5);
-          if (m > 0) {
-            const double *ut = lo ? gm.wall_t_lo : gm.wall_t_hi;
-            const double uw = lo ? gm.wall_u_lo : gm.wall_u_hi;
-            const double sd = std::sqrt(m * wallT);
-            for (int k = 0; k < DIM; ++k) {
-              const double u = (k == gm.wall_axis) ? uw : ut[k];
-              V[k] = ((double)nc * V[k] + m * u + sd * srd_rng_normal(&rng[c])) / ((double)nc + m);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nth) reduction(+ : nclamp) reduction(min : dtmax)
+    for (int64_t sl = 0; sl < nslab; ++sl) {
+#ifdef _OPENMP
+      std::vector<srd_slab_cell> &Wv = work[(size_t)omp_get_thread_num()];
+#else
+      std::vector<srd_slab_cell> &Wv = work[0];
+#endif
+      if ((int64_t)Wv.size() < slab_cells) Wv.resize((size_t)slab_cells);
+      srd_slab_cell *W = Wv.data();
+      const int64_t c0 = sl * slab_cells, mc = std::min(ncell, c0 + slab_cells) - c0;
+#ifdef _OPENMP
+      std::vector<uint32_t> &pcv = pcell[(size_t)omp_get_thread_num()];
+#else
+      std::vector<uint32_t> &pcv = pcell[0];
+#endif
+      const int64_t np = slab_count(sl);
+      if ((int64_t)pcv.size() < np) pcv.resize((size_t)np);
+      uint32_t *pc = pcv.data();
+      slab_sums(sl, c0, mc, W, &gm, sh, pc);
+      for (int64_t lc = 0; lc < mc; ++lc) {
+        const int64_t c = c0 + lc;
+        /* the sums are read into locals, then the same slot receives the collision record; its
+         * V (the cell mean, or the old reference in an empty cell) is next step's reference */
+        const srd_cell_sum csum = W[lc].s;
+        double V[3], th;
+        srd_cell_moments(&csum, cell[c].V, DIM, V, &th);
+        const int64_t nc = csum.n;
+        if (nc == 0)
+          for (int k = 0; k < 3; ++k) V[k] = cell[c].V[k];
+        srd_cell_rot cr;
+        cr.f = 1.0;
+        cr.g = 1.0;
+        if (WALL) {
+          int lo;
+          if (srd_cell_cut(&gm, sh, c, &lo) && (double)nc < n0) {
+            /* virtual particles (Sec. 1.3.5.5): n0 - n of them, Maxwellian about the wall velocity */
+            const double m = std::floor(n0 - (double)nc + 0.5);
+            if (m > 0) {
+              const double *ut = lo ? gm.wall_t_lo : gm.wall_t_hi;
+              const double uw = lo ? gm.wall_u_lo : gm.wall_u_hi;
+              const double sd = std::sqrt(m * wallT);
+              for (int k = 0; k < DIM; ++k) {
+                const double u = (k == gm.wall_axis) ? uw : ut[k];
+                V[k] = ((double)nc * V[k] + m * u + sd * srd_rng_normal(&rng[c])) / ((double)nc + m);
+              }
             }
           }
         }
-      }
-      for (int k = 0; k < 3; ++k) cr.V[k] = V[k];
-      if (nc < 2) {
-        cr.r[0] = cr.r[1] = cr.r[2] = 0.0; /* no collision in this cell */
-        cr.f = cr.g = 1.0;
-        cell[c].rot = cr;
-        continue;
-      }
-      srd_draw_axis(&rng[c], DIM, cr.r);
-      if (DISSIP) {
-        double f = 1.0;
-        if (o.eps < 1.0) {
-          int cl;
-          const double rho = (double)nc * inv_vol;
-          f = srd_eps_eff(f_eps, rho, th, &cl);
-          if (cl) {
-            ++nclamp;
-            dtmax = std::min(dtmax, srd_dt_max(f_eps / dt, rho, th));
+        for (int k = 0; k < 3; ++k) cr.V[k] = cell[c].V[k] = V[k];
+        if (nc < 2) {
+          cr.r[0] = cr.r[1] = cr.r[2] = 0.0; /* no collision in this cell */
+          cr.f = cr.g = 1.0;
+          W[lc].rot = cr;
+          continue;
+        }
+        srd_draw_axis(&rng[c], DIM, cr.r);
+        if (DISSIP) {
+          double f = 1.0;
+          if (o.eps < 1.0) {
+            int cl;
+            const double rho = (double)nc * inv_vol;
+            f = srd_eps_eff(f_eps, rho, th, &cl);
+            if (cl) {
+              ++nclamp;
+              dtmax = std::min(dtmax, srd_dt_max(f_eps / dt, rho, th));
+            }
           }
+          double sc = 1.0;
+          if (o.thermostat == 2) {
+            sc = gscale;
+          } else if (o.thermostat == 1 && th > 0.0) {
+            /* cell-level MB thermostat: kinetic energy of the d (n - 1) thermal dof redrawn */
+            const double k = 0.5 * DIM * (double)(nc - 1);
+            const double enew = srd_rng_gamma(&rng[c], k) * o.T0;
+            const double eold = 0.5 * DIM * (double)nc * th;
+            sc = std::sqrt(enew / eold);
+          }
+          cr.f = f * sc;
+          cr.g = sc;
         }
-        double sc = 1.0;
-        if (o.thermostat == 2) {
-          sc = gscale;
-        } else if (o.thermostat == 1 && th > 0.0) {
-          /* cell-level MB thermostat: kinetic energy of the d (n - 1) thermal dof redrawn */
-          const double k = 0.5 * DIM * (double)(nc - 1);
-          const double enew = srd_rng_gamma(&rng[c], k) * o.T0;
-          const double eold = 0.5 * DIM * (double)nc * th;
-          sc = std::sqrt(enew / eold);
-        }
-        cr.f = f * sc;
-        cr.g = sc;
+        W[lc].rot = cr;
       }
-      cell[c].rot = cr;
+      /* rotate-and-scale the slab's particles (in the same order: their cells from slab_sums) */
+      double de = 0.0, vir = 0.0, lew = 0.0;
+      int64_t done = 0;
+      slab_chunks(sl, [&](const int64_t *ib, int64_t m) {
+        const uint32_t *pcc = pc + done;
+        done += m;
+        for (int64_t j = 0; j < m; ++j) {
+          const int64_t i = ib[j];
+          double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+          const double dvx = LE && (pcc[j] & 0x80000000u) ? -gm.le_dv : 0.0;
+          const srd_cell_rot &cr = W[pcc[j] & 0x7fffffffu].rot;
+          if (LE) v[0] += dvx;
+          const double e0 = DISSIP || WALL ? v[0] * v[0] + v[1] * v[1] + v[2] * v[2] : 0.0;
+          const double vx0 = v[0];
+          if (cr.r[0] != 0.0 || cr.r[1] != 0.0 || cr.r[2] != 0.0) srd_rotate(v, &cr, ca, sa, DIM, DISSIP);
+          if (DISSIP || WALL) de += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - e0);
+          if (LE) {
+            const double yy = (dvx != 0.0) ? py[i] - gm.box[1] : py[i];
+            vir += (v[0] - vx0) * yy;
+            lew -= dvx * (v[0] - vx0); /* lab-frame energy change minus the cell-frame one */
+            v[0] -= dvx;
+          }
+          vx[i] = v[0];
+          vy[i] = v[1];
+          if (DIM == 3) vz[i] = v[2];
+        }
+      });
+      spart[(size_t)(4 * sl)] = de;
+      spart[(size_t)(4 * sl + 1)] = vir;
+      spart[(size_t)(4 * sl + 2)] = lew;
     }
     s->clamped += nclamp;
     s->dt_max = std::min(s->dt_max, dtmax);
-    /* (6) collide */
-#pragma omp parallel for schedule(static) num_threads(nth)
-    for (int64_t b = 0; b < nb; ++b) {
-      const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
-      double de = 0.0, vir = 0.0, lew = 0.0;
-      uint32_t cidx[SRD_CHUNK];
-      double cdv[SRD_CHUNK];
-      for (int64_t i = lo; i < hi; ++i) {
-        const int64_t j = (i - lo) % SRD_CHUNK;
-        if (j == 0) /* the cells of the next chunk first (see the sums) */
-          for (int64_t q = i; q < std::min(hi, i + SRD_CHUNK); ++q) {
-            const double p[3] = {px[q], py[q], DIM == 3 ? pz[q] : 0.0};
-            cidx[q - i] = (uint32_t)srd_bin(&gm, sh, p, &cdv[q - i]);
-          }
-        double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-        const double dvx = LE ? cdv[j] : 0.0;
-        const srd_cell_rot &cr = cell[cidx[j]].rot;
-        if (LE) v[0] += dvx;
-        const double e0 = DISSIP || WALL ? v[0] * v[0] + v[1] * v[1] + v[2] * v[2] : 0.0;
-        const double vx0 = v[0];
-        if (cr.r[0] != 0.0 || cr.r[1] != 0.0 || cr.r[2] != 0.0) srd_rotate(v, &cr, s->ca, s->sa, DIM, DISSIP);
-        if (DISSIP || WALL) de += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - e0);
-        if (LE) {
-          const double yy = (dvx != 0.0) ? py[i] - gm.box[1] : py[i];
-          vir += (v[0] - vx0) * yy;
-          lew -= dvx * (v[0] - vx0); /* lab-frame energy change minus the cell-frame one */
-          v[0] -= dvx;
-        }
-        vx[i] = v[0];
-        vy[i] = v[1];
-        if (DIM == 3) vz[i] = v[2];
-      }
-      part[4 * b] = de;
-      part[4 * b + 1] = vir;
-      part[4 * b + 2] = lew;
-    }
     if (DISSIP || LE || WALL) {
-      double t[3]; /* collision energy, virial, Lees-Edwards work */
-      sum_blocks3(part, nb, t);
+      double t[3]; /* collision energy, virial, Lees-Edwards work (slab partials in slab order) */
+      sum_blocks3(spart.data(), nslab, t);
       s->e_coll += t[0];
       s->flux_coll += t[1];
       s->e_ext += t[2];
@@ -459,6 +493,8 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       std::vector<uint32_t> order((size_t)n);
       for (int64_t i = 0; i < n; ++i) order[start[perm[i]]++] = (uint32_t)i;
       perm.swap(order);
+      std::vector<uint32_t>().swap(order); /* the cells: not needed now (peak 4 B per particle less) */
+      std::vector<int64_t>().swap(start);
       std::vector<double> tmp((size_t)n);
       std::vector<double> *arr[6] = {&s->x, &s->y, &s->z, &s->vx, &s->vy, &s->vz};
       for (int q = 0; q < 6; ++q) {
@@ -555,6 +591,10 @@ int alloc_state(gran_srd *s) {
   g.le_dv = o.shear_rate * g.box[1];
   GRAN_CHECK(s->ncell < (int64_t)UINT32_MAX, GRAN_ERR_ARG, "options 'cells': %lld cells exceed 2^32",
              (long long)s->ncell);
+  /* a slab's cell indices take 31 bits in the step (the top bit marks the Lees-Edwards image) */
+  GRAN_CHECK(s->ncell / g.nc[o.dim - 1] < ((int64_t)1 << 30), GRAN_ERR_ARG,
+             "options 'cells': a layer of %lld cells across the last axis exceeds 2^30",
+             (long long)(s->ncell / g.nc[o.dim - 1]));
   const double nn = std::floor(o.n0 * (double)s->ncell_box + 0.5);
   GRAN_CHECK(nn >= 1 && nn < 4e9, GRAN_ERR_ARG, "options 'n0' x 'cells' give %g particles (need 1 .. 4e9)", nn);
   s->n = (int64_t)nn;
@@ -1008,12 +1048,12 @@ template <class T> bool rd(FILE *f, T *p, size_t n) { return n == 0 || fread(p, 
 /* the cells' reference velocities, 3 doubles per cell */
 bool wr_refs(CkFile &f, const gran_srd *s) {
   for (const srd_cpu_cell &c : s->cell)
-    if (!wr(f, c.acc.V, 3)) return false;
+    if (!wr(f, c.V, 3)) return false;
   return true;
 }
 bool rd_refs(FILE *f, gran_srd *s) {
   for (srd_cpu_cell &c : s->cell)
-    if (!rd(f, c.acc.V, 3)) return false;
+    if (!rd(f, c.V, 3)) return false;
   return true;
 }
 /* bytes of a checkpoint of a run with these (checked) options; -1 if they give no valid run */
@@ -1144,7 +1184,7 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
                    "checkpoint '%s': particle %zu has %c = %g outside the box [0, %g]", path, i, ax[k], px[k][i], hi);
     }
     for (const srd_cpu_cell &c : s->cell)
-      GRAN_CHECK(finite_all(c.acc.V, 3), GRAN_ERR_IO, "checkpoint '%s': a non-finite cell reference velocity", path);
+      GRAN_CHECK(finite_all(c.V, 3), GRAN_ERR_IO, "checkpoint '%s': a non-finite cell reference velocity", path);
     auto zero = [](const gran_rng &r) { return (r.s[0] | r.s[1] | r.s[2] | r.s[3]) == 0; };
     GRAN_CHECK(!zero(s->shift_rng), GRAN_ERR_IO, "checkpoint '%s': the grid-shift RNG state is zero", path);
     for (const gran_rng &r : s->rng)

@@ -11,16 +11,17 @@
 #include <utility>
 #include <vector>
 
-/* One cell of the CPU engine, 64 B. During binning `acc` is active: V = the reference velocity
- * (the cell's mean at its previous collision) and the sums relative to it; the per-cell pass reads
- * them and writes `rot` into the same bytes (V = the new mean: the next reference). V is the
- * common initial sequence of both members, so it may be read through either. */
-struct srd_cpu_cell_acc {
+/* Persistent record of one cell of the CPU engine, 24 B: the reference velocity (the cell's mean
+ * at its previous collision; the cell sums of the next step are taken relative to it). With the
+ * cell's RNG state (32 B) this is all the engine keeps per cell between steps: the sums and the
+ * collision record of a cell live only while its slab is processed (thread-local, see engine.cpp). */
+struct srd_cpu_cell {
   double V[3];
-  srd_cell_sum s;
 };
-union alignas(64) srd_cpu_cell { /* one cache line */
-  srd_cpu_cell_acc acc;
+/* Per-cell work record of one slab (thread-local, 64 B): the sums while the slab's particles are
+ * binned, then the collision record in the same bytes (the sums are read into locals first). */
+union srd_slab_cell {
+  srd_cell_sum s;
   srd_cell_rot rot;
 };
 
@@ -44,8 +45,7 @@ struct srd_uninit_alloc : std::allocator<T> {
     ::new ((void *)p) U(std::forward<A>(a)...);
   }
 };
-static_assert(sizeof(srd_cpu_cell) == 64, "GSRD cell record is 64 B");
-static_assert(offsetof(srd_cell_rot, V) == 0 && offsetof(srd_cpu_cell_acc, V) == 0, "V first in both");
+static_assert(sizeof(srd_cpu_cell) == 24, "GSRD persistent cell record is 24 B");
 
 struct gran_srd {
   gran_srd_options opt;
@@ -55,13 +55,14 @@ struct gran_srd {
   int64_t ncell_box = 0;  /* cells of the box (unshifted lattice) */
   /* particles, SoA (48 B; the cell index is recomputed, not stored) */
   std::vector<double> x, y, z, vx, vy, vz;
-  /* cells: 64 B record (reference velocity + sums, then the collision record) + 32 B RNG state */
+  /* cells: 24 B reference velocity + 32 B RNG state (nothing else persists per cell) */
   std::vector<srd_cpu_cell, srd_uninit_alloc<srd_cpu_cell>> cell; /* zeroed by alloc_state */
   std::vector<gran_rng, srd_uninit_alloc<gran_rng>> rng; /* one stream per cell: stream c + 1 */
-  /* work space of the parallel cell sums (more than one thread only): particle indices listed by
-   * slab of the binning grid (4 B per particle) and per-block slab offsets */
-  std::vector<uint32_t> slab_list;
-  std::vector<int64_t> slab_off;
+  /* step work space (engine.cpp): every fixed block of SRD_BLOCK particles lists its particles by
+   * slab of the binning grid, as 2 B offsets inside the block (slab_list, 2 B per particle), with
+   * the slab starts of each block (slab_off, nslab + 1 per block) */
+  std::vector<uint16_t, srd_uninit_alloc<uint16_t>> slab_list;
+  std::vector<uint16_t> slab_off;
   gran_rng shift_rng;        /* stream 0 */
   double shift[3] = {0, 0, 0};
   /* state */
@@ -89,14 +90,19 @@ struct gran_srd {
 inline void srd_refs_get(const gran_srd *s, std::vector<double> &out) {
   out.resize((size_t)s->ncell * 3);
   for (int64_t c = 0; c < s->ncell; ++c)
-    for (int k = 0; k < 3; ++k) out[(size_t)(3 * c + k)] = s->cell[(size_t)c].acc.V[k];
+    for (int k = 0; k < 3; ++k) out[(size_t)(3 * c + k)] = s->cell[(size_t)c].V[k];
 }
 inline void srd_refs_set(gran_srd *s, const double *in) {
   for (int64_t c = 0; c < s->ncell; ++c)
-    for (int k = 0; k < 3; ++k) s->cell[(size_t)c].acc.V[k] = in[3 * c + k];
+    for (int k = 0; k < 3; ++k) s->cell[(size_t)c].V[k] = in[3 * c + k];
 }
 
-#define SRD_BLOCK 4096
+#define SRD_BLOCK 4096 /* <= 65535: slab_list / slab_off hold offsets inside a block as uint16_t */
+/* slabs of the binning grid (engine.cpp): about SRD_SLAB_CELLS cells each, no thicker than
+ * 1 / SRD_MIN_SLABS of the layers (rounded up), at most SRD_MAX_SLABS (slab indices fit uint8_t) */
+#define SRD_SLAB_CELLS 4096
+#define SRD_MIN_SLABS 8
+#define SRD_MAX_SLABS 256
 #define SRD_CHUNK 512 /* particles whose cells are computed ahead of their use (stack buffers) */
 
 /* S(k) of the unshifted cell counts (engine.cpp): the half-spectrum power |FFT(n - <n>)|^2 / N

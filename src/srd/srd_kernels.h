@@ -177,6 +177,53 @@ GRAN_HD static inline void srd_wrap(const srd_geom *gm, double p[3], double v[3]
   }
 }
 
+/* Index along a periodic axis or the wall axis k of the shifted cell that holds coordinate x
+ * (already shifted: x = p[k] + s[k], Lees-Edwards correction applied on x). */
+GRAN_HD static inline int64_t srd_bin_index(const srd_geom *gm, int k, double x) {
+  if (k == gm->wall_axis) {
+    int64_t ck = (int64_t)(x * gm->inv_a);
+    if (ck > gm->L[k]) ck = gm->L[k];
+    return ck;
+  }
+  const double b = gm->box[k];
+  if (x >= b || x < 0.0) x -= b * floor(x / b);
+  int64_t ck = (int64_t)(x * gm->inv_a);
+  if (ck >= gm->L[k]) ck = gm->L[k] - 1;
+  if (ck < 0) ck = 0;
+  return ck;
+}
+
+/* Index along y (k = 1) of the shifted cell that holds p; *wrapped = 1 when the shifted y lay
+ * beyond box[1] on a periodic y axis (the cell straddles y = box[1]: Lees-Edwards image). */
+GRAN_HD static inline int64_t srd_bin_y(const srd_geom *gm, const double s[3], const double p[3], int *wrapped) {
+  double y = p[1] + s[1];
+  int64_t cy;
+  *wrapped = 0;
+  if (gm->wall_axis == 1) {
+    cy = (int64_t)(y * gm->inv_a);
+    if (cy > gm->L[1]) cy = gm->L[1];
+  } else {
+    if (y >= gm->box[1]) {
+      y -= gm->box[1];
+      *wrapped = 1;
+    }
+    cy = (int64_t)(y * gm->inv_a);
+    if (cy >= gm->L[1]) cy = gm->L[1] - 1;
+  }
+  return cy;
+}
+
+/* Index along the slowest axis of the binning grid (y in 2-D, z in 3-D) of the shifted cell that
+ * holds p: the layer of srd_bin's cell (srd_bin(...) / (nc[0] nc[1]) in 3-D, / nc[0] in 2-D),
+ * without the other axes. */
+GRAN_HD static inline int64_t srd_bin_layer(const srd_geom *gm, const double s[3], const double p[3]) {
+  if (gm->dim == 2) {
+    int w;
+    return srd_bin_y(gm, s, p, &w);
+  }
+  return srd_bin_index(gm, 2, p[2] + s[2]);
+}
+
 /* Cell of the shifted grid that holds p. *dvx is the x-velocity correction seen by that cell
  * (Lees-Edwards: +-le_dv when the shifted cell straddles y = box[1], else 0). */
 GRAN_HD static inline int64_t srd_bin(const srd_geom *gm, const double s[3], const double p[3], double *dvx) {
@@ -184,37 +231,15 @@ GRAN_HD static inline int64_t srd_bin(const srd_geom *gm, const double s[3], con
   double px = p[0];
   *dvx = 0.0;
   if (gm->dim > 1) {
-    double y = p[1] + s[1];
-    if (gm->wall_axis == 1) {
-      c[1] = (int64_t)(y * gm->inv_a);
-      if (c[1] > gm->L[1]) c[1] = gm->L[1];
-    } else {
-      if (y >= gm->box[1]) {
-        y -= gm->box[1];
-        if (gm->le_on) {
-          px -= gm->le_dx;
-          *dvx = -gm->le_dv;
-        }
-      }
-      c[1] = (int64_t)(y * gm->inv_a);
-      if (c[1] >= gm->L[1]) c[1] = gm->L[1] - 1;
+    int wrapped;
+    c[1] = srd_bin_y(gm, s, p, &wrapped);
+    if (wrapped && gm->le_on) {
+      px -= gm->le_dx;
+      *dvx = -gm->le_dv;
     }
   }
-  for (int k = 0; k < gm->dim; ++k) {
-    if (k == 1) continue;
-    double x = (k == 0 ? px : p[k]) + s[k];
-    if (k == gm->wall_axis) {
-      c[k] = (int64_t)(x * gm->inv_a);
-      if (c[k] > gm->L[k]) c[k] = gm->L[k];
-      continue;
-    }
-    const double b = gm->box[k];
-    if (x >= b || x < 0.0) x -= b * floor(x / b);
-    int64_t ck = (int64_t)(x * gm->inv_a);
-    if (ck >= gm->L[k]) ck = gm->L[k] - 1;
-    if (ck < 0) ck = 0;
-    c[k] = ck;
-  }
+  c[0] = srd_bin_index(gm, 0, px + s[0]);
+  if (gm->dim > 2) c[2] = srd_bin_index(gm, 2, p[2] + s[2]);
   return c[0] + gm->nc[0] * (c[1] + gm->nc[1] * c[2]);
 }
 
