@@ -213,12 +213,10 @@ class SrdEngine : public gran_engine {
     return GRAN_SUCCESS;
   }
 
-  /* 48 B of particle state + 4 B cell index per particle; about 200 B per cell of the binning
-   * grid (sums, rotation, reference velocity, RNG); the snapshots of replica 0 */
+  /* one engine of this scene: gran_scene_srd_bytes_ (the estimate the scene check uses too) */
   int memory(int64_t *bytes) override {
-    double cells = 1;
-    for (int k = 0; k < o_.dim; ++k) cells *= (double)(o_.cells[k] + (k == o_.wall_axis ? 1 : 0));
-    const double b = (double)N_ * 52.0 + cells * 200.0 + (double)s_->srd.snap_index.size() * (double)cells_ * 40.0;
+    gran_srd_bytes parts;
+    const double b = gran_scene_srd_bytes_(*s_, &parts);
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
     return GRAN_SUCCESS;
   }

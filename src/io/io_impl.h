@@ -106,6 +106,15 @@ struct gran_dsmc_bytes {
   double particles, species, pairs, trajectories;
 };
 double gran_scene_dsmc_bytes_(const gran_scene &s, gran_dsmc_bytes *b);
+/* Memory of one GSRD CPU engine of this scene (src/srd/srd_impl.h), by part: particles (48 B of
+ * state, 2 B of slab list, +12 B while the cells are sorted every sort_every steps), cells of the
+ * binning grid (24 B reference velocity + 32 B RNG + 8 B of sort offsets) plus each thread's slab
+ * work space (64 B per cell and 4 B per particle of one slab of SRD_SLAB_CELLS cells), and the
+ * field snapshots of replica 0 (5 doubles per cell each). Returns the sum. */
+struct gran_srd_bytes {
+  double particles, cells, snapshots;
+};
+double gran_scene_srd_bytes_(const gran_scene &s, gran_srd_bytes *b);
 
 /* h5.cpp: thin helpers. Every function returns a granary status; the file name goes in messages. */
 namespace gran_h5 {

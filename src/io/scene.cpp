@@ -17,6 +17,10 @@
 #include <unistd.h>
 
 #include "io/io_impl.h"
+#include "srd/srd_impl.h" /* SRD_SLAB_CELLS: the memory estimate of a GSRD engine */
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace {
 
@@ -420,6 +424,25 @@ double gran_scene_dsmc_bytes_(const gran_scene &s, gran_dsmc_bytes *b) {
   return b->particles + b->species + b->pairs + b->trajectories;
 }
 
+double gran_scene_srd_bytes_(const gran_scene &s, gran_srd_bytes *b) {
+  const gran_srd_options &o = s.srd.opt;
+  double box = 1, bin = 1;
+  for (int k = 0; k < o.dim; k++) {
+    box *= (double)o.cells[k];
+    bin *= (double)(o.cells[k] + (k == o.wall_axis ? 1 : 0)); /* walls: one more layer to shift into */
+  }
+  const double N = std::floor(o.n0 * box + 0.5), slab = std::min(bin, (double)SRD_SLAB_CELLS);
+  int threads = o.threads;
+#ifdef _OPENMP
+  if (threads <= 0) threads = omp_get_max_threads();
+#endif
+  if (threads <= 0) threads = 1;
+  b->particles = N * (48.0 + 2.0 + 12.0);
+  b->cells = bin * (56.0 + 8.0) + (double)threads * (64.0 * slab + 4.0 * N * slab / bin);
+  b->snapshots = (double)s.srd.snap_index.size() * box * 5.0 * 8.0;
+  return b->particles + b->cells + b->snapshots;
+}
+
 namespace {
 
 /* The memory of the run this scene asks for, by part, against the limit: fail naming the key of
@@ -809,11 +832,12 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   /* ---- [output] (the same keys as a DSMC scene) ---- */
   parse_output_table(top, F, s);
 
-  /* memory: 52 B per particle (twice while a checkpoint image is built), 200 B per cell of the
-   * binning grid, 5 doubles per cell and snapshot, the recorded rows */
-  const double nsnap = (double)s.srd.snap_index.size();
-  const double parts = N * 52.0 * (s.checkpoint_path.empty() ? 1.0 : 2.0), cells = ncell * 2.0 * 200.0,
-               snaps = nsnap * ncell * 5.0 * 8.0, rows = (double)nt * 8.0 * (32.0 + 2.0 * (double)s.srd.sk_bins);
+  /* memory: one engine (gran_scene_srd_bytes_), its 48 B particle state once more while a
+   * checkpoint image is built, the recorded rows; per replica */
+  gran_srd_bytes e;
+  gran_scene_srd_bytes_(s, &e);
+  const double parts = e.particles + (s.checkpoint_path.empty() ? 0.0 : 48.0 * N), cells = e.cells,
+               snaps = e.snapshots, rows = (double)nt * 8.0 * (32.0 + 2.0 * (double)s.srd.sk_bins);
   const double total = (parts + cells + snaps + rows) * (double)s.replicas;
   if (total > mem_limit) {
     const bool sn = snaps > parts;
