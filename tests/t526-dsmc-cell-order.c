@@ -1,7 +1,7 @@
-/* t526-dsmc-cell-order.c - the cell selector's cell order (from 2^15 particles the particles of each
+/* t526-dsmc-cell-order.c - the cell selector's cell order (from 3e5 particles the particles of each
  * species are moved into cell order every few steps, src/dsmc/cell.cpp cell_reorder): the tests of
  * t520-t521 run below that size, so these repeat the checks that the order must not change at
- * N = 4e4-6e4 (binary mixture and one species):
+ * N = 3.2e5 (binary mixture and one species):
  *  - positions, velocities and displacements move together: x(t) - R(t) mod L (R the displacement,
  *    the unwrapped path) is, as a set, the set of the initial positions (1e-7 L; a particle's
  *    velocity or displacement left behind by a move breaks it), species ranges stay as they were
@@ -64,12 +64,12 @@ static void starts(const gran_particles *p, double L, double t, double *out) {
 static void test_moves_together(void **state) {
   (void)state;
   gran_mixture *mix = binary(0.8);
-  const int64_t N = 40000;
-  gran_dsmc *d = make_cell(mix, N, 3, 2.0, 12, GRAN_OBSERVE_DISPLACEMENT);
+  const int64_t N = 320000;
+  gran_dsmc *d = make_cell(mix, N, 3, 2.0, 25, GRAN_OBSERVE_DISPLACEMENT);
   const gran_particles *p;
   GRAN_ASSERT_OK(gran_dsmc_particles(d, &p));
   const int64_t n = p->n;
-  assert_true(n >= 32768); /* the cell order is on */
+  assert_true(n >= 300000); /* the cell order is on */
   double *x0 = malloc(sizeof(double) * 3 * (size_t)n), *y = malloc(sizeof(double) * 3 * (size_t)n);
   memcpy(x0, p->x, sizeof(double) * 3 * (size_t)n);
   int64_t off0[3], off[3];
@@ -99,7 +99,7 @@ static void test_moves_together(void **state) {
 static void test_statistics(void **state) {
   (void)state;
   gran_mixture *mix = binary(0.8);
-  const int64_t N = 40000;
+  const int64_t N = 320000;
   const double t = 120;
   enum { S = 2 };
   double T[2][2][S], C[2][S]; /* [selector][species][seed] */
@@ -108,7 +108,7 @@ static void test_statistics(void **state) {
     for (int s = 0; s < S; s++) {
       gran_dsmc *d;
       if (sel == 0) {
-        d = make_cell(mix, N, 40 + s, 2.0, 12, 0);
+        d = make_cell(mix, N, 40 + s, 2.0, 25, 0);
       } else {
         gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, 40 + s, (double)N / kN, 0);
         GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, NULL, &o, &d));
@@ -137,13 +137,13 @@ static void test_statistics(void **state) {
 
   /* MSD of an elastic gas at t = 10 tau, dt = tau/8, one species */
   mix = dsmc_mono(kN, 1.0);
-  const int64_t N1 = 60000;
+  const int64_t N1 = 320000;
   const double tau = 1 / (4 * sqrt(M_PI) * kN), t1 = 10 * tau;
   double msd[2];
   for (int sel = 0; sel < 2; sel++) {
     gran_dsmc *d;
     if (sel == 0) {
-      d = make_cell(mix, N1, 7, tau / 8, 14, GRAN_OBSERVE_DISPLACEMENT);
+      d = make_cell(mix, N1, 7, tau / 8, 25, GRAN_OBSERVE_DISPLACEMENT);
     } else {
       gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, 7, (double)N1 / kN, GRAN_OBSERVE_DISPLACEMENT);
       GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, NULL, &o, &d));
@@ -165,9 +165,9 @@ static void test_resume(void **state) {
   snprintf(path, sizeof path, "/tmp/granary-t526-%ld.h5", (long)getpid());
   remove(path);
   gran_mixture *mix = binary(0.7);
-  const int64_t N = 40000;
-  gran_dsmc *a = make_cell(mix, N, 9, 0.6, 11, GRAN_OBSERVE_DISPLACEMENT);
-  gran_dsmc *b = make_cell(mix, N, 9, 0.6, 11, GRAN_OBSERVE_DISPLACEMENT);
+  const int64_t N = 320000;
+  gran_dsmc *a = make_cell(mix, N, 9, 0.6, 25, GRAN_OBSERVE_DISPLACEMENT);
+  gran_dsmc *b = make_cell(mix, N, 9, 0.6, 25, GRAN_OBSERVE_DISPLACEMENT);
   gran_dsmc *r = NULL;
   GRAN_ASSERT_OK(gran_dsmc_advance(a, 30.0));
   GRAN_ASSERT_OK(gran_dsmc_advance(b, 13.3)); /* step 22 of 50: between two reorders */

@@ -31,7 +31,7 @@ struct DsmcCell {
   std::vector<int64_t> fillpos; /* C: scratch of the counting sort */
   /* Cell order (cell.cpp, cell_reorder): every kSortEvery steps the particles of each species are
    * moved into cell order (species ranges kept), so that streaming, binning and the candidates read
-   * memory in sequence. Only without aggregation and trajectories and from kReorderMin particles;
+   * memory in sequence. Only without aggregation and trajectories and from kReorderMin (3e5) particles;
    * the spare arrays swap with the particles' (malloc, like gran_particles). */
   int reorder = 0;
   double *spare[4] = {nullptr, nullptr, nullptr, nullptr}; /* x, v, r, t_last */
