@@ -142,7 +142,7 @@ static void test_bath(void **state) {
  * measured at N = 1e6 (two seeds): within 0.1 % at every time, where Eq. 76 alone is 0.2, 0.8 and
  * 1.1 % too high (the 1.3-2.1 % "gap" of earlier N = 2e4 runs was this plus noise). The measured
  * a2 must be positive (4 standard errors), so a gas that stayed Maxwellian fails; at N = 5e5 the
- * tolerance is 0.66 % of T, so Eq. 76 without the Sonine term fails (4.9 standard errors at t = 5,
+ * tolerance is 0.66 % of T, so Eq. 76 without the Sonine term fails (5 standard errors at t = 5,
  * tried), as would a bath rate off by about 1.6 % or more. */
 static double bath_rate_eq76(double T, double Tb, double nb) {
   return 4.0 / 3.0 * sqrt(2 * M_PI) * nb * sqrt(T + Tb) * (Tb - T);
