@@ -450,7 +450,9 @@ GRAN_EXTERN int gran_dsmc_cell_options_default(gran_dsmc_cell_options *cell);
  * expected candidates per cell exceed N_c^2 (F_N (sigma g)_max dt / V_c > 2) is refused naming
  * 'dt' (also by gran_dsmc_advance, which then leaves the state unchanged). Tracers are refused.
  * gran_dsmc_advance runs whole steps up to t_end; gran_dsmc_advance_collisions stops after the
- * step in which the count is reached. Positions: gran_dsmc_particles (x, wrapped into [0, L)). */
+ * step in which the count is reached. Positions: gran_dsmc_particles (x, wrapped into [0, L)).
+ * From 3e5 particles, without aggregation and trajectories, each species' particles are moved into
+ * cell order every 8th step (inside the species' range): an index then names no fixed particle. */
 GRAN_EXTERN int gran_dsmc_create_cell(const gran_mixture *mix, const int64_t *counts, const double *T0,
                                       const gran_dsmc_options *opt, const gran_dsmc_cell_options *cell,
                                       gran_dsmc **sim);

@@ -7,6 +7,7 @@
 
 #include "dsmc_impl.h"
 
+#include <cstdlib>
 #include <vector>
 
 namespace gran {
@@ -28,6 +29,19 @@ struct DsmcCell {
   std::vector<double> cvm2;    /* C: max |v|^2 in the cell */
   std::vector<double> csg;     /* C: max diameter in the cell */
   std::vector<int64_t> fillpos; /* C: scratch of the counting sort */
+  /* Cell order (cell.cpp, cell_reorder): every kSortEvery steps the particles of each species are
+   * moved into cell order (species ranges kept), so that streaming, binning and the candidates read
+   * memory in sequence. Only without aggregation and trajectories and from kReorderMin (3e5) particles;
+   * the spare arrays swap with the particles' (malloc, like gran_particles). */
+  int reorder = 0;
+  double *spare[4] = {nullptr, nullptr, nullptr, nullptr}; /* x, v, r, t_last */
+  std::vector<int64_t> cursor;  /* M: scratch of the reorder */
+  DsmcCell() = default;
+  DsmcCell(const DsmcCell &) = delete;
+  DsmcCell &operator=(const DsmcCell &) = delete;
+  ~DsmcCell() {
+    for (double *a : spare) std::free(a);
+  }
   /* aggregation / fragmentation (agg.cpp) */
   int agg = 0;                 /* 1: species are cluster sizes (e_agg > 0 or e_frag finite) */
   double m1 = 1, sigma1 = 1;   /* monomer mass and diameter */
