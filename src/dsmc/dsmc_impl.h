@@ -159,6 +159,8 @@ static inline void neumaier_add(double &s, double &c, double x) {
 
 /* Time-step/cell selector state (cell.cpp, cell_impl.h); NULL for the event selectors. */
 struct DsmcCell;
+/* Cluster sizes of an aggregating engine (agg_impl.h); NULL without aggregation. */
+struct DsmcAgg;
 
 }  // namespace gran
 
@@ -256,6 +258,9 @@ struct gran_dsmc {
   int64_t traj_next = 0;            /* next sample to record */
   /* time-step/cell selector (GRAN_SELECTOR_CELL): positions, cells, aggregation; else NULL */
   gran::DsmcCell *cell = nullptr;
+  /* aggregation / fragmentation (agg_impl.h), any selector: the cell selector's DsmcCell, or the
+   * event selectors' DsmcAggEv (owned: agg_event.cpp); NULL when off */
+  gran::DsmcAgg *agg = nullptr;
 };
 
 namespace gran {
