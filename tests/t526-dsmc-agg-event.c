@@ -15,22 +15,13 @@
  *  - checkpoints: a run split at t = 13.3 continues bit for bit;
  *  - bad input. */
 #include "dsmc_util.h"
+#include "agg_test_util.h"
 
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
 
 enum { kM = 40 };
-
-static gran_mixture *kmers(int64_t M, double n1, double eps) {
-  double *n = calloc((size_t)M, sizeof *n);
-  n[0] = n1;
-  gran_mixture *mix = NULL;
-  GRAN_ASSERT_OK(gran_mixture_create(M, NULL, NULL, n, &mix));
-  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, eps));
-  free(n);
-  return mix;
-}
 
 /* an engine of selector sel (GRAN_SELECTOR_CELL: dt 0.5, 4 cells per side) with the processes */
 static gran_dsmc *make(int sel, gran_mixture *mix, const int64_t *counts, const double *T0, double volume,
@@ -59,63 +50,11 @@ static gran_dsmc *make(int sel, gran_mixture *mix, const int64_t *counts, const 
   return d;
 }
 
-/* mass, momentum, counters, the ledger and the sparse distribution against the particles */
-static void check_conservation(const gran_dsmc *d, int64_t mass0) {
-  gran_dsmc_cluster_stats st;
-  gran_dsmc_stats x;
-  GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(d, &st));
-  GRAN_ASSERT_OK(gran_dsmc_get_stats(d, &x));
-  assert_int_equal(st.mass, mass0);
-  assert_int_equal(x.collisions, st.merges + st.breakups + st.bounces);
-  assert_int_equal(x.nparticles, st.nclusters);
-  const gran_particles *p;
-  GRAN_ASSERT_OK(gran_dsmc_particles(d, &p));
-  assert_int_equal(p->n, st.nclusters);
-  int64_t m = 0, big = 0;
-  for (int64_t j = 0; j < p->n; j++) {
-    m += p->species[j] + 1;
-    if (p->species[j] + 1 > big) big = p->species[j] + 1;
-  }
-  assert_int_equal(m, mass0);
-  assert_int_equal(big, st.largest);
-  double e, e0, ed, P[3];
-  GRAN_ASSERT_OK(gran_dsmc_energy(d, &e, &e0, &ed));
-  GRAN_ASSERT_REL(ed, st.e_bounce + st.e_merge + st.e_break - st.e_heat, 1e-14);
-  GRAN_ASSERT_ABS(e, e0 - ed, 1e-12 * e0);
-  GRAN_ASSERT_OK(gran_dsmc_momentum(d, P));
-  const double scale = sqrt(2.0 * e0 * (double)mass0); /* momentum scale of the start */
-  for (int k = 0; k < 3; k++) GRAN_ASSERT_ABS(P[k], 0.0, 1e-12 * scale);
-  int64_t ns = 0;
-  GRAN_ASSERT_OK(gran_dsmc_size_distribution(d, 0, &ns, NULL, NULL, NULL));
-  assert_int_equal(ns, st.nsizes);
-  int64_t *sz = malloc((size_t)ns * sizeof *sz), *cn = malloc((size_t)ns * sizeof *cn);
-  double *T = malloc((size_t)ns * sizeof *T);
-  GRAN_ASSERT_OK(gran_dsmc_size_distribution(d, ns, &ns, sz, cn, T));
-  int64_t ncl = 0, mm = 0;
-  for (int64_t q = 0; q < ns; q++) {
-    assert_true(cn[q] > 0 && (q == 0 || sz[q] > sz[q - 1]) && T[q] >= 0);
-    ncl += cn[q];
-    mm += sz[q] * cn[q];
-  }
-  /* the counts per size are those of the particles */
-  for (int64_t q = 0; q < ns && sz[ns - 1] <= 2000000; q++) {
-    int64_t c = 0;
-    if (cn[q] > 1000) continue; /* the large counts: the sums above check them */
-    for (int64_t j = 0; j < p->n; j++) c += p->species[j] + 1 == sz[q];
-    assert_int_equal(c, cn[q]);
-  }
-  assert_int_equal(ncl, st.nclusters);
-  assert_int_equal(mm, mass0);
-  free(sz);
-  free(cn);
-  free(T);
-}
-
 static const int kEvent[2] = {GRAN_SELECTOR_LOWRANK, GRAN_SELECTOR_BIRD};
 
 static void test_first_collisions(void **state) {
   (void)state;
-  gran_mixture *mix = kmers(kM, 0.01, 0.9);
+  gran_mixture *mix = agg_kmers(kM, 0.01, 0.9);
   const int64_t N = (int64_t)(100000 * dsmc_scale());
   const double Ea = 0.5, Ef = 2.0, t = 1.0;
   double T0[kM];
@@ -132,7 +71,7 @@ static void test_first_collisions(void **state) {
     GRAN_ASSERT_SIGMA(st.breakups / n, ff, sqrt(ff * (1 - ff) / n), 4);
     const double expect = 0.5 * (double)N * 4 * sqrt(M_PI) * 0.01 * t; /* Eq. 35 at T = 1 */
     GRAN_ASSERT_SIGMA(n, expect, sqrt(expect), 4);
-    check_conservation(d, N);
+    agg_check_conservation(d, N);
     GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   }
   gran_mixture_destroy(&mix);
@@ -141,7 +80,7 @@ static void test_first_collisions(void **state) {
 /* n_1, n_2, n_3, clusters, mean size at three times from the three selectors and the theory */
 static void test_nk_selectors(void **state) {
   (void)state;
-  gran_mixture *mix = kmers(kM, 0.01, 0.9);
+  gran_mixture *mix = agg_kmers(kM, 0.01, 0.9);
   const int64_t N = (int64_t)(100000 * dsmc_scale());
   const double Ea = 1.0, Ef = 3.0, times[3] = {10, 20, 40};
   double T0[kM];
@@ -168,7 +107,7 @@ static void test_nk_selectors(void **state) {
       }
     }
     assert_true(obs[q][2][0] < 0.6 * N); /* well into the aggregation */
-    check_conservation(d, N);
+    agg_check_conservation(d, N);
     GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   }
   /* the selectors against each other: 4 standard errors of the difference of two counts (each
@@ -188,7 +127,7 @@ static void test_nk_selectors(void **state) {
 /* e_agg huge: every collision merges; sizes beyond the mixture's, emptied sizes reused */
 static void test_every_pair_sticks(void **state) {
   (void)state;
-  gran_mixture *mix = kmers(8, 0.01, 0.9);
+  gran_mixture *mix = agg_kmers(8, 0.01, 0.9);
   const int64_t N = 20000;
   for (int q = 0; q < 2; q++) {
     gran_dsmc *d = make(kEvent[q], mix, NULL, NULL, N / 0.01, 1e12, INFINITY, 1, GRAN_FRAG_MONOMERS, 4);
@@ -201,7 +140,7 @@ static void test_every_pair_sticks(void **state) {
     assert_int_equal(st.nclusters, 50);
     assert_true(st.largest > 8 * 20); /* far beyond the mixture's sizes */
     GRAN_ASSERT_REL(st.e_bounce, 0.0, 0.0);
-    check_conservation(d, N);
+    agg_check_conservation(d, N);
     int64_t cnt[8], off[9];
     GRAN_ASSERT_OK(gran_dsmc_counts(d, cnt));
     GRAN_ASSERT_ERR(gran_dsmc_species_offsets(d, off), GRAN_ERR_STATE);
@@ -210,7 +149,7 @@ static void test_every_pair_sticks(void **state) {
     GRAN_ASSERT_ERR(gran_dsmc_advance_collisions(d, 1), GRAN_ERR_STATE);
     GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(d, &st));
     assert_int_equal(st.largest, N);
-    check_conservation(d, N);
+    agg_check_conservation(d, N);
     double t;
     GRAN_ASSERT_OK(gran_dsmc_time(d, &t));
     GRAN_ASSERT_OK(gran_dsmc_advance(d, t + 10)); /* time runs on without collisions */
@@ -259,9 +198,9 @@ static void test_big_breakup(void **state) {
     assert_int_equal(st.merges, 0);
     GRAN_ASSERT_OK(gran_dsmc_particles(d, &p));
     assert_true(p->capacity <= 2 * (1000 + K)); /* one growth, not one per fragment */
-    check_conservation(d, 1000 + K);
+    agg_check_conservation(d, 1000 + K);
     GRAN_ASSERT_OK(gran_dsmc_advance_collisions(d, 1000)); /* the monomers go on shattering into themselves */
-    check_conservation(d, 1000 + K);
+    agg_check_conservation(d, 1000 + K);
     GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
     gran_mixture_destroy(&mix);
   }
@@ -283,7 +222,7 @@ static void test_million_mer(void **state) {
     GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(d, &st));
     assert_int_equal(st.nclusters, 1);
     assert_int_equal(st.largest, K + 100);
-    check_conservation(d, K + 100);
+    agg_check_conservation(d, K + 100);
     GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
     gran_mixture_destroy(&mix);
   }
@@ -315,7 +254,7 @@ static void test_binary_law(void **state) {
     assert_int_equal(st.merges, 0);
     assert_true(st.breakups >= N / 2);
     assert_true(st.nsizes >= 25); /* pieces of most sizes 1..31 */
-    check_conservation(d, 16 * N);
+    agg_check_conservation(d, 16 * N);
     GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   }
   gran_mixture_destroy(&mix);
@@ -346,7 +285,7 @@ static void test_checkpoint(void **state) {
   (void)state;
   char path[64];
   snprintf(path, sizeof path, "t526-ckpt-%d.h5", (int)getpid());
-  gran_mixture *mix = kmers(kM, 0.01, 0.9);
+  gran_mixture *mix = agg_kmers(kM, 0.01, 0.9);
   const int64_t N = DSMC_ASAN ? 4000 : 20000;
   const int laws[2] = {GRAN_FRAG_MONOMERS, GRAN_FRAG_BINARY};
   for (int q = 0; q < 2; q++)
@@ -364,7 +303,7 @@ static void test_checkpoint(void **state) {
       print_message("continued\n");
       GRAN_ASSERT_OK(gran_dsmc_advance(c, 30));
       compare_engines(a, c);
-      check_conservation(c, N);
+      agg_check_conservation(c, N);
       GRAN_ASSERT_OK(gran_dsmc_destroy(&a));
       GRAN_ASSERT_OK(gran_dsmc_destroy(&c));
     }
@@ -374,7 +313,7 @@ static void test_checkpoint(void **state) {
 
 static void test_errors(void **state) {
   (void)state;
-  gran_mixture *mix = kmers(4, 0.01, 0.9);
+  gran_mixture *mix = agg_kmers(4, 0.01, 0.9);
   gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, 1, 1e4, 0);
   gran_dsmc_agg_options a;
   GRAN_ASSERT_OK(gran_dsmc_agg_options_default(&a));

@@ -170,12 +170,7 @@ static int aggev_tighten(gran_dsmc *s) {
   while (A->kmax > 0 && A->nsize[(size_t)A->kmax - 1] == 0) A->kmax--;
   A->smax = A->kmax > 0 ? A->sigk[(size_t)A->kmax - 1] : 0.0;
   aggev_rate(s);
-  const int64_t dt = s->trials - s->trials_at_refresh;
-  if (dt > 0) s->acc_last = (double)(s->collisions - s->coll_at_refresh) / (double)dt;
-  if (s->collisions > 0) s->bound_tightenings++;
-  s->coll_at_refresh = s->collisions;
-  s->trials_at_refresh = s->trials;
-  s->next_refresh = s->collisions + s->refresh_interval;
+  dsmc_refresh_window(s);
   return GRAN_SUCCESS;
 }
 
@@ -291,9 +286,10 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   gran_particles *const p = &s->p;
   const double m1 = A->m1, e_agg = A->e_agg, e_frag = A->e_frag, eps0 = s->eps0;
   double inv_rate = s->inv_rate;
-  int64_t coll = s->collisions, trials = s->trials;
-  double ed = s->e_diss, edc = s->e_diss_c;
-  double t_ref = s->t_ref, tprod = s->tprod, tlog = s->tlog;
+  /* the engine's counters and clock, in place (a trial costs two random particle loads anyway) */
+  int64_t &coll = s->collisions, &trials = s->trials;
+  double &ed = s->e_diss, &edc = s->e_diss_c;
+  double &t_ref = s->t_ref, &tprod = s->tprod, &tlog = s->tlog;
   auto now = [&]() { return t_ref + (tlog - std::log(tprod)) * inv_rate; };
   double pthr = 0;
   auto set_thr = [&]() { pthr = std::exp(tlog - (t_stop - t_ref) * s->rate); };
@@ -443,8 +439,6 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   /* after a collision: tighten when due, restart the trial times when the rate changed */
   auto after = [&](bool changed) {
     if (coll >= s->next_refresh) {
-      s->collisions = coll;
-      s->trials = trials;
       if (aggev_tighten(s) != GRAN_SUCCESS) status = GRAN_ERR_NOMEM;
       changed = true;
     } else if (changed) {
@@ -519,13 +513,6 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     }
   }
   if (t_last_coll > s->t) s->t = t_last_coll;
-  s->t_ref = t_ref;
-  s->tprod = tprod;
-  s->tlog = tlog;
-  s->collisions = coll;
-  s->trials = trials;
-  s->e_diss = ed;
-  s->e_diss_c = edc;
   aggev_sync(s);
   return status;
 }

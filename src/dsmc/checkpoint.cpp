@@ -432,16 +432,17 @@ int cell_agg_write(Writer &w, const gran_dsmc *s) {
   GRAN_CALL(w.i64("cell_nsize", c->kmax, c->nsize.data()));
   return GRAN_SUCCESS;
 }
-int cell_agg_read(Reader &r, gran_dsmc *s) {
-  DsmcCell *c = s->cell;
-  const int64_t K = r.npoints("cell_nsize");
+/* the species of every particle and the counts per size (kmax and monomers already read), checked
+ * against each other and the mass (both selector families) */
+int agg_sizes_read(Reader &r, gran_dsmc *s, DsmcAgg *c, const char *species, const char *nsize) {
+  const int64_t K = r.npoints(nsize);
   GRAN_CHECK(K >= 0 && K == c->kmax && K <= INT32_MAX / 2, GRAN_ERR_IO,
-             "checkpoint '%s': dataset 'cell_nsize' does not match the largest cluster size (damaged or edited file?)",
-             r.path);
-  GRAN_CALL(r.i32("cell_species", s->N, s->p.species));
+             "checkpoint '%s': dataset '%s' does not match the largest cluster size (damaged or edited file?)", r.path,
+             nsize);
+  GRAN_CALL(r.i32(species, s->N, s->p.species));
   dsmc_agg_grow(c, std::max<int64_t>(K, 1));
   std::fill(c->nsize.begin(), c->nsize.end(), 0);
-  GRAN_CALL(r.i64("cell_nsize", K, c->nsize.data()));
+  GRAN_CALL(r.i64(nsize, K, c->nsize.data()));
   /* the counts per size must be those of the particles, and the mass the stored one */
   std::vector<int64_t> h((size_t)K, 0);
   bool ok = true;
@@ -456,9 +457,13 @@ int cell_agg_read(Reader &r, gran_dsmc *s) {
     mass += (k + 1) * h[(size_t)k];
   }
   GRAN_CHECK(ok && mass == c->monomers && (K == 0 || c->nsize[(size_t)K - 1] > 0), GRAN_ERR_IO,
-             "checkpoint '%s' holds an inconsistent cell state (cluster sizes; damaged or edited file?)", r.path);
+             "checkpoint '%s' holds inconsistent cluster sizes (damaged or edited file?)", r.path);
   for (int64_t k = 0; k < s->M; k++) s->count[(size_t)k] = k < K ? c->nsize[(size_t)k] : 0;
-  c->where.assign((size_t)s->N, 0);
+  return GRAN_SUCCESS;
+}
+int cell_agg_read(Reader &r, gran_dsmc *s) {
+  GRAN_CALL(agg_sizes_read(r, s, s->cell, "cell_species", "cell_nsize"));
+  s->cell->where.assign((size_t)s->N, 0);
   return GRAN_SUCCESS;
 }
 int cell_validate(const gran_dsmc *s, const char *path) {
@@ -535,16 +540,16 @@ int aggev_read(Reader &r, gran_dsmc *s) {
   s->trials_at_refresh = rc[2];
   s->next_refresh = rc[3];
   DsmcAggEv *A = static_cast<DsmcAggEv *>(s->agg);
-  const int64_t K = r.npoints("agg_nsize");
   int64_t ct[6];
   GRAN_CALL(r.i64("agg_counters", 6, ct));
-  GRAN_CHECK(K >= 0 && K == ct[3] && K <= INT32_MAX / 2 && ct[5] >= 0 && ct[5] <= (INT64_C(1) << 40) &&
-                 (ct[5] & (ct[5] - 1)) == 0,
-             GRAN_ERR_IO, "checkpoint '%s': aggregation sizes do not match (damaged or edited file?)", r.path);
-  GRAN_CALL(r.i32("agg_species", s->N, s->p.species));
-  dsmc_agg_grow(A, std::max<int64_t>(K, 1));
-  std::fill(A->nsize.begin(), A->nsize.end(), 0);
-  GRAN_CALL(r.i64("agg_nsize", K, A->nsize.data()));
+  GRAN_CHECK(ct[3] >= 0 && ct[4] >= 0 && ct[5] >= 0 && ct[5] <= (INT64_C(1) << 40) && (ct[5] & (ct[5] - 1)) == 0,
+             GRAN_ERR_IO, "checkpoint '%s': invalid aggregation counters (damaged or edited file?)", r.path);
+  A->merges = ct[0];
+  A->breakups = ct[1];
+  A->bounces = ct[2];
+  A->kmax = ct[3];
+  A->monomers = ct[4];
+  GRAN_CALL(agg_sizes_read(r, s, A, "agg_species", "agg_nsize"));
   double sc[8];
   GRAN_CALL(r.d("agg_scalars", 8, sc));
   A->vmax2 = sc[0];
@@ -553,30 +558,14 @@ int aggev_read(Reader &r, gran_dsmc *s) {
   A->e_merge_c = sc[3];
   A->e_break = sc[4];
   A->e_break_c = sc[5];
-  A->merges = ct[0];
-  A->breakups = ct[1];
-  A->bounces = ct[2];
-  A->kmax = ct[3];
-  A->monomers = ct[4];
-  /* the counts per size are those of the particles, the mass the stored one */
-  std::vector<int64_t> h((size_t)K, 0);
-  bool ok = sc[6] == A->m1 && sc[7] == A->sigma1;
   double m2 = 0;
-  for (int64_t j = 0; j < s->N && ok; j++) {
-    const int32_t k = s->p.species[j];
-    ok = k >= 0 && k < K;
-    if (ok) h[(size_t)k]++;
+  for (int64_t j = 0; j < s->N; j++) {
     const double *v = s->p.v + 3 * j;
     m2 = std::fmax(m2, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
-  int64_t mass = 0;
-  for (int64_t k = 0; k < K && ok; k++) {
-    ok = h[(size_t)k] == A->nsize[(size_t)k];
-    mass += (k + 1) * h[(size_t)k];
-  }
-  ok = ok && mass == A->monomers && (K == 0 || A->nsize[(size_t)K - 1] > 0) && A->merges >= 0 && A->breakups >= 0 &&
-       A->bounces >= 0 && std::isfinite(A->vmax2) && A->vmax2 >= m2 && std::isfinite(A->smax) && A->smax >= 0 &&
-       std::isfinite(A->e_merge + A->e_merge_c + A->e_break + A->e_break_c);
+  bool ok = sc[6] == A->m1 && sc[7] == A->sigma1 && A->merges >= 0 && A->breakups >= 0 && A->bounces >= 0 &&
+            std::isfinite(A->vmax2) && A->vmax2 >= m2 && std::isfinite(A->smax) && A->smax >= 0 &&
+            std::isfinite(A->e_merge + A->e_merge_c + A->e_break + A->e_break_c);
   GRAN_CHECK(ok, GRAN_ERR_IO, "checkpoint '%s' holds an inconsistent aggregation state (damaged or edited file?)", r.path);
   if (A->lowrank) {
     const int64_t C = ct[5];

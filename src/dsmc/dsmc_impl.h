@@ -289,6 +289,8 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
 void dsmc_selector_rebuild(gran_dsmc *s);
 /* Recompute the exact maximum speed per species, then dsmc_selector_rebuild. */
 void dsmc_refresh_bounds(gran_dsmc *s);
+/* After a tightening: close the acceptance window, count it, schedule the next one. */
+void dsmc_refresh_window(gran_dsmc *s);
 /* Raise the bound of species i to speed^2 s2 (called from the hot loop; rare). */
 void dsmc_raise_bound(gran_dsmc *s, int32_t i, double s2);
 /* Rate and 1/rate from the current selector state. */

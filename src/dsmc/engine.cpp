@@ -239,6 +239,10 @@ void dsmc_refresh_bounds(gran_dsmc *s) {
     if (s->classes) dsmc_class_layout(s, i); /* speed classes: thresholds and capacities */
   }
   dsmc_selector_rebuild(s);
+  dsmc_refresh_window(s);
+}
+
+void dsmc_refresh_window(gran_dsmc *s) {
   const int64_t dt = s->trials - s->trials_at_refresh;
   if (dt > 0) s->acc_last = (double)(s->collisions - s->coll_at_refresh) / (double)dt;
   if (s->collisions > 0) s->bound_tightenings++;
