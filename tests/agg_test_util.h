@@ -1,5 +1,5 @@
 /* agg_test_util.h - helpers shared by the aggregation tests (t522, t523, t526, t527): a mixture of
- * k-mers, the conservation checks of an aggregating engine, and the checks of the clusters/*
+ * k-mers, the conservation checks of an aggregating engine, and the checks of the clusters
  * datasets the run driver writes. Include after dsmc_util.h or io_test_util.h. */
 #ifndef GRANARY_AGG_TEST_UTIL_H
 #define GRANARY_AGG_TEST_UTIL_H
@@ -72,7 +72,7 @@ static inline void agg_check_conservation(const gran_dsmc *d, int64_t mass0) {
 }
 
 #ifdef GRANARY_IO_TEST_UTIL_H
-/* The clusters/* datasets of a run with three output times and M sizes (file `out`): n_1, n_2 at
+/* The clusters datasets of a run with three output times and M sizes (file `out`): n_1, n_2 at
  * the last time within 4 sqrt(n) + 1.5 % of clusters/n_theory (t523), merges and breakups at the
  * last time above 100, and the ledger clusters/ledger closing energy/e_dissipated and e_kin. */
 static inline void agg_check_run_output(const char *out, int64_t M) {
@@ -99,6 +99,15 @@ static inline void agg_check_run_output(const char *out, int64_t M) {
   }
   free(n), free(th), free(st), free(led), free(ek), free(e0), free(ed);
   H5Fclose(f);
+}
+
+/* a scene text that must fail to parse, with a message naming `key` */
+static inline void agg_expect_parse_error(const char *text, const char *key) {
+  gran_scene *s = NULL;
+  GRAN_ASSERT_ERR(gran_scene_parse(text, "bad.toml", &s), GRAN_ERR_PARSE);
+  if (!strstr(gran_last_error_message(), key))
+    fail_msg("message '%s' does not name '%s'", gran_last_error_message(), key);
+  assert_null(s);
 }
 #endif
 

@@ -142,39 +142,32 @@ static void test_agg_scene(void **state) {
   gran_scene_destroy(&s);
 }
 
-static void expect_parse_error(const char *scene, const char *key) {
-  gran_scene *s = NULL;
-  GRAN_ASSERT_ERR(gran_scene_parse(scene, "bad.toml", &s), GRAN_ERR_PARSE);
-  if (!strstr(gran_last_error_message(), key))
-    fail_msg("message '%s' does not name '%s'", gran_last_error_message(), key);
-  assert_null(s);
-}
 
 static void test_bad_keys(void **state) {
   (void)state;
-  expect_parse_error(text("cells = 0", "x.h5"), "cell.cells");
-  expect_parse_error(text("cells = 5000", "x.h5"), "cell.cells");
-  expect_parse_error(text("fn = -1.0", "x.h5"), "cell.fn");
-  expect_parse_error(text("e_agg = -1.0", "x.h5"), "cell.e_agg");
-  expect_parse_error(text("e_frag = -1.0", "x.h5"), "cell.e_frag");
-  expect_parse_error(text("eps_f = 2.0", "x.h5"), "cell.eps_f");
-  expect_parse_error(text("heat_rate = -1.0", "x.h5"), "cell.heat_rate");
-  expect_parse_error(text("placement = \"nowhere\"", "x.h5"), "cell.placement");
-  expect_parse_error(text("bath_density = -1.0", "x.h5"), "cell.bath_density");
-  expect_parse_error(text("bath_mass = 0.0", "x.h5"), "cell.bath_mass");
-  expect_parse_error(text("bath_T = -2.0", "x.h5"), "cell.bath_T");
-  expect_parse_error(text("bath_sigma = -1.0", "x.h5"), "cell.bath_sigma");
-  expect_parse_error(text("nonsense = 1", "x.h5"), "cell.nonsense");
+  agg_expect_parse_error(text("cells = 0", "x.h5"), "cell.cells");
+  agg_expect_parse_error(text("cells = 5000", "x.h5"), "cell.cells");
+  agg_expect_parse_error(text("fn = -1.0", "x.h5"), "cell.fn");
+  agg_expect_parse_error(text("e_agg = -1.0", "x.h5"), "cell.e_agg");
+  agg_expect_parse_error(text("e_frag = -1.0", "x.h5"), "cell.e_frag");
+  agg_expect_parse_error(text("eps_f = 2.0", "x.h5"), "cell.eps_f");
+  agg_expect_parse_error(text("heat_rate = -1.0", "x.h5"), "cell.heat_rate");
+  agg_expect_parse_error(text("placement = \"nowhere\"", "x.h5"), "cell.placement");
+  agg_expect_parse_error(text("bath_density = -1.0", "x.h5"), "cell.bath_density");
+  agg_expect_parse_error(text("bath_mass = 0.0", "x.h5"), "cell.bath_mass");
+  agg_expect_parse_error(text("bath_T = -2.0", "x.h5"), "cell.bath_T");
+  agg_expect_parse_error(text("bath_sigma = -1.0", "x.h5"), "cell.bath_sigma");
+  agg_expect_parse_error(text("nonsense = 1", "x.h5"), "cell.nonsense");
   /* dt: a second dt line would be a TOML error; replace it */
   {
     char buf[4096];
     snprintf(buf, sizeof buf, "%s", text("cells = 3", "x.h5"));
     char *p = strstr(buf, "dt = 0.5");
     memcpy(p, "dt =-1.0", 8);
-    expect_parse_error(buf, "cell.dt");
+    agg_expect_parse_error(buf, "cell.dt");
     p = strstr(buf, "dt =-1.0");
     memcpy(p, "#t = 0.5", 8);
-    expect_parse_error(buf, "dt");
+    agg_expect_parse_error(buf, "dt");
   }
   /* [cell] without selector "cell", and selector "cell" without [cell] */
   {
@@ -182,11 +175,11 @@ static void test_bad_keys(void **state) {
     snprintf(buf, sizeof buf, "%s", text("cells = 3", "x.h5"));
     char *p = strstr(buf, "selector = \"cell\"");
     memcpy(p + 11, "\"bird\"", 6);
-    expect_parse_error(buf, "cell");
+    agg_expect_parse_error(buf, "cell");
     snprintf(buf, sizeof buf, "%s", text("cells = 3", "x.h5"));
     p = strstr(buf, "[cell]");
     memcpy(p, "[cel2]", 6);
-    expect_parse_error(buf, "cel");
+    agg_expect_parse_error(buf, "cel");
   }
   /* a dt too large for the gas: refused when the engine is made, naming dt */
   {

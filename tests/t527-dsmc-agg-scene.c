@@ -101,22 +101,15 @@ static void test_scene_engine(void **state) {
   gran_scene_destroy(&s);
 }
 
-static void expect_parse_error(const char *text, const char *key) {
-  gran_scene *s = NULL;
-  GRAN_ASSERT_ERR(gran_scene_parse(text, "bad.toml", &s), GRAN_ERR_PARSE);
-  if (!strstr(gran_last_error_message(), key))
-    fail_msg("message '%s' does not name '%s'", gran_last_error_message(), key);
-  assert_null(s);
-}
 
 static void test_bad_keys(void **state) {
   (void)state;
-  expect_parse_error(scene("lowrank", "", "e_agg = -1.0", "x.h5"), "aggregation.e_agg");
-  expect_parse_error(scene("lowrank", "", "e_frag = -1.0", "x.h5"), "aggregation.e_frag");
-  expect_parse_error(scene("bird", "", "eps_f = 1.5", "x.h5"), "aggregation.eps_f");
-  expect_parse_error(scene("bird", "", "frag_law = \"dust\"", "x.h5"), "aggregation.frag_law");
-  expect_parse_error(scene("bird", "", "nonsense = 1", "x.h5"), "aggregation.nonsense");
-  expect_parse_error(scene("cell", "[cell]\ndt = 0.5\ne_agg = 1.0", "e_agg = 1.0", "x.h5"), "aggregation.e_agg");
+  agg_expect_parse_error(scene("lowrank", "", "e_agg = -1.0", "x.h5"), "aggregation.e_agg");
+  agg_expect_parse_error(scene("lowrank", "", "e_frag = -1.0", "x.h5"), "aggregation.e_frag");
+  agg_expect_parse_error(scene("bird", "", "eps_f = 1.5", "x.h5"), "aggregation.eps_f");
+  agg_expect_parse_error(scene("bird", "", "frag_law = \"dust\"", "x.h5"), "aggregation.frag_law");
+  agg_expect_parse_error(scene("bird", "", "nonsense = 1", "x.h5"), "aggregation.nonsense");
+  agg_expect_parse_error(scene("cell", "[cell]\ndt = 0.5\ne_agg = 1.0", "e_agg = 1.0", "x.h5"), "aggregation.e_agg");
 }
 
 int main(void) {

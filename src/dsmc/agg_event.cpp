@@ -169,6 +169,7 @@ static int aggev_tighten(gran_dsmc *s) {
   A->vmax2 = m2;
   while (A->kmax > 0 && A->nsize[(size_t)A->kmax - 1] == 0) A->kmax--;
   A->smax = A->kmax > 0 ? A->sigk[(size_t)A->kmax - 1] : 0.0;
+  A->cand_count = 0; /* the law changed */
   aggev_rate(s);
   dsmc_refresh_window(s);
   return GRAN_SUCCESS;
@@ -231,6 +232,24 @@ void dsmc_aggev_free(gran_dsmc *s) {
   s->agg = nullptr;
 }
 
+/* the pre-drawn candidates index what they should (checkpoint reading) */
+static int cand_check(const gran_dsmc *s) {
+  const DsmcAggEv *A = static_cast<const DsmcAggEv *>(s->agg);
+  GRAN_CHECK((A->cand_count == 0 || A->cand_count == kDsmcPipe) && A->cand_head >= 0 && A->cand_head < kDsmcPipe,
+             GRAN_ERR_IO, "aggregation candidate pipeline");
+  for (int q = 0; q < kDsmcPipe && A->cand_count > 0; q++) {
+    const DsmcAggEv::Cand &c = A->cand[q];
+    bool ok = c.resolved == 0 || c.resolved == 1;
+    if (ok && A->lowrank) ok = c.a >= 0 && c.a < A->ncap && c.b >= 0 && c.b < A->ncap;
+    if (ok && !c.resolved)
+      ok = c.j >= 0 && c.j < (int64_t)A->members[(size_t)c.a].size() && c.l >= 0 &&
+           c.l < (int64_t)A->members[(size_t)c.b].size();
+    if (ok && c.resolved) ok = c.j >= 0 && c.j < s->p.n && c.l >= 0 && c.l < s->p.n;
+    GRAN_CHECK(ok, GRAN_ERR_IO, "aggregation candidate pairs");
+  }
+  return GRAN_SUCCESS;
+}
+
 /* checkpoint reading (checkpoint.cpp): slots and members from the stored slot sizes and member
  * positions; 0, or an error naming what does not fit */
 int dsmc_aggev_read_done(gran_dsmc *s) {
@@ -238,10 +257,11 @@ int dsmc_aggev_read_done(gran_dsmc *s) {
   aggev_sync(s);
   if (!A->lowrank) {
     aggev_rate(s);
-    return GRAN_SUCCESS;
+    return cand_check(s);
   }
   const int64_t C = A->ncap;
   A->slot_of.assign(A->nsize.size(), -1);
+  A->members.clear();
   A->members.assign((size_t)C, {});
   for (int64_t a = 0; a < C; a++) {
     const int64_t k = A->slot_size[(size_t)a];
@@ -273,6 +293,7 @@ int dsmc_aggev_read_done(gran_dsmc *s) {
   A->mpos.resize((size_t)std::max<int64_t>(s->p.capacity, s->p.n));
   GRAN_CALL(slot_trees(A));
   aggev_rate(s);
+  GRAN_CALL(cand_check(s));
   return GRAN_SUCCESS;
 }
 
@@ -309,6 +330,11 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     }
     gran_particles_swap_remove(p, x);
   };
+  auto prefetch_v = [&](int64_t x) {
+    __builtin_prefetch(p->v + 3 * x);
+    __builtin_prefetch(p->v + 3 * x + 2);
+    if (!kLow) __builtin_prefetch(p->species + x);
+  };
   auto raise_all = [&](double q2) {
     if (q2 > A->vmax2) {
       A->vmax2 = q2;
@@ -317,6 +343,8 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     return false;
   };
 
+  const int kPipe = kDsmcPipe;
+  bool flush = false; /* the particles changed (a merge or a breakup): the candidates are stale */
   /* collide the accepted pair (j, l); returns whether the trial rate changed */
   auto collide = [&](int64_t j, int64_t l) -> bool {
     const int32_t i = p->species[j], k = p->species[l];
@@ -354,6 +382,7 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
         A->smax = std::max(A->smax, A->sigk[(size_t)K - 1]);
       }
       raise_all(q2);
+      flush = true;
       return true;
     }
     double u[3];
@@ -405,6 +434,7 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
         for (int64_t q = 0; q < P; q++) A->smax = std::max(A->smax, A->sigk[(size_t)pc.size(q) - 1]);
       }
       raise_all(m2);
+      flush = true;
       return true;
     }
     /* bounce (constant eps) */
@@ -439,18 +469,55 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   /* after a collision: tighten when due, restart the trial times when the rate changed */
   auto after = [&](bool changed) {
     if (coll >= s->next_refresh) {
+      flush = true;
       if (aggev_tighten(s) != GRAN_SUCCESS) status = GRAN_ERR_NOMEM;
       changed = true;
     } else if (changed) {
       aggev_rate(s);
     }
     if (changed) {
+      if (kLow || flush) A->cand_count = 0; /* low-rank: any change is a change of the law */
       t_ref = now();
       tprod = 1.0;
       tlog = 0.0;
       inv_rate = s->inv_rate;
       set_thr();
     }
+    flush = false;
+  };
+
+  /* stage 1 of a candidate: the pair drawn, the member entries (low-rank) or the particles (Bird)
+   * prefetched; stage 2 (low-rank): the member entries read, the particles prefetched */
+  auto draw = [&](DsmcAggEv::Cand &c) {
+    if (kLow) {
+      const double u0 = A->u[0].node[1] * A->v[0].node[1], u1 = A->u[1].node[1] * A->v[1].node[1],
+                   u2 = A->u[2].node[1] * A->v[2].node[1];
+      const double x = w.uniform() * (u0 + u1 + u2);
+      const int r = x < u0 ? 0 : x < u0 + u1 ? 1 : 2;
+      c.a = segtree_sample(&A->u[r], w.uniform());
+      c.b = segtree_sample(&A->v[r], w.uniform());
+      const std::vector<int64_t> &ma = A->members[(size_t)c.a], &mb = A->members[(size_t)c.b];
+      c.j = w.below((int64_t)ma.size());
+      c.l = w.below((int64_t)mb.size());
+      c.resolved = 0;
+      __builtin_prefetch(ma.data() + c.j);
+      __builtin_prefetch(mb.data() + c.l);
+    } else {
+      c.j = w.below(p->n);
+      c.l = w.below(p->n);
+      c.a = c.b = 0;
+      c.resolved = 1;
+      prefetch_v(c.j);
+      prefetch_v(c.l);
+    }
+  };
+  auto resolve = [&](DsmcAggEv::Cand &c) {
+    if (!kLow || c.resolved) return;
+    c.j = A->members[(size_t)c.a][(size_t)c.j];
+    c.l = A->members[(size_t)c.b][(size_t)c.l];
+    c.resolved = 1;
+    prefetch_v(c.j);
+    prefetch_v(c.l);
   };
 
   double t_last_coll = -INFINITY;
@@ -466,23 +533,21 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     if (std::isinf(inv_rate)) break; /* no pair can collide */
     if ((trials & 63) == 0 && tprod < pthr) break;
     ++trials;
-    int64_t j, l;
-    double B, wgt = 1.0;
-    if (kLow) {
-      const double u0 = A->u[0].node[1] * A->v[0].node[1], u1 = A->u[1].node[1] * A->v[1].node[1],
-                   u2 = A->u[2].node[1] * A->v[2].node[1];
-      const double x = w.uniform() * (u0 + u1 + u2);
-      const int r = x < u0 ? 0 : x < u0 + u1 ? 1 : 2;
-      const int64_t a = segtree_sample(&A->u[r], w.uniform()), b = segtree_sample(&A->v[r], w.uniform());
-      const std::vector<int64_t> &ma = A->members[(size_t)a], &mb = A->members[(size_t)b];
-      j = ma[(size_t)w.below((int64_t)ma.size())];
-      l = mb[(size_t)w.below((int64_t)mb.size())];
-      B = A->sbound[(size_t)a] + A->sbound[(size_t)b];
-    } else {
-      j = w.below(p->n);
-      l = w.below(p->n);
-      B = s->cmax;
+    if (A->cand_count == 0) { /* refill: draw all, resolve the first half */
+      for (int q = 0; q < kPipe; q++) draw(A->cand[q]);
+      for (int q = 0; q < kPipe / 2; q++) resolve(A->cand[q]);
+      A->cand_head = 0;
+      A->cand_count = kPipe;
     }
+    DsmcAggEv::Cand &slot = A->cand[A->cand_head];
+    resolve(slot);
+    const DsmcAggEv::Cand c = slot;
+    draw(slot); /* its replacement, used kPipe trials from now */
+    resolve(A->cand[(A->cand_head + kPipe / 2) & (kPipe - 1)]);
+    A->cand_head = (A->cand_head + 1) & (kPipe - 1);
+    const int64_t j = c.j, l = c.l;
+    double wgt = 1.0;
+    const double B = kLow ? A->sbound[(size_t)c.a] + A->sbound[(size_t)c.b] : s->cmax;
     tprod *= u64_uniform_pos(w.next());
     if (tprod < 1e-280) {
       tlog -= std::log(tprod);

@@ -197,6 +197,17 @@ struct DsmcAggEv : DsmcAgg {
   std::vector<std::vector<int64_t>> members; /* ncap: particle indices of the slot's size */
   std::vector<int64_t> mpos;         /* per particle: its index in its member list */
   gran_segtree u[3]{}, v[3]{};
+  /* pipeline of pre-drawn candidate pairs (as the hot loop's): drawn kDsmcPipe trials ahead, the
+   * member entries prefetched then, resolved to particles (and their velocities prefetched) half
+   * way; discarded whenever the particles or the law change (a merge, a breakup, a low-rank raise,
+   * a tightening). Part of the state. */
+  struct Cand {
+    int64_t j, l;   /* low-rank: positions in the member lists until resolved; then particles */
+    int64_t a, b;   /* low-rank: slots */
+    int64_t resolved;
+  };
+  Cand cand[kDsmcPipe]{};
+  int64_t cand_head = 0, cand_count = 0;
 };
 int dsmc_aggev_setup(gran_dsmc *s, const gran_dsmc_agg_options *o); /* after dsmc_alloc and the velocities */
 void dsmc_aggev_free(gran_dsmc *s);

@@ -507,6 +507,17 @@ int aggev_write(Writer &w, const gran_dsmc *s) {
   GRAN_CALL(w.d("agg_scalars", 8, sc));
   const int64_t ct[6] = {A->merges, A->breakups, A->bounces, A->kmax, A->monomers, A->ncap};
   GRAN_CALL(w.i64("agg_counters", 6, ct));
+  {
+    int64_t cd[5 * kDsmcPipe + 2];
+    for (int q = 0; q < kDsmcPipe; q++) {
+      const DsmcAggEv::Cand &c = A->cand[q];
+      const int64_t x[5] = {c.j, c.l, c.a, c.b, c.resolved};
+      std::copy(x, x + 5, cd + 5 * q);
+    }
+    cd[5 * kDsmcPipe] = A->cand_head;
+    cd[5 * kDsmcPipe + 1] = A->cand_count;
+    GRAN_CALL(w.i64("agg_candidates", 5 * kDsmcPipe + 2, cd));
+  }
   if (A->lowrank) {
     GRAN_CALL(w.i64("agg_slot_size", A->ncap, A->slot_size.data()));
     GRAN_CALL(w.d("agg_slot_bound", A->ncap, A->sbound.data()));
@@ -567,6 +578,20 @@ int aggev_read(Reader &r, gran_dsmc *s) {
             std::isfinite(A->vmax2) && A->vmax2 >= m2 && std::isfinite(A->smax) && A->smax >= 0 &&
             std::isfinite(A->e_merge + A->e_merge_c + A->e_break + A->e_break_c);
   GRAN_CHECK(ok, GRAN_ERR_IO, "checkpoint '%s' holds an inconsistent aggregation state (damaged or edited file?)", r.path);
+  {
+    int64_t cd[5 * kDsmcPipe + 2];
+    GRAN_CALL(r.i64("agg_candidates", 5 * kDsmcPipe + 2, cd));
+    for (int q = 0; q < kDsmcPipe; q++) {
+      DsmcAggEv::Cand &c = A->cand[q];
+      c.j = cd[5 * q];
+      c.l = cd[5 * q + 1];
+      c.a = cd[5 * q + 2];
+      c.b = cd[5 * q + 3];
+      c.resolved = cd[5 * q + 4];
+    }
+    A->cand_head = cd[5 * kDsmcPipe];
+    A->cand_count = cd[5 * kDsmcPipe + 1]; /* checked with the slots (dsmc_aggev_read_done) */
+  }
   if (A->lowrank) {
     const int64_t C = ct[5];
     A->ncap = C;
