@@ -1252,6 +1252,20 @@ module granary
       type(c_ptr), intent(out) :: sim
       integer(c_int) :: ierr
     end function c_gran_dsmc_create_agg
+    function c_gran_theory_aggregation_law(mix, t0, e_agg, e_frag, eps_f, frag_law, ntimes, t, rtol, n, temp, &
+        overflow) bind(C, name='gran_theory_aggregation_law') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      real(c_double), value :: e_agg, e_frag, eps_f
+      integer(c_int), value :: frag_law
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: n(*)
+      type(c_ptr), value :: temp, overflow
+      integer(c_int) :: ierr
+    end function c_gran_theory_aggregation_law
     function c_gran_scene_dsmc_agg_options(scene, agg) bind(C, name='gran_scene_dsmc_agg_options') result(ierr)
       import :: c_int, c_ptr, gran_dsmc_agg_options
       type(c_ptr), value :: scene
@@ -2231,12 +2245,14 @@ contains
 
   !> Smoluchowski kinetics with temperatures: n(M, size(t)), optional temp(M, size(t)) and
   !> overflow(3, size(t)) (number, mass, energy per volume beyond size M). e_frag = huge: none.
-  subroutine gran_theory_aggregation(mix, t0, e_agg, e_frag, eps_f, t, rtol, n, temp, overflow, ierr)
+  !> frag_law (optional, GRAN_FRAG_*; default monomers): gran_theory_aggregation_law.
+  subroutine gran_theory_aggregation(mix, t0, e_agg, e_frag, eps_f, t, rtol, n, temp, overflow, ierr, frag_law)
     type(c_ptr), intent(in) :: mix
     real(c_double), intent(in) :: t0(:), e_agg, e_frag, eps_f, t(:), rtol
     real(c_double), intent(out) :: n(:, :)
     real(c_double), intent(out), target, contiguous, optional :: temp(:, :), overflow(:, :)
     integer, intent(out), optional :: ierr
+    integer(c_int32_t), intent(in), optional :: frag_law
     integer(c_int64_t) :: m
     type(c_ptr) :: pt, po
     m = gran_theory_m(mix)
@@ -2260,6 +2276,11 @@ contains
         return
       end if
       po = c_loc(overflow)
+    end if
+    if (present(frag_law)) then ! aggregation in the event selectors block
+      call gran_check(c_gran_theory_aggregation_law(mix, t0, e_agg, e_frag, eps_f, int(frag_law, c_int), &
+                                                    size(t, kind=c_int64_t), t, rtol, n, pt, po), ierr)
+      return
     end if
     call gran_check(c_gran_theory_aggregation(mix, t0, e_agg, e_frag, eps_f, size(t, kind=c_int64_t), t, rtol, &
                                               n, pt, po), ierr)

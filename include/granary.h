@@ -506,6 +506,12 @@ GRAN_EXTERN int gran_dsmc_agg_options_default(gran_dsmc_agg_options *agg);
  * the mixture must be k-mers with one constant restitution (as the cell selector); no tracers,
  * displacements, trajectories or per-pair collision counts. gran_dsmc_get_cluster_stats,
  * gran_dsmc_size_distribution, checkpoints and every observable work on it. */
+/* gran_theory_aggregation (theory block) with the fragment law: GRAN_FRAG_BINARY gives size s of a
+ * breaking (i+j)-mer 2/(i+j-1) pieces on average, each with the share (i+j-s)/(i+j) of the
+ * eps_f^2 mu g^2/2 kept in the CM frame; pieces above M go to the overflow reservoir. */
+GRAN_EXTERN int gran_theory_aggregation_law(const gran_mixture *mix, const double *T0, double E_agg, double E_frag,
+                                            double eps_f, int frag_law, int64_t ntimes, const double *t, double rtol,
+                                            double *n, double *T, double *overflow);
 GRAN_EXTERN int gran_dsmc_create_agg(const gran_mixture *mix, const int64_t *counts, const double *T0,
                                      const gran_dsmc_options *opt, const gran_dsmc_agg_options *agg,
                                      gran_dsmc **sim);

@@ -260,6 +260,33 @@ static void test_binary_law(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* the binary law against its kinetic theory (gran_theory_aggregation_law): n_1, n_2, n_3 at t = 40
+ * from monomers (e_agg = 1, e_frag = 3) in the three selectors, 4 sqrt(n_k) + 1.5 % as above */
+static void test_binary_theory(void **state) {
+  (void)state;
+  gran_mixture *mix = agg_kmers(kM, 0.01, 0.9);
+  const int64_t N = (int64_t)(100000 * dsmc_scale());
+  const double Ea = 1.0, Ef = 3.0, t = 40;
+  double T0[kM];
+  for (int k = 0; k < kM; k++) T0[k] = 1;
+  double nth[kM];
+  GRAN_ASSERT_OK(gran_theory_aggregation_law(mix, T0, Ea, Ef, 0.7, GRAN_FRAG_BINARY, 1, &t, 1e-9, nth, NULL, NULL));
+  const int sel[3] = {GRAN_SELECTOR_CELL, GRAN_SELECTOR_LOWRANK, GRAN_SELECTOR_BIRD};
+  for (int q = 0; q < 3; q++) {
+    gran_dsmc *d = make(sel[q], mix, NULL, T0, N / 0.01, Ea, Ef, 0.7, GRAN_FRAG_BINARY, 41 + q);
+    GRAN_ASSERT_OK(gran_dsmc_advance(d, t));
+    int64_t cnt[kM];
+    GRAN_ASSERT_OK(gran_dsmc_counts(d, cnt));
+    for (int k = 0; k < 3; k++) {
+      const double ex = nth[k] * (double)N / 0.01;
+      GRAN_ASSERT_SIGMA((double)cnt[k], ex, sqrt(ex) + 0.015 * ex / 4, 4);
+    }
+    agg_check_conservation(d, N);
+    GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  }
+  gran_mixture_destroy(&mix);
+}
+
 static void compare_engines(const gran_dsmc *a, const gran_dsmc *b) {
   const gran_particles *pa, *pb;
   GRAN_ASSERT_OK(gran_dsmc_particles(a, &pa));
@@ -297,10 +324,8 @@ static void test_checkpoint(void **state) {
       GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(b, path, "state"));
       gran_dsmc *c = NULL;
       GRAN_ASSERT_OK(gran_dsmc_checkpoint_read(path, "state", mix, &c));
-      print_message("selector %d law %d: after reading\n", kEvent[q], laws[lw]);
       compare_engines(b, c);
       GRAN_ASSERT_OK(gran_dsmc_destroy(&b));
-      print_message("continued\n");
       GRAN_ASSERT_OK(gran_dsmc_advance(c, 30));
       compare_engines(a, c);
       agg_check_conservation(c, N);
@@ -370,7 +395,8 @@ int main(void) {
       cmocka_unit_test(test_errors),          cmocka_unit_test(test_first_collisions),
       cmocka_unit_test(test_nk_selectors),    cmocka_unit_test(test_every_pair_sticks),
       cmocka_unit_test(test_big_breakup),     cmocka_unit_test(test_million_mer),
-      cmocka_unit_test(test_binary_law),      cmocka_unit_test(test_checkpoint),
+      cmocka_unit_test(test_binary_law),      cmocka_unit_test(test_binary_theory),
+      cmocka_unit_test(test_checkpoint),
   };
   return cmocka_run_group_tests_name("t526-dsmc-agg-event", tests, NULL, NULL);
 }

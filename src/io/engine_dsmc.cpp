@@ -342,11 +342,9 @@ class DsmcEngine : public gran_engine {
   int write_agg_theory(int64_t f, const char *file, const std::vector<double> &tt, double *T) {
     const gran_scene *s = s_;
     const int64_t M = s->nspecies, nt = (int64_t)tt.size();
-    GRAN_CHECK(s->agg.frag_law == GRAN_FRAG_MONOMERS || !std::isfinite(s->agg.e_frag), GRAN_ERR_UNSUPPORTED,
-               "the kinetic theory (gran_theory_aggregation) has fragmentation into monomers only (frag_law = \"binary\")");
     std::vector<double> n((size_t)(nt * M));
-    GRAN_CALL(gran_theory_aggregation(mix_, T0_.data(), s->agg.e_agg, s->agg.e_frag, s->agg.eps_f, nt, tt.data(),
-                                      s->theory_rtol, n.data(), T, nullptr));
+    GRAN_CALL(gran_theory_aggregation_law(mix_, T0_.data(), s->agg.e_agg, s->agg.e_frag, s->agg.eps_f, s->agg.frag_law,
+                                          nt, tt.data(), s->theory_rtol, n.data(), T, nullptr));
     gran_dsmc_stats x;
     GRAN_CALL(gran_dsmc_get_stats(sim_, &x));
     for (double &v : n) v *= x.volume;
