@@ -23,7 +23,7 @@ static double cpu_now(void) {
 
 /* CPU seconds per collision of one run to t; *coll the collisions */
 static double per_collision(const gran_mixture *mix, const double *T0, double N, int sel, double e_agg,
-                            double e_frag, double t, int64_t *coll, gran_dsmc_cluster_stats *cs) {
+                            double e_frag, double t, int64_t *coll, double *acc, gran_dsmc_cluster_stats *cs) {
   gran_dsmc_options o;
   BENCH_CHECK(gran_dsmc_options_default(&o));
   o.selector = sel;
@@ -42,6 +42,7 @@ static double per_collision(const gran_mixture *mix, const double *T0, double N,
   gran_dsmc_stats st;
   BENCH_CHECK(gran_dsmc_get_stats(d, &st));
   *coll = st.collisions;
+  *acc = (double)st.collisions / (double)st.trials;
   if (e_agg > 0) BENCH_CHECK(gran_dsmc_get_cluster_stats(d, cs));
   gran_dsmc_destroy(&d);
   return cpu / (double)st.collisions;
@@ -62,18 +63,19 @@ int main(void) {
   const char *name[2] = {"low-rank", "Bird"};
   for (int q = 0; q < 2; q++) {
     int64_t c0, c1, c2;
+    double a0, a1, a2;
     gran_dsmc_cluster_stats cs = {0}, cn = {0};
-    const double off = per_collision(mix, T0, N, sel[q], 0, INFINITY, t, &c0, &cs);
-    const double idle = per_collision(mix, T0, N, sel[q], 1e-300, INFINITY, t, &c1, &cn);
-    const double on = per_collision(mix, T0, N, sel[q], 0.1, 6.0, t, &c2, &cs);
+    const double off = per_collision(mix, T0, N, sel[q], 0, INFINITY, t, &c0, &a0, &cs);
+    const double idle = per_collision(mix, T0, N, sel[q], 1e-300, INFINITY, t, &c1, &a1, &cn);
+    const double on = per_collision(mix, T0, N, sel[q], 0.1, 6.0, t, &c2, &a2, &cs);
     printf("%s:\n", name[q]);
-    printf("  off:                                 %lld collisions, %.3e CPU s each (%.3e /s)\n", (long long)c0, off,
-           1 / off);
-    printf("  on, never firing (e_agg = 1e-300):   %lld collisions, %.3e CPU s each; / off: %.2f\n", (long long)c1,
-           idle, idle / off);
-    printf("  on (e_agg = 0.1, e_frag = 6: %lld merges, %lld breakups): %lld collisions, %.3e CPU s each; / off: "
-           "%.2f (target <= 1.5)\n\n",
-           (long long)cs.merges, (long long)cs.breakups, (long long)c2, on, on / off);
+    printf("  off:                                 %lld collisions, %.3e CPU s each (%.3e /s), acceptance %.3f\n",
+           (long long)c0, off, 1 / off, a0);
+    printf("  on, never firing (e_agg = 1e-300):   %lld collisions, %.3e CPU s each; / off: %.2f, acceptance %.3f\n",
+           (long long)c1, idle, idle / off, a1);
+    printf("  on (e_agg = 0.1, e_frag = 6: %lld merges, %lld breakups, largest %lld): %lld collisions, %.3e CPU s "
+           "each; / off: %.2f (target <= 1.5), acceptance %.3f\n\n",
+           (long long)cs.merges, (long long)cs.breakups, (long long)cs.largest, (long long)c2, on, on / off, a2);
   }
   gran_mixture_destroy(&mix);
   return 0;

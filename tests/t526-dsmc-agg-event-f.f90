@@ -13,7 +13,7 @@ program t526_dsmc_agg_event_f
   type(gran_dsmc_agg_options) :: agg, agg2
   type(gran_dsmc_cluster_stats) :: cst
   type(gran_dsmc_stats) :: st
-  real(c_double) :: ek, e0, ed
+  real(c_double) :: ek, e0, ed, nth(3, 2), ov(3, 2)
   integer(c_int64_t) :: value
   integer :: ierr, failures, q
   integer(c_int32_t), parameter :: sel(2) = [GRAN_SELECTOR_LOWRANK, GRAN_SELECTOR_BIRD]
@@ -68,6 +68,16 @@ program t526_dsmc_agg_event_f
   agg%eps_f = 1
   call gran_dsmc_create_agg(sim, mix, opt, agg, T0=[1.0_c_double], ierr=ierr)
   call expect(ierr == GRAN_ERR_ARG, 'wrong size of T0 refused')
+  ! the kinetic theory of the binary law (gran_theory_aggregation_law through frag_law): mass with
+  ! the overflow closes to 1e-12; a bad law is refused
+  call gran_theory_aggregation(mix, [1.0_c_double, 1.0_c_double, 1.0_c_double], 1.0_c_double, 2.0_c_double, &
+                               0.7_c_double, [10.0_c_double, 100.0_c_double], 1e-9_c_double, nth, overflow=ov, &
+                               frag_law=GRAN_FRAG_BINARY)
+  call expect(all(abs(nth(1, :) + 2 * nth(2, :) + 3 * nth(3, :) + ov(2, :) - n) <= 1e-12_c_double * n) .and. &
+              ov(2, 2) > 0, 'binary law theory: mass closes')
+  call gran_theory_aggregation(mix, [1.0_c_double, 1.0_c_double, 1.0_c_double], 1.0_c_double, 2.0_c_double, &
+                               0.7_c_double, [10.0_c_double], 1e-9_c_double, nth(:, 1:1), ierr=ierr, frag_law=7_c_int32_t)
+  call expect(ierr == GRAN_ERR_ARG, 'bad fragment law refused')
   call gran_mixture_destroy(mix)
 
   ! the [aggregation] table of a scene

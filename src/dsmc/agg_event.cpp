@@ -346,8 +346,7 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   const int kPipe = kDsmcPipe;
   bool flush = false; /* the particles changed (a merge or a breakup): the candidates are stale */
   /* collide the accepted pair (j, l); returns whether the trial rate changed */
-  auto collide = [&](int64_t j, int64_t l) -> bool {
-    const int32_t i = p->species[j], k = p->species[l];
+  auto collide = [&](int64_t j, int64_t l, int32_t i, int32_t k, int64_t ai, int64_t ak) -> bool {
     const int64_t ki = (int64_t)i + 1, kk = (int64_t)k + 1, K = ki + kk;
     double *vj = p->v + 3 * j, *vl = p->v + 3 * l;
     const double g[3] = {vj[0] - vl[0], vj[1] - vl[1], vj[2] - vl[2]};
@@ -358,11 +357,6 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     if (Eimp < e_agg) { /* merge: j becomes the (k+j)-mer, l leaves */
       agg_merge_velocity(vj, vl, (double)ki, (double)kk);
       const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
-      int64_t ai = -1, ak = -1;
-      if (kLow) {
-        ai = slot_of_p(j);
-        ak = slot_of_p(l);
-      }
       agg_book_merge(A, ki, kk, Eimp);
       if (kLow) {
         slot_remove(A, ai, j);
@@ -402,11 +396,9 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
         vl = p->v + 3 * l;
       }
       if (kLow) {
-        const int64_t ai = slot_of_p(j);
         slot_remove(A, ai, j);
         slot_touch(A, ai);
-        const int64_t ak = slot_of_p(l);
-        slot_remove(A, ak, l);
+        slot_remove(A, ak, l); /* ak == ai: the slot still holds l (it held j and l) */
         slot_touch(A, ak);
       }
       double Vc[3];
@@ -449,7 +441,6 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     const double sl = vl[0] * vl[0] + vl[1] * vl[1] + vl[2] * vl[2];
     bool changed = false;
     if (kLow) {
-      const int64_t ai = slot_of_p(j), ak = slot_of_p(l);
       if (slot_raise(A, ai, sj)) {
         slot_touch(A, ai);
         changed = true;
@@ -526,7 +517,8 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     if (s->pend_t > t_stop) return GRAN_SUCCESS;
     s->pend_on = 0;
     t_last_coll = s->pend_t;
-    after(collide(s->pend_c.j, s->pend_c.l));
+    const int64_t j = s->pend_c.j, l = s->pend_c.l;
+    after(collide(j, l, p->species[j], p->species[l], kLow ? slot_of_p(j) : -1, kLow ? slot_of_p(l) : -1));
     stop = coll >= coll_stop || status != GRAN_SUCCESS;
   }
   while (!stop) {
@@ -570,7 +562,10 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       break;
     }
     const double tc = now();
-    after(collide(j, l));
+    /* the sizes: low-rank from the slots (no load of the species), Bird loaded above */
+    const int32_t i = kLow ? (int32_t)(A->slot_size[(size_t)c.a] - 1) : p->species[j];
+    const int32_t k = kLow ? (int32_t)(A->slot_size[(size_t)c.b] - 1) : p->species[l];
+    after(collide(j, l, i, k, c.a, c.b));
     if (status != GRAN_SUCCESS) break;
     if (coll >= coll_stop) {
       t_last_coll = tc;
