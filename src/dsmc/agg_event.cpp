@@ -168,7 +168,18 @@ static int aggev_tighten(gran_dsmc *s) {
   }
   A->vmax2 = m2;
   while (A->kmax > 0 && A->nsize[(size_t)A->kmax - 1] == 0) A->kmax--;
-  A->smax = A->kmax > 0 ? A->sigk[(size_t)A->kmax - 1] : 0.0;
+  /* Bird: the largest pair diameter present, (sigma_k1 + sigma_k2)/2 of the two largest clusters */
+  double spair = 0;
+  if (A->kmax > 0) {
+    int64_t k2 = A->kmax;
+    if (A->nsize[(size_t)k2 - 1] < 2) {
+      k2--;
+      while (k2 > 0 && A->nsize[(size_t)k2 - 1] == 0) k2--;
+    }
+    if (k2 == 0) k2 = A->kmax; /* one cluster: no pair (the rate is 0 anyway) */
+    spair = 0.5 * (A->sigk[(size_t)A->kmax - 1] + A->sigk[(size_t)k2 - 1]);
+  }
+  A->smax = spair;
   A->cand_count = 0; /* the law changed */
   aggev_rate(s);
   dsmc_refresh_window(s);
@@ -357,6 +368,7 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     if (Eimp < e_agg) { /* merge: j becomes the (k+j)-mer, l leaves */
       agg_merge_velocity(vj, vl, (double)ki, (double)kk);
       const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+      const int64_t kmax0 = A->kmax;
       agg_book_merge(A, ki, kk, Eimp);
       if (kLow) {
         slot_remove(A, ai, j);
@@ -372,8 +384,8 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
         slot_add(A, a, jj);
         slot_raise(A, a, q2);
         slot_touch(A, a);
-      } else {
-        A->smax = std::max(A->smax, A->sigk[(size_t)K - 1]);
+      } else { /* every new pair is (K, s), s <= max(K, kmax0): at most (sigma_K + sigma_kmax0)/2 */
+        A->smax = std::max(A->smax, 0.5 * (A->sigk[(size_t)K - 1] + A->sigk[(size_t)kmax0 - 1]));
       }
       raise_all(q2);
       flush = true;
@@ -423,7 +435,8 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
         }
         slot_touch(A, last_a);
       } else {
-        for (int64_t q = 0; q < P; q++) A->smax = std::max(A->smax, A->sigk[(size_t)pc.size(q) - 1]);
+        const int64_t big = std::max(pc.size(0), pc.size(P - 1)); /* the largest piece */
+        A->smax = std::max(A->smax, 0.5 * (A->sigk[(size_t)big - 1] + A->sigk[(size_t)A->kmax - 1]));
       }
       raise_all(m2);
       flush = true;

@@ -179,15 +179,15 @@ static inline double agg_fragment_speed(int64_t ki, int64_t kk, double eps_f, do
 
 /* ---- event selectors (agg_event.cpp) ----
  * Particles unordered in the engine's arrays (species = size - 1; a merged partner is swap-removed,
- * fragments are appended). Bird: one global bound C = sigma_max^2 2 vmax (sigma_max of the largest
- * size present). Low-rank: the sizes present own slots (reused through a free list; the slot
+ * fragments are appended). Bird: one global bound C = sigma_p^2 2 vmax (sigma_p the largest pair
+ * diameter present, of the two largest clusters). Low-rank: the sizes present own slots (reused through a free list; the slot
  * arrays and trees grow by doubling), each with its member list and a speed bound b_a; the trees
  * hold u^(r)_a = b_a N_a (sigma_a^2, 2 sigma_a, 1) and v^(r)_a = N_a (1, sigma_a, sigma_a^2), the
  * rank-3 decomposition of (sigma_a + sigma_b)^2 b_a N_a N_b that engine.cpp uses for species. */
 struct DsmcAggEv : DsmcAgg {
   int lowrank = 0;
   double vmax2 = 0;                  /* bound of |v|^2 over all particles (raised; exact at a tightening) */
-  double smax = 0;                   /* Bird: diameter of the largest size present (raised; exact at a tightening) */
+  double smax = 0;                   /* Bird: largest pair diameter (sigma_i + sigma_k)/2 present (raised; exact at a tightening) */
   /* low-rank only */
   int64_t ncap = 0;                  /* slots (leaves of the trees; a power of two) */
   std::vector<int64_t> slot_size;    /* ncap: size held by a slot (0: free) */
