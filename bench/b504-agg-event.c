@@ -9,17 +9,10 @@
 #include "bench_util.h" /* first: it sets _POSIX_C_SOURCE */
 
 #include <math.h>
-#include <sys/resource.h>
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
-
-static double cpu_now(void) {
-  struct rusage ru;
-  getrusage(RUSAGE_SELF, &ru);
-  return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec;
-}
 
 /* CPU seconds per collision of one run to t; *coll the collisions */
 static double per_collision(const gran_mixture *mix, const double *T0, double N, int sel, double e_agg,
@@ -36,9 +29,9 @@ static double per_collision(const gran_mixture *mix, const double *T0, double N,
   a.eps_f = 0.7;
   gran_dsmc *d = NULL;
   BENCH_CHECK(gran_dsmc_create_agg(mix, NULL, T0, &o, &a, &d));
-  const double c0 = cpu_now();
+  const double c0 = bench_cpu_now();
   BENCH_CHECK(gran_dsmc_advance(d, t));
-  const double cpu = cpu_now() - c0;
+  const double cpu = bench_cpu_now() - c0;
   gran_dsmc_stats st;
   BENCH_CHECK(gran_dsmc_get_stats(d, &st));
   *coll = st.collisions;
