@@ -43,11 +43,9 @@ static double per_collision(const gran_mixture *mix, const double *T0, double N,
 
 int main(void) {
   const double N = bench_quick() ? 1e5 : 1e6;
-  enum { M = 8 };
-  double n[M] = {0.01}, T0[M];
-  for (int k = 0; k < M; k++) T0[k] = 1;
+  double n[8] = {0.01, 0, 0, 0, 0, 0, 0, 0}, T0[8] = {1, 1, 1, 1, 1, 1, 1, 1}; /* monomers; sizes up to 8 */
   gran_mixture *mix;
-  BENCH_CHECK(gran_mixture_create(M, NULL, NULL, n, &mix));
+  BENCH_CHECK(gran_mixture_create(8, NULL, NULL, n, &mix));
   BENCH_CHECK(gran_mixture_set_restitution(mix, 0.8));
   const double tau = 1 / (4 * sqrt(M_PI) * 0.01), t = 3 * tau;
   printf("b504-agg-event: aggregation and fragmentation in the event selectors, N = %.0f monomers, to t = 3 tau\n"

@@ -251,7 +251,8 @@ static void check_closure(const double *nn, const double *T, const double *ov, i
 
 /* Energy bookkeeping: elastic bounces (eps = 1) and fragmentation that keeps the impact energy
  * (eps_f = 1), no sticking: sum_k (3/2) n_k T_k + overflow energy is a linear invariant of the
- * right-hand side (merged/fragment energies are the exact conditional averages): 1e-12. Mass too. */
+ * right-hand side (merged/fragment energies are the exact conditional averages): 1e-12. Mass too.
+ * For both fragment laws (monomers, binary); a bad law is refused. */
 static void test_energy_closure(void **state) {
   (void)state;
   double n[8] = {0.05, 0.02, 0.01, 0.005};
@@ -263,31 +264,24 @@ static void test_energy_closure(void **state) {
   GRAN_ASSERT_OK(gran_theory_aggregation(mix, T0, 0.0, 1.0, 1.0, 3, t, 1e-9, nn, T, ov));
   check_closure(nn, T, ov, 8, 3, 0.05 + 0.04 + 0.03 + 0.02, E0);
   assert_true(nn[16] > 0.06); /* shattering made monomers */
-  gran_mixture_destroy(&mix);
-}
-
-/* The binary fragment law (gran_theory_aggregation_law): mass and (eps = 1, eps_f = 1, no sticking)
- * energy with overflow close to 1e-12; first steps from 4-mers that all shatter (E_frag = 0): each
- * size s = 1..7 gains 2/7 piece per breakup (dn_s/dt = 2 R/7, R = n_4^2 K_44/2, s != 4) with
- * T_s(0+) = T s/8 + (4/3) eps_f^2 T (8 - s)/8 (CM motion of the piece and its share (8-s)/8 of
- * eps_f^2 mu g^2/2, <mu g^2/2> = 2T among collisions); 1e-3 over t = 1e-4 collision times; a
- * dimer's binary breakup is the monomer law's; a bad law is refused. */
-static void test_binary_law(void **state) {
-  (void)state;
-  double n[8] = {0.05, 0.02, 0.01, 0.005};
-  gran_mixture *mix = kmers(8, n, 1.0);
-  const double T0[8] = {1.0, 2.0, 0.5, 3.0, 1, 1, 1, 1};
-  const double t[3] = {1, 10, 100};
-  double nn[24], T[24], ov[9], E0 = 0;
-  for (int k = 0; k < 4; k++) E0 += 1.5 * n[k] * T0[k];
+  /* the binary law (gran_theory_aggregation_law) keeps them too */
   GRAN_ASSERT_OK(gran_theory_aggregation_law(mix, T0, 0.0, 1.0, 1.0, GRAN_FRAG_BINARY, 3, t, 1e-9, nn, T, ov));
   check_closure(nn, T, ov, 8, 3, 0.05 + 0.04 + 0.03 + 0.02, E0);
   assert_true(ov[3 * 2 + 1] > 0); /* pieces beyond 8 went to the overflow */
   GRAN_ASSERT_ERR(gran_theory_aggregation_law(mix, T0, 0.0, 1.0, 1.0, 5, 3, t, 1e-9, nn, T, ov), GRAN_ERR_ARG);
   gran_mixture_destroy(&mix);
-  /* first steps from 4-mers */
+}
+
+/* The binary fragment law (gran_theory_aggregation_law): first steps from 4-mers that all shatter (E_frag = 0): each
+ * size s = 1..7 gains 2/7 piece per breakup (dn_s/dt = 2 R/7, R = n_4^2 K_44/2, s != 4) with
+ * T_s(0+) = T s/8 + (4/3) eps_f^2 T (8 - s)/8 (CM motion of the piece and its share (8-s)/8 of
+ * eps_f^2 mu g^2/2, <mu g^2/2> = 2T among collisions); 1e-3 over t = 1e-4 collision times; a
+ * dimer's binary breakup is the monomer law's. */
+static void test_binary_law(void **state) {
+  (void)state;
+  /* first steps from 4-mers (mass and energy closure: test_energy_closure) */
   double n4[8] = {0, 0, 0, 0.1};
-  mix = kmers(8, n4, 0.9);
+  gran_mixture *mix = kmers(8, n4, 0.9);
   const double Tq = 2.0, epsf = 0.6, T8[8] = {Tq, Tq, Tq, Tq, Tq, Tq, Tq, Tq};
   const double sg = 2 * cbrt(4.0) / 2, K44 = PI * sg * sg * sqrt(8 * (2 * Tq / 4) / PI), R = 0.5 * 0.01 * K44;
   const double ts = 1e-4 / (0.1 * K44);
