@@ -207,6 +207,7 @@ int main(void) {
       cmocka_unit_test(test_bad_keys),
       cmocka_unit_test(test_agg_scene),
   };
+  io_tmp("t522"); /* every file in a private temporary folder (io_path) */
   int rc = cmocka_run_group_tests_name("t522-dsmc-cell-scene", tests, NULL, NULL);
   io_tmp_cleanup();
   return rc;
