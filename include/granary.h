@@ -457,7 +457,7 @@ GRAN_EXTERN int gran_dsmc_create_cell(const gran_mixture *mix, const int64_t *co
 /* Steps done, box side L, and the largest F_N (sigma g)_max dt / V_c of the last step (any may be
  * NULL); GRAN_ERR_STATE for an engine of another selector. */
 GRAN_EXTERN int gran_dsmc_cell_info(const gran_dsmc *sim, int64_t *steps, double *box, double *pmax);
-/* Aggregating engines (cell selector with e_agg > 0 or e_frag finite; else GRAN_ERR_STATE). The
+/* Aggregating engines (e_agg > 0 or e_frag finite, any selector; else GRAN_ERR_STATE). The
  * per-species calls (counts, temperatures, sonine_a2) report the sizes 1..M of the mixture;
  * energy and momentum count every cluster; displacements, trajectories, per-pair collision counts
  * and species offsets do not exist (particles are unordered). Collisions = bounces + merges +
