@@ -4,7 +4,7 @@
  *  - the first collisions from Maxwellian monomers: fractions that merge and shatter against
  *    gran_theory_agg_fractions (4 binomial standard errors), the collision count against Eq. 35;
  *  - n_1, n_2, n_3, the number of clusters and the mean size at t = 10, 20, 40 from the low-rank,
- *    Bird and cell selectors (cell: dt = tau/28, 4^3 cells) against each other (4 standard errors
+ *    Bird and cell selectors (cell: dt = tau/28, 8^3 cells) against each other (4 standard errors
  *    of the difference, counting noise) and against gran_theory_aggregation (4 sqrt(n_k) + 1.5 %:
  *    the gas leaves the Maxwellian slightly, as in t523);
  *  - in every run: mass exact, momentum to rounding, collisions = bounces + merges + breakups,
@@ -23,7 +23,7 @@
 
 enum { kM = 40 };
 
-/* an engine of selector sel (GRAN_SELECTOR_CELL: dt 0.5, 4 cells per side) with the processes */
+/* an engine of selector sel (GRAN_SELECTOR_CELL: dt 0.5, 8 cells per side) with the processes */
 static gran_dsmc *make(int sel, gran_mixture *mix, const int64_t *counts, const double *T0, double volume,
                        double e_agg, double e_frag, double eps_f, int law, uint64_t seed) {
   gran_dsmc_options o = dsmc_opts(sel, seed, volume, 0);
@@ -32,7 +32,7 @@ static gran_dsmc *make(int sel, gran_mixture *mix, const int64_t *counts, const 
     gran_dsmc_cell_options c;
     GRAN_ASSERT_OK(gran_dsmc_cell_options_default(&c));
     c.dt = 0.5;
-    c.cells = 4;
+    c.cells = 8; /* cells of about one mean free path (27 against 22.5 at n = 0.01, N = 1e5) */
     c.e_agg = e_agg;
     c.e_frag = e_frag;
     c.eps_f = eps_f;
