@@ -86,16 +86,16 @@ int64_t slot_get(DsmcAggEv *A, int64_t k) {
 }
 
 void slot_add(DsmcAggEv *A, int64_t a, int64_t j) {
-  std::vector<int64_t> &m = A->members[(size_t)a];
+  std::vector<int32_t> &m = A->members[(size_t)a];
   A->mpos[(size_t)j] = (int64_t)m.size();
-  m.push_back(j);
+  m.push_back((int32_t)j);
 }
 
 /* particle j leaves slot a; an empty slot is freed */
 void slot_remove(DsmcAggEv *A, int64_t a, int64_t j) {
-  std::vector<int64_t> &m = A->members[(size_t)a];
+  std::vector<int32_t> &m = A->members[(size_t)a];
   const int64_t q = A->mpos[(size_t)j], y = m.back();
-  m[(size_t)q] = y;
+  m[(size_t)q] = (int32_t)y;
   A->mpos[(size_t)y] = q;
   m.pop_back();
   if (m.empty()) {
@@ -215,7 +215,9 @@ int dsmc_aggev_setup(gran_dsmc *s, const gran_dsmc_agg_options *o) {
              "aggregation and fragmentation in the event selectors need GRAN_SELECTOR_LOWRANK or GRAN_SELECTOR_BIRD "
              "(the paper variants and speed classes are not supported)");
   GRAN_CHECK(!s->has_tracers, GRAN_ERR_ARG, "aggregation: tracers (n_k = 0 with particles) are not supported");
-  GRAN_CHECK(s->N < (INT64_C(1) << 40), GRAN_ERR_ARG, "aggregation: too many particles");
+  GRAN_CHECK(s->N < (s->selector == GRAN_SELECTOR_LOWRANK ? (int64_t)INT32_MAX : (INT64_C(1) << 40)), GRAN_ERR_ARG,
+             "aggregation: too many particles (" GRAN_I64_FMT "; the low-rank selector's member lists hold fewer than 2^31)",
+             s->N);
   DsmcAggEv *A = new DsmcAggEv();
   s->agg = A; /* owned from here: dsmc_aggev_free */
   A->e_agg = o->e_agg;
@@ -286,9 +288,9 @@ int dsmc_aggev_read_done(gran_dsmc *s) {
     const int64_t k = (int64_t)s->p.species[j] + 1, a = A->slot_of[(size_t)k - 1];
     GRAN_CHECK(a >= 0, GRAN_ERR_IO, "aggregation slots");
     const int64_t q = A->mpos[(size_t)j];
-    std::vector<int64_t> &m = A->members[(size_t)a];
+    std::vector<int32_t> &m = A->members[(size_t)a];
     GRAN_CHECK(q >= 0 && q < (int64_t)m.size() && m[(size_t)q] < 0, GRAN_ERR_IO, "aggregation member positions");
-    m[(size_t)q] = j;
+    m[(size_t)q] = (int32_t)j;
   }
   for (size_t k = 0; k < A->nsize.size(); k++)
     GRAN_CHECK(A->nsize[k] == 0 || A->slot_of[k] >= 0, GRAN_ERR_IO, "aggregation slots");
@@ -336,7 +338,7 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     const int64_t last = p->n - 1;
     if (kLow && last != x && last != loose) {
       const int64_t a = slot_of_p(last), q = A->mpos[(size_t)last];
-      A->members[(size_t)a][(size_t)q] = x;
+      A->members[(size_t)a][(size_t)q] = (int32_t)x;
       A->mpos[(size_t)x] = q;
     }
     gran_particles_swap_remove(p, x);
@@ -399,6 +401,10 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     if (0.5 * mu * gn2 > e_frag) { /* shatter into the pieces of the fragment law */
       const AggPieces pc = agg_pieces(w, A->frag_law, K);
       const int64_t P = pc.P, n0 = p->n;
+      if (kLow && n0 + P - 2 >= INT32_MAX) { /* the member lists hold 32-bit indices */
+        status = GRAN_ERROR(GRAN_ERR_RANGE, "fragmentation would make more than 2^31 particles (low-rank selector)");
+        return false;
+      }
       if (n0 + P - 2 > p->capacity) { /* one growth at most, geometric */
         const int64_t want = std::max(n0 + P - 2, 2 * p->capacity);
         status = gran_particles_reserve(p, want);
@@ -500,7 +506,7 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       const int r = x < u0 ? 0 : x < u0 + u1 ? 1 : 2;
       c.a = segtree_sample(&A->u[r], w.uniform());
       c.b = segtree_sample(&A->v[r], w.uniform());
-      const std::vector<int64_t> &ma = A->members[(size_t)c.a], &mb = A->members[(size_t)c.b];
+      const std::vector<int32_t> &ma = A->members[(size_t)c.a], &mb = A->members[(size_t)c.b];
       c.j = w.below((int64_t)ma.size());
       c.l = w.below((int64_t)mb.size());
       c.resolved = 0;

@@ -194,7 +194,7 @@ struct DsmcAggEv : DsmcAgg {
   std::vector<double> sbound;        /* ncap: speed bound of the slot's particles */
   std::vector<int64_t> free_slots;   /* free slots (a stack) */
   std::vector<int32_t> slot_of;      /* per size [k-1]: its slot or -1 (grown with nsize) */
-  std::vector<std::vector<int64_t>> members; /* ncap: particle indices of the slot's size */
+  std::vector<std::vector<int32_t>> members; /* ncap: particle indices of the slot's size (N < 2^31) */
   std::vector<int64_t> mpos;         /* per particle: its index in its member list */
   gran_segtree u[3]{}, v[3]{};
   /* pipeline of pre-drawn candidate pairs (as the hot loop's): drawn kDsmcPipe trials ahead, the
