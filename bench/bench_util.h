@@ -16,6 +16,13 @@ static inline double bench_now(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* CPU seconds of this process (user time): the steadier clock on a shared machine */
+static inline double bench_cpu_now(void) {
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec;
+}
+
 /* peak resident set size of this process in bytes */
 static inline double bench_peak_rss(void) {
   struct rusage ru;

@@ -162,7 +162,7 @@ module granary
     real(c_double) :: bath_density = 0         ! molecular-gas bath n_b (0: off)
     real(c_double) :: bath_mass = 1, bath_T = 1, bath_sigma = 1
     integer(c_int32_t) :: placement = 0        ! GRAN_PLACE_*
-    integer(c_int32_t) :: pad_ = 0
+    integer(c_int32_t) :: frag_law = 0         ! GRAN_FRAG_* (aggregation in the event selectors block)
   end type gran_dsmc_cell_options
   public :: gran_dsmc_cell_options_default, gran_dsmc_create_cell, gran_dsmc_cell_info, gran_scene_dsmc_cell_options
   type, bind(C), public :: gran_dsmc_cluster_stats
@@ -171,6 +171,18 @@ module granary
     real(c_double) :: mean_size = 0, e_bounce = 0, e_merge = 0, e_break = 0, e_heat = 0
   end type gran_dsmc_cluster_stats
   public :: gran_dsmc_get_cluster_stats, gran_dsmc_size_distribution
+  ! ---- aggregation in the event selectors (src/dsmc/agg_event.cpp) ----
+  integer(c_int32_t), parameter, public :: GRAN_FRAG_MONOMERS = 0
+  integer(c_int32_t), parameter, public :: GRAN_FRAG_BINARY = 1
+  type, bind(C), public :: gran_dsmc_agg_options
+    real(c_double) :: e_agg = 0                    ! merge when mu g^2/2 < e_agg (0: off)
+    real(c_double) :: e_frag = huge(1.0_c_double)  ! shatter when mu g_n^2/2 > e_frag (C default: INFINITY)
+    real(c_double) :: eps_f = 1                    ! pieces share eps_f^2 of the impact energy
+    integer(c_int32_t) :: frag_law = 0             ! GRAN_FRAG_*
+    integer(c_int32_t) :: pad_ = 0
+  end type gran_dsmc_agg_options
+  public :: gran_dsmc_agg_options_default, gran_dsmc_create_agg, gran_scene_dsmc_agg_options
+  ! ---- end aggregation in the event selectors ----
   ! ---- end cell selector ----
   ! ---- analysis ----
   ! A TAMSD plan: the C handle and the trajectory length it was made for (so that the wrappers can
@@ -1225,6 +1237,43 @@ module granary
     end function c_gran_dsmc_size_distribution
   end interface
   ! ---- end cell selector interfaces ----
+  ! ---- aggregation in the event selectors: interfaces ----
+  interface
+    function c_gran_dsmc_agg_options_default(agg) bind(C, name='gran_dsmc_agg_options_default') result(ierr)
+      import :: c_int, gran_dsmc_agg_options
+      type(gran_dsmc_agg_options), intent(out) :: agg
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_agg_options_default
+    function c_gran_dsmc_create_agg(mix, counts, T0, opt, agg, sim) bind(C, name='gran_dsmc_create_agg') result(ierr)
+      import :: c_int, c_ptr, gran_dsmc_options, gran_dsmc_agg_options
+      type(c_ptr), value :: mix, counts, T0
+      type(gran_dsmc_options), intent(in) :: opt
+      type(gran_dsmc_agg_options), intent(in) :: agg
+      type(c_ptr), intent(out) :: sim
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_create_agg
+    function c_gran_theory_aggregation_law(mix, t0, e_agg, e_frag, eps_f, frag_law, ntimes, t, rtol, n, temp, &
+        overflow) bind(C, name='gran_theory_aggregation_law') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: t0(*)
+      real(c_double), value :: e_agg, e_frag, eps_f
+      integer(c_int), value :: frag_law
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: n(*)
+      type(c_ptr), value :: temp, overflow
+      integer(c_int) :: ierr
+    end function c_gran_theory_aggregation_law
+    function c_gran_scene_dsmc_agg_options(scene, agg) bind(C, name='gran_scene_dsmc_agg_options') result(ierr)
+      import :: c_int, c_ptr, gran_dsmc_agg_options
+      type(c_ptr), value :: scene
+      type(gran_dsmc_agg_options), intent(out) :: agg
+      integer(c_int) :: ierr
+    end function c_gran_scene_dsmc_agg_options
+  end interface
+  ! ---- end aggregation in the event selectors: interfaces ----
 
 contains
 
@@ -2196,12 +2245,14 @@ contains
 
   !> Smoluchowski kinetics with temperatures: n(M, size(t)), optional temp(M, size(t)) and
   !> overflow(3, size(t)) (number, mass, energy per volume beyond size M). e_frag = huge: none.
-  subroutine gran_theory_aggregation(mix, t0, e_agg, e_frag, eps_f, t, rtol, n, temp, overflow, ierr)
+  !> frag_law (optional, GRAN_FRAG_*; default monomers): gran_theory_aggregation_law.
+  subroutine gran_theory_aggregation(mix, t0, e_agg, e_frag, eps_f, t, rtol, n, temp, overflow, ierr, frag_law)
     type(c_ptr), intent(in) :: mix
     real(c_double), intent(in) :: t0(:), e_agg, e_frag, eps_f, t(:), rtol
     real(c_double), intent(out) :: n(:, :)
     real(c_double), intent(out), target, contiguous, optional :: temp(:, :), overflow(:, :)
     integer, intent(out), optional :: ierr
+    integer(c_int32_t), intent(in), optional :: frag_law
     integer(c_int64_t) :: m
     type(c_ptr) :: pt, po
     m = gran_theory_m(mix)
@@ -2225,6 +2276,11 @@ contains
         return
       end if
       po = c_loc(overflow)
+    end if
+    if (present(frag_law)) then ! aggregation in the event selectors block
+      call gran_check(c_gran_theory_aggregation_law(mix, t0, e_agg, e_frag, eps_f, int(frag_law, c_int), &
+                                                    size(t, kind=c_int64_t), t, rtol, n, pt, po), ierr)
+      return
     end if
     call gran_check(c_gran_theory_aggregation(mix, t0, e_agg, e_frag, eps_f, size(t, kind=c_int64_t), t, rtol, &
                                               n, pt, po), ierr)
@@ -3105,4 +3161,51 @@ contains
     call gran_check(c_gran_dsmc_size_distribution(sim, cap, nsizes, ps, pc, pt), ierr)
   end subroutine gran_dsmc_size_distribution
   ! ---- end cell selector wrappers ----
+  ! ---- aggregation in the event selectors: wrappers ----
+  subroutine gran_dsmc_agg_options_default(agg, ierr)
+    type(gran_dsmc_agg_options), intent(out) :: agg
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_dsmc_agg_options_default(agg), ierr)
+  end subroutine gran_dsmc_agg_options_default
+
+  !> New engine of an event selector with aggregation and fragmentation (as gran_dsmc_create).
+  subroutine gran_dsmc_create_agg(sim, mix, opt, agg, counts, T0, ierr)
+    type(c_ptr), intent(out) :: sim
+    type(c_ptr), intent(in) :: mix
+    type(gran_dsmc_options), intent(in) :: opt
+    type(gran_dsmc_agg_options), intent(in) :: agg
+    integer(c_int64_t), intent(in), target, contiguous, optional :: counts(:)
+    real(c_double), intent(in), target, contiguous, optional :: T0(:)
+    integer, intent(out), optional :: ierr
+    type(c_ptr) :: pc, pt
+    integer(c_int64_t) :: m
+    character(len=64) :: bad
+    sim = c_null_ptr
+    pc = c_null_ptr
+    pt = c_null_ptr
+    bad = ''
+    if (c_gran_mixture_nspecies(mix, m) /= GRAN_SUCCESS) m = -1
+    if (present(counts)) then
+      if (m >= 0 .and. size(counts, kind=c_int64_t) /= m) bad = 'counts'
+      if (size(counts) > 0) pc = c_loc(counts(1))
+    end if
+    if (present(T0)) then
+      if (m >= 0 .and. size(T0, kind=c_int64_t) /= m) bad = 'T0'
+      if (size(T0) > 0) pt = c_loc(T0(1))
+    end if
+    if (len_trim(bad) > 0) then
+      call gran_dsmc_shape_error('gran_dsmc_create_agg: size(' // trim(bad) // ') /= number of species', ierr)
+      return
+    end if
+    call gran_check(c_gran_dsmc_create_agg(mix, pc, pt, opt, agg, sim), ierr)
+  end subroutine gran_dsmc_create_agg
+
+  !> The scene's aggregation and fragmentation ([aggregation], or the [cell] keys), any selector.
+  subroutine gran_scene_dsmc_agg_options(scene, agg, ierr)
+    type(c_ptr), intent(in) :: scene
+    type(gran_dsmc_agg_options), intent(out) :: agg
+    integer, intent(out), optional :: ierr
+    call gran_check(c_gran_scene_dsmc_agg_options(scene, agg), ierr)
+  end subroutine gran_scene_dsmc_agg_options
+  ! ---- end aggregation in the event selectors: wrappers ----
 end module granary

@@ -436,7 +436,7 @@ typedef struct gran_dsmc_cell_options {
   double bath_T;      /* their temperature T_b (>= 0) */
   double bath_sigma;  /* their diameter sigma_b (>= 0; contact at (sigma_k + sigma_b)/2) */
   int32_t placement;  /* gran_cell_placement */
-  int32_t pad_;
+  int32_t frag_law;   /* gran_frag_law: the pieces of a breakup (default GRAN_FRAG_MONOMERS) */
 } gran_dsmc_cell_options;
 
 /* Defaults: 1 cell, dt 0 (must be set), F_N 1, no aggregation (e_agg 0), no fragmentation
@@ -459,7 +459,7 @@ GRAN_EXTERN int gran_dsmc_create_cell(const gran_mixture *mix, const int64_t *co
 /* Steps done, box side L, and the largest F_N (sigma g)_max dt / V_c of the last step (any may be
  * NULL); GRAN_ERR_STATE for an engine of another selector. */
 GRAN_EXTERN int gran_dsmc_cell_info(const gran_dsmc *sim, int64_t *steps, double *box, double *pmax);
-/* Aggregating engines (cell selector with e_agg > 0 or e_frag finite; else GRAN_ERR_STATE). The
+/* Aggregating engines (e_agg > 0 or e_frag finite, any selector; else GRAN_ERR_STATE). The
  * per-species calls (counts, temperatures, sonine_a2) report the sizes 1..M of the mixture;
  * energy and momentum count every cluster; displacements, trajectories, per-pair collision counts
  * and species offsets do not exist (particles are unordered). Collisions = bounces + merges +
@@ -481,6 +481,42 @@ GRAN_EXTERN int gran_dsmc_get_cluster_stats(const gran_dsmc *sim, gran_dsmc_clus
  * least, else GRAN_ERR_RANGE; cap = 0: only *nsizes), T (may be NULL) their temperatures. */
 GRAN_EXTERN int gran_dsmc_size_distribution(const gran_dsmc *sim, int64_t cap, int64_t *nsizes, int64_t *sizes,
                                             int64_t *counts, double *T);
+
+/* ---- Aggregation and fragmentation in the event selectors (src/dsmc/agg_event.cpp) -----------
+ * The same processes as the cell selector's (the rules are shared) in the low-rank and Bird event
+ * selectors: species are cluster sizes (species k-1 of the mixture = the k-mer; sizes beyond the
+ * mixture's appear on the fly), exact rates by rejection, particles unordered. gran_dsmc_create_agg
+ * with e_agg = 0 and e_frag = INFINITY is gran_dsmc_create (no aggregation, no cost). The fragment
+ * law (every selector): GRAN_FRAG_MONOMERS, the (k+j)-mer shatters into k+j monomers (seed 002
+ * Eqs. 13-14); GRAN_FRAG_BINARY, into two pieces of sizes a and k+j-a, a uniform in 1..k+j-1; in
+ * both the momentum is exact and the pieces share eps_f^2 mu g^2/2 in the centre-of-mass frame. */
+enum gran_frag_law {
+  GRAN_FRAG_MONOMERS = 0, /* into monomers (seed 002) */
+  GRAN_FRAG_BINARY = 1    /* into two pieces of a uniform size */
+};
+typedef struct gran_dsmc_agg_options {
+  double e_agg;       /* merge when mu g^2 / 2 < e_agg (0: off) */
+  double e_frag;      /* shatter when mu g_n^2 / 2 > e_frag (INFINITY: off) */
+  double eps_f;       /* the pieces share eps_f^2 of the impact energy in the CM frame, [0, 1] */
+  int32_t frag_law;   /* gran_frag_law */
+  int32_t pad_;
+} gran_dsmc_agg_options;
+/* Defaults: e_agg 0, e_frag INFINITY, eps_f 1, GRAN_FRAG_MONOMERS. */
+GRAN_EXTERN int gran_dsmc_agg_options_default(gran_dsmc_agg_options *agg);
+/* As gran_dsmc_create for opt->selector GRAN_SELECTOR_LOWRANK or GRAN_SELECTOR_BIRD (the paper
+ * variants and speed classes: GRAN_ERR_UNSUPPORTED with aggregation) with the processes of agg;
+ * the mixture must be k-mers with one constant restitution (as the cell selector); no tracers,
+ * displacements, trajectories or per-pair collision counts. gran_dsmc_get_cluster_stats,
+ * gran_dsmc_size_distribution, checkpoints and every observable work on it. */
+/* gran_theory_aggregation (theory block) with the fragment law: GRAN_FRAG_BINARY gives size s of a
+ * breaking (i+j)-mer 2/(i+j-1) pieces on average, each with the share (i+j-s)/(i+j) of the
+ * eps_f^2 mu g^2/2 kept in the CM frame; pieces above M go to the overflow reservoir. */
+GRAN_EXTERN int gran_theory_aggregation_law(const gran_mixture *mix, const double *T0, double E_agg, double E_frag,
+                                            double eps_f, int frag_law, int64_t ntimes, const double *t, double rtol,
+                                            double *n, double *T, double *overflow);
+GRAN_EXTERN int gran_dsmc_create_agg(const gran_mixture *mix, const int64_t *counts, const double *T0,
+                                     const gran_dsmc_options *opt, const gran_dsmc_agg_options *agg,
+                                     gran_dsmc **sim);
 
 /* ---- Analysis (src/analysis) -----------------------------------------------------------------
  * Observables from trajectories and velocities. Trajectories: ntraj tracers sampled on a uniform
@@ -545,6 +581,9 @@ GRAN_EXTERN int gran_scene_dsmc(const gran_scene *scene, const gran_mixture *mix
 /* The [cell] table of a scene (engine selector = "cell"): cells, dt, fn, e_agg, e_frag, eps_f,
  * heat_rate, bath_density, bath_mass, bath_T, bath_sigma, placement; defaults of gran_dsmc_cell_options_default for keys not given. */
 GRAN_EXTERN int gran_scene_dsmc_cell_options(const gran_scene *scene, gran_dsmc_cell_options *cell);
+/* The scene's aggregation and fragmentation ([aggregation] table, or the [cell] table's keys of the
+ * cell selector), for any selector; defaults of gran_dsmc_agg_options_default when off. */
+GRAN_EXTERN int gran_scene_dsmc_agg_options(const gran_scene *scene, gran_dsmc_agg_options *agg);
 
 /* Progress of a run, handed to the optional callback after every output time. */
 typedef struct gran_run_progress {

@@ -236,9 +236,23 @@ static void test_bad_inputs(void **state) {
   GRAN_ASSERT_ERR(gran_theory_smoluchowski_constant(2, 1, nz, 1, &t, 1e-8, out, NULL), GRAN_ERR_ARG);
 }
 
+/* mass sum k n_k + overflow and energy sum (3/2) n_k T_k + overflow at nt times against mass0, E0 */
+static void check_closure(const double *nn, const double *T, const double *ov, int M, int nt, double mass0, double E0) {
+  for (int q = 0; q < nt; q++) {
+    double E = ov[3 * q + 2], mass = ov[3 * q + 1];
+    for (int k = 0; k < M; k++) {
+      E += 1.5 * nn[M * q + k] * T[M * q + k];
+      mass += (k + 1) * nn[M * q + k];
+    }
+    GRAN_ASSERT_REL(E, E0, 1e-12);
+    GRAN_ASSERT_REL(mass, mass0, 1e-12);
+  }
+}
+
 /* Energy bookkeeping: elastic bounces (eps = 1) and fragmentation that keeps the impact energy
  * (eps_f = 1), no sticking: sum_k (3/2) n_k T_k + overflow energy is a linear invariant of the
- * right-hand side (merged/fragment energies are the exact conditional averages): 1e-12. Mass too. */
+ * right-hand side (merged/fragment energies are the exact conditional averages): 1e-12. Mass too.
+ * For both fragment laws (monomers, binary); a bad law is refused. */
 static void test_energy_closure(void **state) {
   (void)state;
   double n[8] = {0.05, 0.02, 0.01, 0.005};
@@ -248,16 +262,45 @@ static void test_energy_closure(void **state) {
   double nn[24], T[24], ov[9], E0 = 0;
   for (int k = 0; k < 4; k++) E0 += 1.5 * n[k] * T0[k];
   GRAN_ASSERT_OK(gran_theory_aggregation(mix, T0, 0.0, 1.0, 1.0, 3, t, 1e-9, nn, T, ov));
-  for (int q = 0; q < 3; q++) {
-    double E = ov[3 * q + 2], mass = ov[3 * q + 1];
-    for (int k = 0; k < 8; k++) {
-      E += 1.5 * nn[8 * q + k] * T[8 * q + k];
-      mass += (k + 1) * nn[8 * q + k];
-    }
-    GRAN_ASSERT_REL(E, E0, 1e-12);
-    GRAN_ASSERT_REL(mass, 0.05 + 0.04 + 0.03 + 0.02, 1e-12);
-  }
+  check_closure(nn, T, ov, 8, 3, 0.05 + 0.04 + 0.03 + 0.02, E0);
   assert_true(nn[16] > 0.06); /* shattering made monomers */
+  /* the binary law (gran_theory_aggregation_law) keeps them too */
+  GRAN_ASSERT_OK(gran_theory_aggregation_law(mix, T0, 0.0, 1.0, 1.0, GRAN_FRAG_BINARY, 3, t, 1e-9, nn, T, ov));
+  check_closure(nn, T, ov, 8, 3, 0.05 + 0.04 + 0.03 + 0.02, E0);
+  assert_true(ov[3 * 2 + 1] > 0); /* pieces beyond 8 went to the overflow */
+  GRAN_ASSERT_ERR(gran_theory_aggregation_law(mix, T0, 0.0, 1.0, 1.0, 5, 3, t, 1e-9, nn, T, ov), GRAN_ERR_ARG);
+  gran_mixture_destroy(&mix);
+}
+
+/* The binary fragment law (gran_theory_aggregation_law): first steps from 4-mers that all shatter (E_frag = 0): each
+ * size s = 1..7 gains 2/7 piece per breakup (dn_s/dt = 2 R/7, R = n_4^2 K_44/2, s != 4) with
+ * T_s(0+) = T s/8 + (4/3) eps_f^2 T (8 - s)/8 (CM motion of the piece and its share (8-s)/8 of
+ * eps_f^2 mu g^2/2, <mu g^2/2> = 2T among collisions); 1e-3 over t = 1e-4 collision times; a
+ * dimer's binary breakup is the monomer law's. */
+static void test_binary_law(void **state) {
+  (void)state;
+  /* first steps from 4-mers (mass and energy closure: test_energy_closure) */
+  double n4[8] = {0, 0, 0, 0.1};
+  gran_mixture *mix = kmers(8, n4, 0.9);
+  const double Tq = 2.0, epsf = 0.6, T8[8] = {Tq, Tq, Tq, Tq, Tq, Tq, Tq, Tq};
+  const double sg = 2 * cbrt(4.0) / 2, K44 = PI * sg * sg * sqrt(8 * (2 * Tq / 4) / PI), R = 0.5 * 0.01 * K44;
+  const double ts = 1e-4 / (0.1 * K44);
+  double n1[8], T1[8];
+  GRAN_ASSERT_OK(gran_theory_aggregation_law(mix, T8, 0.0, 0.0, epsf, GRAN_FRAG_BINARY, 1, &ts, 1e-12, n1, T1, NULL));
+  for (int s = 1; s <= 7; s++) {
+    if (s == 4) continue;
+    GRAN_ASSERT_REL(n1[s - 1] / ts, 2 * R / 7, 1e-3);
+    GRAN_ASSERT_REL(T1[s - 1], Tq * s / 8.0 + (4.0 / 3.0) * epsf * epsf * Tq * (8 - s) / 8.0, 1e-3);
+  }
+  GRAN_ASSERT_REL((0.1 - n1[3]) / ts, 2 * R - 2 * R / 7, 1e-3);
+  gran_mixture_destroy(&mix);
+  /* dimers from monomers: the binary law is the monomer law */
+  double nm[4] = {0.1}, a[8], b[8];
+  mix = kmers(4, nm, 0.8);
+  const double Tm[4] = {1, 1, 1, 1}, tm[2] = {5, 50};
+  GRAN_ASSERT_OK(gran_theory_aggregation_law(mix, Tm, 0.0, 1.0, 0.5, GRAN_FRAG_BINARY, 2, tm, 1e-10, a, NULL, NULL));
+  GRAN_ASSERT_OK(gran_theory_aggregation(mix, Tm, 0.0, 1.0, 0.5, 2, tm, 1e-10, b, NULL, NULL));
+  for (int k = 0; k < 8; k++) GRAN_ASSERT_REL(a[k], b[k], 1e-14);
   gran_mixture_destroy(&mix);
 }
 
@@ -267,6 +310,7 @@ int main(void) {
       cmocka_unit_test(test_mixture_limit),    cmocka_unit_test(test_constant_kernel),
       cmocka_unit_test(test_large_and_truncated), cmocka_unit_test(test_mass_ballistic),
       cmocka_unit_test(test_first_rates),      cmocka_unit_test(test_energy_closure),      cmocka_unit_test(test_bad_inputs),
+      cmocka_unit_test(test_binary_law),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,6 +5,7 @@
  * gran_dsmc_create_cell with gran_scene_dsmc_cell_options; every bad [cell] key is refused with
  * GRAN_ERR_PARSE naming it. */
 #include "io_test_util.h"
+#include "agg_test_util.h"
 
 static const char *kFmt =
     "title = \"cell\"\n"
@@ -137,66 +138,36 @@ static void test_agg_scene(void **state) {
   gran_run_result res;
   GRAN_ASSERT_OK(gran_scene_run(s, NULL, "", NULL, &res));
   assert_int_equal(res.finished, 1);
-  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
-  assert_true(f >= 0);
-  size_t nn = 0, nth = 0, ns = 0, nl = 0, ne = 0;
-  hsize_t dims[4];
-  assert_int_equal(io_h5_dims(f, "/clusters/n", dims), 2);
-  double *n = io_h5_read_double(f, "/clusters/n", &nn);
-  double *th = io_h5_read_double(f, "/clusters/n_theory", &nth);
-  double *st = io_h5_read_double(f, "/clusters/stats", &ns);
-  double *led = io_h5_read_double(f, "/clusters/ledger", &nl);
-  double *ek = io_h5_read_double(f, "/energy/e_kin", &ne);
-  double *e0 = io_h5_read_double(f, "/energy/e_initial", &ne);
-  double *ed = io_h5_read_double(f, "/energy/e_dissipated", &ne);
-  assert_int_equal(nn, 90);
-  assert_int_equal(nth, 90);
-  /* last time: n_1, n_2 within 4 sqrt(n) + 1.5 % (as t523) */
-  for (int k = 0; k < 2; k++)
-    GRAN_ASSERT_SIGMA(n[60 + k], th[60 + k], sqrt(th[60 + k]) + 0.015 * th[60 + k] / 4, 4);
-  assert_true(st[6 * 2 + 3] > 100 && st[6 * 2 + 4] > 100); /* merges and breakups happened */
-  for (int i = 0; i < 3; i++) {
-    GRAN_ASSERT_REL(ed[i], led[4 * i] + led[4 * i + 1] + led[4 * i + 2] - led[4 * i + 3], 1e-13);
-    GRAN_ASSERT_ABS(ek[i], e0[i] - ed[i], 1e-12 * e0[i]);
-  }
-  free(n), free(th), free(st), free(led), free(ek), free(e0), free(ed);
-  H5Fclose(f);
+  agg_check_run_output(out, 30);
   gran_scene_destroy(&s);
 }
 
-static void expect_parse_error(const char *scene, const char *key) {
-  gran_scene *s = NULL;
-  GRAN_ASSERT_ERR(gran_scene_parse(scene, "bad.toml", &s), GRAN_ERR_PARSE);
-  if (!strstr(gran_last_error_message(), key))
-    fail_msg("message '%s' does not name '%s'", gran_last_error_message(), key);
-  assert_null(s);
-}
 
 static void test_bad_keys(void **state) {
   (void)state;
-  expect_parse_error(text("cells = 0", "x.h5"), "cell.cells");
-  expect_parse_error(text("cells = 5000", "x.h5"), "cell.cells");
-  expect_parse_error(text("fn = -1.0", "x.h5"), "cell.fn");
-  expect_parse_error(text("e_agg = -1.0", "x.h5"), "cell.e_agg");
-  expect_parse_error(text("e_frag = -1.0", "x.h5"), "cell.e_frag");
-  expect_parse_error(text("eps_f = 2.0", "x.h5"), "cell.eps_f");
-  expect_parse_error(text("heat_rate = -1.0", "x.h5"), "cell.heat_rate");
-  expect_parse_error(text("placement = \"nowhere\"", "x.h5"), "cell.placement");
-  expect_parse_error(text("bath_density = -1.0", "x.h5"), "cell.bath_density");
-  expect_parse_error(text("bath_mass = 0.0", "x.h5"), "cell.bath_mass");
-  expect_parse_error(text("bath_T = -2.0", "x.h5"), "cell.bath_T");
-  expect_parse_error(text("bath_sigma = -1.0", "x.h5"), "cell.bath_sigma");
-  expect_parse_error(text("nonsense = 1", "x.h5"), "cell.nonsense");
+  agg_expect_parse_error(text("cells = 0", "x.h5"), "cell.cells");
+  agg_expect_parse_error(text("cells = 5000", "x.h5"), "cell.cells");
+  agg_expect_parse_error(text("fn = -1.0", "x.h5"), "cell.fn");
+  agg_expect_parse_error(text("e_agg = -1.0", "x.h5"), "cell.e_agg");
+  agg_expect_parse_error(text("e_frag = -1.0", "x.h5"), "cell.e_frag");
+  agg_expect_parse_error(text("eps_f = 2.0", "x.h5"), "cell.eps_f");
+  agg_expect_parse_error(text("heat_rate = -1.0", "x.h5"), "cell.heat_rate");
+  agg_expect_parse_error(text("placement = \"nowhere\"", "x.h5"), "cell.placement");
+  agg_expect_parse_error(text("bath_density = -1.0", "x.h5"), "cell.bath_density");
+  agg_expect_parse_error(text("bath_mass = 0.0", "x.h5"), "cell.bath_mass");
+  agg_expect_parse_error(text("bath_T = -2.0", "x.h5"), "cell.bath_T");
+  agg_expect_parse_error(text("bath_sigma = -1.0", "x.h5"), "cell.bath_sigma");
+  agg_expect_parse_error(text("nonsense = 1", "x.h5"), "cell.nonsense");
   /* dt: a second dt line would be a TOML error; replace it */
   {
     char buf[4096];
     snprintf(buf, sizeof buf, "%s", text("cells = 3", "x.h5"));
     char *p = strstr(buf, "dt = 0.5");
     memcpy(p, "dt =-1.0", 8);
-    expect_parse_error(buf, "cell.dt");
+    agg_expect_parse_error(buf, "cell.dt");
     p = strstr(buf, "dt =-1.0");
     memcpy(p, "#t = 0.5", 8);
-    expect_parse_error(buf, "dt");
+    agg_expect_parse_error(buf, "dt");
   }
   /* [cell] without selector "cell", and selector "cell" without [cell] */
   {
@@ -204,11 +175,11 @@ static void test_bad_keys(void **state) {
     snprintf(buf, sizeof buf, "%s", text("cells = 3", "x.h5"));
     char *p = strstr(buf, "selector = \"cell\"");
     memcpy(p + 11, "\"bird\"", 6);
-    expect_parse_error(buf, "cell");
+    agg_expect_parse_error(buf, "cell");
     snprintf(buf, sizeof buf, "%s", text("cells = 3", "x.h5"));
     p = strstr(buf, "[cell]");
     memcpy(p, "[cel2]", 6);
-    expect_parse_error(buf, "cel");
+    agg_expect_parse_error(buf, "cel");
   }
   /* a dt too large for the gas: refused when the engine is made, naming dt */
   {
@@ -236,6 +207,7 @@ int main(void) {
       cmocka_unit_test(test_bad_keys),
       cmocka_unit_test(test_agg_scene),
   };
+  io_tmp("t522"); /* every file in a private temporary folder (io_path) */
   int rc = cmocka_run_group_tests_name("t522-dsmc-cell-scene", tests, NULL, NULL);
   io_tmp_cleanup();
   return rc;

@@ -12,20 +12,11 @@
  *    a 1e6-mer that swallows 100 monomers (sizes up to 1e6 + 100; 1e5 under ASan);
  *  - bad input: a mixture that is not k-mers, matrix restitution, displacements, API misuse. */
 #include "dsmc_util.h"
+#include "agg_test_util.h"
 
 #include <string.h>
 
 enum { kM = 40 };
-
-static gran_mixture *kmers(int64_t M, double n1, double eps) {
-  double *n = calloc((size_t)M, sizeof *n);
-  n[0] = n1;
-  gran_mixture *mix = NULL;
-  GRAN_ASSERT_OK(gran_mixture_create(M, NULL, NULL, n, &mix));
-  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, eps));
-  free(n);
-  return mix;
-}
 
 static gran_dsmc *make(gran_mixture *mix, const int64_t *counts, const double *T0, double volume, double dt,
                        int cells, double e_agg, double e_frag, double eps_f, uint64_t seed) {
@@ -42,57 +33,9 @@ static gran_dsmc *make(gran_mixture *mix, const int64_t *counts, const double *T
   return d;
 }
 
-/* mass, momentum, counters and the ledger */
-static void check_conservation(const gran_dsmc *d, int64_t mass0) {
-  gran_dsmc_cluster_stats st;
-  gran_dsmc_stats x;
-  GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(d, &st));
-  GRAN_ASSERT_OK(gran_dsmc_get_stats(d, &x));
-  assert_int_equal(st.mass, mass0);
-  assert_int_equal(x.collisions, st.merges + st.breakups + st.bounces);
-  assert_int_equal(x.nparticles, st.nclusters);
-  GRAN_ASSERT_REL(st.mean_size, (double)mass0 / (double)st.nclusters, 1e-15);
-  /* the particles themselves carry the mass */
-  const gran_particles *p;
-  GRAN_ASSERT_OK(gran_dsmc_particles(d, &p));
-  int64_t m = 0, big = 0;
-  for (int64_t j = 0; j < p->n; j++) {
-    m += p->species[j] + 1;
-    if (p->species[j] + 1 > big) big = p->species[j] + 1;
-  }
-  assert_int_equal(m, mass0);
-  assert_int_equal(big, st.largest);
-  double e, e0, ed, P[3];
-  GRAN_ASSERT_OK(gran_dsmc_energy(d, &e, &e0, &ed));
-  GRAN_ASSERT_REL(ed, st.e_bounce + st.e_merge + st.e_break - st.e_heat, 1e-14);
-  GRAN_ASSERT_ABS(e, e0 - ed, 1e-12 * e0);
-  GRAN_ASSERT_OK(gran_dsmc_momentum(d, P));
-  /* rounding against the momentum scale of the start, sqrt(2 E_0 M) (M the total mass) */
-  const double scale = sqrt(2.0 * e0 * (double)mass0);
-  for (int k = 0; k < 3; k++) GRAN_ASSERT_ABS(P[k], 0.0, 1e-12 * scale);
-  /* the sparse size distribution holds the same clusters */
-  int64_t ns = 0;
-  GRAN_ASSERT_OK(gran_dsmc_size_distribution(d, 0, &ns, NULL, NULL, NULL));
-  assert_int_equal(ns, st.nsizes);
-  int64_t *sz = malloc((size_t)ns * sizeof *sz), *cn = malloc((size_t)ns * sizeof *cn);
-  double *T = malloc((size_t)ns * sizeof *T);
-  GRAN_ASSERT_OK(gran_dsmc_size_distribution(d, ns, &ns, sz, cn, T));
-  int64_t ncl = 0, mm = 0;
-  for (int64_t q = 0; q < ns; q++) {
-    assert_true(cn[q] > 0 && (q == 0 || sz[q] > sz[q - 1]) && T[q] >= 0);
-    ncl += cn[q];
-    mm += sz[q] * cn[q];
-  }
-  assert_int_equal(ncl, st.nclusters);
-  assert_int_equal(mm, mass0);
-  free(sz);
-  free(cn);
-  free(T);
-}
-
 static void test_first_steps(void **state) {
   (void)state;
-  gran_mixture *mix = kmers(kM, 0.01, 0.9);
+  gran_mixture *mix = agg_kmers(kM, 0.01, 0.9);
   const int64_t N = (int64_t)(100000 * dsmc_scale());
   const double Ea = 0.5, Ef = 2.0;
   double T0[kM];
@@ -109,13 +52,13 @@ static void test_first_steps(void **state) {
   /* and the collision count of Eq. 35 at T = 1 (4 sqrt(count)) */
   const double expect = 0.5 * (double)N * 4 * sqrt(M_PI) * 0.01 * 1.0;
   GRAN_ASSERT_SIGMA(n, expect, sqrt(expect), 4);
-  check_conservation(d, N);
+  agg_check_conservation(d, N);
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   gran_mixture_destroy(&mix);
 }
 
 static void nk_case(double Ef, uint64_t seed) {
-  gran_mixture *mix = kmers(kM, 0.01, 0.9);
+  gran_mixture *mix = agg_kmers(kM, 0.01, 0.9);
   const int64_t N = (int64_t)(100000 * dsmc_scale());
   const double Ea = 1.0, t = 40;
   double T0[kM];
@@ -136,7 +79,7 @@ static void nk_case(double Ef, uint64_t seed) {
   assert_true(cnt[0] < 0.6 * N); /* well into the aggregation */
   /* T_1: 1 % plus 4 standard errors of T_1 (sqrt(2/(3 N_1)) T_1) */
   GRAN_ASSERT_SIGMA(T[0], Tth[0], sqrt(2.0 / (3.0 * (double)cnt[0])) * Tth[0] + 0.01 * Tth[0] / 4, 4);
-  check_conservation(d, N);
+  agg_check_conservation(d, N);
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   gran_mixture_destroy(&mix);
 }
@@ -150,7 +93,7 @@ static void test_nk_theory(void **state) {
 /* e_agg huge: every collision merges */
 static void test_every_pair_sticks(void **state) {
   (void)state;
-  gran_mixture *mix = kmers(8, 0.01, 0.9);
+  gran_mixture *mix = agg_kmers(8, 0.01, 0.9);
   const int64_t N = 20000;
   gran_dsmc *d = make(mix, NULL, NULL, N / 0.01, 0.5, 2, 1e12, INFINITY, 1, 4);
   GRAN_ASSERT_OK(gran_dsmc_advance(d, 50));
@@ -162,7 +105,7 @@ static void test_every_pair_sticks(void **state) {
   assert_int_equal(st.nclusters, N - st.merges);
   assert_true(st.largest > 8); /* beyond the mixture's sizes: the tables grew */
   GRAN_ASSERT_REL(st.e_bounce, 0.0, 0.0);
-  check_conservation(d, N);
+  agg_check_conservation(d, N);
   /* the mixture's sizes 1..8 through the per-species calls; species offsets do not exist */
   int64_t cnt[8], off[9];
   GRAN_ASSERT_OK(gran_dsmc_counts(d, cnt));
@@ -207,7 +150,7 @@ static void test_big_breakup(void **state) {
   assert_int_equal(st.merges, 0);
   /* one growth to what was needed (or to twice the old capacity), never one per fragment */
   assert_true(p->capacity <= 2 * (1000 + K));
-  check_conservation(d, 1000 + K);
+  agg_check_conservation(d, 1000 + K);
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   gran_mixture_destroy(&mix);
   free(n);
@@ -218,7 +161,7 @@ static void test_big_breakup(void **state) {
 /* all-sticking growth to large clusters in one small box: sizes far beyond the mixture's */
 static void test_large_clusters(void **state) {
   (void)state;
-  gran_mixture *mix = kmers(4, 0.01, 0.9);
+  gran_mixture *mix = agg_kmers(4, 0.01, 0.9);
   const int64_t N = DSMC_ASAN ? 2000 : 10000;
   gran_dsmc *d = make(mix, NULL, NULL, N / 0.01, 0.2, 1, 1e12, INFINITY, 1, 6);
   gran_dsmc_cluster_stats st;
@@ -232,7 +175,7 @@ static void test_large_clusters(void **state) {
   } while (st.nclusters > 20 && t < 1e6);
   GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(d, &st));
   assert_true(st.largest >= N / 50);
-  check_conservation(d, N);
+  agg_check_conservation(d, N);
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   gran_mixture_destroy(&mix);
 }
@@ -263,7 +206,7 @@ static void test_million_mer(void **state) {
   assert_int_equal(st.largest, K + 100);
   /* one cluster left: no collision can happen (a clear error, not an endless loop) */
   GRAN_ASSERT_ERR(gran_dsmc_advance_collisions(d, 1), GRAN_ERR_STATE);
-  check_conservation(d, K + 100);
+  agg_check_conservation(d, K + 100);
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   gran_mixture_destroy(&mix);
   free(n);
@@ -287,7 +230,7 @@ static void test_errors(void **state) {
   assert_non_null(strstr(gran_last_error_message(), "k-mer"));
   gran_mixture_destroy(&mix);
   /* matrix restitution */
-  mix = kmers(2, 0.01, 0.9);
+  mix = agg_kmers(2, 0.01, 0.9);
   double e[4] = {0.9, 0.8, 0.8, 0.7};
   GRAN_ASSERT_OK(gran_mixture_set_restitution_matrix(mix, e));
   GRAN_ASSERT_ERR(gran_dsmc_create_cell(mix, NULL, NULL, &o, &c, &d), GRAN_ERR_UNSUPPORTED);

@@ -15,6 +15,7 @@ program t901_layout_f
   type(gran_srd_obs) :: srd_obs     ! GSRD
   type(gran_dsmc_cell_options) :: cell_opt ! cell selector
   type(gran_dsmc_cluster_stats) :: cluster_st
+  type(gran_dsmc_agg_options) :: agg_opt ! aggregation in the event selectors
   type(gran_dsmc_options) :: dsmc_opt ! DSMC (speed classes, issue 11)
   type(gran_dsmc_stats) :: dsmc_st    ! DSMC (speed classes, issue 11)
   integer(c_int64_t) :: value
@@ -33,6 +34,9 @@ program t901_layout_f
   call check('GRAN_SELECTOR_CELL', int(GRAN_SELECTOR_CELL, c_size_t))
   call check('GRAN_PLACE_RANDOM', int(GRAN_PLACE_RANDOM, c_size_t))
   call check('GRAN_PLACE_COLLISION', int(GRAN_PLACE_COLLISION, c_size_t))
+  call check('sizeof(gran_dsmc_agg_options)', c_sizeof(agg_opt)) ! aggregation in the event selectors
+  call check('GRAN_FRAG_MONOMERS', int(GRAN_FRAG_MONOMERS, c_size_t))
+  call check('GRAN_FRAG_BINARY', int(GRAN_FRAG_BINARY, c_size_t))
   call check('sizeof(gran_dsmc_options)', c_sizeof(dsmc_opt)) ! DSMC (speed classes, issue 11)
   call check('sizeof(gran_dsmc_stats)', c_sizeof(dsmc_st))    ! DSMC (speed classes, issue 11)
 

@@ -28,6 +28,8 @@ static void test_struct_sizes(void **state) {
   assert_int_equal(sizeof(gran_dsmc_cell_options), 96);
   EXPECT_SIZE(gran_dsmc_cluster_stats);
   assert_int_equal(sizeof(gran_dsmc_cluster_stats), 96);
+  EXPECT_SIZE(gran_dsmc_agg_options); /* aggregation in the event selectors */
+  assert_int_equal(sizeof(gran_dsmc_agg_options), 32);
   /* the plain structs have the documented sizes (Fortran mirrors rely on them) */
   assert_int_equal(sizeof(gran_rng), 32);
   assert_int_equal(sizeof(gran_segtree), 32);
@@ -65,6 +67,8 @@ static void test_constants(void **state) {
   EXPECT_CONST(GRAN_SELECTOR_CELL); /* cell selector */
   EXPECT_CONST(GRAN_PLACE_RANDOM);
   EXPECT_CONST(GRAN_PLACE_COLLISION);
+  EXPECT_CONST(GRAN_FRAG_MONOMERS); /* aggregation: fragment laws */
+  EXPECT_CONST(GRAN_FRAG_BINARY);
 }
 
 static void test_errors(void **state) {

@@ -28,6 +28,7 @@ const AbiEntry kAbi[] = {
     GRAN_ABI_SIZE(gran_srd_obs)     /* GSRD */
     GRAN_ABI_SIZE(gran_dsmc_cell_options) /* cell selector */
     GRAN_ABI_SIZE(gran_dsmc_cluster_stats) /* cell selector: aggregation */
+    GRAN_ABI_SIZE(gran_dsmc_agg_options) /* aggregation in the event selectors */
     /* version */
     GRAN_ABI_CONST(GRAN_VERSION_MAJOR)
     GRAN_ABI_CONST(GRAN_VERSION_MINOR)
@@ -61,6 +62,9 @@ const AbiEntry kAbi[] = {
     GRAN_ABI_CONST(GRAN_SELECTOR_CELL)
     GRAN_ABI_CONST(GRAN_PLACE_RANDOM)
     GRAN_ABI_CONST(GRAN_PLACE_COLLISION)
+    /* aggregation: fragment laws */
+    GRAN_ABI_CONST(GRAN_FRAG_MONOMERS)
+    GRAN_ABI_CONST(GRAN_FRAG_BINARY)
 };
 
 #undef GRAN_ABI_CONST

@@ -1,9 +1,9 @@
-/* agg.cpp - aggregation and fragmentation in the time-step/cell selector (seed 002 steps 10a-10d
- * with the corrections of PHYSICS-NOTES): species are cluster sizes (species k-1 = k-mer, mass
+/* agg.cpp - aggregation and fragmentation (seed 002 steps 10a-10d with the corrections of
+ * PHYSICS-NOTES), shared by every selector: species are cluster sizes (species k-1 = k-mer, mass
  * k m_1, diameter sigma_1 k^(1/3)), the size tables grow on demand (nothing M x M), particles are
- * unordered (a merge marks the partner dead until the end of the step, a breakup appends
- * monomers). The collision rules are in cell.cpp (agg_merge, agg_shatter); here: the checks at
- * creation, the bookkeeping at the end of a step, the observables and the public cluster API. */
+ * unordered. The collision rules are in agg_impl.h (used by cell.cpp and agg_event.cpp); here: the
+ * checks at creation, the cell selector's bookkeeping at the end of a step, the observables and
+ * the public cluster API. */
 #include "cell_impl.h"
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 
 namespace gran {
 
-void dsmc_agg_grow(DsmcCell *c, int64_t k) {
+void dsmc_agg_grow(DsmcAgg *c, int64_t k) {
   const int64_t have = (int64_t)c->nsize.size();
   if (k <= have) return;
   const int64_t n = std::max(k, 2 * have);
@@ -20,8 +20,7 @@ void dsmc_agg_grow(DsmcCell *c, int64_t k) {
   for (int64_t q = have; q < n; q++) c->sigk[(size_t)q] = c->sigma1 * std::cbrt((double)(q + 1));
 }
 
-int dsmc_agg_setup(gran_dsmc *s) {
-  DsmcCell *c = s->cell;
+int dsmc_agg_setup(gran_dsmc *s, DsmcAgg *c) {
   const gran_mixture *x = &s->mix;
   const int64_t M = s->M;
   GRAN_CHECK(M <= INT32_MAX / 2, GRAN_ERR_ARG, "aggregation: mixture 'mix' has too many species");
@@ -52,7 +51,8 @@ int dsmc_agg_setup(gran_dsmc *s) {
     if (s->count[(size_t)k] > 0) c->kmax = k + 1;
     c->monomers += (k + 1) * s->count[(size_t)k];
   }
-  c->where.assign((size_t)s->N, 0);
+  c->agg = 1;
+  s->agg = c;
   return GRAN_SUCCESS;
 }
 
@@ -88,7 +88,7 @@ void dsmc_agg_mean_flow(const gran_dsmc *s, double u[3]) {
     const double m = (double)(sp[j] + 1);
     for (int d = 0; d < 3; d++) neumaier_add(P[d], Pc[d], m * v[3 * j + d]);
   }
-  const double mt = (double)s->cell->monomers;
+  const double mt = (double)s->agg->monomers;
   for (int d = 0; d < 3; d++) u[d] = mt > 0 ? (P[d] + Pc[d]) / mt : 0.0;
 }
 
@@ -112,7 +112,7 @@ void dsmc_agg_temperatures(const gran_dsmc *s, double *T, double *a2) {
   }
   for (int64_t k = 0; k < M; k++) {
     const double nk = (double)n[(size_t)k], m2 = (s2[(size_t)k] + c2[(size_t)k]) / nk;
-    if (T) T[k] = nk > 0 ? (double)(k + 1) * s->cell->m1 * m2 / 3.0 : NAN;
+    if (T) T[k] = nk > 0 ? (double)(k + 1) * s->agg->m1 * m2 / 3.0 : NAN;
     if (a2) a2[k] = (nk > 0 && m2 > 0) ? 0.6 * ((s4[(size_t)k] + c4[(size_t)k]) / nk) / (m2 * m2) - 1.0 : NAN;
   }
 }
@@ -121,7 +121,7 @@ void dsmc_agg_energy_momentum(const gran_dsmc *s, double *e_kin, double p[3]) {
   double e = 0, ec = 0, P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0};
   const double *v = s->p.v;
   const int32_t *sp = s->p.species;
-  const double m1 = s->cell->m1;
+  const double m1 = s->agg->m1;
   for (int64_t j = 0; j < s->N; j++) {
     const double m = (double)(sp[j] + 1) * m1;
     const double *x = v + 3 * j;
@@ -140,18 +140,18 @@ using namespace gran;
 
 static int check_agg(const gran_dsmc *sim) {
   GRAN_CALL(dsmc_check(sim, "sim"));
-  GRAN_CHECK(sim->cell && sim->cell->agg, GRAN_ERR_STATE,
-             "engine 'sim' has no aggregation or fragmentation (cell selector with e_agg > 0 or a finite e_frag)");
+  GRAN_CHECK(sim->agg != nullptr, GRAN_ERR_STATE,
+             "engine 'sim' has no aggregation or fragmentation (e_agg > 0 or a finite e_frag)");
   return GRAN_SUCCESS;
 }
 
 /** @brief Clusters, mass, sizes, counters of merges / breakups / bounces and the ledger parts of
- *  an aggregating engine of the cell selector. */
+ *  an aggregating engine (any selector). */
 GRAN_EXTERN int gran_dsmc_get_cluster_stats(const gran_dsmc *sim, gran_dsmc_cluster_stats *st) {
   GRAN_TRY {
     GRAN_CALL(check_agg(sim));
     GRAN_CHECK_PTR(st);
-    const DsmcCell *c = sim->cell;
+    const DsmcAgg *c = sim->agg;
     *st = gran_dsmc_cluster_stats{};
     st->nclusters = sim->N;
     st->mass = c->monomers;
@@ -166,7 +166,7 @@ GRAN_EXTERN int gran_dsmc_get_cluster_stats(const gran_dsmc *sim, gran_dsmc_clus
     st->e_bounce = sim->e_diss + sim->e_diss_c;
     st->e_merge = c->e_merge + c->e_merge_c;
     st->e_break = c->e_break + c->e_break_c;
-    st->e_heat = c->e_heat + c->e_heat_c;
+    st->e_heat = sim->cell ? sim->cell->e_heat + sim->cell->e_heat_c : 0.0;
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
@@ -181,7 +181,7 @@ GRAN_EXTERN int gran_dsmc_size_distribution(const gran_dsmc *sim, int64_t cap, i
     GRAN_CHECK_PTR(nsizes);
     GRAN_CHECK(cap >= 0, GRAN_ERR_ARG, "argument 'cap' is negative (" GRAN_I64_FMT ")", cap);
     GRAN_CHECK(cap == 0 || (sizes && counts), GRAN_ERR_ARG, "arguments 'sizes' and 'counts' must not be NULL when cap > 0");
-    const DsmcCell *c = sim->cell;
+    const DsmcAgg *c = sim->agg;
     int64_t ns = 0;
     for (int64_t k = 0; k < c->kmax; k++) ns += c->nsize[(size_t)k] > 0;
     *nsizes = ns;

@@ -26,39 +26,7 @@ namespace {
 const double kPi = 3.14159265358979323846;
 const int64_t kMaxCells = INT64_C(1) << 30;
 
-/* next word of the engine's buffered streams */
-struct Words {
-  DsmcRng *r;
-  inline uint64_t next() {
-    if (r->pos >= kRngBuf) dsmc_rng_refill(r);
-    return r->buf[r->pos++];
-  }
-  inline double uniform() { return u64_uniform(next()); }
-  inline int64_t below(int64_t n) { return u64_below(next(), n); }
-  inline void unit3(double e[3]) { /* Marsaglia 1972 */
-    double a, b, q;
-    do {
-      a = 2.0 * uniform() - 1.0;
-      b = 2.0 * uniform() - 1.0;
-      q = a * a + b * b;
-    } while (q >= 1.0);
-    const double f = 2.0 * std::sqrt(1.0 - q);
-    e[0] = a * f;
-    e[1] = b * f;
-    e[2] = 1.0 - 2.0 * q;
-  }
-  inline void normal2(double z[2]) { /* Marsaglia's polar method: two independent N(0, 1) */
-    double a, b, q;
-    do {
-      a = 2.0 * uniform() - 1.0;
-      b = 2.0 * uniform() - 1.0;
-      q = a * a + b * b;
-    } while (q >= 1.0 || q == 0.0);
-    const double f = std::sqrt(-2.0 * std::log(q) / q);
-    z[0] = a * f;
-    z[1] = b * f;
-  }
-};
+typedef DsmcWords Words; /* agg_impl.h */
 
 /* cells ahead whose particles' velocities are prefetched (measured at N = 1e6, 37^3 cells) */
 #ifndef GRAN_CELL_AHEAD
@@ -93,7 +61,7 @@ inline double wrap(double x, double L, double invL) {
 static double cell_pmax_bound(const gran_dsmc *s) {
   const DsmcCell *c = s->cell;
   double smax = s->sigma_max;
-  if (c->agg) smax = cell_sigma(c, c->kmax);
+  if (c->agg) smax = agg_sigma(c, c->kmax);
   return c->pfac * kPi * s->g2max * smax * smax * 2.0 * std::sqrt(c->vmax2);
 }
 
@@ -131,6 +99,8 @@ int dsmc_cell_check_options(const gran_dsmc_cell_options *o) {
              "cell option 'bath_sigma' = %g must be finite and >= 0", o->bath_sigma);
   GRAN_CHECK(o->placement == GRAN_PLACE_RANDOM || o->placement == GRAN_PLACE_COLLISION, GRAN_ERR_ARG,
              "cell option 'placement' = %d is not a gran_cell_placement", (int)o->placement);
+  GRAN_CHECK(o->frag_law == GRAN_FRAG_MONOMERS || o->frag_law == GRAN_FRAG_BINARY, GRAN_ERR_ARG,
+             "cell option 'frag_law' = %d is not a gran_frag_law", (int)o->frag_law);
   return GRAN_SUCCESS;
 }
 
@@ -182,7 +152,14 @@ static int cell_setup_impl(gran_dsmc *s, const gran_dsmc_cell_options *o) {
   }
   s->p.flags |= GRAN_PARTICLES_POSITION;
   c->agg = o->e_agg > 0 || std::isfinite(o->e_frag);
-  if (c->agg) GRAN_CALL(dsmc_agg_setup(s));
+  if (c->agg) {
+    c->e_agg = o->e_agg;
+    c->e_frag = o->e_frag;
+    c->eps_f = o->eps_f;
+    c->frag_law = o->frag_law;
+    GRAN_CALL(dsmc_agg_setup(s, c));
+    c->where.assign((size_t)s->N, 0);
+  }
   /* cell order: the particle index carries no identity then (trajectories name particles by index) */
   c->reorder = !c->agg && !(s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) && s->N >= kReorderMin;
   if (c->reorder) {
@@ -407,14 +384,9 @@ static int agg_merge(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, doub
   gran_dsmc *s = a.s;
   DsmcCell *c = a.c;
   const double mi = (double)(i + 1), mk = (double)(k + 1), inv = 1.0 / (mi + mk);
-  double *vj = s->p.v + 3 * j, *vl = s->p.v + 3 * l;
-  for (int d = 0; d < 3; d++) vj[d] = (mi * vj[d] + mk * vl[d]) * inv;
+  agg_merge_velocity(s->p.v + 3 * j, s->p.v + 3 * l, mi, mk);
   const int64_t K = (int64_t)i + (int64_t)k + 2;
-  dsmc_agg_grow(c, K);
-  c->nsize[(size_t)i]--;
-  c->nsize[(size_t)k]--;
-  c->nsize[(size_t)K - 1]++;
-  if (K > c->kmax) c->kmax = K;
+  agg_book_merge(c, (int64_t)i + 1, (int64_t)k + 1, Eimp);
   s->p.species[j] = (int32_t)(K - 1);
   s->p.species[l] = -1; /* dropped at the end of the step */
   c->ndead++;
@@ -429,8 +401,6 @@ static int agg_merge(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, doub
       xj[d] = wrap(xj[d] + mk * inv * dx, c->L, 1.0 / c->L);
     }
   }
-  neumaier_add(c->e_merge, c->e_merge_c, Eimp);
-  c->merges++;
   /* l leaves the cell's list */
   const int64_t pl = c->where[(size_t)l], last = *a.n - 1;
   const int32_t moved = a.lq[last];
@@ -444,14 +414,16 @@ static int agg_shatter(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, do
   gran_dsmc *s = a.s;
   DsmcCell *c = a.c;
   const int64_t kj = (int64_t)i + 1, kl = (int64_t)k + 1, K = kj + kl;
-  /* room for K - 2 new particles: one growth at most (geometric), never one per fragment */
+  const AggPieces pc = agg_pieces(*a.w, c->frag_law, K);
+  const int64_t P = pc.P;
+  /* room for P - 2 new particles: one growth at most (geometric), never one per fragment */
   gran_particles *p = &s->p;
-  if (p->n + K - 2 >= INT32_MAX) { /* the cell lists hold 32-bit indices */
+  if (p->n + P - 2 >= INT32_MAX) { /* the cell lists hold 32-bit indices */
     a.status = GRAN_ERROR(GRAN_ERR_RANGE, "fragmentation would make more than 2^31 particles");
     return 0;
   }
-  if (p->n + K - 2 > p->capacity) {
-    const int64_t want = std::max(p->n + K - 2, 2 * p->capacity);
+  if (p->n + P - 2 > p->capacity) {
+    const int64_t want = std::max(p->n + P - 2, 2 * p->capacity);
     a.status = gran_particles_reserve(p, want);
     if (a.status != GRAN_SUCCESS) return 0;
   }
@@ -461,38 +433,14 @@ static int agg_shatter(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, do
   for (int d = 0; d < 3; d++) Vc[d] = (mi * v[3 * j + d] + mk * v[3 * l + d]) * inv;
   const double xc[3] = {p->x[3 * j], p->x[3 * j + 1], p->x[3 * j + 2]};
   const int64_t n0 = p->n;
-  p->n += K - 2;
+  p->n += P - 2;
   auto target = [&](int64_t q) { return q == 0 ? j : q == 1 ? l : n0 + q - 2; };
-  /* Eq. 12 directions, the last closes the momentum (Eq. 14); then one common factor gives the
-   * centre-of-mass kinetic energy eps_f^2 E_imp exactly (Eq. 10) */
-  const double u = std::sqrt((double)kj * (double)kl) * c->o.eps_f * g / (double)K;
-  double sum[3] = {0, 0, 0}, S = 0;
-  for (int64_t q = 0; q < K - 1; q++) {
-    double e[3];
-    a.w->unit3(e);
-    double *vq = v + 3 * target(q);
-    for (int d = 0; d < 3; d++) {
-      vq[d] = u * e[d];
-      sum[d] += vq[d];
-    }
-  }
-  {
-    double *vq = v + 3 * target(K - 1);
-    for (int d = 0; d < 3; d++) vq[d] = -sum[d];
-  }
-  for (int64_t q = 0; q < K; q++) {
-    const double *vq = v + 3 * target(q);
-    S += vq[0] * vq[0] + vq[1] * vq[1] + vq[2] * vq[2];
-  }
-  const double E0 = c->o.eps_f * c->o.eps_f * Eimp;
-  const double lam = S > 0 ? std::sqrt(E0 / (0.5 * c->m1 * S)) : 0.0;
-  double m2 = 0;
-  for (int64_t q = 0; q < K; q++) {
+  const double E0 = c->eps_f * c->eps_f * Eimp;
+  const double m2 = agg_fragment_velocities(*a.w, pc, [&](int64_t q) { return v + 3 * target(q); }, Vc,
+                                            agg_fragment_speed(kj, kl, c->eps_f, g), E0, c->m1);
+  for (int64_t q = 0; q < P; q++) {
     const int64_t t = target(q);
-    double *vq = v + 3 * t;
-    for (int d = 0; d < 3; d++) vq[d] = Vc[d] + lam * vq[d];
-    m2 = std::fmax(m2, vq[0] * vq[0] + vq[1] * vq[1] + vq[2] * vq[2]);
-    p->species[t] = 0;
+    p->species[t] = (int32_t)(pc.size(q) - 1);
     double *xq = p->x + 3 * t;
     if (c->o.placement == GRAN_PLACE_RANDOM) {
       agg_place(c, a.w, xq);
@@ -502,11 +450,7 @@ static int agg_shatter(AggCtx &a, int64_t j, int64_t l, int32_t i, int32_t k, do
       xq[2] = xc[2];
     }
   }
-  c->nsize[(size_t)i]--;
-  c->nsize[(size_t)k]--;
-  c->nsize[0] += K;
-  neumaier_add(c->e_break, c->e_break_c, Eimp - E0);
-  c->breakups++;
+  agg_book_shatter(c, kj, kl, pc, Eimp, E0);
   *vmc2 = std::fmax(*vmc2, m2);
   c->vmax2 = std::fmax(c->vmax2, m2);
   return 2;
@@ -694,9 +638,12 @@ int cell_step(gran_dsmc *s) {
         x = s->p.x; /* the arrays may have moved */
         v = s->p.v;
         sp = s->p.species;
+        sig = c->sigk.data();
         ++coll;
-        if (vmc2 > vold) {
-          const double Bn = csg[q] * csg[q] * 2.0 * std::sqrt(vmc2);
+        const double sg = dmax(csg[q], dmax(sig[sp[j]], sig[sp[l]])); /* binary pieces may be larger */
+        if (vmc2 > vold || sg > csg[q]) {
+          csg[q] = sg;
+          const double Bn = sg * sg * 2.0 * std::sqrt(vmc2);
           want *= Bn / B;
           B = Bn;
           pmax = dmax(pmax, 2.0 * kfac * B);

@@ -5,14 +5,14 @@
 #ifndef GRANARY_DSMC_CELL_IMPL_H
 #define GRANARY_DSMC_CELL_IMPL_H
 
-#include "dsmc_impl.h"
+#include "agg_impl.h"
 
 #include <cstdlib>
 #include <vector>
 
 namespace gran {
 
-struct DsmcCell {
+struct DsmcCell : DsmcAgg { /* DsmcAgg: the cluster sizes (agg.cpp) */
   gran_dsmc_cell_options o{};
   int64_t nc = 1, C = 1;   /* cells per side, cells */
   double L = 1;            /* box side */
@@ -42,36 +42,15 @@ struct DsmcCell {
   ~DsmcCell() {
     for (double *a : spare) std::free(a);
   }
-  /* aggregation / fragmentation (agg.cpp) */
-  int agg = 0;                 /* 1: species are cluster sizes (e_agg > 0 or e_frag finite) */
-  double m1 = 1, sigma1 = 1;   /* monomer mass and diameter */
-  int64_t kmax = 0;            /* largest cluster size present (agg) */
-  std::vector<int64_t> nsize;  /* agg: clusters of size k at [k-1], grown on demand */
-  std::vector<double> sigk;    /* agg: diameter of a k-mer at [k-1], grown with nsize */
+  /* aggregation / fragmentation (agg.cpp; the sizes in DsmcAgg) */
   std::vector<int64_t> where;  /* agg: position of a particle in the cell list (derived) */
   int64_t ndead = 0;           /* agg: merged-away particles waiting for the end of the step */
-  int64_t merges = 0, breakups = 0, bounces = 0;
-  double e_merge = 0, e_merge_c = 0; /* energy lost in merges (Neumaier sum, compensation) */
-  double e_break = 0, e_break_c = 0; /* lost in breakups */
   double e_heat = 0, e_heat_c = 0;   /* added by the thermostat */
-  int64_t monomers = 0;              /* total mass in monomers (conserved) */
 };
 
-/* a k-mer (agg): mass k m1, diameter sigma1 k^(1/3) */
-static inline double cell_mass(const DsmcCell *c, int64_t k) { return (double)k * c->m1; }
-static inline double cell_sigma(const DsmcCell *c, int64_t k) { return c->sigma1 * std::cbrt((double)k); }
-
 /* agg.cpp */
-/* checks (mixture of k-mers, constant restitution, observables) and the size tables */
-int dsmc_agg_setup(gran_dsmc *s);
-/* room for a size k (1-based) in nsize / sigk */
-void dsmc_agg_grow(DsmcCell *c, int64_t k);
 /* end of a step: drop merged-away particles, counts per species, bounds */
 void dsmc_agg_end_step(gran_dsmc *s);
-/* per-particle observables of an aggregating gas (species = size - 1): the mixture's M sizes */
-void dsmc_agg_mean_flow(const gran_dsmc *s, double u[3]);
-void dsmc_agg_temperatures(const gran_dsmc *s, double *T, double *a2);
-void dsmc_agg_energy_momentum(const gran_dsmc *s, double *e_kin, double p[3]);
 
 /* cell.cpp */
 int dsmc_cell_check_options(const gran_dsmc_cell_options *o);

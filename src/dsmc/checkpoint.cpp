@@ -8,6 +8,7 @@
  * and mapped to GRAN_ERR_IO naming the file. */
 #include "dsmc_impl.h"
 #include "cell_impl.h"
+#include "agg_impl.h"
 #include "io/io_impl.h"
 
 #include <hdf5.h>
@@ -19,8 +20,10 @@
 namespace gran {
 namespace {
 
-const char *kFormat = "granary-dsmc-state 3"; /* 2: the clock counts from t_start; 3: cell selector */
+const char *kFormat = "granary-dsmc-state 4"; /* 2: the clock counts from t_start; 3: cell selector;
+                                               * 4: fragment law, aggregation in the event selectors */
 const char *kFormat2 = "granary-dsmc-state 2"; /* read: the same state without the cell selector */
+const char *kFormat3 = "granary-dsmc-state 3"; /* read: without the fragment law (monomers) */
 
 /* closes an HDF5 handle on scope exit */
 struct H5Handle {
@@ -367,22 +370,24 @@ int validate_state(const gran_dsmc *s, const char *path) {
  * Options first (the reader sets the cell state up from them), then the state. */
 int cell_options_io(Writer &w, const gran_dsmc *s) {
   const gran_dsmc_cell_options &o = s->cell->o;
-  int64_t ci[2] = {o.cells, o.placement};
+  int64_t ci[3] = {o.cells, o.placement, o.frag_law};
   double cd[10] = {o.dt, o.fn, o.e_agg, o.e_frag, o.eps_f, o.heat_rate, o.bath_density, o.bath_mass, o.bath_T, o.bath_sigma};
-  GRAN_CALL(w.i64("cell_options_int", 2, ci));
+  GRAN_CALL(w.i64("cell_options_int", 3, ci)); /* format 3: two (no fragment law) */
   GRAN_CALL(w.d("cell_options_real", 10, cd));
   return GRAN_SUCCESS;
 }
 int cell_options_read(Reader &r, gran_dsmc_cell_options *o) {
-  int64_t ci[2];
+  int64_t ci[3] = {0, 0, GRAN_FRAG_MONOMERS};
   double cd[10];
-  GRAN_CALL(r.i64("cell_options_int", 2, ci));
+  const int64_t nci = r.npoints("cell_options_int") == 3 ? 3 : 2; /* format 3: no fragment law */
+  GRAN_CALL(r.i64("cell_options_int", nci, ci));
   GRAN_CALL(r.d("cell_options_real", 10, cd));
   gran_dsmc_cell_options_default(o);
-  GRAN_CHECK(ci[0] >= 1 && ci[0] <= 1024 && ci[1] >= 0 && ci[1] <= 1, GRAN_ERR_IO,
-             "checkpoint '%s' holds invalid cell options (damaged or edited file?)", r.path);
+  GRAN_CHECK(ci[0] >= 1 && ci[0] <= 1024 && ci[1] >= 0 && ci[1] <= 1 && (ci[2] == GRAN_FRAG_MONOMERS || ci[2] == GRAN_FRAG_BINARY),
+             GRAN_ERR_IO, "checkpoint '%s' holds invalid cell options (damaged or edited file?)", r.path);
   o->cells = ci[0];
   o->placement = (int32_t)ci[1];
+  o->frag_law = (int32_t)ci[2];
   o->dt = cd[0];
   o->fn = cd[1];
   o->e_agg = cd[2];
@@ -427,16 +432,17 @@ int cell_agg_write(Writer &w, const gran_dsmc *s) {
   GRAN_CALL(w.i64("cell_nsize", c->kmax, c->nsize.data()));
   return GRAN_SUCCESS;
 }
-int cell_agg_read(Reader &r, gran_dsmc *s) {
-  DsmcCell *c = s->cell;
-  const int64_t K = r.npoints("cell_nsize");
+/* the species of every particle and the counts per size (kmax and monomers already read), checked
+ * against each other and the mass (both selector families) */
+int agg_sizes_read(Reader &r, gran_dsmc *s, DsmcAgg *c, const char *species, const char *nsize) {
+  const int64_t K = r.npoints(nsize);
   GRAN_CHECK(K >= 0 && K == c->kmax && K <= INT32_MAX / 2, GRAN_ERR_IO,
-             "checkpoint '%s': dataset 'cell_nsize' does not match the largest cluster size (damaged or edited file?)",
-             r.path);
-  GRAN_CALL(r.i32("cell_species", s->N, s->p.species));
+             "checkpoint '%s': dataset '%s' does not match the largest cluster size (damaged or edited file?)", r.path,
+             nsize);
+  GRAN_CALL(r.i32(species, s->N, s->p.species));
   dsmc_agg_grow(c, std::max<int64_t>(K, 1));
   std::fill(c->nsize.begin(), c->nsize.end(), 0);
-  GRAN_CALL(r.i64("cell_nsize", K, c->nsize.data()));
+  GRAN_CALL(r.i64(nsize, K, c->nsize.data()));
   /* the counts per size must be those of the particles, and the mass the stored one */
   std::vector<int64_t> h((size_t)K, 0);
   bool ok = true;
@@ -451,9 +457,13 @@ int cell_agg_read(Reader &r, gran_dsmc *s) {
     mass += (k + 1) * h[(size_t)k];
   }
   GRAN_CHECK(ok && mass == c->monomers && (K == 0 || c->nsize[(size_t)K - 1] > 0), GRAN_ERR_IO,
-             "checkpoint '%s' holds an inconsistent cell state (cluster sizes; damaged or edited file?)", r.path);
+             "checkpoint '%s' holds inconsistent cluster sizes (damaged or edited file?)", r.path);
   for (int64_t k = 0; k < s->M; k++) s->count[(size_t)k] = k < K ? c->nsize[(size_t)k] : 0;
-  c->where.assign((size_t)s->N, 0);
+  return GRAN_SUCCESS;
+}
+int cell_agg_read(Reader &r, gran_dsmc *s) {
+  GRAN_CALL(agg_sizes_read(r, s, s->cell, "cell_species", "cell_nsize"));
+  s->cell->where.assign((size_t)s->N, 0);
   return GRAN_SUCCESS;
 }
 int cell_validate(const gran_dsmc *s, const char *path) {
@@ -481,6 +491,137 @@ int cell_validate(const gran_dsmc *s, const char *path) {
 }
 /* ---- end of the cell selector's block ---- */
 
+/* ---- aggregation in the event selectors (agg_event.cpp): options, sizes, slots ----
+ * The species of every particle, the counts per size, the ledger parts and counters, the global
+ * bounds and (low-rank) the slots: the size and speed bound of each, the free list in order and
+ * every particle's index in its member list (the lists, hence the draws, come back bit for bit). */
+int aggev_write(Writer &w, const gran_dsmc *s) {
+  const DsmcAggEv *A = static_cast<const DsmcAggEv *>(s->agg);
+  const double od[3] = {A->e_agg, A->e_frag, A->eps_f};
+  const int64_t oi[2] = {A->frag_law, A->lowrank};
+  GRAN_CALL(w.d("agg_options_real", 3, od));
+  GRAN_CALL(w.i64("agg_options_int", 2, oi));
+  GRAN_CALL(w.i32("agg_species", s->N, s->p.species));
+  GRAN_CALL(w.i64("agg_nsize", A->kmax, A->nsize.data()));
+  const double sc[8] = {A->vmax2, A->smax, A->e_merge, A->e_merge_c, A->e_break, A->e_break_c, A->m1, A->sigma1};
+  GRAN_CALL(w.d("agg_scalars", 8, sc));
+  const int64_t ct[6] = {A->merges, A->breakups, A->bounces, A->kmax, A->monomers, A->ncap};
+  GRAN_CALL(w.i64("agg_counters", 6, ct));
+  {
+    int64_t cd[5 * kDsmcPipe + 2];
+    for (int q = 0; q < kDsmcPipe; q++) {
+      const DsmcAggEv::Cand &c = A->cand[q];
+      const int64_t x[5] = {c.j, c.l, c.a, c.b, c.resolved};
+      std::copy(x, x + 5, cd + 5 * q);
+    }
+    cd[5 * kDsmcPipe] = A->cand_head;
+    cd[5 * kDsmcPipe + 1] = A->cand_count;
+    GRAN_CALL(w.i64("agg_candidates", 5 * kDsmcPipe + 2, cd));
+  }
+  if (A->lowrank) {
+    GRAN_CALL(w.i64("agg_slot_size", A->ncap, A->slot_size.data()));
+    GRAN_CALL(w.d("agg_slot_bound", A->ncap, A->sbound.data()));
+    GRAN_CALL(w.i64("agg_free", (int64_t)A->free_slots.size(), A->free_slots.data()));
+    GRAN_CALL(w.i64("agg_mpos", s->N, A->mpos.data()));
+  }
+  return GRAN_SUCCESS;
+}
+int aggev_read(Reader &r, gran_dsmc *s) {
+  double od[3];
+  int64_t oi[2];
+  GRAN_CALL(r.d("agg_options_real", 3, od));
+  GRAN_CALL(r.i64("agg_options_int", 2, oi));
+  gran_dsmc_agg_options o;
+  gran_dsmc_agg_options_default(&o);
+  o.e_agg = od[0];
+  o.e_frag = od[1];
+  o.eps_f = od[2];
+  o.frag_law = (int32_t)oi[0];
+  GRAN_CHECK(dsmc_agg_check_options(&o) == GRAN_SUCCESS && (o.e_agg > 0 || std::isfinite(o.e_frag)) &&
+                 oi[1] == (s->selector == GRAN_SELECTOR_LOWRANK),
+             GRAN_ERR_IO, "checkpoint '%s' holds invalid aggregation options (damaged or edited file?)", r.path);
+  /* the particles: as many as stored (they were allocated for the stored velocities) */
+  /* sizes and slots of the mixture layout, overwritten below; the refresh counters as stored */
+  const double acc = s->acc_last;
+  const int64_t rc[4] = {s->bound_tightenings, s->coll_at_refresh, s->trials_at_refresh, s->next_refresh};
+  GRAN_CALL(dsmc_aggev_setup(s, &o));
+  s->acc_last = acc;
+  s->bound_tightenings = rc[0];
+  s->coll_at_refresh = rc[1];
+  s->trials_at_refresh = rc[2];
+  s->next_refresh = rc[3];
+  DsmcAggEv *A = static_cast<DsmcAggEv *>(s->agg);
+  int64_t ct[6];
+  GRAN_CALL(r.i64("agg_counters", 6, ct));
+  GRAN_CHECK(ct[3] >= 0 && ct[4] >= 0 && ct[5] >= 0 && ct[5] <= (INT64_C(1) << 40) && (ct[5] & (ct[5] - 1)) == 0,
+             GRAN_ERR_IO, "checkpoint '%s': invalid aggregation counters (damaged or edited file?)", r.path);
+  A->merges = ct[0];
+  A->breakups = ct[1];
+  A->bounces = ct[2];
+  A->kmax = ct[3];
+  A->monomers = ct[4];
+  GRAN_CALL(agg_sizes_read(r, s, A, "agg_species", "agg_nsize"));
+  double sc[8];
+  GRAN_CALL(r.d("agg_scalars", 8, sc));
+  A->vmax2 = sc[0];
+  A->smax = sc[1];
+  A->e_merge = sc[2];
+  A->e_merge_c = sc[3];
+  A->e_break = sc[4];
+  A->e_break_c = sc[5];
+  double m2 = 0;
+  for (int64_t j = 0; j < s->N; j++) {
+    const double *v = s->p.v + 3 * j;
+    m2 = std::fmax(m2, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  bool ok = sc[6] == A->m1 && sc[7] == A->sigma1 && A->merges >= 0 && A->breakups >= 0 && A->bounces >= 0 &&
+            std::isfinite(A->vmax2) && A->vmax2 >= m2 && std::isfinite(A->smax) && A->smax >= 0 &&
+            std::isfinite(A->e_merge + A->e_merge_c + A->e_break + A->e_break_c);
+  GRAN_CHECK(ok, GRAN_ERR_IO, "checkpoint '%s' holds an inconsistent aggregation state (damaged or edited file?)", r.path);
+  {
+    int64_t cd[5 * kDsmcPipe + 2];
+    GRAN_CALL(r.i64("agg_candidates", 5 * kDsmcPipe + 2, cd));
+    for (int q = 0; q < kDsmcPipe; q++) {
+      DsmcAggEv::Cand &c = A->cand[q];
+      c.j = cd[5 * q];
+      c.l = cd[5 * q + 1];
+      c.a = cd[5 * q + 2];
+      c.b = cd[5 * q + 3];
+      c.resolved = cd[5 * q + 4];
+    }
+    A->cand_head = cd[5 * kDsmcPipe];
+    A->cand_count = cd[5 * kDsmcPipe + 1]; /* checked with the slots (dsmc_aggev_read_done) */
+  }
+  if (A->lowrank) {
+    const int64_t C = ct[5];
+    A->ncap = C;
+    A->slot_size.assign((size_t)C, 0);
+    A->sbound.assign((size_t)C, 0.0);
+    GRAN_CALL(r.i64("agg_slot_size", C, A->slot_size.data()));
+    GRAN_CALL(r.d("agg_slot_bound", C, A->sbound.data()));
+    const int64_t nf = r.npoints("agg_free");
+    GRAN_CHECK(nf >= 0 && nf <= C, GRAN_ERR_IO, "checkpoint '%s': aggregation free slots (damaged or edited file?)", r.path);
+    A->free_slots.assign((size_t)nf, 0);
+    GRAN_CALL(r.i64("agg_free", nf, A->free_slots.data()));
+    A->mpos.assign((size_t)s->N, 0);
+    GRAN_CALL(r.i64("agg_mpos", s->N, A->mpos.data()));
+    std::vector<uint8_t> seen((size_t)C, 0);
+    for (int64_t a : A->free_slots) {
+      ok = ok && a >= 0 && a < C && !seen[(size_t)a];
+      if (ok) seen[(size_t)a] = 1;
+    }
+    for (int64_t a = 0; a < C && ok; a++)
+      ok = (A->slot_size[(size_t)a] == 0) == (seen[(size_t)a] == 1) && A->slot_size[(size_t)a] >= 0 &&
+           std::isfinite(A->sbound[(size_t)a]) && A->sbound[(size_t)a] >= 0;
+    GRAN_CHECK(ok, GRAN_ERR_IO, "checkpoint '%s' holds inconsistent aggregation slots (damaged or edited file?)", r.path);
+  }
+  const int st = dsmc_aggev_read_done(s);
+  GRAN_CHECK(st == GRAN_SUCCESS, GRAN_ERR_IO, "checkpoint '%s' holds an inconsistent aggregation state (%s; damaged or "
+             "edited file?)", r.path, gran_last_error_message());
+  return GRAN_SUCCESS;
+}
+/* ---- end of the event selectors' aggregation block ---- */
+
 int options_io_write(Writer &w, const gran_dsmc *s) {
   const gran_dsmc_options &o = s->opt;
   int64_t oi[6] = {o.selector, o.observe, o.bound_refresh, o.traj_per_species, o.traj_samples, s->M};
@@ -489,7 +630,7 @@ int options_io_write(Writer &w, const gran_dsmc *s) {
   GRAN_CALL(w.d("options_real", 3, od));
   GRAN_CALL(w.u64("options_seed", 1, &o.seed));
   if (o.speed_classes) GRAN_CALL(w.i1("options_speed_classes", o.speed_classes)); /* absent: 0 */
-  if (s->cell && s->cell->agg) { /* aggregation: unordered particles, all in the first slot range */
+  if (s->agg) { /* aggregation: unordered particles, all in the first slot range */
     std::vector<int64_t> lay((size_t)s->M, 0);
     lay[0] = s->N;
     GRAN_CALL(w.i64("counts", s->M, lay.data()));
@@ -543,6 +684,8 @@ int gran_dsmc_checkpoint_write_h5_(const gran_dsmc *sim, int64_t file_id, const 
       GRAN_CALL(cell_options_io(w, sim));
       GRAN_CALL(cell_state_io(w, const_cast<gran_dsmc *>(sim)));
       if (sim->cell->agg) GRAN_CALL(cell_agg_write(w, sim));
+    } else if (sim->agg) {
+      GRAN_CALL(aggev_write(w, sim)); /* event selectors with aggregation */
     }
     return GRAN_SUCCESS;
   }
@@ -605,7 +748,8 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
       H5Handle type(H5Aget_type(at.id), H5Tclose);
       const size_t sz = H5Tget_size(type.id);
       GRAN_CHECK(sz < sizeof buf && H5Aread(at.id, type.id, buf) >= 0 &&
-                     (std::strcmp(buf, kFormat) == 0 || std::strcmp(buf, kFormat2) == 0),
+                     (std::strcmp(buf, kFormat) == 0 || std::strcmp(buf, kFormat2) == 0 ||
+                      std::strcmp(buf, kFormat3) == 0),
                  GRAN_ERR_IO,
                  "group '%s' in '%s' is not a '%s' checkpoint", group, path, kFormat);
     }
@@ -708,8 +852,10 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
       if (ierr == GRAN_SUCCESS && s->cell->agg) ierr = cell_agg_read(rd, s);
       if (ierr == GRAN_SUCCESS) ierr = cell_validate(s, path);
     }
+    const bool aggev = o.selector != GRAN_SELECTOR_CELL && H5Lexists(g.id, "agg_options_real", H5P_DEFAULT) > 0;
+    if (ierr == GRAN_SUCCESS && aggev) ierr = aggev_read(rd, s); /* event selectors with aggregation */
     if (ierr == GRAN_SUCCESS && s->classes) dsmc_class_read_done(s); /* alias tables, identities' slots */
-    if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK && !s->classes)
+    if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK && !s->classes && !aggev)
       for (int r = 0; r < 3 && ierr == GRAN_SUCCESS; r++)
         if (std::memcmp(vtree[r].data(), s->v[r].node, sizeof(double) * vtree[r].size()) != 0)
           ierr = GRAN_ERROR(GRAN_ERR_IO, "checkpoint '%s': the species trees do not match the counts (damaged file?)",

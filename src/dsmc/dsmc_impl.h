@@ -159,6 +159,8 @@ static inline void neumaier_add(double &s, double &c, double x) {
 
 /* Time-step/cell selector state (cell.cpp, cell_impl.h); NULL for the event selectors. */
 struct DsmcCell;
+/* Cluster sizes of an aggregating engine (agg_impl.h); NULL without aggregation. */
+struct DsmcAgg;
 
 }  // namespace gran
 
@@ -256,6 +258,9 @@ struct gran_dsmc {
   int64_t traj_next = 0;            /* next sample to record */
   /* time-step/cell selector (GRAN_SELECTOR_CELL): positions, cells, aggregation; else NULL */
   gran::DsmcCell *cell = nullptr;
+  /* aggregation / fragmentation (agg_impl.h), any selector: the cell selector's DsmcCell, or the
+   * event selectors' DsmcAggEv (owned: agg_event.cpp); NULL when off */
+  gran::DsmcAgg *agg = nullptr;
 };
 
 namespace gran {
@@ -284,6 +289,8 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
 void dsmc_selector_rebuild(gran_dsmc *s);
 /* Recompute the exact maximum speed per species, then dsmc_selector_rebuild. */
 void dsmc_refresh_bounds(gran_dsmc *s);
+/* After a tightening: close the acceptance window, count it, schedule the next one. */
+void dsmc_refresh_window(gran_dsmc *s);
 /* Raise the bound of species i to speed^2 s2 (called from the hot loop; rare). */
 void dsmc_raise_bound(gran_dsmc *s, int32_t i, double s2);
 /* Rate and 1/rate from the current selector state. */

@@ -3,6 +3,7 @@
  * dsmc_loop.h; observables in observables.cpp; checkpoints in checkpoint.cpp. */
 #include "dsmc_impl.h"
 #include "cell_impl.h"
+#include "agg_impl.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -238,6 +239,10 @@ void dsmc_refresh_bounds(gran_dsmc *s) {
     if (s->classes) dsmc_class_layout(s, i); /* speed classes: thresholds and capacities */
   }
   dsmc_selector_rebuild(s);
+  dsmc_refresh_window(s);
+}
+
+void dsmc_refresh_window(gran_dsmc *s) {
   const int64_t dt = s->trials - s->trials_at_refresh;
   if (dt > 0) s->acc_last = (double)(s->collisions - s->coll_at_refresh) / (double)dt;
   if (s->collisions > 0) s->bound_tightenings++;
@@ -544,6 +549,7 @@ GRAN_EXTERN int gran_dsmc_destroy(gran_dsmc **sim) {
   GRAN_TRY {
     if (!sim || !*sim) return GRAN_SUCCESS;
     gran_dsmc *s = *sim;
+    dsmc_aggev_free(s); /* event selectors' aggregation (agg_event.cpp) */
     dsmc_cell_free(s);
     gran_particles_free(&s->p);
     for (int r = 0; r < 3; r++) {
@@ -608,6 +614,7 @@ GRAN_EXTERN int gran_dsmc_advance(gran_dsmc *sim, double t_end) {
     GRAN_CHECK(te >= sim->t, GRAN_ERR_ARG, "argument 't_end' = %.17g lies before the current time %.17g", t_end,
                sim->opt.t_start + sim->t);
     if (sim->cell) return dsmc_cell_advance(sim, te, INT64_MAX);
+    if (sim->agg) return dsmc_aggev_advance(sim, te, INT64_MAX); /* agg_event.cpp */
     return advance_impl(sim, te, INT64_MAX);
   }
   GRAN_CATCH
@@ -624,6 +631,7 @@ GRAN_EXTERN int gran_dsmc_advance_collisions(gran_dsmc *sim, int64_t ncollisions
                "no collision can happen: only tracers (n_k = 0) have particles, and tracers never collide with each other");
     GRAN_CHECK(ncollisions <= INT64_MAX - sim->collisions, GRAN_ERR_ARG, "argument 'ncollisions' is too large");
     if (sim->cell) return dsmc_cell_advance(sim, DBL_MAX, sim->collisions + ncollisions);
+    if (sim->agg) return dsmc_aggev_advance(sim, DBL_MAX, sim->collisions + ncollisions); /* agg_event.cpp */
     return advance_impl(sim, DBL_MAX, sim->collisions + ncollisions);
   }
   GRAN_CATCH
@@ -688,7 +696,7 @@ GRAN_EXTERN int gran_dsmc_species_offsets(const gran_dsmc *sim, int64_t *offsets
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(offsets);
-    GRAN_CHECK(!(sim->cell && sim->cell->agg), GRAN_ERR_STATE,
+    GRAN_CHECK(sim->agg == nullptr, GRAN_ERR_STATE,
                "with aggregation the particles are not grouped by species (see gran_dsmc_size_distribution)");
     for (int64_t k = 0; k <= sim->M; k++) offsets[k] = sim->offset[(size_t)k];
     return GRAN_SUCCESS;

@@ -3,6 +3,7 @@
  * R_j(t) = r_j + v_j (t - t_last_j), without modifying the state. */
 #include "dsmc_impl.h"
 #include "cell_impl.h"
+#include "agg_impl.h"
 
 namespace gran {
 
@@ -10,7 +11,7 @@ namespace gran {
  * engine conserves the gas's momentum; tracers exchange momentum with the bath, their frame is
  * the gas's). Without tracers: of all particles. */
 void dsmc_mean_flow(const gran_dsmc *s, double u[3]) {
-  if (s->cell && s->cell->agg) return dsmc_agg_mean_flow(s, u); /* cell selector: clusters */
+  if (s->agg) return dsmc_agg_mean_flow(s, u); /* cell selector: clusters */
   double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mt = 0;
   const double *v = dsmc_hv(s);
   for (int64_t k = 0; k < s->M; k++) {
@@ -53,7 +54,7 @@ GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(T);
-    if (sim->cell && sim->cell->agg) return dsmc_agg_temperatures(sim, T, nullptr), GRAN_SUCCESS; /* clusters */
+    if (sim->agg) return dsmc_agg_temperatures(sim, T, nullptr), GRAN_SUCCESS; /* clusters */
     double u[3];
     dsmc_mean_flow(sim, u);
     const double *v = dsmc_hv(sim);
@@ -125,7 +126,7 @@ GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(a2);
-    if (sim->cell && sim->cell->agg) return dsmc_agg_temperatures(sim, nullptr, a2), GRAN_SUCCESS; /* clusters */
+    if (sim->agg) return dsmc_agg_temperatures(sim, nullptr, a2), GRAN_SUCCESS; /* clusters */
     double u[3];
     dsmc_mean_flow(sim, u);
     const double *v = dsmc_hv(sim);
@@ -153,7 +154,7 @@ GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2) {
 GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_initial, double *e_dissipated) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
-    if (e_kin && sim->cell && sim->cell->agg) { /* clusters */
+    if (e_kin && sim->agg) { /* clusters */
       dsmc_agg_energy_momentum(sim, e_kin, nullptr);
       e_kin = nullptr;
     }
@@ -171,9 +172,10 @@ GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_
     }
     if (e_initial) *e_initial = sim->e_initial;
     if (e_dissipated) *e_dissipated = sim->e_diss + sim->e_diss_c;
-    if (e_dissipated && sim->cell) /* cell selector: merges, breakups, minus the thermostat's heat */
-      *e_dissipated += (sim->cell->e_merge + sim->cell->e_merge_c) + (sim->cell->e_break + sim->cell->e_break_c) -
-                       (sim->cell->e_heat + sim->cell->e_heat_c);
+    if (e_dissipated && sim->agg) /* aggregation (any selector): merges, breakups */
+      *e_dissipated += (sim->agg->e_merge + sim->agg->e_merge_c) + (sim->agg->e_break + sim->agg->e_break_c);
+    if (e_dissipated && sim->cell) /* cell selector: minus the thermostat's heat */
+      *e_dissipated -= sim->cell->e_heat + sim->cell->e_heat_c;
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
@@ -186,7 +188,7 @@ GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(p);
-    if (sim->cell && sim->cell->agg) return dsmc_agg_energy_momentum(sim, nullptr, p), GRAN_SUCCESS; /* clusters */
+    if (sim->agg) return dsmc_agg_energy_momentum(sim, nullptr, p), GRAN_SUCCESS; /* clusters */
     double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0};
     const double *v = dsmc_hv(sim);
     for (int64_t k = 0; k < sim->M; k++) {

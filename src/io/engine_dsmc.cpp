@@ -52,7 +52,7 @@ class DsmcEngine : public gran_engine {
                        "accepted collisions between species i and j since the start [time][i][j], symmetric");
     if (s->obs_sonine_a2)
       gran_row_buf_add(b, "sonine_a2", "a2", 0, {M}, "1", "Sonine coefficient a2 = 3 <c^4>/5 <c^2>^2 - 1 per species");
-    if (agg()) { /* cell selector with aggregation / fragmentation */
+    if (agg()) { /* aggregation / fragmentation (any selector) */
       gran_row_buf_add(b, "clusters", "stats", 1, {6}, "1",
                        "clusters, largest size, sizes present, merges, breakups, bounces since the start [time][6]");
       gran_row_buf_add(b, "clusters", "n", 1, {M}, "1", "clusters of size k = 1..nspecies [time][k]");
@@ -75,7 +75,9 @@ class DsmcEngine : public gran_engine {
     if (s_->selector == GRAN_SELECTOR_CELL) /* cell selector */
       return gran_dsmc_create_cell(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt,
                                    &s_->cell, &sim_);
-    return gran_dsmc_create(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt, &sim_);
+    /* event selectors: [aggregation] (off: the plain engine) */
+    return gran_dsmc_create_agg(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt, &s_->agg,
+                                &sim_);
   }
   /* one engine of this scene: gran_scene_dsmc_bytes_ (the estimate the scene check uses too) */
   int memory(int64_t *bytes) override {
@@ -255,10 +257,8 @@ class DsmcEngine : public gran_engine {
 
  private:
   const gran_scene *s_;
-  /* cell selector with aggregation or fragmentation */
-  bool agg() const {
-    return s_->selector == GRAN_SELECTOR_CELL && (s_->cell.e_agg > 0 || std::isfinite(s_->cell.e_frag));
-  }
+  /* aggregation or fragmentation (any selector: s_->agg holds the cell selector's values too) */
+  bool agg() const { return s_->agg.e_agg > 0 || std::isfinite(s_->agg.e_frag); }
   gran_mixture *mix_ = nullptr;
   gran_dsmc *sim_ = nullptr;
   std::vector<double> T0_;
@@ -333,8 +333,8 @@ class DsmcEngine : public gran_engine {
     const gran_scene *s = s_;
     const int64_t M = s->nspecies, nt = (int64_t)tt.size();
     std::vector<double> n((size_t)(nt * M));
-    GRAN_CALL(gran_theory_aggregation(mix_, T0_.data(), s->cell.e_agg, s->cell.e_frag, s->cell.eps_f, nt, tt.data(),
-                                      s->theory_rtol, n.data(), T, nullptr));
+    GRAN_CALL(gran_theory_aggregation_law(mix_, T0_.data(), s->agg.e_agg, s->agg.e_frag, s->agg.eps_f, s->agg.frag_law,
+                                          nt, tt.data(), s->theory_rtol, n.data(), T, nullptr));
     gran_dsmc_stats x;
     GRAN_CALL(gran_dsmc_get_stats(sim_, &x));
     for (double &v : n) v *= x.volume;

@@ -56,6 +56,8 @@ struct gran_scene {
 
   /* [cell] (selector = "cell": src/dsmc/cell.cpp) */
   gran_dsmc_cell_options cell{};
+  /* [aggregation] of the event selectors (src/dsmc/agg_event.cpp); for "cell" it fills cell */
+  gran_dsmc_agg_options agg{};
 
   /* [observables] */
   std::vector<double> times;

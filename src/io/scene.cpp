@@ -854,7 +854,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   const double mem_limit = memory_limit_bytes(root);
   if (is_srd_scene(root)) return parse_scene_srd(root, s, mem_limit); /* GSRD: its own tables */
   Tab top(&root, "", F);
-  top.set_known({"title", "mixture", "restitution", "initial", "engine", "observables", "output", "cell"});
+  top.set_known({"title", "mixture", "restitution", "initial", "engine", "observables", "output", "cell", "aggregation"});
   s.title = top.string("title", "");
 
   /* ---- [mixture] ---- */
@@ -1120,6 +1120,18 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   en.finish();
 
   /* ---- [cell]: the time-step/cell selector (src/dsmc/cell.cpp) ---- */
+  /* e_agg, e_frag, eps_f of [cell] or [aggregation] (absent: the defaults) */
+  auto agg_keys = [](Tab &t, double *e_agg, double *e_frag, double *eps_f) {
+    *e_agg = t.number("e_agg", 0.0);
+    require(*e_agg >= 0, t, "e_agg", "must be >= 0 (0: no aggregation)");
+    if (t.has("e_frag")) {
+      const toml::value &x = t.get("e_frag");
+      *e_frag = x.is_floating() ? x.as_floating() : t.number("e_frag");
+      require(!std::isnan(*e_frag) && *e_frag >= 0, t, "e_frag", "must be >= 0 (inf or absent: no fragmentation)");
+    }
+    *eps_f = t.number("eps_f", 1.0);
+    require(*eps_f >= 0 && *eps_f <= 1, t, "eps_f", "must be in [0, 1]");
+  };
   gran_dsmc_cell_options_default(&s.cell);
   if (s.selector == GRAN_SELECTOR_CELL && !top.has("cell"))
     top.fail_missing("cell", "selector \"cell\" needs a [cell] table (at least dt)");
@@ -1136,15 +1148,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
     require(c.dt > 0, ce, "dt", "must be > 0");
     c.fn = ce.number("fn", 1.0);
     require(c.fn > 0, ce, "fn", "must be > 0 (real particles per simulated particle)");
-    c.e_agg = ce.number("e_agg", 0.0);
-    require(c.e_agg >= 0, ce, "e_agg", "must be >= 0 (0: no aggregation)");
-    if (ce.has("e_frag")) {
-      const toml::value &x = ce.get("e_frag");
-      c.e_frag = x.is_floating() ? x.as_floating() : ce.number("e_frag");
-      require(!std::isnan(c.e_frag) && c.e_frag >= 0, ce, "e_frag", "must be >= 0 (inf or absent: no fragmentation)");
-    }
-    c.eps_f = ce.number("eps_f", 1.0);
-    require(c.eps_f >= 0 && c.eps_f <= 1, ce, "eps_f", "must be in [0, 1]");
+    agg_keys(ce, &c.e_agg, &c.e_frag, &c.eps_f);
     c.heat_rate = ce.number("heat_rate", 0.0);
     require(c.heat_rate >= 0, ce, "heat_rate", "must be >= 0 (0: no thermostat)");
     c.bath_density = ce.number("bath_density", 0.0);
@@ -1160,6 +1164,39 @@ void parse_scene(const toml::value &root, gran_scene &s) {
     else if (pl == "collision") c.placement = GRAN_PLACE_COLLISION;
     else ce.fail("placement", "unknown placement \"" + pl + "\" (random or collision)");
     ce.finish();
+  }
+
+  /* ---- [aggregation]: aggregation and fragmentation in any selector (src/dsmc/agg_event.cpp;
+   * for selector "cell" the same keys as [cell], which then must not repeat them) ---- */
+  gran_dsmc_agg_options_default(&s.agg);
+  if (top.has("aggregation")) {
+    Tab ag = top.sub("aggregation");
+    ag.set_known({"e_agg", "e_frag", "eps_f", "frag_law"});
+    if (s.selector == GRAN_SELECTOR_CELL && top.has("cell")) {
+      Tab ce = top.sub("cell");
+      for (const char *k : {"e_agg", "e_frag", "eps_f"})
+        if (ce.has(k) && ag.has(k)) ag.fail(k, std::string("is given in [cell] too: give it in one table"));
+    }
+    if (s.speed_classes) top.fail("aggregation", "speed classes ([engine] speed_classes) have no aggregation");
+    gran_dsmc_agg_options &a = s.agg;
+    agg_keys(ag, &a.e_agg, &a.e_frag, &a.eps_f);
+    const std::string law = ag.string("frag_law", "monomers");
+    if (law == "monomers") a.frag_law = GRAN_FRAG_MONOMERS;
+    else if (law == "binary") a.frag_law = GRAN_FRAG_BINARY;
+    else ag.fail("frag_law", "unknown fragment law \"" + law + "\" (monomers or binary)");
+    ag.finish();
+    if (s.selector == GRAN_SELECTOR_CELL) { /* the cell selector's options hold them */
+      if (ag.has("e_agg")) s.cell.e_agg = a.e_agg;
+      if (ag.has("e_frag")) s.cell.e_frag = a.e_frag;
+      if (ag.has("eps_f")) s.cell.eps_f = a.eps_f;
+      s.cell.frag_law = a.frag_law;
+    }
+  }
+  if (s.selector == GRAN_SELECTOR_CELL) { /* one truth: the cell options */
+    s.agg.e_agg = s.cell.e_agg;
+    s.agg.e_frag = s.cell.e_frag;
+    s.agg.eps_f = s.cell.eps_f;
+    s.agg.frag_law = s.cell.frag_law;
   }
 
   /* ---- [observables] ---- */
@@ -1505,7 +1542,19 @@ GRAN_EXTERN int gran_scene_dsmc(const gran_scene *scene, const gran_mixture *mix
     if (s->selector == GRAN_SELECTOR_CELL) /* cell selector */
       return gran_dsmc_create_cell(mix, s->counts_kind == 0 ? s->counts.data() : nullptr, T0.data(), &opt, &s->cell,
                                    sim);
-    return gran_dsmc_create(mix, s->counts_kind == 0 ? s->counts.data() : nullptr, T0.data(), &opt, sim);
+    /* event selectors: [aggregation] (off: the plain engine) */
+    return gran_dsmc_create_agg(mix, s->counts_kind == 0 ? s->counts.data() : nullptr, T0.data(), &opt, &s->agg, sim);
+  }
+  GRAN_CATCH
+}
+
+/** @brief The scene's aggregation and fragmentation ([aggregation], or [cell] of the cell selector). */
+GRAN_EXTERN int gran_scene_dsmc_agg_options(const gran_scene *scene, gran_dsmc_agg_options *agg) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(agg);
+  GRAN_TRY {
+    *agg = scene->agg;
+    return GRAN_SUCCESS;
   }
   GRAN_CATCH
 }

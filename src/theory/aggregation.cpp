@@ -82,6 +82,7 @@ struct AggSys {
   int64_t M = 0;
   double K = 0;      /* constant kernel */
   double Ea = 0, Ef = HUGE_VAL, epsf2 = 0;
+  int law = GRAN_FRAG_MONOMERS; /* fragment law (gran_frag_law) */
   double n0 = 1, e0 = 1; /* scales of the state */
   std::vector<double> T;
   std::vector<int64_t> act;
@@ -163,8 +164,29 @@ int agg_rhs(double, const double y[], double f[], void *params) {
         dn[j] -= Rf / n0;
         de[i] -= (Rf * 1.5 * mi * vres + Rx * 0.5 * mi * ci * ci * g2f) / e0;
         de[j] -= (Rf * 1.5 * mj * vres + Rx * 0.5 * mj * cj * cj * g2f) / e0;
-        dn[0] += Rf * sz / n0;
-        de[0] += (Rf * 1.5 * Mt * vres + Rx * (0.5 * Mt * c * c * g2f + S.epsf2 * Tij)) / e0;
+        if (S.law == GRAN_FRAG_BINARY && sz > 2) {
+          /* two pieces a, K - a, a uniform in 1..K-1: size s gets 2/(K-1) pieces per breakup, each
+           * with the centre-of-mass motion of its mass and the share (K - s)/K of eps_f^2 E_imp
+           * (two bodies of equal and opposite momenta in the CM frame) */
+          const int64_t K = i + j + 2;
+          const double w = 2.0 / (double)(K - 1), m1 = x->m[0];
+          for (int64_t q = 1; q < K; q++) {
+            const double ms = (double)q * m1;
+            const double es = w * (Rf * 1.5 * ms * vres + Rx * (0.5 * ms * c * c * g2f +
+                                                             S.epsf2 * Tij * (double)(K - q) / (double)K));
+            if (q <= M) {
+              dn[q - 1] += w * Rf / n0;
+              de[q - 1] += es / e0;
+            } else { /* a piece beyond M: the overflow reservoir */
+              ov[0] += w * Rf / n0;
+              ov[1] += w * Rf * (double)q / n0;
+              ov[2] += es / e0;
+            }
+          }
+        } else {
+          dn[0] += Rf * sz / n0;
+          de[0] += (Rf * 1.5 * Mt * vres + Rx * (0.5 * Mt * c * c * g2f + S.epsf2 * Tij)) / e0;
+        }
       }
     }
   }
@@ -258,6 +280,16 @@ GRAN_EXTERN int gran_theory_agg_fractions(double mi, double mj, double Ti, doubl
 GRAN_EXTERN int gran_theory_aggregation(const gran_mixture *mix, const double *T0, double E_agg, double E_frag,
                                         double eps_f, int64_t ntimes, const double *t, double rtol, double *n,
                                         double *T, double *overflow) {
+  return gran_theory_aggregation_law(mix, T0, E_agg, E_frag, eps_f, GRAN_FRAG_MONOMERS, ntimes, t, rtol, n, T,
+                                     overflow);
+}
+
+/** @brief gran_theory_aggregation with the fragment law (gran_frag_law): GRAN_FRAG_MONOMERS, or
+ *  GRAN_FRAG_BINARY (the (i+j)-mer into two pieces of a uniform size; pieces beyond M go to the
+ *  overflow reservoir). */
+GRAN_EXTERN int gran_theory_aggregation_law(const gran_mixture *mix, const double *T0, double E_agg, double E_frag,
+                                            double eps_f, int frag_law, int64_t ntimes, const double *t, double rtol,
+                                            double *n, double *T, double *overflow) {
   GRAN_TRY {
     gsl_set_error_handler_off();
     GRAN_CALL(gran::check_mixture(mix, "mix"));
@@ -276,6 +308,8 @@ GRAN_EXTERN int gran_theory_aggregation(const gran_mixture *mix, const double *T
     GRAN_CHECK(E_frag >= 0, GRAN_ERR_ARG, "argument 'E_frag' must be >= 0 (infinity: no fragmentation) (%g)",
                E_frag);
     GRAN_CHECK(eps_f >= 0 && eps_f <= 1, GRAN_ERR_ARG, "argument 'eps_f' must lie in [0, 1] (%g)", eps_f);
+    GRAN_CHECK(frag_law == GRAN_FRAG_MONOMERS || frag_law == GRAN_FRAG_BINARY, GRAN_ERR_ARG,
+               "argument 'frag_law' = %d is not a gran_frag_law", frag_law);
     GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' must be >= 0 (%lld)", (long long)ntimes);
     GRAN_CALL(check_sorted_times(t, ntimes));
     GRAN_CALL(gran::check_rtol(rtol, "rtol"));
@@ -286,6 +320,7 @@ GRAN_EXTERN int gran_theory_aggregation(const gran_mixture *mix, const double *T
     S.Ea = E_agg;
     S.Ef = E_frag;
     S.epsf2 = eps_f * eps_f;
+    S.law = frag_law;
     double ntot = 0, etot = 0, rate = 0;
     for (int64_t k = 0; k < M; k++) {
       const double nk = mix->n[(size_t)k];
