@@ -38,12 +38,13 @@ static inline void io_tmp_cleanup(void) {
   if (io_tmpdir[0] && !getenv("GRAN_KEEP_TMP")) nftw(io_tmpdir, io_rm_cb, 16, FTW_DEPTH | FTW_PHYS);
 }
 
-/* path inside the temporary folder (static ring of buffers) */
+/* path inside the temporary folder (static ring of buffers); a test that did not call io_tmp
+ * first gets one named "test" (never a path in "/") */
 static inline const char *io_path(const char *leaf) {
   static char buf[8][512];
   static int i = 0;
   i = (i + 1) % 8;
-  snprintf(buf[i], sizeof buf[i], "%s/%s", io_tmpdir, leaf);
+  snprintf(buf[i], sizeof buf[i], "%s/%s", io_tmp("test"), leaf);
   return buf[i];
 }
 

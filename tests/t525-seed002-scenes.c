@@ -80,6 +80,7 @@ static void test_fig1_2(void **state) {
 }
 
 int main(void) {
+  io_tmp("t525"); /* io_path writes into it (without this call: into "/") */
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_load_all),
       cmocka_unit_test(test_fig1_2),
