@@ -33,6 +33,9 @@ program t901_layout_f
   call check('GRAN_SELECTOR_CELL', int(GRAN_SELECTOR_CELL, c_size_t))
   call check('GRAN_PLACE_RANDOM', int(GRAN_PLACE_RANDOM, c_size_t))
   call check('GRAN_PLACE_COLLISION', int(GRAN_PLACE_COLLISION, c_size_t))
+  call check('GRAN_SPEED_CLASSES_OFF', int(GRAN_SPEED_CLASSES_OFF, c_size_t))
+  call check('GRAN_SPEED_CLASSES_ON', int(GRAN_SPEED_CLASSES_ON, c_size_t))
+  call check('GRAN_SPEED_CLASSES_AUTO', int(GRAN_SPEED_CLASSES_AUTO, c_size_t))
   call check('sizeof(gran_dsmc_options)', c_sizeof(dsmc_opt)) ! DSMC (speed classes, issue 11)
   call check('sizeof(gran_dsmc_stats)', c_sizeof(dsmc_st))    ! DSMC (speed classes, issue 11)
 

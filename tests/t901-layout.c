@@ -65,6 +65,9 @@ static void test_constants(void **state) {
   EXPECT_CONST(GRAN_SELECTOR_CELL); /* cell selector */
   EXPECT_CONST(GRAN_PLACE_RANDOM);
   EXPECT_CONST(GRAN_PLACE_COLLISION);
+  EXPECT_CONST(GRAN_SPEED_CLASSES_OFF); /* speed classes (issue 11) */
+  EXPECT_CONST(GRAN_SPEED_CLASSES_ON);
+  EXPECT_CONST(GRAN_SPEED_CLASSES_AUTO);
 }
 
 static void test_errors(void **state) {

@@ -15,6 +15,24 @@ DsmcLoopFn dsmc_class_loop(int paper, int disp, int counts, int rest, int tracer
                : dsmc_pick<SelClass, false>(disp, counts, rest, tracers);
 }
 
+/* GRAN_SPEED_CLASSES_AUTO (the default): speed classes where they were measured to pay (b501, README
+ * "Speed classes"). Classes cut the trials per collision (acceptance 0.16 -> 0.5) and add work per
+ * collision (moves between classes, the sort at each tightening, the (term, leaf) draw); they pay
+ * where a trial is expensive: the species draw descends a tree over M species (depth log2 M).
+ * Off for the paper's rule (the literal reference of the speed ratios), Bird and the cell selector
+ * (no classes), without a species of kClassMin particles (no species would have classes). */
+int dsmc_classes_auto(const gran_dsmc *s) {
+  if (s->selector != GRAN_SELECTOR_LOWRANK || s->paper) return 0;
+  if (s->N <= 0 || s->N >= INT32_MAX) return 0;
+  int64_t big = 0, nonempty = 0;
+  for (int64_t k = 0; k < s->M; k++) {
+    big += s->count[(size_t)k] >= kClassMin;
+    nonempty += s->count[(size_t)k] > 0;
+  }
+  if (big == 0) return 0;
+  return nonempty >= GRAN_DSMC_CLASS_AUTO_M ? 1 : 0;
+}
+
 /* Leaves and slots for the counts; every species' particles in its first leaf (sorted into the
  * classes by the first dsmc_refresh_bounds). Velocities are written by the caller. */
 int dsmc_class_setup(gran_dsmc *s) {
