@@ -14,8 +14,8 @@
  * errors per quantity (the t504 convention), and each quantity resolved to better than 3% (6%
  * under ASan) so that the comparison has teeth.
  * test_auto_choice: the default speed_classes = GRAN_SPEED_CLASSES_AUTO decides at creation
- * (issue 11): on for the two mixtures, off for the monodisperse gas, the paper's rule, Bird and a
- * mixture without a species of 256 particles; an auto engine runs bit for bit as the engine with
+ * (issue 11): on for the two mixtures (with and without displacements), off for the monodisperse
+ * gas, the paper's rule, Bird, with trajectories and for a mixture without a species of 256 particles; an auto engine runs bit for bit as the engine with
  * the setting it chose (so the statistics above cover it). */
 #include "dsmc_util.h"
 
@@ -108,8 +108,14 @@ static void powerlaw_1e4(int classes) {
 }
 
 /* run sy with the given speed_classes setting to t = 2: collisions, energy, class moves */
+static int auto_observe = 0; /* observables of run_setting */
 static void run_setting(const sys_t *sy, int sel, int setting, double out[3]) {
-  gran_dsmc_options o = dsmc_opts(sel, 5120, sy->volume, 0);
+  gran_dsmc_options o = dsmc_opts(sel, 5120, sy->volume, auto_observe);
+  if (auto_observe & GRAN_OBSERVE_TRAJECTORIES) {
+    o.traj_per_species = 2;
+    o.traj_dt = 0.5;
+    o.traj_samples = 5;
+  }
   o.speed_classes = setting;
   double *T0 = (double *)malloc(sizeof(double) * (size_t)sy->M);
   for (int64_t k = 0; k < sy->M; k++) T0[k] = 1.0;
@@ -152,6 +158,11 @@ static void test_auto_choice(void **state) {
   expect_auto(&t1, GRAN_SELECTOR_LOWRANK, GRAN_SPEED_CLASSES_ON);
   expect_auto(&t1, GRAN_SELECTOR_LOWRANK_PAPER, GRAN_SPEED_CLASSES_OFF); /* the paper's rule stays literal */
   expect_auto(&t1, GRAN_SELECTOR_BIRD, GRAN_SPEED_CLASSES_OFF);
+  auto_observe = GRAN_OBSERVE_DISPLACEMENT;
+  expect_auto(&t1, GRAN_SELECTOR_LOWRANK, GRAN_SPEED_CLASSES_ON);
+  auto_observe = GRAN_OBSERVE_TRAJECTORIES; /* identities: a cache miss per move */
+  expect_auto(&t1, GRAN_SELECTOR_LOWRANK, GRAN_SPEED_CLASSES_OFF);
+  auto_observe = 0;
   /* the 1e4-species power law (N_1 = 5e3: species 1..2 have >= 256 particles) */
   sys_t pl = {"plaw", 10000, NULL, NULL, 5e3 / 0.1};
   GRAN_ASSERT_OK(gran_mixture_create_powerlaw(pl.M, 1.0, 1.0, 0.1, 3.0, &pl.mix));

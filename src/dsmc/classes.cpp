@@ -16,14 +16,19 @@ DsmcLoopFn dsmc_class_loop(int paper, int disp, int counts, int rest, int tracer
 }
 
 /* GRAN_SPEED_CLASSES_AUTO (the default): speed classes where they were measured to pay (b501, README
- * "Speed classes"). Classes cut the trials per collision (acceptance 0.16 -> 0.5) and add work per
- * collision (moves between classes, the sort at each tightening, the (term, leaf) draw); they pay
- * where a trial is expensive: the species draw descends a tree over M species (depth log2 M).
- * Off for the paper's rule (the literal reference of the speed ratios), Bird and the cell selector
- * (no classes), without a species of kClassMin particles (no species would have classes). */
+ * "Speed classes"). Classes cut the trials per collision (acceptance 0.17 -> 0.5) and add work per
+ * collision (0.85 moves between classes, the sort at each tightening, the (term, leaf) draw). With
+ * one species a trial without classes is the cheapest there is (no tree, no alias choice of the
+ * species): classes lost (monodisperse N = 1e5: 140 against 115 ns per collision); from two
+ * species on they won (two species 1.15-1.25x, 8 species 1.5x, Table I 1.25-1.45x, 1e4 species
+ * 1.9x). With trajectories every move also updates the identity's slot (a cache miss): Table I at
+ * N_1 = 1e6 250 against 198 ns, so off. Off for the paper's rule (the literal reference of the
+ * speed ratios), Bird and the cell selector (no classes), and without a species of kClassMin
+ * particles (no species would have classes). */
 int dsmc_classes_auto(const gran_dsmc *s) {
   if (s->selector != GRAN_SELECTOR_LOWRANK || s->paper) return 0;
   if (s->N <= 0 || s->N >= INT32_MAX) return 0;
+  if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) return 0;
   int64_t big = 0, nonempty = 0;
   for (int64_t k = 0; k < s->M; k++) {
     big += s->count[(size_t)k] >= kClassMin;
