@@ -44,6 +44,12 @@ constexpr bool kRngSplit = GRAN_DSMC_RNG_SPLIT != 0;
 #define GRAN_DSMC_ALIAS_SELECT 1
 #endif
 constexpr bool kAliasSelect = GRAN_DSMC_ALIAS_SELECT != 0;
+/* 1: the low-rank draw of a one-species mixture skips the term, tree and alias choices (their
+ * result is species 0 whatever the random words; the same words give j and l: bit for bit the
+ * same run); measured in the README's DSMC performance notes. */
+#ifndef GRAN_DSMC_ONE_SPECIES
+#define GRAN_DSMC_ONE_SPECIES 1
+#endif
 /* c if take, else a, without a branch the compiler could turn it into */
 static inline int64_t select_i64(bool take, int64_t c, int64_t a) {
   const int64_t m = -(int64_t)take;
@@ -86,6 +92,14 @@ struct SelLowRank {
   /* Kept out of line on purpose: inlined into the loop, gcc 12 schedules the prefetches so that
    * they no longer run ahead (measured 2.6x slower at N = 1.2e6, b501). */
   __attribute__((noinline)) static void draw(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
+    if (GRAN_DSMC_ONE_SPECIES && s->M == 1) { /* i = k = 0 whatever r[0], r[1]: the same pair, bit for bit */
+      c->i = c->k = 0;
+      c->j = u64_below(r[2], s->count[0]);
+      c->l = u64_below(r[3], s->count[0]);
+      prefetch_particle(s->p.v, c->j);
+      prefetch_particle(s->p.v, c->l);
+      return;
+    }
     const double u0 = s->uv[0], u1 = s->uv[1];
     const double x = u64_uniform(r[0]) * (u0 + u1 + s->uv[2]);
     const int q = (int)(x >= u0) + (int)(x >= u0 + u1);
