@@ -192,6 +192,32 @@ static void test_auto_choice(void **state) {
   gran_mixture_destroy(&t1.mix);
 }
 
+/* the scene key: speed_classes = "auto" (also the default: t511), true, false; another string is
+ * refused naming the key */
+static void test_auto_scene_key(void **state) {
+  (void)state;
+  const char *base = "[mixture]\ndensity = [0.1, 0.05]\nmass = [1.0, 2.0]\n[restitution]\neps = 0.8\n[engine]\n"
+                     "counts = [1000, 500]\nt_end = 10\n";
+  const char *val[4] = {"\"auto\"", "true", "false", "\"fast\""};
+  const int want[3] = {GRAN_SPEED_CLASSES_AUTO, GRAN_SPEED_CLASSES_ON, GRAN_SPEED_CLASSES_OFF};
+  char txt[512];
+  for (int q = 0; q < 4; q++) {
+    snprintf(txt, sizeof txt, "%sspeed_classes = %s\n", base, val[q]);
+    gran_scene *sc = NULL;
+    if (q == 3) {
+      assert_int_not_equal(gran_scene_parse(txt, "k.toml", &sc), GRAN_SUCCESS);
+      assert_non_null(strstr(gran_last_error_message(), "speed_classes"));
+      assert_null(sc);
+      continue;
+    }
+    GRAN_ASSERT_OK(gran_scene_parse(txt, "k.toml", &sc));
+    gran_dsmc_options o;
+    GRAN_ASSERT_OK(gran_scene_dsmc_options(sc, &o, NULL, NULL));
+    assert_int_equal(o.speed_classes, want[q]);
+    gran_scene_destroy(&sc);
+  }
+}
+
 static void test_table1(void **state) { (void)state, table1(0); }
 static void test_mono(void **state) { (void)state, mono(0); }
 static void test_powerlaw_1e4(void **state) { (void)state, powerlaw_1e4(0); }
@@ -208,6 +234,7 @@ int main(void) {
       cmocka_unit_test(test_mono_classes),
       cmocka_unit_test(test_powerlaw_1e4_classes),
       cmocka_unit_test(test_auto_choice),
+      cmocka_unit_test(test_auto_scene_key),
   };
   return cmocka_run_group_tests_name("t510-dsmc-fast-vs-paper", tests, NULL, NULL);
 }
