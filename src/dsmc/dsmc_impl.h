@@ -69,6 +69,9 @@ struct DsmcCand {
 #ifndef GRAN_DSMC_CLASS_DOWN
 #define GRAN_DSMC_CLASS_DOWN 2 /* 1: a particle that fits the class below moves down when there is room; 2: only when it fits two classes below (fewer moves, same acceptance: b501) */
 #endif
+#ifndef GRAN_DSMC_CLASS_KEY_COUNT
+#define GRAN_DSMC_CLASS_KEY_COUNT 1 /* 1: the sort's class of a particle by counting thresholds (classes.cpp) */
+#endif
 #ifndef GRAN_DSMC_CLASS_AUTO_M
 #define GRAN_DSMC_CLASS_AUTO_M 2 /* GRAN_SPEED_CLASSES_AUTO: on from this many non-empty species (classes.cpp) */
 #endif
