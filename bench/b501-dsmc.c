@@ -3,6 +3,7 @@
  *   BENCH_QUICK=1     N_1 = 1e5 instead of 1e6 (Table I), accuracy table up to N_1 = 1e5
  *   BENCH_DSMC_BIRD=f run Bird to the fraction f of Table I's time (default 1: the whole run; the
  *                     paper variant of Bird always runs to t = 25)
+ *   BENCH_DSMC_ONLY=speed  only the speed tables of the three systems (issue 11)
  * Times: wall clock and CPU time of the advance call (the CPU time is the steadier number on a
  * shared machine). Speeds are compared as collisions per CPU second of rows measured in this same
  * run (a partial run is reported as what it measured, never extrapolated), against no typed-in
@@ -68,6 +69,8 @@ static void table1(double N1) {
       {"Bird", GRAN_SELECTOR_BIRD, 0, 100.0 * fbird, fbird, 0},
       {"Bird + MSD", GRAN_SELECTOR_BIRD, GRAN_OBSERVE_DISPLACEMENT, 100.0 * fbird, fbird, 0},
       {"Bird, paper's rule", GRAN_SELECTOR_BIRD_PAPER, 0, 25.0, 0.25, 0},
+      /* the default (speed_classes = GRAN_SPEED_CLASSES_AUTO, issue 11): row 9 */
+      {"low-rank default (auto)", GRAN_SELECTOR_LOWRANK, 0, 100.0, 1.0, GRAN_SPEED_CLASSES_AUTO},
   };
   const int nv = (int)(sizeof vs / sizeof vs[0]);
   printf("\nTable I (seed 000): N_1 = %.0e, n_k = 0.1 k^-3, N_k = round(N_1 k^-3) >= 1 -> %d species, ", N1, M);
@@ -110,7 +113,7 @@ static void table1(double N1) {
            wall, cpu, rate[q], (double)st.collisions / (double)st.trials);
     if (q > 3) printf(" %9.2f", rate[q] / rate[3]);
     else printf(" %9s", q == 3 ? "1" : "");
-    if (vs[q].classes) /* speed classes: moves per collision, overflow re-sorts, raises of top bounds */
+    if (vs[q].classes) /* speed classes (or auto): moves per collision, overflow re-sorts, raises of top bounds */
       printf("  moves/coll %.2f, overflow re-sorts %lld, raises %lld", (double)st.class_moves / (double)st.collisions,
              (long long)st.class_rebuilds, (long long)st.bound_raises);
     printf("\n");
@@ -123,6 +126,7 @@ static void table1(double N1) {
          rate[0] / rate[3], rate[1] / rate[3]);
   printf("  low-rank + speed classes / paper's rule: %.2f without displacements, %.2f with; classes / without: %.2f, %.2f\n",
          rate[4] / rate[3], rate[5] / rate[3], rate[4] / rate[0], rate[5] / rate[1]);
+  printf("  low-rank default (auto) / paper's rule: %.2f\n", rate[9] / rate[3]);
   printf("  low-rank / Bird: %.2f (the paper's machine: 1128 s / 28 s = 40 with their codes)\n", rate[0] / rate[6]);
   printf("  Bird / Bird paper's rule: %.2f (the paper-rule row ran to t = 25 only: its rate, not its time, is compared)\n",
          rate[6] / rate[8]);
@@ -239,8 +243,12 @@ static void speed_system(const speed_sys *sy, int reps) {
       /* speed classes (issue 11) */
       {"low-rank + classes", GRAN_SELECTOR_LOWRANK, 0, 1},
       {"low-rank + classes + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, 1},
+      /* the default: speed_classes = GRAN_SPEED_CLASSES_AUTO (issue 11), rows 7, 8 */
+      {"default (auto)", GRAN_SELECTOR_LOWRANK, 0, GRAN_SPEED_CLASSES_AUTO},
+      {"default (auto) + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, GRAN_SPEED_CLASSES_AUTO},
+      {"Bird + MSD", GRAN_SELECTOR_BIRD, GRAN_OBSERVE_DISPLACEMENT, 0},
   };
-  enum { NM = 7 };
+  enum { NM = 10 };
   int64_t M;
   BENCH_CHECK(gran_mixture_nspecies(sy->mix, &M));
   double *T0 = malloc(sizeof(double) * (size_t)M);
@@ -293,6 +301,12 @@ static void speed_system(const speed_sys *sy, int reps) {
          rate[0] / rate[2], rate[1] / rate[3], rate[0] / rate[4]);
   printf("  with speed classes: / paper's rule %.2f without displacements, %.2f with; / without classes %.2f, %.2f\n",
          rate[5] / rate[2], rate[6] / rate[3], rate[5] / rate[0], rate[6] / rate[1]);
+  printf("  default (auto: classes %s): / paper's rule %.2f without displacements, %.2f with (issue 11 targets 5.3 "
+         "and 4.2); / the faster of off and on %.2f, %.2f\n",
+         moves[7] > 0 ? "on" : "off", rate[7] / rate[2], rate[8] / rate[3],
+         rate[7] / (rate[0] > rate[5] ? rate[0] : rate[5]), rate[8] / (rate[1] > rate[6] ? rate[1] : rate[6]));
+  printf("  Bird: %.3e collisions/s without displacements, %.3e with; low-rank default / Bird %.2f, %.2f (rates)\n",
+         rate[4], rate[9], rate[7] / rate[4], rate[8] / rate[9]);
   fflush(stdout);
   free(T0);
 }
@@ -340,9 +354,11 @@ int main(void) {
   const int quick = bench_quick();
   const double N1 = quick ? 1e5 : 1e6;
   printf("b501-dsmc: DSMC engine%s\n", quick ? " (BENCH_QUICK=1: reduced sizes)" : "");
-  memory(N1);
-  table1(N1);
+  const char *only = getenv("BENCH_DSMC_ONLY");
+  const int all = !(only && strcmp(only, "speed") == 0);
+  if (all) memory(N1);
+  if (all) table1(N1);
   speed_tables(N1, quick ? 2 : 3);
-  accuracy(quick ? 1e5 : 1e6);
+  if (all) accuracy(quick ? 1e5 : 1e6);
   return 0;
 }

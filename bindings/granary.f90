@@ -124,7 +124,7 @@ module granary
     integer(c_int64_t) :: traj_per_species = 0
     real(c_double) :: traj_dt = 1
     integer(c_int64_t) :: traj_samples = 0
-    integer(c_int32_t) :: speed_classes = 0    ! 1: speed classes (low-rank selectors)
+    integer(c_int32_t) :: speed_classes = -1   ! GRAN_SPEED_CLASSES_AUTO (default), _ON, _OFF
     integer(c_int32_t) :: pad_classes_ = 0
   end type gran_dsmc_options
 
@@ -149,6 +149,9 @@ module granary
   public :: gran_dsmc_trajectories, gran_dsmc_checkpoint_write, gran_dsmc_checkpoint_read
   ! ---- time-step/cell DSMC, aggregation, fragmentation, thermostat (src/dsmc/cell.cpp) ----
   integer(c_int32_t), parameter, public :: GRAN_SELECTOR_CELL = 4
+  ! gran_dsmc_options%speed_classes (issue 11)
+  integer(c_int32_t), parameter, public :: GRAN_SPEED_CLASSES_OFF = 0, GRAN_SPEED_CLASSES_ON = 1
+  integer(c_int32_t), parameter, public :: GRAN_SPEED_CLASSES_AUTO = -1
   integer(c_int32_t), parameter, public :: GRAN_PLACE_RANDOM = 0
   integer(c_int32_t), parameter, public :: GRAN_PLACE_COLLISION = 1
   type, bind(C), public :: gran_dsmc_cell_options

@@ -340,10 +340,20 @@ typedef struct gran_dsmc_options {
    * speed into classes with their own bounds (higher acceptance, same statistics); particles then
    * move between slots, and gran_dsmc_particles fills its view at each call (by creation order
    * with GRAN_OBSERVE_TRAJECTORIES, else grouped by species in no fixed order within a species).
-   * 0 = off (one bound per species; the view is the live state). Ignored by Bird. */
+   * 0 = off (one bound per species; the view is the live state). Ignored by Bird.
+   * GRAN_SPEED_CLASSES_AUTO (-1, the default): decided at creation by the rule of issue 11
+   * (README "Speed classes": on for GRAN_SELECTOR_LOWRANK where it was measured to pay, else off);
+   * gran_dsmc_get_stats' class_moves > 0 after collisions shows it was on. */
   int32_t speed_classes;
   int32_t pad_classes_;
 } gran_dsmc_options;
+
+/* gran_dsmc_options.speed_classes (issue 11) */
+enum gran_speed_classes {
+  GRAN_SPEED_CLASSES_OFF = 0,
+  GRAN_SPEED_CLASSES_ON = 1,
+  GRAN_SPEED_CLASSES_AUTO = -1 /* default: on or off at creation (README, "Speed classes") */
+};
 
 typedef struct gran_dsmc_stats {
   int64_t nparticles;

@@ -43,6 +43,7 @@ program t501_dsmc_f
   opt%traj_dt = 0.5_c_double
   opt%traj_samples = 21
   opt%bound_refresh = 1000
+  opt%speed_classes = GRAN_SPEED_CLASSES_OFF ! the live particle view (p is compared after an advance)
 
   ! bad input through ierr: unknown selector, negative counts, wrong array size
   opt%selector = 9

@@ -12,7 +12,11 @@
  * R seeds per selector (10; 4 under ASan); the standard error of the difference of the two means
  * uses the variance pooled over both selectors (2(R-1) degrees of freedom): tolerance 4.5 standard
  * errors per quantity (the t504 convention), and each quantity resolved to better than 3% (6%
- * under ASan) so that the comparison has teeth. */
+ * under ASan) so that the comparison has teeth.
+ * test_auto_choice: the default speed_classes = GRAN_SPEED_CLASSES_AUTO decides at creation
+ * (issue 11): on for the two mixtures (with and without displacements), off for the monodisperse
+ * gas, the paper's rule, Bird, with trajectories and for a mixture without a species of 256 particles; an auto engine runs bit for bit as the engine with
+ * the setting it chose (so the statistics above cover it). */
 #include "dsmc_util.h"
 
 #define NQ 4
@@ -103,6 +107,117 @@ static void powerlaw_1e4(int classes) {
   gran_mixture_destroy(&sy.mix);
 }
 
+/* run sy with the given speed_classes setting to t = 2: collisions, energy, class moves */
+static int auto_observe = 0; /* observables of run_setting */
+static void run_setting(const sys_t *sy, int sel, int setting, double out[3]) {
+  gran_dsmc_options o = dsmc_opts(sel, 5120, sy->volume, auto_observe);
+  if (auto_observe & GRAN_OBSERVE_TRAJECTORIES) {
+    o.traj_per_species = 2;
+    o.traj_dt = 0.5;
+    o.traj_samples = 5;
+  }
+  o.speed_classes = setting;
+  double *T0 = (double *)malloc(sizeof(double) * (size_t)sy->M);
+  for (int64_t k = 0; k < sy->M; k++) T0[k] = 1.0;
+  gran_dsmc *sim;
+  GRAN_ASSERT_OK(gran_dsmc_create(sy->mix, sy->counts, T0, &o, &sim));
+  GRAN_ASSERT_OK(gran_dsmc_advance(sim, 2.0));
+  gran_dsmc_stats st;
+  GRAN_ASSERT_OK(gran_dsmc_get_stats(sim, &st));
+  GRAN_ASSERT_OK(gran_dsmc_energy(sim, &out[1], NULL, NULL));
+  out[0] = (double)st.collisions;
+  out[2] = (double)st.class_moves;
+  assert_true(st.collisions > 100);
+  gran_dsmc_destroy(&sim);
+  free(T0);
+}
+
+/* the default is auto; auto on sy with selector sel must equal the explicit setting `want` bit for bit */
+static void expect_auto(const sys_t *sy, int sel, int want) {
+  gran_dsmc_options d;
+  GRAN_ASSERT_OK(gran_dsmc_options_default(&d));
+  assert_int_equal(d.speed_classes, GRAN_SPEED_CLASSES_AUTO);
+  double a[3], b[3];
+  run_setting(sy, sel, GRAN_SPEED_CLASSES_AUTO, a);
+  run_setting(sy, sel, want, b);
+  print_message("auto %-7s selector %d: %s (collisions %.0f, class moves %.0f)\n", sy->name, sel,
+                want == GRAN_SPEED_CLASSES_ON ? "classes on" : "classes off", a[0], a[2]);
+  assert_true(a[0] == b[0] && a[1] == b[1] && a[2] == b[2]);
+  if (want == GRAN_SPEED_CLASSES_ON) assert_true(a[2] > 0.01 * a[0]); /* particles do move between classes */
+  else assert_true(a[2] == 0.0);
+}
+
+static void test_auto_choice(void **state) {
+  (void)state;
+  const double N1 = 1e4;
+  int64_t M = 0;
+  while (llround(N1 * pow((double)(M + 1), -3.0)) >= 1) M++;
+  sys_t t1 = {"table1", M, NULL, NULL, N1 / 0.1};
+  GRAN_ASSERT_OK(gran_mixture_create_powerlaw(M, 1.0, 1.0, 0.1, 3.0, &t1.mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(t1.mix, 0.5));
+  expect_auto(&t1, GRAN_SELECTOR_LOWRANK, GRAN_SPEED_CLASSES_ON);
+  expect_auto(&t1, GRAN_SELECTOR_LOWRANK_PAPER, GRAN_SPEED_CLASSES_OFF); /* the paper's rule stays literal */
+  expect_auto(&t1, GRAN_SELECTOR_BIRD, GRAN_SPEED_CLASSES_OFF);
+  auto_observe = GRAN_OBSERVE_DISPLACEMENT;
+  expect_auto(&t1, GRAN_SELECTOR_LOWRANK, GRAN_SPEED_CLASSES_ON);
+  auto_observe = GRAN_OBSERVE_TRAJECTORIES; /* identities: a cache miss per move */
+  expect_auto(&t1, GRAN_SELECTOR_LOWRANK, GRAN_SPEED_CLASSES_OFF);
+  auto_observe = 0;
+  /* the 1e4-species power law (N_1 = 5e3: species 1..2 have >= 256 particles) */
+  sys_t pl = {"plaw", 10000, NULL, NULL, 5e3 / 0.1};
+  GRAN_ASSERT_OK(gran_mixture_create_powerlaw(pl.M, 1.0, 1.0, 0.1, 3.0, &pl.mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(pl.mix, 0.5));
+  pl.counts = (int64_t *)malloc(sizeof(int64_t) * (size_t)pl.M);
+  for (int64_t k = 0; k < pl.M; k++) {
+    const int64_t c = llround(5e3 * pow((double)(k + 1), -3.0));
+    pl.counts[k] = c > 1 ? c : 1;
+  }
+  expect_auto(&pl, GRAN_SELECTOR_LOWRANK, GRAN_SPEED_CLASSES_ON);
+  /* a mixture whose species all have fewer than 256 particles: no species would have classes */
+  int64_t small[2] = {255, 200};
+  sys_t sm = {"small", 2, t1.mix, small, 0.0};
+  gran_mixture *m2;
+  double mm[2] = {1.0, 2.0}, ss[2] = {1.0, 1.2}, nn[2] = {0.05, 0.05};
+  GRAN_ASSERT_OK(gran_mixture_create(2, mm, ss, nn, &m2));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(m2, 0.5));
+  sm.mix = m2;
+  expect_auto(&sm, GRAN_SELECTOR_LOWRANK, GRAN_SPEED_CLASSES_OFF);
+  /* the monodisperse gas */
+  sys_t mo = {"mono", 1, dsmc_mono(0.1, 0.5), NULL, 1e5};
+  expect_auto(&mo, GRAN_SELECTOR_LOWRANK, GRAN_SPEED_CLASSES_OFF);
+  gran_mixture_destroy(&mo.mix);
+  gran_mixture_destroy(&m2);
+  free(pl.counts);
+  gran_mixture_destroy(&pl.mix);
+  gran_mixture_destroy(&t1.mix);
+}
+
+/* the scene key: speed_classes = "auto" (also the default: t511), true, false; another string is
+ * refused naming the key */
+static void test_auto_scene_key(void **state) {
+  (void)state;
+  const char *base = "[mixture]\ndensity = [0.1, 0.05]\nmass = [1.0, 2.0]\n[restitution]\neps = 0.8\n[engine]\n"
+                     "counts = [1000, 500]\nt_end = 10\n";
+  const char *val[4] = {"\"auto\"", "true", "false", "\"fast\""};
+  const int want[3] = {GRAN_SPEED_CLASSES_AUTO, GRAN_SPEED_CLASSES_ON, GRAN_SPEED_CLASSES_OFF};
+  char txt[512];
+  for (int q = 0; q < 4; q++) {
+    snprintf(txt, sizeof txt, "%sspeed_classes = %s\n", base, val[q]);
+    gran_scene *sc = NULL;
+    if (q == 3) {
+      assert_int_not_equal(gran_scene_parse(txt, "k.toml", &sc), GRAN_SUCCESS);
+      assert_non_null(strstr(gran_last_error_message(), "speed_classes"));
+      assert_null(sc);
+      continue;
+    }
+    GRAN_ASSERT_OK(gran_scene_parse(txt, "k.toml", &sc));
+    gran_dsmc_options o;
+    GRAN_ASSERT_OK(gran_scene_dsmc_options(sc, &o, NULL, NULL));
+    assert_int_equal(o.speed_classes, want[q]);
+    gran_scene_destroy(&sc);
+  }
+}
+
 static void test_table1(void **state) { (void)state, table1(0); }
 static void test_mono(void **state) { (void)state, mono(0); }
 static void test_powerlaw_1e4(void **state) { (void)state, powerlaw_1e4(0); }
@@ -118,6 +233,8 @@ int main(void) {
       cmocka_unit_test(test_table1_classes),
       cmocka_unit_test(test_mono_classes),
       cmocka_unit_test(test_powerlaw_1e4_classes),
+      cmocka_unit_test(test_auto_choice),
+      cmocka_unit_test(test_auto_scene_key),
   };
   return cmocka_run_group_tests_name("t510-dsmc-fast-vs-paper", tests, NULL, NULL);
 }

@@ -116,8 +116,9 @@ static void test_option_and_identity(void **state) {
   gran_mixture_destroy(&mix);
 }
 
-/* The scene key `[engine] speed_classes` (bool, default false) sets the option; a non-boolean
- * value is refused naming the key. */
+/* The scene key `[engine] speed_classes` (true, false or "auto"; default "auto" =
+ * GRAN_SPEED_CLASSES_AUTO since the auto mode of issue 11) sets the option; another value is refused
+ * naming the key. */
 static void test_scene_key(void **state) {
   (void)state;
   const char *base = "[mixture]\ndensity = [0.1]\n[restitution]\neps = 0.8\n[engine]\ncounts = [1000]\nt_end = 10\n";
@@ -126,7 +127,7 @@ static void test_scene_key(void **state) {
   gran_dsmc_options o;
   GRAN_ASSERT_OK(gran_scene_parse(base, "a.toml", &sc));
   GRAN_ASSERT_OK(gran_scene_dsmc_options(sc, &o, NULL, NULL));
-  assert_int_equal(o.speed_classes, 0);
+  assert_int_equal(o.speed_classes, GRAN_SPEED_CLASSES_AUTO);
   gran_scene_destroy(&sc);
   snprintf(txt, sizeof txt, "%sspeed_classes = true\n", base);
   GRAN_ASSERT_OK(gran_scene_parse(txt, "b.toml", &sc));

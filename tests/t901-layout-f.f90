@@ -37,6 +37,9 @@ program t901_layout_f
   call check('sizeof(gran_dsmc_agg_options)', c_sizeof(agg_opt)) ! aggregation in the event selectors
   call check('GRAN_FRAG_MONOMERS', int(GRAN_FRAG_MONOMERS, c_size_t))
   call check('GRAN_FRAG_BINARY', int(GRAN_FRAG_BINARY, c_size_t))
+  call check('GRAN_SPEED_CLASSES_OFF', int(GRAN_SPEED_CLASSES_OFF, c_size_t))
+  call check('GRAN_SPEED_CLASSES_ON', int(GRAN_SPEED_CLASSES_ON, c_size_t))
+  call check('GRAN_SPEED_CLASSES_AUTO', int(GRAN_SPEED_CLASSES_AUTO, c_size_t))
   call check('sizeof(gran_dsmc_options)', c_sizeof(dsmc_opt)) ! DSMC (speed classes, issue 11)
   call check('sizeof(gran_dsmc_stats)', c_sizeof(dsmc_st))    ! DSMC (speed classes, issue 11)
 

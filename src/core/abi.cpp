@@ -65,6 +65,10 @@ const AbiEntry kAbi[] = {
     /* aggregation: fragment laws */
     GRAN_ABI_CONST(GRAN_FRAG_MONOMERS)
     GRAN_ABI_CONST(GRAN_FRAG_BINARY)
+    /* speed classes of the low-rank selector (issue 11) */
+    GRAN_ABI_CONST(GRAN_SPEED_CLASSES_OFF)
+    GRAN_ABI_CONST(GRAN_SPEED_CLASSES_ON)
+    GRAN_ABI_CONST(GRAN_SPEED_CLASSES_AUTO)
 };
 
 #undef GRAN_ABI_CONST

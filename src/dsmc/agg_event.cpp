@@ -643,8 +643,12 @@ GRAN_EXTERN int gran_dsmc_create_agg(const gran_mixture *mix, const int64_t *cou
                "option 'selector' = GRAN_SELECTOR_CELL: use gran_dsmc_create_cell (its options hold e_agg, e_frag, "
                "eps_f and frag_law)");
     gran_dsmc *s = nullptr;
-    GRAN_CALL(gran_dsmc_create(mix, counts, T0, opt, &s));
-    if (!(agg->e_agg > 0 || std::isfinite(agg->e_frag))) { /* off: the plain engine */
+    gran_dsmc_options o = *opt;
+    const bool on = agg->e_agg > 0 || std::isfinite(agg->e_frag);
+    /* the automatic speed classes stay off with the processes (explicit ones are refused below) */
+    if (on && o.speed_classes == GRAN_SPEED_CLASSES_AUTO) o.speed_classes = GRAN_SPEED_CLASSES_OFF;
+    GRAN_CALL(gran_dsmc_create(mix, counts, T0, &o, &s));
+    if (!on) { /* off: the plain engine */
       *sim = s;
       return GRAN_SUCCESS;
     }

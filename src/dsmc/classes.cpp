@@ -15,6 +15,29 @@ DsmcLoopFn dsmc_class_loop(int paper, int disp, int counts, int rest, int tracer
                : dsmc_pick<SelClass, false>(disp, counts, rest, tracers);
 }
 
+/* GRAN_SPEED_CLASSES_AUTO (the default): speed classes where they were measured to pay (b501, README
+ * "Speed classes"). Classes cut the trials per collision (acceptance 0.17 -> 0.5) and add work per
+ * collision (0.85 moves between classes, the sort at each tightening, the (term, leaf) draw). With
+ * one species a trial without classes is the cheapest there is (no tree, no alias choice of the
+ * species): classes lost (monodisperse N = 1e5: 140 against 115 ns per collision); from two
+ * species on they won (two species 1.15-1.25x, 8 species 1.5x, Table I 1.25-1.45x, 1e4 species
+ * 1.9x). With trajectories every move also updates the identity's slot (a cache miss): Table I at
+ * N_1 = 1e6 250 against 198 ns, so off. Off for the paper's rule (the literal reference of the
+ * speed ratios), Bird and the cell selector (no classes), and without a species of kClassMin
+ * particles (no species would have classes). */
+int dsmc_classes_auto(const gran_dsmc *s) {
+  if (s->selector != GRAN_SELECTOR_LOWRANK || s->paper) return 0;
+  if (s->N <= 0 || s->N >= INT32_MAX) return 0;
+  if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) return 0;
+  int64_t big = 0, nonempty = 0;
+  for (int64_t k = 0; k < s->M; k++) {
+    big += s->count[(size_t)k] >= kClassMin;
+    nonempty += s->count[(size_t)k] > 0;
+  }
+  if (big == 0) return 0;
+  return nonempty >= GRAN_DSMC_CLASS_AUTO_M ? 1 : 0;
+}
+
 /* Leaves and slots for the counts; every species' particles in its first leaf (sorted into the
  * classes by the first dsmc_refresh_bounds). Velocities are written by the caller. */
 int dsmc_class_setup(gran_dsmc *s) {
@@ -140,6 +163,21 @@ void dsmc_class_layout(gran_dsmc *s, int64_t k) {
   /* new class of each particle: the first class with b2 >= speed^2, else the top; searched from
    * its old class (most particles stay) */
   int64_t n[kClassNum] = {0}, next[kClassNum], end[kClassNum];
+#if GRAN_DSMC_CLASS_KEY_COUNT
+  { /* the class: the number of thresholds below the speed^2 (b2 is non-decreasing), counted over a
+     * fixed length without branches (the search from the old class mispredicted: 30% of the sort) */
+    (void)old_end;
+    double th[kClassNum];
+    for (int64_t c = 0; c < kClassNum; c++) th[c] = c < C - 1 ? b2[c] : INFINITY;
+    for (int64_t x = r0; x < r0 + Nk; x++) {
+      const double q = v[3 * x] * v[3 * x] + v[3 * x + 1] * v[3 * x + 1] + v[3 * x + 2] * v[3 * x + 2];
+      int h = 0;
+      for (int c = 0; c < kClassNum - 1; c++) h += q > th[c];
+      key[x - r0] = (uint8_t)h;
+      n[h]++;
+    }
+  }
+#else
   {
     int64_t c = 0;
     for (int64_t x = r0; x < r0 + Nk; x++) {
@@ -152,6 +190,7 @@ void dsmc_class_layout(gran_dsmc *s, int64_t k) {
       n[h]++;
     }
   }
+#endif
   int64_t q0 = r0;
   for (int64_t c = 0; c < C; c++) {
     next[c] = q0;

@@ -69,6 +69,12 @@ struct DsmcCand {
 #ifndef GRAN_DSMC_CLASS_DOWN
 #define GRAN_DSMC_CLASS_DOWN 2 /* 1: a particle that fits the class below moves down when there is room; 2: only when it fits two classes below (fewer moves, same acceptance: b501) */
 #endif
+#ifndef GRAN_DSMC_CLASS_KEY_COUNT
+#define GRAN_DSMC_CLASS_KEY_COUNT 1 /* 1: the sort's class of a particle by counting thresholds (classes.cpp) */
+#endif
+#ifndef GRAN_DSMC_CLASS_AUTO_M
+#define GRAN_DSMC_CLASS_AUTO_M 2 /* GRAN_SPEED_CLASSES_AUTO: on from this many non-empty species (classes.cpp) */
+#endif
 enum { kClassNum = GRAN_DSMC_CLASS_NUM, kClassMin = 256, kClassExtra = 4 };
 static_assert(kClassNum >= 2 && kClassNum <= 64, "GRAN_DSMC_CLASS_NUM out of range");
 
@@ -303,6 +309,8 @@ void dsmc_class_rebuild(gran_dsmc *s, int64_t i);
  * its classes with top bound bound[k]; the leaf weights, alias tables and rate from the leaves;
  * the identity-ordered view of gran_dsmc_particles. */
 int dsmc_class_setup(gran_dsmc *s);
+/* GRAN_SPEED_CLASSES_AUTO: 1 where speed classes pay (selector, counts and options of s known), else 0 */
+int dsmc_classes_auto(const gran_dsmc *s);
 void dsmc_class_layout(gran_dsmc *s, int64_t k);
 void dsmc_class_trees(gran_dsmc *s);
 int dsmc_class_view(gran_dsmc *s);

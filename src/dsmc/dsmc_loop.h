@@ -37,6 +37,24 @@ constexpr bool kPrefetchR = GRAN_DSMC_PREFETCH_R != 0;
 #define GRAN_DSMC_RNG_SPLIT 0
 #endif
 constexpr bool kRngSplit = GRAN_DSMC_RNG_SPLIT != 0;
+/* 1: the alias tables' column-or-alias choices of the speed-class draw as selects (no branch: the
+ * coins are unpredictable): Table I N_1 = 1e5 126 -> 115 ns per collision, 1e6 121 -> 115 (README,
+ * DSMC performance). Without classes no gain (one coin per trial, often predictable): not used. */
+#ifndef GRAN_DSMC_ALIAS_SELECT
+#define GRAN_DSMC_ALIAS_SELECT 1
+#endif
+constexpr bool kAliasSelect = GRAN_DSMC_ALIAS_SELECT != 0;
+/* 1: the low-rank draw of a one-species mixture skips the term, tree and alias choices (their
+ * result is species 0 whatever the random words; the same words give j and l: bit for bit the
+ * same run); measured in the README's DSMC performance notes. */
+#ifndef GRAN_DSMC_ONE_SPECIES
+#define GRAN_DSMC_ONE_SPECIES 1
+#endif
+/* c if take, else a, without a branch the compiler could turn it into */
+static inline int64_t select_i64(bool take, int64_t c, int64_t a) {
+  const int64_t m = -(int64_t)take;
+  return (c & m) | (a & ~m);
+}
 
 static inline void prefetch_particle(const double *v, int64_t j) {
   __builtin_prefetch(v + 3 * j);
@@ -74,6 +92,14 @@ struct SelLowRank {
   /* Kept out of line on purpose: inlined into the loop, gcc 12 schedules the prefetches so that
    * they no longer run ahead (measured 2.6x slower at N = 1.2e6, b501). */
   __attribute__((noinline)) static void draw(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
+    if (GRAN_DSMC_ONE_SPECIES && s->M == 1) { /* i = k = 0 whatever r[0], r[1]: the same pair, bit for bit */
+      c->i = c->k = 0;
+      c->j = u64_below(r[2], s->count[0]);
+      c->l = u64_below(r[3], s->count[0]);
+      prefetch_particle(s->p.v, c->j);
+      prefetch_particle(s->p.v, c->l);
+      return;
+    }
     const double u0 = s->uv[0], u1 = s->uv[1];
     const double x = u64_uniform(r[0]) * (u0 + u1 + s->uv[2]);
     const int q = (int)(x >= u0) + (int)(x >= u0 + u1);
@@ -113,7 +139,8 @@ struct SelClass {
     const double t = u64_uniform(r[0]) * (double)L3; /* column and coin of the alias table */
     int64_t col = (int64_t)t;
     col = col < L3 ? col : L3 - 1;
-    const int64_t qa = t - (double)col < s->ua_p[(size_t)col] ? col : s->ua_k[(size_t)col];
+    const int64_t qa = kAliasSelect ? select_i64(t - (double)col < s->ua_p[(size_t)col], col, s->ua_k[(size_t)col])
+                                    : (t - (double)col < s->ua_p[(size_t)col] ? col : s->ua_k[(size_t)col]);
     finish(s, r, qa, c);
   }
   static void draw_raise(const gran_dsmc *s, const uint64_t *r, DsmcCand *c) {
@@ -125,7 +152,8 @@ struct SelClass {
     const int64_t a = qa - q * L;
     const unsigned __int128 km = (unsigned __int128)r[1] * (unsigned __int128)(uint64_t)s->L;
     const int64_t b0 = (int64_t)(km >> 64);
-    const int64_t b = (double)(uint64_t)km * 0x1.0p-64 < s->alias_p[q][(size_t)b0] ? b0 : s->alias_k[q][(size_t)b0];
+    const bool keep = (double)(uint64_t)km * 0x1.0p-64 < s->alias_p[q][(size_t)b0];
+    const int64_t b = kAliasSelect ? select_i64(keep, b0, s->alias_k[q][(size_t)b0]) : (keep ? b0 : s->alias_k[q][(size_t)b0]);
     const DsmcLeaf *lf = s->leaf.data();
     c->a = (int32_t)a;
     c->b = (int32_t)b;

@@ -34,9 +34,11 @@ int check_options(const gran_dsmc_options *opt) {
              opt->traj_per_species);
   GRAN_CHECK(opt->traj_samples >= 0, GRAN_ERR_ARG, "option 'traj_samples' is negative (" GRAN_I64_FMT ")",
              opt->traj_samples);
-  GRAN_CHECK(opt->speed_classes == 0 || opt->speed_classes == 1, GRAN_ERR_ARG,
-             "option 'speed_classes' = %d must be 0 (off) or 1 (on)", (int)opt->speed_classes);
-  GRAN_CHECK(!opt->speed_classes || opt->selector == GRAN_SELECTOR_LOWRANK ||
+  GRAN_CHECK(opt->speed_classes == GRAN_SPEED_CLASSES_OFF || opt->speed_classes == GRAN_SPEED_CLASSES_ON ||
+                 opt->speed_classes == GRAN_SPEED_CLASSES_AUTO,
+             GRAN_ERR_ARG, "option 'speed_classes' = %d must be 0 (off), 1 (on) or -1 (GRAN_SPEED_CLASSES_AUTO)",
+             (int)opt->speed_classes);
+  GRAN_CHECK(opt->speed_classes != GRAN_SPEED_CLASSES_ON || opt->selector == GRAN_SELECTOR_LOWRANK ||
                  opt->selector == GRAN_SELECTOR_LOWRANK_PAPER,
              GRAN_ERR_ARG, "option 'speed_classes' = 1 needs a low-rank selector (selector = %d has no speed classes)",
              (int)opt->selector);
@@ -341,7 +343,10 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
   }
   setup_pairs(s);
 
-  /* speed classes (classes.cpp): the slot arrays instead of p (N < 2^31) */
+  /* speed classes (classes.cpp): the slot arrays instead of p (N < 2^31); "auto" decided now
+   * (dsmc_classes_auto) and stored resolved, so that a checkpoint holds what ran */
+  if (opt->speed_classes == GRAN_SPEED_CLASSES_AUTO) s->opt.speed_classes = dsmc_classes_auto(s);
+  opt = &s->opt;
   if (opt->speed_classes && N >= INT32_MAX)
     gran_warning_add("option 'speed_classes': " GRAN_I64_FMT " particles exceed the 2^31 slots of the class layout; "
                      "running without speed classes", N);
@@ -427,7 +432,7 @@ GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt) {
   opt->traj_per_species = 0;
   opt->traj_dt = 1.0;
   opt->traj_samples = 0;
-  opt->speed_classes = 0; /* off: speed classes do not win on every b501 system (README, issue 11) */
+  opt->speed_classes = GRAN_SPEED_CLASSES_AUTO; /* on where it pays (dsmc_classes_auto; README, issue 11) */
   return GRAN_SUCCESS;
 }
 

@@ -1110,7 +1110,13 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   }
   s.bound_refresh = en.count("bound_refresh", 0);
   require(s.bound_refresh >= 0, en, "bound_refresh", "must be >= 0");
-  s.speed_classes = en.boolean("speed_classes", false) ? 1 : 0; /* issue 11 */
+  /* issue 11: true, false or "auto" (the default: GRAN_SPEED_CLASSES_AUTO) */
+  s.speed_classes = GRAN_SPEED_CLASSES_AUTO;
+  if (en.has("speed_classes")) {
+    const toml::value &sc = en.get("speed_classes");
+    if (sc.is_boolean()) s.speed_classes = sc.as_boolean() ? GRAN_SPEED_CLASSES_ON : GRAN_SPEED_CLASSES_OFF;
+    else if (!sc.is_string() || sc.as_string().str != "auto") en.fail("speed_classes", "expected true, false or \"auto\"");
+  }
   /* replicas (driver: src/io/run.cpp) */
   s.replicas = en.count("replicas", 1);
   require(s.replicas >= 1 && s.replicas <= 1000000, en, "replicas", "must be in 1..1000000");
@@ -1177,7 +1183,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
       for (const char *k : {"e_agg", "e_frag", "eps_f"})
         if (ce.has(k) && ag.has(k)) ag.fail(k, std::string("is given in [cell] too: give it in one table"));
     }
-    if (s.speed_classes) top.fail("aggregation", "speed classes ([engine] speed_classes) have no aggregation");
+    if (s.speed_classes == GRAN_SPEED_CLASSES_ON) top.fail("aggregation", "speed classes ([engine] speed_classes) have no aggregation");
     gran_dsmc_agg_options &a = s.agg;
     agg_keys(ag, &a.e_agg, &a.e_frag, &a.eps_f);
     const std::string law = ag.string("frag_law", "monomers");
