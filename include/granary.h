@@ -514,7 +514,7 @@ typedef struct gran_dsmc_agg_options {
 /* Defaults: e_agg 0, e_frag INFINITY, eps_f 1, GRAN_FRAG_MONOMERS. */
 GRAN_EXTERN int gran_dsmc_agg_options_default(gran_dsmc_agg_options *agg);
 /* As gran_dsmc_create for opt->selector GRAN_SELECTOR_LOWRANK or GRAN_SELECTOR_BIRD (the paper
- * variants and speed classes: GRAN_ERR_UNSUPPORTED with aggregation) with the processes of agg;
+ * variants and speed_classes = 1: GRAN_ERR_UNSUPPORTED with aggregation; auto: off) with the processes of agg;
  * the mixture must be k-mers with one constant restitution (as the cell selector); no tracers,
  * displacements, trajectories or per-pair collision counts. gran_dsmc_get_cluster_stats,
  * gran_dsmc_size_distribution, checkpoints and every observable work on it. */

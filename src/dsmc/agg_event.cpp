@@ -186,16 +186,16 @@ static int aggev_tighten(gran_dsmc *s) {
   return GRAN_SUCCESS;
 }
 
-int dsmc_agg_check_options(const gran_dsmc_agg_options *o) {
+int dsmc_agg_check_options(const gran_dsmc_agg_options *o, const char *who) {
   GRAN_CHECK_PTR(o);
-  GRAN_CHECK(std::isfinite(o->e_agg) && o->e_agg >= 0, GRAN_ERR_ARG, "aggregation option 'e_agg' = %g must be finite and >= 0",
-             o->e_agg);
+  GRAN_CHECK(std::isfinite(o->e_agg) && o->e_agg >= 0, GRAN_ERR_ARG, "%s option 'e_agg' = %g must be finite and >= 0",
+             who, o->e_agg);
   GRAN_CHECK(!std::isnan(o->e_frag) && o->e_frag >= 0, GRAN_ERR_ARG,
-             "aggregation option 'e_frag' = %g must be >= 0 (INFINITY: no fragmentation)", o->e_frag);
+             "%s option 'e_frag' = %g must be >= 0 (INFINITY: no fragmentation)", who, o->e_frag);
   GRAN_CHECK(std::isfinite(o->eps_f) && o->eps_f >= 0 && o->eps_f <= 1, GRAN_ERR_ARG,
-             "aggregation option 'eps_f' = %g must be in [0, 1]", o->eps_f);
+             "%s option 'eps_f' = %g must be in [0, 1]", who, o->eps_f);
   GRAN_CHECK(o->frag_law == GRAN_FRAG_MONOMERS || o->frag_law == GRAN_FRAG_BINARY, GRAN_ERR_ARG,
-             "aggregation option 'frag_law' = %d is not a gran_frag_law", (int)o->frag_law);
+             "%s option 'frag_law' = %d is not a gran_frag_law", who, (int)o->frag_law);
   return GRAN_SUCCESS;
 }
 

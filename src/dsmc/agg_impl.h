@@ -214,7 +214,8 @@ void dsmc_aggev_free(gran_dsmc *s);
 /* checkpoint reading: member lists and trees from the stored slots, checked */
 int dsmc_aggev_read_done(gran_dsmc *s);
 int dsmc_aggev_advance(gran_dsmc *s, double t_end, int64_t coll_stop);
-int dsmc_agg_check_options(const gran_dsmc_agg_options *o);
+/* the process options; `who` names them in messages ("aggregation" options, "cell" options) */
+int dsmc_agg_check_options(const gran_dsmc_agg_options *o, const char *who = "aggregation");
 
 }  // namespace gran
 

@@ -81,12 +81,12 @@ int dsmc_cell_check_options(const gran_dsmc_cell_options *o) {
              "cell option 'cells' = " GRAN_I64_FMT " must be in [1, 1024] cells per side", o->cells);
   GRAN_CHECK(std::isfinite(o->dt) && o->dt > 0, GRAN_ERR_ARG, "cell option 'dt' = %g must be finite and > 0", o->dt);
   GRAN_CHECK(std::isfinite(o->fn) && o->fn > 0, GRAN_ERR_ARG, "cell option 'fn' = %g must be finite and > 0", o->fn);
-  GRAN_CHECK(std::isfinite(o->e_agg) && o->e_agg >= 0, GRAN_ERR_ARG, "cell option 'e_agg' = %g must be finite and >= 0",
-             o->e_agg);
-  GRAN_CHECK(!std::isnan(o->e_frag) && o->e_frag >= 0, GRAN_ERR_ARG,
-             "cell option 'e_frag' = %g must be >= 0 (INFINITY: no fragmentation)", o->e_frag);
-  GRAN_CHECK(std::isfinite(o->eps_f) && o->eps_f >= 0 && o->eps_f <= 1, GRAN_ERR_ARG,
-             "cell option 'eps_f' = %g must be in [0, 1]", o->eps_f);
+  gran_dsmc_agg_options proc = {};
+  proc.e_agg = o->e_agg;
+  proc.e_frag = o->e_frag;
+  proc.eps_f = o->eps_f;
+  proc.frag_law = o->frag_law;
+  GRAN_CALL(dsmc_agg_check_options(&proc, "cell"));
   GRAN_CHECK(std::isfinite(o->heat_rate) && o->heat_rate >= 0, GRAN_ERR_ARG,
              "cell option 'heat_rate' = %g must be finite and >= 0", o->heat_rate);
   GRAN_CHECK(std::isfinite(o->bath_density) && o->bath_density >= 0, GRAN_ERR_ARG,
@@ -99,8 +99,6 @@ int dsmc_cell_check_options(const gran_dsmc_cell_options *o) {
              "cell option 'bath_sigma' = %g must be finite and >= 0", o->bath_sigma);
   GRAN_CHECK(o->placement == GRAN_PLACE_RANDOM || o->placement == GRAN_PLACE_COLLISION, GRAN_ERR_ARG,
              "cell option 'placement' = %d is not a gran_cell_placement", (int)o->placement);
-  GRAN_CHECK(o->frag_law == GRAN_FRAG_MONOMERS || o->frag_law == GRAN_FRAG_BINARY, GRAN_ERR_ARG,
-             "cell option 'frag_law' = %d is not a gran_frag_law", (int)o->frag_law);
   return GRAN_SUCCESS;
 }
 
