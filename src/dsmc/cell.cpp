@@ -65,6 +65,26 @@ inline int64_t cell_of(const double *xj, double inv_a, int64_t nc) {
   return (ci[0] * nc + ci[1]) * nc + ci[2];
 }
 
+/* Streaming of a block of n coordinates (n = 3 x particles, x and v flat): x += v dt wrapped by one
+ * add or subtract of L (the wrap() result bit for bit while |v dt| < L) and the cell coordinate of
+ * each, floor(x nc / L) clamped to [0, nc - 1]; written so that the compiler vectorizes it. Returns
+ * false if a coordinate is still outside [0, L) (|v dt| >= L, or not finite): the caller wraps those. */
+inline bool stream_block(double *__restrict x, const double *__restrict v, int32_t *__restrict q, int64_t n, double dt,
+                         double L, double inv_a, int32_t nc1) {
+  int bad = 0;
+  for (int64_t i = 0; i < n; i++) {
+    double y = x[i] + v[i] * dt;
+    y = y < 0 ? y + L : y;
+    y = y >= L ? y - L : y;
+    bad |= (int)!((y >= 0) & (y < L));
+    x[i] = y;
+    int32_t c = (int32_t)(y * inv_a);
+    c = c < nc1 ? c : nc1;
+    q[i] = c > 0 ? c : 0;
+  }
+  return bad == 0;
+}
+
 }  // namespace
 
 /* The largest F_N (sigma g)_max dt / V_c any cell can have before the next step (global speed bound). */
@@ -510,11 +530,20 @@ int cell_step(gran_dsmc *s) {
   double *const b2 = s->bound2.data(); /* per-species speed bounds, exact after streaming */
   std::fill(b2, b2 + M, 0.0);
   double vm2 = 0;
-  for (int64_t j = 0; j < N; j++) {
-    double *xj = x + 3 * j;
+  constexpr int64_t kBlock = 512; /* particles streamed per vector pass (36 KB of x, v and cells: in L1) */
+  alignas(64) int32_t qb[3 * kBlock];
+  for (int64_t j0 = 0; j0 < N; j0 += kBlock) {
+   const int64_t nb = std::min(kBlock, N - j0);
+   if (!stream_block(x + 3 * j0, v + 3 * j0, qb, 3 * nb, dt, L, inv_a, (int32_t)nc - 1))
+     for (int64_t i = 3 * j0; i < 3 * (j0 + nb); i++) { /* a particle crossed the box in one step */
+       x[i] = wrap(x[i], L, invL);
+       const int64_t q = (int64_t)(x[i] * inv_a);
+       qb[i - 3 * j0] = (int32_t)(q < nc ? q : nc - 1);
+     }
+   for (int64_t j = j0; j < j0 + nb; j++) {
+    const int32_t *const qj = qb + 3 * (j - j0);
     const double *vj = v + 3 * j;
-    for (int d = 0; d < 3; d++) xj[d] = wrap(xj[d] + vj[d] * dt, L, invL);
-    const int64_t cc = cell_of(xj, inv_a, nc);
+    const int64_t cc = ((int64_t)qj[0] * nc + qj[1]) * nc + qj[2];
     cellof[j] = (int32_t)cc;
     start[cc + 1]++;
     const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
@@ -524,6 +553,7 @@ int cell_step(gran_dsmc *s) {
       if (!kAgg) b2[sp[j]] = dmax(b2[sp[j]], q2);
     }
     vm2 = dmax(vm2, q2);
+   }
   }
   if (M == 1 && !kAgg) { /* one diameter, one bound: no per-particle updates */
     std::fill(csg, csg + C, sig[0]);
@@ -710,7 +740,6 @@ int cell_step(gran_dsmc *s) {
     }
     c->rem[(size_t)q] = want;
   }
-  c->pmax_last = pmax;
   s->collisions = coll;
   s->trials = trials;
   s->e_diss = ed;
