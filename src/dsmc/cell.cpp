@@ -530,30 +530,30 @@ int cell_step(gran_dsmc *s) {
   double *const b2 = s->bound2.data(); /* per-species speed bounds, exact after streaming */
   std::fill(b2, b2 + M, 0.0);
   double vm2 = 0;
-  constexpr int64_t kBlock = 512; /* particles streamed per vector pass (36 KB of x, v and cells: in L1) */
+  constexpr int64_t kBlock = 512; /* particles streamed per vector pass (x, v and cells of a block in L1) */
   alignas(64) int32_t qb[3 * kBlock];
   for (int64_t j0 = 0; j0 < N; j0 += kBlock) {
-   const int64_t nb = std::min(kBlock, N - j0);
-   if (!stream_block(x + 3 * j0, v + 3 * j0, qb, 3 * nb, dt, L, inv_a, (int32_t)nc - 1))
-     for (int64_t i = 3 * j0; i < 3 * (j0 + nb); i++) { /* a particle crossed the box in one step */
-       x[i] = wrap(x[i], L, invL);
-       const int64_t q = (int64_t)(x[i] * inv_a);
-       qb[i - 3 * j0] = (int32_t)(q < nc ? q : nc - 1);
-     }
-   for (int64_t j = j0; j < j0 + nb; j++) {
-    const int32_t *const qj = qb + 3 * (j - j0);
-    const double *vj = v + 3 * j;
-    const int64_t cc = ((int64_t)qj[0] * nc + qj[1]) * nc + qj[2];
-    cellof[j] = (int32_t)cc;
-    start[cc + 1]++;
-    const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
-    cvm2[cc] = dmax(cvm2[cc], q2);
-    if (M > 1 || kAgg) {
-      csg[cc] = dmax(csg[cc], sig[sp[j]]);
-      if (!kAgg) b2[sp[j]] = dmax(b2[sp[j]], q2);
+    const int64_t nb = std::min(kBlock, N - j0);
+    if (!stream_block(x + 3 * j0, v + 3 * j0, qb, 3 * nb, dt, L, inv_a, (int32_t)nc - 1))
+      for (int64_t i = 3 * j0; i < 3 * (j0 + nb); i++) { /* a particle crossed the box in one step */
+        x[i] = wrap(x[i], L, invL);
+        const int64_t q = (int64_t)(x[i] * inv_a);
+        qb[i - 3 * j0] = (int32_t)(q < nc ? q : nc - 1);
+      }
+    for (int64_t j = j0; j < j0 + nb; j++) {
+      const int32_t *const qj = qb + 3 * (j - j0);
+      const double *vj = v + 3 * j;
+      const int64_t cc = ((int64_t)qj[0] * nc + qj[1]) * nc + qj[2];
+      cellof[j] = (int32_t)cc;
+      start[cc + 1]++;
+      const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
+      cvm2[cc] = dmax(cvm2[cc], q2);
+      if (M > 1 || kAgg) {
+        csg[cc] = dmax(csg[cc], sig[sp[j]]);
+        if (!kAgg) b2[sp[j]] = dmax(b2[sp[j]], q2);
+      }
+      vm2 = dmax(vm2, q2);
     }
-    vm2 = dmax(vm2, q2);
-   }
   }
   if (M == 1 && !kAgg) { /* one diameter, one bound: no per-particle updates */
     std::fill(csg, csg + C, sig[0]);
@@ -740,6 +740,7 @@ int cell_step(gran_dsmc *s) {
     }
     c->rem[(size_t)q] = want;
   }
+  c->pmax_last = pmax;
   s->collisions = coll;
   s->trials = trials;
   s->e_diss = ed;
