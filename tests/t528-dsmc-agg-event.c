@@ -13,10 +13,15 @@
  *    a 1e6-mer swallowing 100 monomers, sizes emptied and refilled;
  *  - the binary fragment law: two pieces per breakup, in all three selectors;
  *  - checkpoints: a run split at t = 13.3 continues bit for bit;
+ *  - Bird's per-size speed bounds (C_max of Eq. 49): 30-mers among monomers, Bird against low-rank,
+ *    the acceptance, the bounds in a checkpoint and an edited bound refused;
  *  - bad input. */
+#define _XOPEN_SOURCE 700 /* io_test_util.h: mkdtemp, nftw, strdup */
 #include "dsmc_util.h"
 #include "agg_test_util.h"
+#include "io_test_util.h"
 
+#include <hdf5.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -336,6 +341,108 @@ static void test_checkpoint(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* Bird's C_max (Eq. 49) from a speed bound per size: large slow clusters among monomers no longer
+ * set the bound with the monomers' speed, and the rates stay exact. Monomers with 30-mers at the
+ * same temperature (the 30-mers 5.5 times slower, 3.1 times wider): merges and breakups per pair
+ * kind, as counted by n_1, n_30 and the merge and breakup counters at t = 5 and 20, from Bird against
+ * the low-rank selector (4 standard errors of the difference of the means over 6 seeds each, from
+ * the seeds' spread); the acceptance
+ * of Bird is then above 0.04 (0.052 at N_1 = 2e4; with sigma_pair,max^2 2 v_max it was 0.023); a checkpoint keeps the
+ * per-size bounds, and a bound edited below a particle's speed is refused. */
+static void test_bird_size_bounds(void **state) {
+  (void)state;
+  double dens[kM] = {0};
+  dens[0] = 0.01;
+  dens[29] = 0.0001;
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(kM, NULL, NULL, dens, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.8));
+  const int64_t n1 = DSMC_ASAN ? 4000 : 20000, n30 = n1 / 100;
+  const int64_t *counts = NULL; /* n1 and n30 from the densities in the volume n1 / 0.01 */
+  const int64_t mass = n1 + 30 * n30;
+  double T0[kM];
+  for (int k = 0; k < kM; k++) T0[k] = 1;
+  const double times[2] = {5, 20};
+  enum { kSeeds = 6 };
+  double obs[2][kSeeds][2][4] = {{{{0}}}}; /* [selector][seed][time][n1 n30 merges breakups] */
+  double trials = 0, colls = 0;
+  for (int q = 0; q < 2; q++)
+    for (int seed = 0; seed < kSeeds; seed++) {
+      gran_dsmc *d = make(kEvent[q], mix, counts, T0, (double)n1 / 0.01, 0.5, 3.0, 0.7, GRAN_FRAG_MONOMERS,
+                          100 + 10 * q + seed);
+      for (int it = 0; it < 2; it++) {
+        GRAN_ASSERT_OK(gran_dsmc_advance(d, times[it]));
+        int64_t cnt[kM];
+        gran_dsmc_cluster_stats st;
+        GRAN_ASSERT_OK(gran_dsmc_counts(d, cnt));
+        GRAN_ASSERT_OK(gran_dsmc_get_cluster_stats(d, &st));
+        obs[q][seed][it][0] = (double)cnt[0];
+        obs[q][seed][it][1] = (double)cnt[29];
+        obs[q][seed][it][2] = (double)st.merges;
+        obs[q][seed][it][3] = (double)st.breakups;
+      }
+      agg_check_conservation(d, mass);
+      if (q == 1) {
+        gran_dsmc_stats x;
+        GRAN_ASSERT_OK(gran_dsmc_get_stats(d, &x));
+        trials += (double)x.trials;
+        colls += (double)x.collisions;
+      }
+      GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+    }
+  /* means over the seeds; the standard error of their difference from the seeds' spread (a
+   * breakup of a 30-mer pair adds 60 monomers at once, so counting noise would understate it) */
+  for (int it = 0; it < 2; it++)
+    for (int k = 0; k < 4; k++) {
+      double m[2] = {0, 0}, v[2] = {0, 0};
+      for (int q = 0; q < 2; q++) {
+        for (int r = 0; r < kSeeds; r++) m[q] += obs[q][r][it][k] / kSeeds;
+        for (int r = 0; r < kSeeds; r++) v[q] += (obs[q][r][it][k] - m[q]) * (obs[q][r][it][k] - m[q]) / (kSeeds - 1);
+      }
+      if (k == 2) assert_true(m[0] > 25);                  /* merges happen */
+      if (k == 3) assert_true(m[0] > 5);                   /* and breakups */
+      if (k == 1) assert_true(m[0] < n30 + 0.0);          /* the 30-mers take part */
+      GRAN_ASSERT_SIGMA(m[1], m[0], sqrt((v[0] + v[1]) / kSeeds) + 0.5, 4);
+    }
+  assert_true(colls / trials > 0.04);
+  /* the checkpoint holds the bounds; an edited one is refused */
+  char path[64];
+  snprintf(path, sizeof path, "t528-bird-%d.h5", (int)getpid());
+  gran_dsmc *b = make(GRAN_SELECTOR_BIRD, mix, counts, T0, (double)n1 / 0.01, 0.5, 3.0, 0.7, GRAN_FRAG_MONOMERS, 7);
+  gran_dsmc *a = make(GRAN_SELECTOR_BIRD, mix, counts, T0, (double)n1 / 0.01, 0.5, 3.0, 0.7, GRAN_FRAG_MONOMERS, 7);
+  GRAN_ASSERT_OK(gran_dsmc_advance(a, 12));
+  GRAN_ASSERT_OK(gran_dsmc_advance(b, 5.5));
+  GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(b, path, "state"));
+  gran_dsmc *c = NULL;
+  GRAN_ASSERT_OK(gran_dsmc_checkpoint_read(path, "state", mix, &c));
+  GRAN_ASSERT_OK(gran_dsmc_advance(c, 12));
+  compare_engines(a, c);
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&c));
+  {
+    hid_t f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    assert_true(f >= 0);
+    hid_t ds = H5Dopen2(f, "state/agg_size_bound", H5P_DEFAULT);
+    assert_true(ds >= 0);
+    double v[64];
+    hid_t sp = H5Dget_space(ds);
+    assert_true(H5Sget_simple_extent_npoints(sp) <= 64);
+    H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
+    v[0] = 1e-3; /* below the fastest monomer */
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
+    H5Sclose(sp);
+    H5Dclose(ds);
+    H5Fclose(f);
+    io_refresh_crc(path); /* a deliberate edit, past the file checksum */
+  }
+  GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(path, "state", mix, &c), GRAN_ERR_IO);
+  if (!strstr(gran_last_error_message(), "speed bounds")) fail_msg("message: %s", gran_last_error_message());
+  assert_null(c);
+  remove(path);
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&a));
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&b));
+  gran_mixture_destroy(&mix);
+}
+
 static void test_errors(void **state) {
   (void)state;
   gran_mixture *mix = agg_kmers(4, 0.01, 0.9);
@@ -396,7 +503,7 @@ int main(void) {
       cmocka_unit_test(test_nk_selectors),    cmocka_unit_test(test_every_pair_sticks),
       cmocka_unit_test(test_big_breakup),     cmocka_unit_test(test_million_mer),
       cmocka_unit_test(test_binary_law),      cmocka_unit_test(test_binary_theory),
-      cmocka_unit_test(test_checkpoint),
+      cmocka_unit_test(test_checkpoint),      cmocka_unit_test(test_bird_size_bounds),
   };
   return cmocka_run_group_tests_name("t528-dsmc-agg-event", tests, NULL, NULL);
 }

@@ -113,7 +113,54 @@ inline bool slot_raise(DsmcAggEv *A, int64_t a, double q2) {
   return true;
 }
 
+/* ---- Bird: C_max of Eq. 49 over the sizes present, from a speed bound per size ----
+ * A pair (i, k) has ((sigma_i + sigma_k)/2)^2 |g| <= ((sigma_i + sigma_M)/2)^2 b_i + ((sigma_M + sigma_k)/2)^2 b_k
+ * <= C_max (Eq. 48), so one global bound stays exact while heavy clusters, which are slow, no longer
+ * set it with the monomers' speeds: with one 4-mer among 1e6 monomers the bound sigma_pair,max^2
+ * 2 v_max (before) was about 1.5 times this one. */
+
+/* a particle of size k reached speed^2 q2: the size's bound rises and C_max with its term;
+ * returns whether C_max rose (the trial rate changes) */
+bool bird_raise(gran_dsmc *s, DsmcAggEv *A, int64_t k, double q2) {
+  if ((int64_t)A->bsz.size() < k) A->bsz.resize(std::max(A->nsize.size(), (size_t)k), 0.0);
+  double &b = A->bsz[(size_t)k - 1];
+  if (q2 <= b * b) return false;
+  b = std::sqrt(q2);
+  const double w = 0.5 * (A->sigk[(size_t)k - 1] + A->smax);
+  const double c = 2.0 * w * w * b;
+  if (c <= s->cmax) return false;
+  s->cmax = c;
+  return true;
+}
+
+/* a size K appeared: if it is larger than sigma_M, sigma_M becomes sigma_K and every term of
+ * C_max grows by at most (sigma_K / sigma_M)^2, since (sigma_k + sigma_K) / (sigma_k + sigma_M) <=
+ * sigma_K / sigma_M (O(1), where the exact C_max would scan every size present) */
+bool bird_grow(gran_dsmc *s, DsmcAggEv *A, int64_t K) {
+  const double sK = A->sigk[(size_t)K - 1];
+  if (sK <= A->smax) return false;
+  if (A->smax > 0) {
+    const double f = sK / A->smax;
+    s->cmax *= f * f;
+    A->smax = sK;
+  } else {
+    A->smax = sK;
+    s->cmax = dsmc_aggev_bird_cmax(A);
+  }
+  return true;
+}
+
 }  // namespace
+
+double dsmc_aggev_bird_cmax(const DsmcAggEv *A) {
+  double c = 0;
+  for (int64_t k = 1; k <= A->kmax; k++)
+    if (A->nsize[(size_t)k - 1] > 0) {
+      const double w = 0.5 * (A->sigk[(size_t)k - 1] + A->smax);
+      c = std::max(c, 2.0 * w * w * A->bsz[(size_t)k - 1]);
+    }
+  return c;
+}
 
 /* Rate of the trials: low-rank pi/(4V) sum_r U_r V_r, Bird pi N^2 C / (2V) (both |g| acceptance). */
 static void aggev_rate(gran_dsmc *s) {
@@ -125,8 +172,7 @@ static void aggev_rate(gran_dsmc *s) {
     rate = kPi / (4.0 * s->volume) * w;
   } else {
     const double n = (double)s->p.n; /* s->N follows at the end of a loop (aggev_sync) */
-    s->cmax = A->smax * A->smax * 2.0 * std::sqrt(A->vmax2);
-    rate = 0.5 * kPi * n * n * s->cmax / s->volume;
+    rate = 0.5 * kPi * n * n * s->cmax / s->volume; /* C_max kept by bird_raise, bird_grow, the tightening */
   }
   rate *= s->g2max;
   if (s->p.n < 2) rate = 0;
@@ -153,33 +199,29 @@ static int aggev_tighten(gran_dsmc *s) {
   const double *v = s->p.v;
   const int32_t *sp = s->p.species;
   double m2 = 0;
-  if (A->lowrank) std::fill(A->sbound.begin(), A->sbound.end(), 0.0);
+  if (A->lowrank) {
+    std::fill(A->sbound.begin(), A->sbound.end(), 0.0);
+  } else {
+    A->bsz.assign(A->nsize.size(), 0.0);
+  }
   for (int64_t j = 0; j < s->p.n; j++) {
     const double q = v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2];
     m2 = q > m2 ? q : m2;
-    if (A->lowrank) {
-      double &b = A->sbound[(size_t)A->slot_of[(size_t)sp[j]]];
-      b = q > b ? q : b; /* squared here, rooted below */
-    }
+    double &b = A->lowrank ? A->sbound[(size_t)A->slot_of[(size_t)sp[j]]] : A->bsz[(size_t)sp[j]];
+    b = q > b ? q : b; /* squared here, rooted below */
   }
   if (A->lowrank) {
     for (double &b : A->sbound) b = std::sqrt(b);
     GRAN_CALL(slot_trees(A));
+  } else {
+    for (double &b : A->bsz) b = std::sqrt(b);
   }
   A->vmax2 = m2;
   while (A->kmax > 0 && A->nsize[(size_t)A->kmax - 1] == 0) A->kmax--;
-  /* Bird: the largest pair diameter present, (sigma_k1 + sigma_k2)/2 of the two largest clusters */
-  double spair = 0;
-  if (A->kmax > 0) {
-    int64_t k2 = A->kmax;
-    if (A->nsize[(size_t)k2 - 1] < 2) {
-      k2--;
-      while (k2 > 0 && A->nsize[(size_t)k2 - 1] == 0) k2--;
-    }
-    if (k2 == 0) k2 = A->kmax; /* one cluster: no pair (the rate is 0 anyway) */
-    spair = 0.5 * (A->sigk[(size_t)A->kmax - 1] + A->sigk[(size_t)k2 - 1]);
+  if (!A->lowrank) { /* Bird: sigma_M of the largest size present, C_max exact (Eq. 49) */
+    A->smax = A->kmax > 0 ? A->sigk[(size_t)A->kmax - 1] : 0.0;
+    s->cmax = dsmc_aggev_bird_cmax(A);
   }
-  A->smax = spair;
   A->cand_count = 0; /* the law changed */
   aggev_rate(s);
   dsmc_refresh_window(s);
@@ -370,7 +412,6 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
     if (Eimp < e_agg) { /* merge: j becomes the (k+j)-mer, l leaves */
       agg_merge_velocity(vj, vl, (double)ki, (double)kk);
       const double q2 = vj[0] * vj[0] + vj[1] * vj[1] + vj[2] * vj[2];
-      const int64_t kmax0 = A->kmax;
       agg_book_merge(A, ki, kk, Eimp);
       if (kLow) {
         slot_remove(A, ai, j);
@@ -386,8 +427,9 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
         slot_add(A, a, jj);
         slot_raise(A, a, q2);
         slot_touch(A, a);
-      } else { /* every new pair is (K, s), s <= max(K, kmax0): at most (sigma_K + sigma_kmax0)/2 */
-        A->smax = std::max(A->smax, 0.5 * (A->sigk[(size_t)K - 1] + A->sigk[(size_t)kmax0 - 1]));
+      } else {
+        bird_grow(s, A, K);
+        bird_raise(s, A, K, q2);
       }
       raise_all(q2);
       flush = true;
@@ -440,9 +482,12 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
           last_a = a;
         }
         slot_touch(A, last_a);
-      } else {
-        const int64_t big = std::max(pc.size(0), pc.size(P - 1)); /* the largest piece */
-        A->smax = std::max(A->smax, 0.5 * (A->sigk[(size_t)big - 1] + A->sigk[(size_t)A->kmax - 1]));
+      } else { /* each size among the pieces: its bound at least the fastest piece's speed */
+        for (int64_t q = 0; q < P; q++)
+          if (q == 0 || pc.size(q) != pc.size(q - 1)) {
+            bird_grow(s, A, pc.size(q));
+            bird_raise(s, A, pc.size(q), m2);
+          }
       }
       raise_all(m2);
       flush = true;
@@ -470,7 +515,9 @@ int aggev_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       }
       raise_all(std::max(sj, sl));
     } else {
-      changed = raise_all(std::max(sj, sl));
+      raise_all(std::max(sj, sl));
+      changed = bird_raise(s, A, ki, sj);
+      changed = bird_raise(s, A, kk, sl) || changed;
     }
     if (changed) s->bound_raises++;
     return changed;

@@ -187,7 +187,10 @@ static inline double agg_fragment_speed(int64_t ki, int64_t kk, double eps_f, do
 struct DsmcAggEv : DsmcAgg {
   int lowrank = 0;
   double vmax2 = 0;                  /* bound of |v|^2 over all particles (raised; exact at a tightening) */
-  double smax = 0;                   /* Bird: largest pair diameter (sigma_i + sigma_k)/2 present (raised; exact at a tightening) */
+  double smax = 0;                   /* Bird: the largest diameter sigma_M that C_max (s->cmax) accounts for
+                                      * (>= that of the largest size present; exact at a tightening) */
+  std::vector<double> bsz;           /* Bird: speed bound of the particles of size k at [k-1] (raised; exact at a
+                                      * tightening); C_max = 2 max_k ((sigma_k + sigma_M)/2)^2 b_k (Eq. 49) */
   /* low-rank only */
   int64_t ncap = 0;                  /* slots (leaves of the trees; a power of two) */
   std::vector<int64_t> slot_size;    /* ncap: size held by a slot (0: free) */
@@ -214,6 +217,8 @@ void dsmc_aggev_free(gran_dsmc *s);
 /* checkpoint reading: member lists and trees from the stored slots, checked */
 int dsmc_aggev_read_done(gran_dsmc *s);
 int dsmc_aggev_advance(gran_dsmc *s, double t_end, int64_t coll_stop);
+/* Bird: the exact C_max of Eq. 49 from the per-size bounds (bsz, smax, the sizes present) */
+double dsmc_aggev_bird_cmax(const DsmcAggEv *A);
 /* the process options; `who` names them in messages ("aggregation" options, "cell" options) */
 int dsmc_agg_check_options(const gran_dsmc_agg_options *o, const char *who = "aggregation");
 

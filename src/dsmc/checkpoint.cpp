@@ -523,6 +523,10 @@ int aggev_write(Writer &w, const gran_dsmc *s) {
     GRAN_CALL(w.d("agg_slot_bound", A->ncap, A->sbound.data()));
     GRAN_CALL(w.i64("agg_free", (int64_t)A->free_slots.size(), A->free_slots.data()));
     GRAN_CALL(w.i64("agg_mpos", s->N, A->mpos.data()));
+  } else { /* Bird: the speed bound of each size (C_max is among the engine's scalars) */
+    std::vector<double> b((size_t)A->kmax, 0.0);
+    std::copy(A->bsz.begin(), A->bsz.begin() + std::min((int64_t)A->bsz.size(), A->kmax), b.begin());
+    GRAN_CALL(w.d("agg_size_bound", A->kmax, b.data()));
   }
   return GRAN_SUCCESS;
 }
@@ -542,7 +546,7 @@ int aggev_read(Reader &r, gran_dsmc *s) {
              GRAN_ERR_IO, "checkpoint '%s' holds invalid aggregation options (damaged or edited file?)", r.path);
   /* the particles: as many as stored (they were allocated for the stored velocities) */
   /* sizes and slots of the mixture layout, overwritten below; the refresh counters as stored */
-  const double acc = s->acc_last;
+  const double acc = s->acc_last, cmax = s->cmax;
   const int64_t rc[4] = {s->bound_tightenings, s->coll_at_refresh, s->trials_at_refresh, s->next_refresh};
   GRAN_CALL(dsmc_aggev_setup(s, &o));
   s->acc_last = acc;
@@ -591,6 +595,29 @@ int aggev_read(Reader &r, gran_dsmc *s) {
     }
     A->cand_head = cd[5 * kDsmcPipe];
     A->cand_count = cd[5 * kDsmcPipe + 1]; /* checked with the slots (dsmc_aggev_read_done) */
+  }
+  if (!A->lowrank) { /* Bird: the speed bound of each size and C_max as stored */
+    const int64_t nb = r.npoints("agg_size_bound");
+    if (nb < 0) { /* written before the per-size bounds (2026-12): the global bound for every size */
+      A->bsz.assign(A->nsize.size(), std::sqrt(A->vmax2));
+      A->smax = A->kmax > 0 ? A->sigk[(size_t)A->kmax - 1] : 0.0;
+      s->cmax = dsmc_aggev_bird_cmax(A);
+    } else {
+      GRAN_CHECK(nb == A->kmax, GRAN_ERR_IO, "checkpoint '%s': aggregation size bounds (damaged or edited file?)",
+                 r.path);
+      A->bsz.assign(A->nsize.size(), 0.0);
+      GRAN_CALL(r.d("agg_size_bound", nb, A->bsz.data()));
+      s->cmax = cmax;
+      for (int64_t k = 0; k < nb && ok; k++) ok = std::isfinite(A->bsz[(size_t)k]) && A->bsz[(size_t)k] >= 0;
+      for (int64_t j = 0; j < s->N && ok; j++) {
+        const double *v = s->p.v + 3 * j, b = A->bsz[(size_t)s->p.species[j]];
+        ok = v[0] * v[0] + v[1] * v[1] + v[2] * v[2] <= b * b * (1 + 1e-12);
+      }
+      ok = ok && (A->kmax == 0 || A->smax >= A->sigk[(size_t)A->kmax - 1]) && std::isfinite(s->cmax) &&
+           s->cmax >= dsmc_aggev_bird_cmax(A) * (1 - 1e-12);
+      GRAN_CHECK(ok, GRAN_ERR_IO, "checkpoint '%s' holds inconsistent aggregation speed bounds (damaged or edited file?)",
+                 r.path);
+    }
   }
   if (A->lowrank) {
     const int64_t C = ct[5];
