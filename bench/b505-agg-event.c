@@ -70,7 +70,7 @@ int main(void) {
     /* per trial (CPU s per collision x acceptance): what the processes cost the loop, apart from the
      * acceptance, which for Bird follows the one global bound and so the largest cluster pair */
     printf("  per trial, on / off: %.2f (acceptance on / off %.2f%s)\n\n", (on * a2) / (off * a0), a2 / a0,
-           q == 1 ? ": Bird's single bound (Eq. 49) takes sigma_max from the largest pair present" : "");
+           q == 1 ? ": every term of Bird's single bound, Eq. 49, carries sigma_M of the largest size present" : "");
   }
   gran_mixture_destroy(&mix);
   return 0;
