@@ -7,7 +7,7 @@
 #   make info    show the configuration                   make clean      remove build folders
 #   make help    this text                                make figures    seed figures as PNG (QUICK=1)
 # Override OPT (default -O3 -march=native: tuned for the building CPU), NVCC (empty disables CUDA),
-# CUDA_ARCH / CUDA_PTX (default 80 90 100 120 / 120), BUILD (build folder), T (test pattern: T='t2*').
+# CUDA_ARCH / CUDA_PTX (default 80 90 100 120 / 120), BUILD (build folder), T (test patterns: T='t2* t52*').
 # HELP_END
 
 BUILD   ?= build
@@ -103,8 +103,8 @@ CLI      := $(BUILD)/granary
 
 # T selects tests by pattern: `make test T='t4*'` builds and runs only tests/t4*.
 T        ?= t*
-TEST_C   := $(sort $(wildcard tests/$(T).c))
-TEST_F   := $(sort $(filter %-f.f90,$(wildcard tests/$(T).f90)))
+TEST_C   := $(sort $(wildcard $(patsubst %,tests/%.c,$(T))))
+TEST_F   := $(sort $(filter %-f.f90,$(wildcard $(patsubst %,tests/%.f90,$(T)))))
 EXAMPLES := $(if $(filter t*,$(T)),$(if $(filter-out t*,$(T)),,$(sort $(wildcard bindings/examples/*.c bindings/examples/*.f90))),)
 TEST_BIN := $(TEST_C:tests/%.c=$(BUILD)/tests/%) $(TEST_F:tests/%.f90=$(BUILD)/tests/%) \
             $(patsubst bindings/examples/%.c,$(BUILD)/tests/example-c-%,$(filter %.c,$(EXAMPLES))) \
@@ -177,7 +177,7 @@ $(BUILD)/tests/gpu/%: tests/gpu/%.c tests/granary_test.h $(LIB_A)
 
 # Script tests (tests/tNNN-*.sh) run beside the programs: the install test builds the README's
 # examples against a temporary installation, through pkg-config.
-TEST_SH  := $(sort $(wildcard tests/$(T).sh))
+TEST_SH  := $(sort $(wildcard $(patsubst %,tests/%.sh,$(T))))
 
 test: $(TEST_BIN) $(CLI) check-header $(LIB_SO) $(LIBF_A)
 	@GRAN_SOURCE_DIR=$(CURDIR) GRAN_BUILD=$(BUILD) GRAN_SAN="$(SAN)" GRAN_OPT="$(OPT)" GRAN_NVCC="$(NVCC)" \

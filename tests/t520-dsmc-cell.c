@@ -156,6 +156,15 @@ static void test_positions_fn(void **state) {
     oct[q]++;
   }
   for (int q = 0; q < 8; q++) GRAN_ASSERT_SIGMA((double)oct[q], N / 8.0, sqrt(N / 8.0 * 7.0 / 8.0), 5);
+  /* the last step's largest F_N (sigma g)_max dt / V_c: the cell of the fastest particle,
+   * pi sigma^2 2 max|v| dt 27 / V (sigma = 1, g2 = 1; max|v| now against the last streaming's:
+   * the step's collisions moved it by a few % at most) */
+  double pmax = -1, v2 = 0;
+  GRAN_ASSERT_OK(gran_dsmc_cell_info(d, NULL, NULL, &pmax));
+  for (int64_t j = 0; j < p->n; j++)
+    v2 = fmax(v2, p->v[3 * j] * p->v[3 * j] + p->v[3 * j + 1] * p->v[3 * j + 1] + p->v[3 * j + 2] * p->v[3 * j + 2]);
+  const double pexp = M_PI * 2.0 * sqrt(v2) * 2.0 * 27.0 / ((double)N / kN);
+  if (!(pmax > 0.8 * pexp && pmax < 1.25 * pexp)) fail_msg("pmax %g against %g", pmax, pexp);
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   gran_mixture_destroy(&mix);
 }
