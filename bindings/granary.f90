@@ -146,6 +146,7 @@ module granary
   public :: gran_dsmc_advance_collisions, gran_dsmc_time, gran_dsmc_get_stats, gran_dsmc_counts
   public :: gran_dsmc_temperatures, gran_dsmc_msd, gran_dsmc_collision_counts, gran_dsmc_sonine_a2
   public :: gran_dsmc_energy, gran_dsmc_momentum, gran_dsmc_particles, gran_dsmc_species_offsets
+  public :: gran_dsmc_species_velocities
   public :: gran_dsmc_trajectories, gran_dsmc_checkpoint_write, gran_dsmc_checkpoint_read
   ! ---- time-step/cell DSMC, aggregation, fragmentation, thermostat (src/dsmc/cell.cpp) ----
   integer(c_int32_t), parameter, public :: GRAN_SELECTOR_CELL = 4
@@ -868,6 +869,13 @@ module granary
       integer(c_int64_t), intent(out) :: offsets(*)
       integer(c_int) :: ierr
     end function c_gran_dsmc_species_offsets
+    function c_gran_dsmc_species_velocities(sim, k, v) bind(C, name='gran_dsmc_species_velocities') result(ierr)
+      import :: c_int, c_ptr, c_int64_t, c_double
+      type(c_ptr), value :: sim
+      integer(c_int64_t), value :: k
+      real(c_double), intent(out) :: v(*)
+      integer(c_int) :: ierr
+    end function c_gran_dsmc_species_velocities
     function c_gran_dsmc_trajectories(sim, ntraj, nsamples, xyz, species) &
         bind(C, name='gran_dsmc_trajectories') result(ierr)
       import :: c_int, c_ptr, c_int64_t
@@ -2523,6 +2531,32 @@ contains
     end if
     call gran_check(c_gran_dsmc_species_offsets(sim, offsets), ierr)
   end subroutine gran_dsmc_species_offsets
+
+  !> Copy of the velocities of species k (1-based) into v(3, counts(k)), in the order of the particle
+  !> view without trajectories; no memory beyond v (the view with speed classes is a kept copy).
+  subroutine gran_dsmc_species_velocities(sim, k, v, ierr)
+    type(c_ptr), intent(in) :: sim
+    integer(c_int64_t), intent(in) :: k
+    real(c_double), intent(out), contiguous :: v(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t), allocatable :: cnt(:)
+    integer :: st
+    allocate(cnt(gran_dsmc_m(sim)))
+    if (k < 1 .or. k > size(cnt, kind=c_int64_t)) then
+      call gran_check(c_gran_dsmc_species_velocities(sim, k - 1, v), ierr) ! the library names the bad k
+      return
+    end if
+    call gran_dsmc_counts(sim, cnt, st)
+    if (st /= 0) then
+      call gran_check(int(st, c_int), ierr)
+      return
+    end if
+    if (size(v, 1) /= 3 .or. size(v, 2, kind=c_int64_t) /= cnt(k)) then
+      call gran_dsmc_shape_error('gran_dsmc_species_velocities: shape(v) /= [3, counts(k)]', ierr)
+      return
+    end if
+    call gran_check(c_gran_dsmc_species_velocities(sim, k - 1, v), ierr)
+  end subroutine gran_dsmc_species_velocities
 
   !> Borrowed trajectories xyz(3, nsamples, ntraj) (NaN where not reached yet) and the species of
   !> each tracer (0-based, optional); needs GRAN_OBSERVE_TRAJECTORIES.

@@ -403,6 +403,10 @@ GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]);
  * displacements, R_j(t) = r_j + v_j (t - t_last_j) (Eq. 45; the engine keeps t_last_j = t_start). */
 GRAN_EXTERN int gran_dsmc_particles(const gran_dsmc *sim, const gran_particles **p);
 GRAN_EXTERN int gran_dsmc_species_offsets(const gran_dsmc *sim, int64_t *offsets);
+/* Copy of species k's velocities (counts[k] x 3, the view's order without trajectories; v may be
+ * NULL when counts[k] = 0): no memory beyond v, where the view with speed classes is a kept copy of
+ * every particle. GRAN_ERR_STATE with aggregation (particles not grouped by species). */
+GRAN_EXTERN int gran_dsmc_species_velocities(const gran_dsmc *sim, int64_t k, double *v);
 /* Borrowed trajectories: ntraj tracers (the first traj_per_species particles of each species),
  * nsamples = traj_samples each, xyz layout [traj][sample][3], NaN for samples not reached yet;
  * needs GRAN_OBSERVE_TRAJECTORIES (which implies displacement tracking). Outputs may be NULL. */

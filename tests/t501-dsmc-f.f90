@@ -13,6 +13,7 @@ program t501_dsmc_f
   type(gran_particles), pointer :: p, p2
   real(c_double) :: temp(2), msd(2), msd_total, a2(2), P3(3), ek, e0, ed, tnow, pscale
   real(c_double), pointer :: xyz(:, :, :), v(:), v2(:), r(:), r2(:)
+  real(c_double), allocatable :: vs1(:, :), vs2(:, :), vbad(:, :)
   integer(c_int32_t), pointer :: tsp(:)
   integer(c_int64_t) :: counts(2), offs(3), cc(2, 2), value, nbad(2)
   integer :: ierr, failures
@@ -92,6 +93,20 @@ program t501_dsmc_f
 
   call gran_dsmc_particles(sim, p)
   call expect(p%n == 4000 .and. c_associated(p%r) .and. c_associated(p%t_last), 'particle view')
+
+  ! one species' velocities copied out: the view's block of species 2, and with species 1 the
+  ! total momentum; bad k and shape through ierr
+  allocate(vs1(3, 3200), vs2(3, 800), vbad(3, 10))
+  call gran_dsmc_species_velocities(sim, 1_c_int64_t, vs1)
+  call gran_dsmc_species_velocities(sim, 2_c_int64_t, vs2)
+  call c_f_pointer(p%v, v, [3 * p%n])
+  call expect(all(reshape(vs2, [3 * 800]) == v(3 * 3200 + 1:)), 'species velocities: the view''s block')
+  call expect(all(abs(sum(vs1, dim=2) + 4.0_c_double * sum(vs2, dim=2) - P3) <= 1.0e-12_c_double * pscale), &
+              'species velocities: the momentum')
+  call gran_dsmc_species_velocities(sim, 3_c_int64_t, vs2, ierr=ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'species velocities: k out of range')
+  call gran_dsmc_species_velocities(sim, 1_c_int64_t, vbad, ierr=ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'species velocities: wrong shape')
 
   call gran_dsmc_trajectories(sim, xyz, tsp)
   call expect(size(xyz, 1) == 3 .and. size(xyz, 2) == 21 .and. size(xyz, 3) == 6, 'trajectory shape')

@@ -67,6 +67,16 @@ static void test_invariants(void **state) {
       }
     }
     GRAN_ASSERT_REL(e, ek, 1e-12); /* the view holds every particle once */
+    /* gran_dsmc_species_velocities: each species' block of the view, from the slots (no view) */
+    for (int k = 0; k < 3; k++) {
+      double *vk = malloc(sizeof(double) * 3 * (size_t)counts[k]);
+      GRAN_ASSERT_OK(gran_dsmc_species_velocities(sim, k, vk));
+      assert_memory_equal(vk, p->v + 3 * off[k], sizeof(double) * 3 * (size_t)counts[k]);
+      free(vk);
+    }
+    GRAN_ASSERT_ERR(gran_dsmc_species_velocities(sim, 3, P), GRAN_ERR_ARG);
+    assert_non_null(strstr(gran_last_error_message(), "'k'"));
+    GRAN_ASSERT_ERR(gran_dsmc_species_velocities(sim, 0, NULL), GRAN_ERR_ARG);
     for (int d = 0; d < 3; d++) GRAN_ASSERT_ABS(P[d], 0.0, 1e-10 * sqrt(e));
     GRAN_ASSERT_OK(gran_dsmc_msd(sim, NULL, &msd));
     assert_true(msd > 0 && isfinite(msd));

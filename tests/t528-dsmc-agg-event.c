@@ -412,6 +412,7 @@ static void test_bird_size_bounds(void **state) {
   gran_dsmc *a = make(GRAN_SELECTOR_BIRD, mix, counts, T0, (double)n1 / 0.01, 0.5, 3.0, 0.7, GRAN_FRAG_MONOMERS, 7);
   GRAN_ASSERT_OK(gran_dsmc_advance(a, 12));
   GRAN_ASSERT_OK(gran_dsmc_advance(b, 5.5));
+  GRAN_ASSERT_ERR(gran_dsmc_species_velocities(a, 0, NULL), GRAN_ERR_STATE); /* sizes, not grouped */
   GRAN_ASSERT_OK(gran_dsmc_checkpoint_write(b, path, "state"));
   gran_dsmc *c = NULL;
   GRAN_ASSERT_OK(gran_dsmc_checkpoint_read(path, "state", mix, &c));

@@ -5,6 +5,8 @@
 #include "cell_impl.h"
 #include "agg_impl.h"
 
+#include <algorithm>
+
 namespace gran {
 
 /* Mean flow u = P / sum m of the gas: the species that are not tracers (0 up to rounding: the
@@ -199,6 +201,30 @@ GRAN_EXTERN int gran_dsmc_momentum(const gran_dsmc *sim, double p[3]) {
       });
     }
     for (int d = 0; d < 3; d++) p[d] = P[d] + Pc[d];
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/** @brief Copies the velocities of species k (counts[k] x 3 doubles) into v, in the order of the
+ *  view of gran_dsmc_particles without trajectories. Unlike that view, which with speed classes is
+ *  a copy of every particle kept by the engine (60 B per particle with displacements), this needs
+ *  no memory beyond v: the run driver's velocity histograms use it. */
+GRAN_EXTERN int gran_dsmc_species_velocities(const gran_dsmc *sim, int64_t k, double *v) {
+  GRAN_TRY {
+    GRAN_CALL(dsmc_check(sim, "sim"));
+    GRAN_CHECK(sim->agg == nullptr, GRAN_ERR_STATE,
+               "with aggregation the particles are not grouped by species (see gran_dsmc_size_distribution)");
+    GRAN_CHECK(k >= 0 && k < sim->M, GRAN_ERR_ARG, "argument 'k' = " GRAN_I64_FMT " is not a species in [0, " GRAN_I64_FMT
+               ")", k, sim->M);
+    if (sim->count[(size_t)k] == 0) return GRAN_SUCCESS;
+    GRAN_CHECK_PTR(v);
+    const double *hv = dsmc_hv(sim);
+    int64_t at = 0;
+    dsmc_species_ranges(sim, k, [&](int64_t ja, int64_t jb) {
+      std::copy(hv + 3 * ja, hv + 3 * jb, v + 3 * at);
+      at += jb - ja;
+    });
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
