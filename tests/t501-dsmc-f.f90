@@ -107,6 +107,7 @@ program t501_dsmc_f
   call expect(ierr == GRAN_ERR_ARG, 'species velocities: k out of range')
   call gran_dsmc_species_velocities(sim, 1_c_int64_t, vbad, ierr=ierr)
   call expect(ierr == GRAN_ERR_ARG, 'species velocities: wrong shape')
+  deallocate(vs1, vs2, vbad) ! a main program's allocatables are never freed by themselves (LeakSanitizer)
 
   call gran_dsmc_trajectories(sim, xyz, tsp)
   call expect(size(xyz, 1) == 3 .and. size(xyz, 2) == 21 .and. size(xyz, 3) == 6, 'trajectory shape')
