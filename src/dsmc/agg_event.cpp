@@ -152,12 +152,16 @@ bool bird_grow(gran_dsmc *s, DsmcAggEv *A, int64_t K) {
 
 }  // namespace
 
+/* Over every size with a bound, present or not: a size that emptied since the last tightening keeps
+ * its bound and its term (C_max only grows between tightenings, which reset the bounds of absent
+ * sizes to 0), so that a cluster of that size made later, at a speed under the old bound, is covered
+ * without a raise. The same holds for the bounds of a checkpoint, which this checks on reading. */
 double dsmc_aggev_bird_cmax(const DsmcAggEv *A) {
   double c = 0;
-  for (int64_t k = 1; k <= A->kmax; k++)
-    if (A->nsize[(size_t)k - 1] > 0) {
-      const double w = 0.5 * (A->sigk[(size_t)k - 1] + A->smax);
-      c = std::max(c, 2.0 * w * w * A->bsz[(size_t)k - 1]);
+  for (size_t k = 0; k < A->bsz.size(); k++)
+    if (A->bsz[k] > 0) {
+      const double w = 0.5 * (A->sigk[k] + A->smax);
+      c = std::max(c, 2.0 * w * w * A->bsz[k]);
     }
   return c;
 }

@@ -66,9 +66,11 @@ inline int64_t cell_of(const double *xj, double inv_a, int64_t nc) {
 }
 
 /* Streaming of a block of n coordinates (n = 3 x particles, x and v flat): x += v dt wrapped by one
- * add or subtract of L (the wrap() result bit for bit while |v dt| < L) and the cell coordinate of
- * each, floor(x nc / L) clamped to [0, nc - 1]; written so that the compiler vectorizes it. Returns
- * false if a coordinate is still outside [0, L) (|v dt| >= L, or not finite): the caller wraps those. */
+ * add or subtract of L (while |v dt| < L the value wrap() gives, but for x + v dt within rounding of
+ * 2L, where wrap() returns 0 and this x - L; runs at b503's sizes came out bit for bit the same) and
+ * the cell coordinate of each, floor(x nc / L) clamped to [0, nc - 1]; written so that the compiler
+ * vectorizes it. Returns false if a coordinate is still outside [0, L) (|v dt| >= L, or not finite):
+ * the caller wraps those. */
 inline bool stream_block(double *__restrict x, const double *__restrict v, int32_t *__restrict q, int64_t n, double dt,
                          double L, double inv_a, int32_t nc1) {
   int bad = 0;
@@ -560,7 +562,8 @@ int cell_step(gran_dsmc *s) {
     b2[0] = vm2;
   }
   for (int64_t q = 0; q < C; q++) start[q + 1] += start[q];
-  const bool reorder = !kAgg && c->reorder && c->step % kSortEvery == kSortEvery - 1; /* creation sorted */
+  /* creation sorted the particles: the first move is kSortEvery steps later */
+  const bool reorder = !kAgg && c->reorder && c->step % kSortEvery == kSortEvery - 1;
   if (reorder && M == 1) { /* one species: the counting sort moves the particles themselves */
     int32_t *const fill = c->list.data();
     int64_t *const pos = c->fillpos.data();

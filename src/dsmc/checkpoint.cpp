@@ -599,7 +599,9 @@ int aggev_read(Reader &r, gran_dsmc *s) {
   if (!A->lowrank) { /* Bird: the speed bound of each size and C_max as stored */
     const int64_t nb = r.npoints("agg_size_bound");
     if (nb < 0) { /* written before the per-size bounds (2026-12): the global bound for every size */
-      A->bsz.assign(A->nsize.size(), std::sqrt(A->vmax2));
+      A->bsz.assign(A->nsize.size(), 0.0);
+      for (int64_t k = 0; k < A->kmax; k++)
+        if (A->nsize[(size_t)k] > 0) A->bsz[(size_t)k] = std::sqrt(A->vmax2);
       A->smax = A->kmax > 0 ? A->sigk[(size_t)A->kmax - 1] : 0.0;
       s->cmax = dsmc_aggev_bird_cmax(A);
     } else {
