@@ -107,6 +107,40 @@ static inline void io_refresh_crc(const char *path) {
   free(b);
 }
 
+/* Copy granary file `src` to `dst` and set dataset[index] = value (int64 when is_int, else double)
+ * through HDF5, checksum recomputed: a deliberate edit, which a reader must catch from the values. */
+static inline void io_edit_copy(const char *src, const char *dst, const char *dataset, int64_t index, double value,
+                                int is_int) {
+  size_t n = 0;
+  unsigned char *b = io_read_all(src, &n);
+  io_write_all(dst, b, n);
+  free(b);
+  hid_t f = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t sp = H5Dget_space(d);
+  const hssize_t np = H5Sget_simple_extent_npoints(sp);
+  assert_true(index >= 0 && index < (int64_t)np);
+  if (is_int) {
+    int64_t *v = (int64_t *)malloc((size_t)np * sizeof *v);
+    assert_true(H5Dread(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+    v[index] = (int64_t)value;
+    assert_true(H5Dwrite(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+    free(v);
+  } else {
+    double *v = (double *)malloc((size_t)np * sizeof *v);
+    assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+    v[index] = value;
+    assert_true(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+    free(v);
+  }
+  H5Sclose(sp);
+  H5Dclose(d);
+  H5Fclose(f);
+  io_refresh_crc(dst);
+}
+
 /* ---- HDF5 comparison ---------------------------------------------------------------------- */
 typedef struct {
   hid_t other;

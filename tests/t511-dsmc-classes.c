@@ -166,34 +166,7 @@ static void test_scene_key(void **state) {
 /* copy `ck` to `ed`, set dataset[index] = value (int64 or double), expect the read to fail naming `why` */
 static void edit_and_expect(const char *ck, const char *ed, const gran_mixture *mix, const char *dataset,
                             int64_t index, double value, int is_int, const char *why) {
-  size_t n = 0;
-  unsigned char *b = io_read_all(ck, &n);
-  io_write_all(ed, b, n);
-  free(b);
-  hid_t f = H5Fopen(ed, H5F_ACC_RDWR, H5P_DEFAULT);
-  assert_true(f >= 0);
-  hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
-  assert_true(d >= 0);
-  hid_t sp = H5Dget_space(d);
-  const hsize_t np = (hsize_t)H5Sget_simple_extent_npoints(sp);
-  assert_true((hsize_t)index < np);
-  if (is_int) {
-    int64_t *v = (int64_t *)malloc(np * sizeof *v);
-    assert_true(H5Dread(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
-    v[index] = (int64_t)value;
-    assert_true(H5Dwrite(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
-    free(v);
-  } else {
-    double *v = (double *)malloc(np * sizeof *v);
-    assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
-    v[index] = value;
-    assert_true(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
-    free(v);
-  }
-  H5Sclose(sp);
-  H5Dclose(d);
-  H5Fclose(f);
-  io_refresh_crc(ed);
+  io_edit_copy(ck, ed, dataset, index, value, is_int);
   gran_dsmc *sim = (gran_dsmc *)0x1;
   const int st = gran_dsmc_checkpoint_read(ed, "/engine", mix, &sim);
   if (st == GRAN_SUCCESS || !strstr(gran_last_error_message(), why))

@@ -427,25 +427,7 @@ static void test_bird_size_bounds(void **state) {
   char edited[80];
   snprintf(edited, sizeof edited, "t528-bird-edit-%d.h5", (int)getpid());
   for (int e = 0; e < 2; e++) {
-    size_t len = 0;
-    unsigned char *img = io_read_all(path, &len);
-    io_write_all(edited, img, len);
-    free(img);
-    hid_t f = H5Fopen(edited, H5F_ACC_RDWR, H5P_DEFAULT);
-    assert_true(f >= 0);
-    hid_t ds = H5Dopen2(f, "state/agg_size_bound", H5P_DEFAULT);
-    assert_true(ds >= 0);
-    double v[64];
-    hid_t sp = H5Dget_space(ds);
-    const hssize_t nb = H5Sget_simple_extent_npoints(sp);
-    assert_true(nb <= 64 && nb > which[e]);
-    H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
-    v[which[e]] = value[e];
-    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
-    H5Sclose(sp);
-    H5Dclose(ds);
-    H5Fclose(f);
-    io_refresh_crc(edited);
+    io_edit_copy(path, edited, "state/agg_size_bound", which[e], value[e], 0);
     GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(edited, "state", mix, &c), GRAN_ERR_IO);
     if (!strstr(gran_last_error_message(), "speed bounds")) fail_msg("edit %d: %s", e, gran_last_error_message());
     assert_null(c);

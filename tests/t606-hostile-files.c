@@ -149,33 +149,7 @@ static void test_bit_flips(void **state) {
 static void edit_and_expect(const char *ck, const char *dataset, int64_t index, double value, int is_int,
                             const char *why) {
   const char *ed = io_path("edited.ckpt");
-  size_t n = 0;
-  unsigned char *b = io_read_all(ck, &n);
-  io_write_all(ed, b, n);
-  free(b);
-  hid_t f = H5Fopen(ed, H5F_ACC_RDWR, H5P_DEFAULT);
-  assert_true(f >= 0);
-  hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
-  assert_true(d >= 0);
-  hid_t sp = H5Dget_space(d);
-  hsize_t np = (hsize_t)H5Sget_simple_extent_npoints(sp);
-  if (is_int) {
-    int64_t *v = malloc(np * sizeof *v);
-    H5Dread(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
-    v[index] = (int64_t)value;
-    H5Dwrite(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
-    free(v);
-  } else {
-    double *v = malloc(np * sizeof *v);
-    H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
-    v[index] = value;
-    H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
-    free(v);
-  }
-  H5Sclose(sp);
-  H5Dclose(d);
-  H5Fclose(f);
-  io_refresh_crc(ed);
+  io_edit_copy(ck, ed, dataset, index, value, is_int);
   gran_clear_error();
   int st = gran_scene_resume(ed, io_path("edited.h5"), NULL, NULL);
   if (st == GRAN_SUCCESS || !strstr(gran_last_error_message(), why))
