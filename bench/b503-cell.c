@@ -81,6 +81,26 @@ static int64_t cells_for(double N, double per) {
   return c < 1 ? 1 : c > 1024 ? 1024 : c;
 }
 
+/* reps seeds of one row of the monodisperse table (cell: the cell selector with dt, nc cells per
+ * side), summed (T their mean); *create the CPU seconds of the creations, outside the ratio (the cell
+ * selector sorts its particles into cell order there) */
+static run_out mono_row(const gran_mixture *mix, double N, double n, double T0, double t, int cell, double dt,
+                        int64_t nc, int reps, double *create) {
+  run_out sum = {0, 0, 0, 0, 0};
+  *create = 0;
+  for (int r = 0; r < reps; r++) {
+    const double c0 = cpu_now();
+    gran_dsmc *d = make(mix, &T0, N / n, cell, dt, nc, 0, INFINITY, 0, 1 + (uint64_t)r);
+    *create += cpu_now() - c0;
+    const run_out o = run(d, t);
+    gran_dsmc_destroy(&d);
+    sum.cpu += o.cpu;
+    sum.coll += o.coll;
+    sum.T += o.T / reps;
+  }
+  return sum;
+}
+
 static void mono_speed(double N) {
   const double n = 0.01, eps = 0.8, T0 = 1;
   gran_mixture *mix;
@@ -90,18 +110,8 @@ static void mono_speed(double N) {
   const double tau = 1 / (4 * sqrt(M_PI) * n), t = 5 * tau;
   const int64_t nc = cells_for(N, 20);
   const int reps = N < 1e6 ? (int)(1e6 / N) : 1; /* seeds, so that each row runs ~1e6 particles to 5 tau */
-  run_out ra = {0, 0, 0, 0, 0};
-  double ca = 0; /* CPU s of the creations: the cell selector sorts its particles into cell order there */
-  for (int r = 0; r < reps; r++) {
-    const double c0 = cpu_now();
-    gran_dsmc *a = make(mix, &T0, N / n, 0, 0, 0, 0, INFINITY, 0, 1 + (uint64_t)r);
-    ca += cpu_now() - c0;
-    const run_out o = run(a, t);
-    gran_dsmc_destroy(&a);
-    ra.cpu += o.cpu;
-    ra.coll += o.coll;
-    ra.T += o.T / reps;
-  }
+  double ca;
+  const run_out ra = mono_row(mix, N, n, T0, t, 0, 0, 0, reps, &ca);
   printf("monodisperse N = %.0f, eps = 0.8, to t = 5 tau (%d seed%s; T(t) their mean):\n", N, reps, reps > 1 ? "s" : "");
   printf("  %-34s %10s %8s %14s %8s %9s\n", "selector", "collisions", "CPU s", "collisions/s", "T(t)", "create s");
   printf("  %-34s %10lld %8.2f %14.3e %8.5f %9.3f\n", "low-rank", (long long)ra.coll, ra.cpu, ra.coll / ra.cpu, ra.T,
@@ -109,18 +119,8 @@ static void mono_speed(double N) {
   const int div[3] = {10, 4, 2};
   double ratio[3];
   for (int q = 0; q < 3; q++) {
-    run_out rb = {0, 0, 0, 0, 0};
-    double cb = 0;
-    for (int r = 0; r < reps; r++) {
-      const double c0 = cpu_now();
-      gran_dsmc *b = make(mix, &T0, N / n, 1, tau / div[q], nc, 0, INFINITY, 0, 1 + (uint64_t)r);
-      cb += cpu_now() - c0;
-      const run_out o = run(b, t);
-      gran_dsmc_destroy(&b);
-      rb.cpu += o.cpu;
-      rb.coll += o.coll;
-      rb.T += o.T / reps;
-    }
+    double cb;
+    const run_out rb = mono_row(mix, N, n, T0, t, 1, tau / div[q], nc, reps, &cb);
     char name[64];
     snprintf(name, sizeof name, "cell (%lld^3 cells, dt = tau/%d)", (long long)nc, div[q]);
     printf("  %-34s %10lld %8.2f %14.3e %8.5f %9.3f\n", name, (long long)rb.coll, rb.cpu, rb.coll / rb.cpu, rb.T, cb);

@@ -28,17 +28,13 @@ struct DsmcWords {
   }
   inline double uniform() { return u64_uniform(next()); }
   inline int64_t below(int64_t n) { return u64_below(next(), n); }
-  inline void unit3(double e[3]) { /* Marsaglia 1972 */
-    double a, b, q;
-    do {
-      a = 2.0 * uniform() - 1.0;
-      b = 2.0 * uniform() - 1.0;
-      q = a * a + b * b;
-    } while (q >= 1.0);
-    const double f = 2.0 * std::sqrt(1.0 - q);
-    e[0] = a * f;
-    e[1] = b * f;
-    e[2] = 1.0 - 2.0 * q;
+  inline void unit3(double e[3]) {
+    dsmc_unit3(
+        [&](double &a, double &b) {
+          a = uniform();
+          b = uniform();
+        },
+        e);
   }
   inline void normal2(double z[2]) { /* Marsaglia's polar method: two independent N(0, 1) */
     double a, b, q;

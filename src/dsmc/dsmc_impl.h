@@ -134,6 +134,22 @@ static inline void dsmc_rng_refill(DsmcRng *r) {
 
 static inline double u64_uniform(uint64_t x) { return (double)(x >> 11) * 0x1.0p-53; }           /* [0,1) */
 static inline double u64_uniform_pos(uint64_t x) { return ((double)(x >> 11) + 1.0) * 0x1.0p-53; } /* (0,1] */
+/* A uniform direction on the sphere (Marsaglia 1972) from pairs of uniforms in [0, 1), pair(a, b):
+ * the hot loop's buffered words and DsmcWords (agg_impl.h) draw the pairs their own way. */
+template <class Pair>
+static inline void dsmc_unit3(Pair pair, double e[3]) {
+  double a, b, q;
+  do {
+    pair(a, b);
+    a = 2.0 * a - 1.0;
+    b = 2.0 * b - 1.0;
+    q = a * a + b * b;
+  } while (q >= 1.0);
+  const double f = 2.0 * std::sqrt(1.0 - q);
+  e[0] = a * f;
+  e[1] = b * f;
+  e[2] = 1.0 - 2.0 * q;
+}
 /* integer in [0, n) (multiply-shift) */
 static inline int64_t u64_below(uint64_t x, int64_t n) {
   return (int64_t)(((unsigned __int128)x * (unsigned __int128)(uint64_t)n) >> 64);

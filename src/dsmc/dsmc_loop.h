@@ -273,20 +273,16 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       pos = 0;
     }
   };
-  /* uniform direction on the sphere (Marsaglia 1972) */
+  /* uniform direction on the sphere, two words of the buffer per try */
   auto unit3 = [&](double e[3]) {
-    double a, b, q;
-    do {
-      need(2);
-      a = 2.0 * u64_uniform(buf[pos]) - 1.0;
-      b = 2.0 * u64_uniform(buf[pos + 1]) - 1.0;
-      pos += 2;
-      q = a * a + b * b;
-    } while (q >= 1.0);
-    const double f = 2.0 * std::sqrt(1.0 - q);
-    e[0] = a * f;
-    e[1] = b * f;
-    e[2] = 1.0 - 2.0 * q;
+    dsmc_unit3(
+        [&](double &a, double &b) {
+          need(2);
+          a = u64_uniform(buf[pos]);
+          b = u64_uniform(buf[pos + 1]);
+          pos += 2;
+        },
+        e);
   };
   double *const v = Sel::kClasses ? s->cv.data() : s->p.v;
   double *const R = kDisp ? (Sel::kClasses ? s->cr.data() : s->p.r) : nullptr;
