@@ -57,7 +57,7 @@ const int HCS_COARSE_BINS = 48; /* <= HCS_DENSE_MAX: the coarse problem is solve
 const double RES_TOL = 1e-13;
 
 /* Column part of the Jacobian: L_kj = d f_kj / d u_j (the smooth kernel compressed by ACA). */
-inline double lcol(const gran_mixture *mix, const double *T, int64_t k, int64_t j) {
+inline double lcol(const gran_mixture *mix, const double *T, const double *scale, int64_t k, int64_t j) {
   const double nj = mix->n[(size_t)j];
   if (nj == 0.0) return 0.0;
   const double mk = mix->m[(size_t)k], mj = mix->m[(size_t)j];
@@ -67,7 +67,7 @@ inline double lcol(const gran_mixture *mix, const double *T, int64_t k, int64_t 
   const double eps = mix_eps(mix, k, j), p = 0.5 * (1.0 + eps), q = 0.5 * (1.0 - eps);
   const double B = omu * omr + q * (mu + r * omu);
   const double W = C15 * nj * sg * sg * mix_g2(mix, k, j) * mu * 2.0 * p;
-  return W * (0.5 * aj * B / S - S * p * r * omu);
+  return (scale ? scale[k] : 1.0) * W * (0.5 * aj * B / S - S * p * r * omu);
 }
 
 /* Least-squares common rate c* = sum xi_k/nu_k^2 / sum 1/nu_k^2 and the residual max |xi - c*|/nu. */
@@ -91,7 +91,7 @@ struct LowRank {
   std::vector<double> U, V;
 };
 
-void aca(const gran_mixture *mix, const double *T, double tol, int rmax, LowRank &LR) {
+void aca(const gran_mixture *mix, const double *T, const double *scale, double tol, int rmax, LowRank &LR) {
   const int64_t M = mix->M;
   LR.r = 0;
   LR.U.clear();
@@ -106,7 +106,7 @@ void aca(const gran_mixture *mix, const double *T, double tol, int rmax, LowRank
   int misses = 0;
   while (LR.r < rmax) {
     usedr[(size_t)i] = 1;
-    for (int64_t j = 0; j < M; j++) row[(size_t)j] = lcol(mix, T, i, j);
+    for (int64_t j = 0; j < M; j++) row[(size_t)j] = lcol(mix, T, scale, i, j);
     for (int l = 0; l < LR.r; l++) {
       const double ui = LR.U[(size_t)l * M + i];
       const double *v = LR.V.data() + (size_t)l * M;
@@ -134,7 +134,7 @@ void aca(const gran_mixture *mix, const double *T, double tol, int rmax, LowRank
     }
     usedc[(size_t)jp] = 1;
     const double piv = row[(size_t)jp];
-    for (int64_t k = 0; k < M; k++) col[(size_t)k] = lcol(mix, T, k, jp);
+    for (int64_t k = 0; k < M; k++) col[(size_t)k] = lcol(mix, T, scale, k, jp);
     for (int l = 0; l < LR.r; l++) {
       const double vj = LR.V[(size_t)l * M + jp];
       const double *u = LR.U.data() + (size_t)l * M;
@@ -183,12 +183,18 @@ struct Newton {
   double res = HUGE_VAL;
   int iters = 0, rank = 0;
   Pass P;
+  const double *scale = nullptr; /* rates xi_k scale_k (frozen factors), NULL: 1 */
 };
 
 int solve_dense_step(Newton &N, std::vector<double> &du, double &dc) {
   const int64_t M = N.M;
   std::vector<double> xi((size_t)M), J((size_t)(M * M));
   cooling_jacobian(N.mix, N.T.data(), xi.data(), J.data());
+  if (N.scale)
+    for (int64_t k = 0; k < M; k++) {
+      xi[(size_t)k] *= N.scale[k];
+      for (int64_t j = 0; j < M; j++) J[(size_t)(k * M + j)] *= N.scale[k];
+    }
   gsl_matrix *A = gsl_matrix_calloc((size_t)M + 1, (size_t)M + 1);
   gsl_vector *b = gsl_vector_alloc((size_t)M + 1);
   gsl_permutation *perm = gsl_permutation_alloc((size_t)M + 1);
@@ -221,7 +227,7 @@ int solve_dense_step(Newton &N, std::vector<double> &du, double &dc) {
 int solve_lowrank_step(Newton &N, std::vector<double> &du, double &dc) {
   const int64_t M = N.M;
   LowRank LR;
-  aca(N.mix, N.T.data(), 1e-12, (int)std::min<int64_t>(M, 256), LR);
+  aca(N.mix, N.T.data(), N.scale, 1e-12, (int)std::min<int64_t>(M, 256), LR);
   const int r = LR.r;
   N.rank = r;
   /* D' = d + l - diag(U V^T): the Jacobian's diagonal stays exact */
@@ -306,6 +312,12 @@ int newton(Newton &N, double tol, int maxit) {
   for (N.iters = 0;; N.iters++) {
     for (int64_t k = 0; k < M; k++) N.T[(size_t)k] = std::exp(N.u[(size_t)k]);
     do_pass(N.mix, N.T.data(), N.P);
+    if (N.scale)
+      for (int64_t k = 0; k < M; k++) {
+        N.P.xi[(size_t)k] *= N.scale[k];
+        N.P.d[(size_t)k] *= N.scale[k];
+        N.P.l[(size_t)k] *= N.scale[k];
+      }
     double cstar = 0.0;
     N.res = residual(N.P, &cstar);
     if (!std::isfinite(N.res)) return GRAN_ERROR(GRAN_ERR_NUMERIC, "HCS: non-finite cooling rates during the solve");
@@ -514,6 +526,35 @@ int solve_u(const gran_mixture *mix, std::vector<double> &u, int64_t *ref_out, d
   }
   return GRAN_SUCCESS;
 }
+
+} // namespace
+
+/* The HCS of rates scale_k xi_k(T) (scale frozen) from the start u (log T, any constant), by the
+ * clamped Newton above (dense or low rank by M); u[ref] = 0 on return, ref the densest species. */
+int gran::hcs_solve_scaled(const gran_mixture *mix, const double *scale, std::vector<double> &u, int64_t *ref_out,
+                           double tol, int *passes) {
+  const int64_t M = mix->M;
+  Newton N;
+  N.mix = mix;
+  N.M = M;
+  N.ref = 0;
+  for (int64_t k = 1; k < M; k++)
+    if (mix->n[(size_t)k] > mix->n[(size_t)N.ref]) N.ref = k;
+  *ref_out = N.ref;
+  N.dense = M <= HCS_DENSE_MAX;
+  N.T.assign((size_t)M, 1.0);
+  N.u = u;
+  N.scale = scale;
+  const double shift = N.u[(size_t)N.ref];
+  for (auto &v : N.u) v -= shift;
+  const int st = newton(N, tol, 100);
+  if (passes) *passes += N.iters + 1;
+  if (st) return st;
+  u = N.u;
+  return GRAN_SUCCESS;
+}
+
+namespace {
 
 bool all_elastic(const gran_mixture *mix) {
   if (mix->model == GRAN_RESTITUTION_CONSTANT) return mix->eps == 1.0;

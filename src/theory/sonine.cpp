@@ -1,0 +1,586 @@
+/* sonine.cpp - first Sonine approximation of a polydisperse granular gas of inelastic hard spheres
+ * (3-D, constant or matrix restitution): cooling rates zeta_k corrected by the Sonine coefficients
+ * a2_k, the fourth-moment balance that fixes a2_k, the homogeneous cooling state and the
+ * trajectories T_k(t), a2_k(t). Derivation, sources and checks: docs/physics-sonine.md.
+ *
+ * Species k has f_k = n_k phi_k [1 + a2_k S2(c^2)], c^2 = m_k v^2/(2 T_k), S2(x) = x^2/2 - 5x/2 + 15/8
+ * (Garzo & Dufty, Phys. Rev. E 60, 5706 (1999), Eq. 3.1-3.3, for every species of the mixture).
+ * The pair (k, i), with a_k = T_k/m_k, s^2 = a_k + a_i, mu = m_i/(m_i+m_k), A = mu (1 + eps_ki) and
+ * w = n_i sigma_ki^2 g2_ki, contributes to the rates of <v^2> and <v^4> of species k
+ *   R2 = R w A [4 s (A s^2 - 2 a_k) + a2_k a_k^2 (3 A s^2 - 6 a_k - 8 a_i)/(2 s^3)
+ *                                  + a2_i a_i^2 (3 A s^2 + 2 a_k)/(2 s^3)]
+ *   R4 = R w A [8 (A s^2 - 2 a_k)(2 A^2 s^4 - 4 A a_k s^2 + 6 a_k^2 + 5 a_k a_i)/s
+ *                + a2_k a_k^2 P_k/s^5 + a2_i a_i^2 P_i/s^5]          (R = sqrt(2 pi); P_k, P_i below)
+ * to first order in a2 (products a2_k a2_i dropped), from the Gaussian moments of the bi-Maxwellian
+ * written in the relative velocity g and the part of the centre-of-mass velocity independent of g.
+ * Then zeta_k = -sum_i R2/(3 a_k) (dT_k/dt = -zeta_k T_k) and, since <v^4>_k = 15 a_k^2 (1 + a2_k),
+ *   da2_k/dt = Phi_k = sum_i R4/(15 a_k^2) + 2 zeta_k (1 + a2_k)      (linear in a2).
+ * One species gives van Noije & Ernst's a2 (Granular Matter 1, 57 (1998), Eq. 16) and
+ * zeta = zeta_0 (1 + 3 a2/16) (Brilliantov & Poeschel, Kinetic Theory of Granular Gases (2004), Eq. 7.27).
+ * The factor A s^2 - 2 a_k = -2 a_k [(1 - mu)(1 - T_i/T_k) + (1 - eps)/2 Gamma] is written without
+ * cancellation, Gamma = mu + (1 - mu) T_i/T_k, as in cooling.cpp: eps -> 1 stays exact. */
+#include "theory/theory_impl.h"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_multiroots.h>
+#include <gsl/gsl_odeiv2.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+
+namespace {
+
+using namespace gran;
+
+const double SQ2PI = 2.5066282746310002;
+
+/* Per-species sums of one pass over the ordered pairs (k, i), n_i > 0. */
+struct SPass {
+  std::vector<double> z0;   /* Maxwellian zeta_k */
+  std::vector<double> z1;   /* a2 part of zeta_k */
+  std::vector<double> phi;  /* da2_k/dt */
+  std::vector<double> diag; /* d phi_k / d a2_k */
+  std::vector<double> off;  /* sum_{i != k} d phi_k / d a2_i */
+  std::vector<double> nu;   /* collision frequency scale (for the residuals) */
+};
+
+void spass(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
+  const int64_t M = mix->M;
+  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.nu}) v->assign((size_t)M, 0.0);
+  const double *m = mix->m.data(), *sg = mix->sigma.data(), *n = mix->n.data();
+  for (int64_t k = 0; k < M; k++) {
+    const double mk = m[k], Tk = T[k], ak = Tk / mk, iak = 1.0 / ak, ak2 = ak * ak;
+    double z0 = 0.0, z1 = 0.0, phi = 0.0, dg = 0.0, of = 0.0, nu = 0.0;
+    for (int64_t i = 0; i < M; i++) {
+      if (n[i] == 0.0) continue;
+      const double mi = m[i], Ti = T[i], ai = Ti / mi;
+      const double sgm = 0.5 * (sg[k] + sg[i]);
+      const double w = SQ2PI * n[i] * sgm * sgm * mix_g2(mix, k, i);
+      const double eps = mix_eps(mix, k, i), p = 0.5 * (1.0 + eps), q = 0.5 * (1.0 - eps);
+      const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv;
+      const double r = Ti / Tk, omr = (Tk - Ti) / Tk;
+      const double Gam = mu + r * omu, Bm = omu * omr + q * Gam; /* Bm = 1 - p Gamma = (2 a_k - A s^2)/(2 a_k) */
+      const double A = 2.0 * mu * p;
+      const double s2 = ak + ai, s = std::sqrt(s2), is = 1.0 / s, is3 = is * is * is, is5 = is3 * is * is;
+      const double As2 = A * s2, G2 = 2.0 * p * Gam; /* A s^2 / a_k */
+      const double wA = w * A;
+      /* Maxwellian parts */
+      const double zm = (8.0 / 3.0) * wA * s * Bm;
+      const double pm = (16.0 / 15.0) * wA * ak * is * Bm * (-1.0 + 4.0 * G2 - 2.0 * G2 * G2);
+      /* a2 coefficients of zeta_k (own, partner) */
+      const double czo = -wA * ak * (3.0 * As2 - 6.0 * ak - 8.0 * ai) * is3 / 6.0;
+      const double czp = -wA * ai * ai * (3.0 * As2 + 2.0 * ak) * is3 * iak / 6.0;
+      /* a2 coefficients of sum R4/(15 a_k^2) */
+      const double A2 = A * A, A3 = A2 * A, ai2 = ai * ai, ai3 = ai2 * ai, ak3 = ak2 * ak;
+      const double s6 = s2 * s2 * s2;
+      const double Pk = 30.0 * A3 * s6 - 120.0 * A2 * ak3 - 336.0 * A2 * ak2 * ai - 312.0 * A2 * ak * ai2 -
+                        96.0 * A2 * ai3 + 210.0 * A * ak3 + 561.0 * A * ak2 * ai + 483.0 * A * ak * ai2 +
+                        132.0 * A * ai3 - 180.0 * ak3 - 462.0 * ak2 * ai - 368.0 * ak * ai2 - 80.0 * ai3;
+      const double Pi = 30.0 * A3 * s6 - 24.0 * A2 * ak * s2 * s2 + 6.0 * A * ak3 + 21.0 * A * ak2 * ai +
+                        15.0 * A * ak * ai2 + 4.0 * ak3 + 10.0 * ak2 * ai;
+      const double c4o = wA * Pk * is5 / 15.0;
+      const double c4p = wA * ai2 * Pi * is5 / (15.0 * ak2);
+      const double cpo = c4o + 2.0 * czo + 2.0 * zm; /* d Phi/d a2_k: R4, 2 zeta_1, 2 zeta_0 a2_k */
+      const double cpp = c4p + 2.0 * czp;
+      z0 += zm;
+      z1 += czo * a2[k] + czp * a2[i];
+      phi += pm + cpo * a2[k] + cpp * a2[i];
+      dg += cpo;
+      if (i == k) dg += cpp;
+      else of += cpp;
+      nu += w * mu * s;
+    }
+    P.z0[(size_t)k] = z0;
+    P.z1[(size_t)k] = z1;
+    P.phi[(size_t)k] = phi;
+    P.diag[(size_t)k] = dg;
+    P.off[(size_t)k] = of;
+    P.nu[(size_t)k] = nu;
+  }
+}
+
+bool all_elastic(const gran_mixture *mix) {
+  if (mix->model == GRAN_RESTITUTION_CONSTANT) return mix->eps == 1.0;
+  for (double e : mix->eps_mat)
+    if (e != 1.0) return false;
+  return true;
+}
+
+/* Residuals: max |zeta_k - c*|/nu_k (c* least-squares common rate) and max |phi_k|/nu_k. */
+void sresidual(const SPass &P, double *rT, double *rA, double *cstar) {
+  double num = 0.0, den = 0.0;
+  const size_t M = P.z0.size();
+  for (size_t k = 0; k < M; k++) {
+    const double w = 1.0 / (P.nu[k] * P.nu[k]);
+    num += w * (P.z0[k] + P.z1[k]);
+    den += w;
+  }
+  const double c = num / den;
+  double a = 0.0, b = 0.0;
+  for (size_t k = 0; k < M; k++) {
+    a = std::max(a, std::fabs(P.z0[k] + P.z1[k] - c) / P.nu[k]);
+    b = std::max(b, std::fabs(P.phi[k]) / P.nu[k]);
+  }
+  *rT = a;
+  *rA = b;
+  if (cstar) *cstar = c;
+}
+
+const int64_t SON_DENSE_MAX = 64; /* GSL hybrids polish of the 2M-1 unknowns up to here */
+const double SON_TOL = 1e-13;
+
+/* ---- GSL hybrids on x = (log T_k - log T_ref for k != ref, a2_k) ---------------------------- */
+struct SSys {
+  const gran_mixture *mix;
+  int64_t ref;
+  std::vector<double> T, a2, nu;
+  SPass P;
+};
+
+int sys_f(const gsl_vector *x, void *params, gsl_vector *f) {
+  SSys *h = static_cast<SSys *>(params);
+  const int64_t M = h->mix->M, ref = h->ref;
+  for (int64_t k = 0, j = 0; k < M; k++) h->T[(size_t)k] = k == ref ? 1.0 : std::exp(gsl_vector_get(x, (size_t)j++));
+  for (int64_t k = 0; k < M; k++) h->a2[(size_t)k] = gsl_vector_get(x, (size_t)(M - 1 + k));
+  spass(h->mix, h->T.data(), h->a2.data(), h->P);
+  const double zr = h->P.z0[(size_t)ref] + h->P.z1[(size_t)ref];
+  for (int64_t k = 0, j = 0; k < M; k++) {
+    if (k != ref) {
+      const double fk = (h->P.z0[(size_t)k] + h->P.z1[(size_t)k] - zr) / h->nu[(size_t)k];
+      if (!std::isfinite(fk)) return GSL_EBADFUNC;
+      gsl_vector_set(f, (size_t)j++, fk);
+    }
+    const double gk = h->P.phi[(size_t)k] / h->nu[(size_t)k];
+    if (!std::isfinite(gk)) return GSL_EBADFUNC;
+    gsl_vector_set(f, (size_t)(M - 1 + k), gk);
+  }
+  return GSL_SUCCESS;
+}
+
+double max_abs(const gsl_vector *v) {
+  double a = 0.0;
+  for (size_t i = 0; i < v->size; i++) a = std::max(a, std::fabs(gsl_vector_get(v, i)));
+  return a;
+}
+
+/* Polish (u, a2) with GSL hybrids (finite-difference Jacobian); keeps the input unless improved. */
+void polish_hybrids(const gran_mixture *mix, int64_t ref, std::vector<double> &u, std::vector<double> &a2,
+                    const std::vector<double> &nu, int *passes) {
+  const int64_t M = mix->M;
+  SSys h;
+  h.mix = mix;
+  h.ref = ref;
+  h.T.assign((size_t)M, 1.0);
+  h.a2.assign((size_t)M, 0.0);
+  h.nu = nu;
+  const size_t dim = (size_t)(2 * M - 1);
+  gsl_multiroot_function F{sys_f, dim, &h};
+  gsl_vector *x = gsl_vector_alloc(dim);
+  gsl_multiroot_fsolver *sv = gsl_multiroot_fsolver_alloc(gsl_multiroot_fsolver_hybrids, dim);
+  if (x && sv) {
+    for (int64_t k = 0, j = 0; k < M; k++) {
+      if (k != ref) gsl_vector_set(x, (size_t)j++, u[(size_t)k] - u[(size_t)ref]);
+      gsl_vector_set(x, (size_t)(M - 1 + k), a2[(size_t)k]);
+    }
+    if (gsl_multiroot_fsolver_set(sv, &F, x) == GSL_SUCCESS) {
+      const double res0 = max_abs(sv->f);
+      double res = res0;
+      for (int iter = 0; iter < 40 && res > 1e-15; iter++) {
+        if (gsl_multiroot_fsolver_iterate(sv) != GSL_SUCCESS) break;
+        res = max_abs(sv->f);
+        if (gsl_multiroot_test_delta(sv->dx, sv->x, 1e-17, 1e-16) == GSL_SUCCESS) break;
+      }
+      if (res < res0)
+        for (int64_t k = 0, j = 0; k < M; k++) {
+          u[(size_t)k] = k == ref ? 0.0 : gsl_vector_get(sv->x, (size_t)j++);
+          a2[(size_t)k] = gsl_vector_get(sv->x, (size_t)(M - 1 + k));
+        }
+    }
+    if (passes) *passes += (int)(3 * dim); /* GSL's evaluations: about one Jacobian (dim passes) per polish */
+  }
+  gsl_vector_free(x);
+  gsl_multiroot_fsolver_free(sv);
+}
+
+/* Anderson acceleration (type II, depth <= 5) of a fixed-point iteration x <- G(x): given the
+ * iterate xin and gx = G(xin), replaces gx by the mixed next iterate. The sweep map below
+ * converges linearly (factor ~ 1/2: the a2 of different species are coupled by their collisions);
+ * the mixing makes it superlinear in practice. */
+struct Anderson {
+  int depth = 5;
+  std::vector<std::vector<double>> dF, dG; /* differences of residuals f = G(x) - x and of G */
+  std::vector<double> fold, gold;
+};
+
+void anderson(Anderson &A, const std::vector<double> &xin, std::vector<double> &gx) {
+  const size_t n = gx.size();
+  std::vector<double> f(n);
+  for (size_t i = 0; i < n; i++) f[i] = gx[i] - xin[i];
+  if (!A.fold.empty()) {
+    std::vector<double> df(n), dg(n);
+    for (size_t i = 0; i < n; i++) {
+      df[i] = f[i] - A.fold[i];
+      dg[i] = gx[i] - A.gold[i];
+    }
+    A.dF.push_back(df);
+    A.dG.push_back(dg);
+    if ((int)A.dF.size() > A.depth) {
+      A.dF.erase(A.dF.begin());
+      A.dG.erase(A.dG.begin());
+    }
+  }
+  A.fold = f;
+  A.gold = gx;
+  const int m = (int)A.dF.size();
+  if (m == 0) return;
+  /* least squares min |f - dF gamma| by the normal equations (m <= 5), Tikhonov-regularised */
+  std::vector<double> H((size_t)(m * m)), b((size_t)m);
+  double tr = 0.0;
+  for (int a = 0; a < m; a++) {
+    for (int c = 0; c < m; c++) {
+      double sum = 0.0;
+      for (size_t i = 0; i < n; i++) sum += A.dF[(size_t)a][i] * A.dF[(size_t)c][i];
+      H[(size_t)(a * m + c)] = sum;
+    }
+    double sb = 0.0;
+    for (size_t i = 0; i < n; i++) sb += A.dF[(size_t)a][i] * f[i];
+    b[(size_t)a] = sb;
+    tr += H[(size_t)(a * m + a)];
+  }
+  if (!(tr > 0.0) || !std::isfinite(tr)) return;
+  for (int a = 0; a < m; a++) H[(size_t)(a * m + a)] += 1e-12 * tr;
+  /* Gaussian elimination with partial pivoting */
+  std::vector<int> piv((size_t)m);
+  for (int c = 0; c < m; c++) {
+    int pr = c;
+    for (int r = c + 1; r < m; r++)
+      if (std::fabs(H[(size_t)(r * m + c)]) > std::fabs(H[(size_t)(pr * m + c)])) pr = r;
+    if (!(std::fabs(H[(size_t)(pr * m + c)]) > 0.0)) return;
+    if (pr != c) {
+      for (int j = 0; j < m; j++) std::swap(H[(size_t)(c * m + j)], H[(size_t)(pr * m + j)]);
+      std::swap(b[(size_t)c], b[(size_t)pr]);
+    }
+    for (int r = c + 1; r < m; r++) {
+      const double fct = H[(size_t)(r * m + c)] / H[(size_t)(c * m + c)];
+      for (int j = c; j < m; j++) H[(size_t)(r * m + j)] -= fct * H[(size_t)(c * m + j)];
+      b[(size_t)r] -= fct * b[(size_t)c];
+    }
+  }
+  std::vector<double> gam((size_t)m);
+  for (int c = m - 1; c >= 0; c--) {
+    double sum = b[(size_t)c];
+    for (int j = c + 1; j < m; j++) sum -= H[(size_t)(c * m + j)] * gam[(size_t)j];
+    gam[(size_t)c] = sum / H[(size_t)(c * m + c)];
+  }
+  for (int a = 0; a < m; a++)
+    if (!std::isfinite(gam[(size_t)a])) return;
+  for (int a = 0; a < m; a++)
+    for (size_t i = 0; i < n; i++) gx[i] -= gam[(size_t)a] * A.dG[(size_t)a][i];
+}
+
+/* The Sonine HCS: u = log T (u[ref] = 0), a2, the mean rate c at T = exp(u).
+ * Start: the Maxwellian HCS (u0, a2 = 0). Each sweep: one Sonine pass at (T, a2); a2_k -= phi_k/D_k
+ * with D_k = d phi_k/d a2_k + sum_{i != k} d phi_k/d a2_i (exact when all a2 are equal, the slow
+ * mode of the plain Jacobi sweep); then the HCS of the rates zeta_k = z0_k (1 + z1_k/z0_k) with
+ * the factors frozen (hcs_solve_scaled: clamped Newton, warm). M <= SON_DENSE_MAX: GSL hybrids
+ * polishes the 2M - 1 unknowns together. */
+int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<double> &a2, double *cbar,
+               int *passes_out) {
+  const int64_t M = mix->M;
+  int passes = 0;
+  std::vector<double> T((size_t)M), scale((size_t)M, 1.0);
+  a2.assign((size_t)M, 0.0);
+  SPass P;
+  int64_t ref = 0;
+  for (int64_t k = 1; k < M; k++)
+    if (mix->n[(size_t)k] > mix->n[(size_t)ref]) ref = k;
+  double rT = HUGE_VAL, rA = HUGE_VAL, c = 0.0;
+  const int maxit = 200;
+  Anderson AA;
+  std::vector<double> X((size_t)(2 * M)), xprev((size_t)(2 * M));
+  bool polished = false;
+  for (int it = 0;; it++) {
+    for (int64_t k = 0; k < M; k++) {
+      xprev[(size_t)k] = u[(size_t)k] - u[(size_t)ref];
+      xprev[(size_t)(M + k)] = a2[(size_t)k];
+    }
+    const double shift = u[(size_t)ref];
+    for (int64_t k = 0; k < M; k++) T[(size_t)k] = std::exp(u[(size_t)k] - shift);
+    spass(mix, T.data(), a2.data(), P);
+    passes++;
+    sresidual(P, &rT, &rA, &c);
+#ifdef GRAN_HCS_DEBUG
+    std::fprintf(stderr, "sonine: M = %" PRId64 " sweep %d residuals %.3e %.3e passes %d\n", M, it, rT, rA, passes);
+#endif
+    if (!std::isfinite(rT) || !std::isfinite(rA))
+      return GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine HCS: non-finite rates during the solve");
+    if (rT <= SON_TOL && rA <= SON_TOL) break;
+    if (M > 1 && M <= SON_DENSE_MAX && !polished && rT <= 1e-9 && rA <= 1e-9) {
+      /* GSL hybrids on the 2M - 1 unknowns together; the sweeps continue if it stops short */
+      polished = true;
+      for (auto &v : u) v -= u[(size_t)ref];
+      polish_hybrids(mix, ref, u, a2, P.nu, &passes);
+      AA = Anderson();
+      it--;
+      continue;
+    }
+    if (it >= maxit)
+      return GRAN_ERROR(GRAN_ERR_NOCONV,
+                        "Sonine HCS (M = %" PRId64 ") did not converge: residuals %.3g (T), %.3g (a2) after %d sweeps",
+                        M, rT, rA, it);
+    for (int64_t k = 0; k < M; k++) {
+      const double D = P.diag[(size_t)k] + (P.off[(size_t)k] * P.diag[(size_t)k] > 0.0 ? P.off[(size_t)k] : 0.0);
+      if (!(std::fabs(D) > 0.0) || !std::isfinite(D))
+        return GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine HCS: zero a2 relaxation rate for species %" PRId64, k);
+      a2[(size_t)k] -= P.phi[(size_t)k] / D;
+    }
+    if (M > 1) {
+      for (int64_t k = 0; k < M; k++) {
+        const double z0 = P.z0[(size_t)k];
+        scale[(size_t)k] = 1.0 + P.z1[(size_t)k] / z0;
+        if (!(z0 > 0.0) || !(scale[(size_t)k] > 0.0) || !std::isfinite(scale[(size_t)k]))
+          return GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine HCS: cooling rate of species %" PRId64 " is not positive", k);
+      }
+      int64_t r2 = 0;
+      const double tin = std::max(0.01 * SON_TOL, 0.01 * std::max(rT, rA));
+      GRAN_CALL(hcs_solve_scaled(mix, scale.data(), u, &r2, tin, &passes));
+    }
+    /* Anderson mixing of the sweep map x -> G(x), x = (u - u_ref, a2) */
+    for (int64_t k = 0; k < M; k++) {
+      X[(size_t)k] = u[(size_t)k] - u[(size_t)ref];
+      X[(size_t)(M + k)] = a2[(size_t)k];
+    }
+    anderson(AA, xprev, X);
+    for (int64_t k = 0; k < M; k++) {
+      u[(size_t)k] = X[(size_t)k];
+      a2[(size_t)k] = X[(size_t)(M + k)];
+    }
+  }
+  const double shift = u[(size_t)ref];
+  for (auto &v : u) v -= shift;
+  double num = 0.0, den = 0.0;
+  for (int64_t k = 0; k < M; k++) {
+    num += mix->n[(size_t)k] * (P.z0[(size_t)k] + P.z1[(size_t)k]);
+    den += mix->n[(size_t)k];
+  }
+  *cbar = num / den;
+  if (passes_out) *passes_out = passes;
+  return GRAN_SUCCESS;
+}
+
+int check_approx(int approximation) {
+  GRAN_CHECK(approximation == GRAN_THEORY_MAXWELLIAN || approximation == GRAN_THEORY_SONINE, GRAN_ERR_ARG,
+             "argument 'approximation' = %d is not a gran_theory_approximation (0 Maxwellian, 1 Sonine)",
+             approximation);
+  return GRAN_SUCCESS;
+}
+
+int check_sonine_model(const gran_mixture *mix) {
+  GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
+             "mixture 'mix' has viscoelastic restitution: the first Sonine approximation is implemented for "
+             "constant or matrix restitution only");
+  return GRAN_SUCCESS;
+}
+
+
+/* ---- trajectories: y = (z_k = log(T_k/T0_k) + 2 s, a2_k), s = log(1 + t/ts) ----------------- */
+struct STraj {
+  const gran_mixture *mix;
+  int64_t M;
+  double ts;
+  std::vector<double> T0, T, a2;
+  SPass P;
+};
+
+int traj_rhs(double s, const double y[], double f[], void *params) {
+  STraj *tr = static_cast<STraj *>(params);
+  const int64_t M = tr->M;
+  for (int64_t k = 0; k < M; k++) {
+    if (!std::isfinite(y[k]) || !std::isfinite(y[M + k])) return GSL_EBADFUNC;
+    tr->T[(size_t)k] = tr->T0[(size_t)k] * std::exp(y[k] - 2.0 * s);
+    tr->a2[(size_t)k] = y[M + k];
+  }
+  spass(tr->mix, tr->T.data(), tr->a2.data(), tr->P);
+  const double g = tr->ts * std::exp(s);
+  for (int64_t k = 0; k < M; k++) {
+    f[k] = 2.0 - g * (tr->P.z0[(size_t)k] + tr->P.z1[(size_t)k]);
+    f[M + k] = g * tr->P.phi[(size_t)k];
+  }
+  return GSL_SUCCESS;
+}
+
+} // namespace
+
+/**
+ * @brief Cooling rates and Sonine relaxation rates of the first Sonine approximation.
+ * @param[in] T M temperatures > 0; a2 M Sonine coefficients (finite, |a2_k| < 1)
+ * @param[out] zeta M cooling rates (dT_k/dt = -zeta_k T_k), may be NULL; da2dt M rates da2_k/dt, may be NULL
+ */
+GRAN_EXTERN int gran_theory_sonine_rates(const gran_mixture *mix, const double *T, const double *a2, double *zeta,
+                                         double *da2dt) {
+  GRAN_TRY {
+    GRAN_CALL(check_mixture(mix, "mix"));
+    GRAN_CALL(check_sonine_model(mix));
+    GRAN_CALL(check_array(T, mix->M, "T", 1));
+    GRAN_CHECK_PTR(a2);
+    for (int64_t k = 0; k < mix->M; k++)
+      GRAN_CHECK(std::fabs(a2[k]) < 1.0, GRAN_ERR_ARG,
+                 "argument 'a2'[%" PRId64 "] = %g: the first Sonine approximation needs |a2| < 1", k, a2[k]);
+    SPass P;
+    spass(mix, T, a2, P);
+    for (int64_t k = 0; k < mix->M; k++) {
+      const double z = P.z0[(size_t)k] + P.z1[(size_t)k], ph = P.phi[(size_t)k];
+      GRAN_CHECK(std::isfinite(z) && std::isfinite(ph), GRAN_ERR_NUMERIC,
+                 "Sonine rates of species %" PRId64 " are not finite", k);
+      if (zeta) zeta[k] = z;
+      if (da2dt) da2dt[k] = ph;
+    }
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/**
+ * @brief Homogeneous cooling state in the Maxwellian or the first Sonine approximation.
+ * @param[in] approximation GRAN_THEORY_MAXWELLIAN (= gran_theory_hcs, a2 = 0) or GRAN_THEORY_SONINE
+ * @param[in] norm, value as gran_theory_hcs
+ * @param[out] T0 M temperatures; a2 M Sonine coefficients (may be NULL); tau0 = 2/zeta (may be NULL)
+ */
+GRAN_EXTERN int gran_theory_hcs_approx(const gran_mixture *mix, int approximation, int norm, double value, double *T0,
+                                       double *a2, double *tau0) {
+  GRAN_TRY {
+    gsl_set_error_handler_off();
+    GRAN_CALL(check_mixture(mix, "mix"));
+    GRAN_CALL(check_approx(approximation));
+    GRAN_CHECK(norm == GRAN_HCS_NORM_MEAN || norm == GRAN_HCS_NORM_T1, GRAN_ERR_ARG,
+               "argument 'norm' = %d is not a gran_hcs_norm", norm);
+    GRAN_CHECK(std::isfinite(value) && value > 0.0, GRAN_ERR_ARG, "argument 'value' = %g must be finite and > 0",
+               value);
+    GRAN_CHECK_PTR(T0);
+    const int64_t M = mix->M;
+    if (approximation == GRAN_THEORY_MAXWELLIAN) {
+      GRAN_CALL(gran_theory_hcs(mix, norm, value, T0, tau0));
+      if (a2) std::fill(a2, a2 + M, 0.0);
+      return GRAN_SUCCESS;
+    }
+    GRAN_CALL(check_sonine_model(mix));
+    std::vector<double> T((size_t)M);
+    /* Maxwellian start (also the answer when every pair is elastic: a2 = 0 at equipartition) */
+    GRAN_CALL(gran_theory_hcs(mix, GRAN_HCS_NORM_T1, 1.0, T.data(), nullptr));
+    std::vector<double> u((size_t)M), b((size_t)M, 0.0);
+    for (int64_t k = 0; k < M; k++) u[(size_t)k] = std::log(T[(size_t)k]);
+    double cbar = 0.0;
+    const bool elastic = all_elastic(mix);
+    int passes = 0;
+    if (!elastic) GRAN_CALL(sonine_hcs(mix, u, b, &cbar, &passes));
+#ifdef GRAN_HCS_DEBUG
+    std::fprintf(stderr, "sonine hcs: M = %" PRId64 " passes %d\n", M, passes);
+#endif
+    const double umax = *std::max_element(u.begin(), u.end());
+    double loglam;
+    if (norm == GRAN_HCS_NORM_T1) {
+      loglam = std::log(value) - u[0];
+    } else {
+      double num = 0.0, den = 0.0;
+      for (int64_t k = 0; k < M; k++) {
+        num += mix->n[(size_t)k] * std::exp(u[(size_t)k] - umax);
+        den += mix->n[(size_t)k];
+      }
+      loglam = std::log(value * den / num) - umax;
+    }
+    for (int64_t k = 0; k < M; k++) {
+      T0[k] = std::exp(loglam + u[(size_t)k]);
+      GRAN_CHECK(std::isfinite(T0[k]) && T0[k] > 0.0 && std::isfinite(b[(size_t)k]) && std::fabs(b[(size_t)k]) < 1.0,
+                 GRAN_ERR_NUMERIC, "Sonine HCS of species %" PRId64 " is not finite (T = %g, a2 = %g)", k, T0[k],
+                 b[(size_t)k]);
+    }
+    if (a2) std::copy(b.begin(), b.end(), a2);
+    if (tau0) {
+      *tau0 = elastic ? HUGE_VAL : 2.0 / (cbar * std::exp(0.5 * loglam));
+      GRAN_CHECK(*tau0 > 0.0 && !std::isnan(*tau0), GRAN_ERR_NUMERIC, "Sonine HCS: tau0 = %g is not positive", *tau0);
+    }
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/**
+ * @brief T_k(t) and a2_k(t) from (T0, a20) in the Maxwellian (a2 = 0, gran_theory_temperatures) or the
+ * first Sonine approximation (GSL odeiv2 rk8pd in s = log(1 + t/ts), ts the shortest collision time at T0).
+ * @param[in] a20 M start values (|a2| < 1; NULL: 0); ignored for the Maxwellian approximation
+ * @param[out] T ntimes*M; a2 ntimes*M (may be NULL), row-major [time][species]
+ */
+GRAN_EXTERN int gran_theory_temperatures_approx(const gran_mixture *mix, int approximation, const double *T0,
+                                                const double *a20, int64_t ntimes, const double *t, double rtol,
+                                                double *T, double *a2) {
+  GRAN_TRY {
+    gsl_set_error_handler_off();
+    GRAN_CALL(check_mixture(mix, "mix"));
+    GRAN_CALL(check_approx(approximation));
+    const int64_t M = mix->M;
+    if (approximation == GRAN_THEORY_MAXWELLIAN) {
+      GRAN_CALL(gran_theory_temperatures(mix, T0, ntimes, t, rtol, T));
+      if (a2 && ntimes > 0) std::fill(a2, a2 + ntimes * M, 0.0);
+      return GRAN_SUCCESS;
+    }
+    GRAN_CALL(check_sonine_model(mix));
+    GRAN_CALL(check_array(T0, M, "T0", 1));
+    if (a20) {
+      for (int64_t k = 0; k < M; k++)
+        GRAN_CHECK(std::fabs(a20[k]) < 1.0, GRAN_ERR_ARG,
+                   "argument 'a20'[%" PRId64 "] = %g: the first Sonine approximation needs |a2| < 1", k, a20[k]);
+    }
+    GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);
+    if (ntimes > 0) {
+      GRAN_CALL(check_times(t, ntimes, "t"));
+      GRAN_CHECK_PTR(T);
+    }
+    GRAN_CALL(check_rtol(rtol, "rtol"));
+    if (ntimes == 0) return GRAN_SUCCESS;
+    STraj tr;
+    tr.mix = mix;
+    tr.M = M;
+    tr.T0.assign(T0, T0 + M);
+    tr.T = tr.T0;
+    tr.a2.assign((size_t)M, 0.0);
+    if (a20) tr.a2.assign(a20, a20 + M);
+    spass(mix, tr.T.data(), tr.a2.data(), tr.P);
+    double numax = 0.0;
+    for (double v : tr.P.nu) numax = std::max(numax, v);
+    tr.ts = numax > 0.0 ? 1.0 / numax : 1.0;
+    std::vector<int64_t> idx((size_t)ntimes);
+    std::iota(idx.begin(), idx.end(), (int64_t)0);
+    std::stable_sort(idx.begin(), idx.end(), [&](int64_t x, int64_t y) { return t[x] < t[y]; });
+    const size_t dim = (size_t)(2 * M);
+    std::vector<double> y(dim, 0.0);
+    for (int64_t k = 0; k < M; k++) y[(size_t)(M + k)] = tr.a2[(size_t)k];
+    gsl_odeiv2_system sys{traj_rhs, nullptr, dim, &tr};
+    /* local tolerance rtol/10 (as gran_theory_temperatures); absolute 1e-3 rtol on a2, z */
+    gsl_odeiv2_driver *drv =
+        gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, 1e-6, 1e-3 * rtol, std::max(1e-15, 0.1 * rtol));
+    if (!drv) return GRAN_ERROR(GRAN_ERR_NOMEM, "cannot allocate the ODE driver (M = %" PRId64 ")", M);
+    gsl_odeiv2_driver_set_nmax(drv, 10000000);
+    double s = 0.0;
+    int st = GSL_SUCCESS;
+    for (int64_t j = 0; j < ntimes && st == GSL_SUCCESS; j++) {
+      const int64_t o = idx[(size_t)j];
+      const double so = std::log1p(t[o] / tr.ts);
+      if (so > s) st = gsl_odeiv2_driver_apply(drv, &s, so, y.data());
+      if (st != GSL_SUCCESS) break;
+      for (int64_t k = 0; k < M; k++) {
+        T[o * M + k] = T0[k] * std::exp(y[(size_t)k] - 2.0 * so);
+        if (a2) a2[o * M + k] = y[(size_t)(M + k)];
+      }
+    }
+    gsl_odeiv2_driver_free(drv);
+    if (st != GSL_SUCCESS)
+      return GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine trajectory (M = %" PRId64 ") failed (GSL: %s)", M,
+                        gsl_strerror(st));
+    for (int64_t j = 0; j < ntimes * M; j++)
+      GRAN_CHECK(std::isfinite(T[j]) && T[j] > 0.0, GRAN_ERR_NUMERIC,
+                 "Sonine trajectory: temperature %" PRId64 " is not finite and positive", j);
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
