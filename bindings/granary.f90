@@ -89,6 +89,9 @@ module granary
   integer(c_int), parameter, public :: GRAN_RESTITUTION_VISCOELASTIC = 2
   integer(c_int), parameter, public :: GRAN_HCS_NORM_MEAN = 0
   integer(c_int), parameter, public :: GRAN_HCS_NORM_T1 = 1
+  ! gran_theory_approximation: Maxwellian (reference) or first Sonine level (docs/physics-sonine.md)
+  integer(c_int), parameter, public :: GRAN_THEORY_MAXWELLIAN = 0
+  integer(c_int), parameter, public :: GRAN_THEORY_SONINE = 1
   public :: gran_mixture_create, gran_mixture_create_powerlaw, gran_mixture_destroy, gran_mixture_nspecies
   public :: gran_mixture_get, gran_mixture_set_restitution, gran_mixture_set_restitution_matrix
   public :: gran_mixture_set_viscoelastic, gran_mixture_set_viscoelastic_matrix
@@ -97,6 +100,7 @@ module granary
   public :: gran_viscoelastic_eps, gran_viscoelastic_eps_vn
   public :: gran_theory_cooling_rates, gran_theory_tau_v, gran_theory_diffusion, gran_theory_collision_rate1
   public :: gran_theory_hcs, gran_theory_temperatures, gran_theory_msd_hcs, gran_theory_msd
+  public :: gran_theory_hcs_approx, gran_theory_sonine_rates, gran_theory_temperatures_approx
   public :: gran_theory_tamsd, gran_theory_tamsd_sampled, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
   public :: gran_theory_tracer_gamma_approx, gran_theory_tracer_tau_v_hat
   public :: gran_theory_mean_relative_speed, gran_theory_collision_rates, gran_theory_collision_counts
@@ -606,6 +610,36 @@ module granary
       real(c_double), intent(out) :: tau0
       integer(c_int) :: ierr
     end function c_gran_theory_hcs
+    function c_gran_theory_hcs_approx(mix, approx, norm, val, t0, a2, tau0) &
+        bind(C, name='gran_theory_hcs_approx') result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      integer(c_int), value :: approx, norm
+      real(c_double), value :: val
+      real(c_double), intent(out) :: t0(*), a2(*)
+      real(c_double), intent(out) :: tau0
+      integer(c_int) :: ierr
+    end function c_gran_theory_hcs_approx
+    function c_gran_theory_sonine_rates(mix, temp, a2, zeta, da2dt) bind(C, name='gran_theory_sonine_rates') &
+        result(ierr)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: mix
+      real(c_double), intent(in) :: temp(*), a2(*)
+      real(c_double), intent(out) :: zeta(*), da2dt(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_sonine_rates
+    function c_gran_theory_temperatures_approx(mix, approx, t0, a20, ntimes, t, rtol, temp, a2) &
+        bind(C, name='gran_theory_temperatures_approx') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      integer(c_int), value :: approx
+      real(c_double), intent(in) :: t0(*), a20(*)
+      integer(c_int64_t), value :: ntimes
+      real(c_double), intent(in) :: t(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: temp(*), a2(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_temperatures_approx
     function c_gran_theory_temperatures(mix, t0, ntimes, t, rtol, temp) &
         bind(C, name='gran_theory_temperatures') result(ierr)
       import :: c_int, c_int64_t, c_double, c_ptr
@@ -2008,6 +2042,58 @@ contains
     call gran_check(c_gran_theory_hcs(mix, int(norm, c_int), val, t0, tau), ierr)
     if (present(tau0)) tau0 = tau
   end subroutine gran_theory_hcs
+
+  !> HCS in the approximation GRAN_THEORY_MAXWELLIAN or GRAN_THEORY_SONINE: t0(M), a2(M) (zeros at
+  !> the Maxwellian level), tau0 (huge -> inf).
+  subroutine gran_theory_hcs_approx(mix, approx, norm, val, t0, a2, tau0, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: approx, norm
+    real(c_double), intent(in) :: val
+    real(c_double), intent(out) :: t0(:), a2(:)
+    real(c_double), intent(out), optional :: tau0
+    integer, intent(out), optional :: ierr
+    real(c_double) :: tau
+    if (gran_theory_short(size(t0), gran_theory_m(mix), 'gran_theory_hcs_approx: size(t0) < M', ierr)) return
+    if (gran_theory_short(size(a2), gran_theory_m(mix), 'gran_theory_hcs_approx: size(a2) < M', ierr)) return
+    tau = 0
+    call gran_check(c_gran_theory_hcs_approx(mix, int(approx, c_int), int(norm, c_int), val, t0, a2, tau), ierr)
+    if (present(tau0)) tau0 = tau
+  end subroutine gran_theory_hcs_approx
+
+  !> First Sonine rates at (temp(M), a2(M)): zeta(M) and da2dt(M).
+  subroutine gran_theory_sonine_rates(mix, temp, a2, zeta, da2dt, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: temp(:), a2(:)
+    real(c_double), intent(out) :: zeta(:), da2dt(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(temp), m, 'gran_theory_sonine_rates: size(temp) < M', ierr)) return
+    if (gran_theory_short(size(a2), m, 'gran_theory_sonine_rates: size(a2) < M', ierr)) return
+    if (gran_theory_short(size(zeta), m, 'gran_theory_sonine_rates: size(zeta) < M', ierr)) return
+    if (gran_theory_short(size(da2dt), m, 'gran_theory_sonine_rates: size(da2dt) < M', ierr)) return
+    call gran_check(c_gran_theory_sonine_rates(mix, temp, a2, zeta, da2dt), ierr)
+  end subroutine gran_theory_sonine_rates
+
+  !> temp(M, size(t)) and a2(M, size(t)) from t0(M), a20(M) in either approximation.
+  subroutine gran_theory_temperatures_approx(mix, approx, t0, a20, t, rtol, temp, a2, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: approx
+    real(c_double), intent(in) :: t0(:), a20(:), t(:), rtol
+    real(c_double), intent(out) :: temp(:, :), a2(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_temperatures_approx: size(t0) < M', ierr)) return
+    if (gran_theory_short(size(a20), m, 'gran_theory_temperatures_approx: size(a20) < M', ierr)) return
+    if (m > 0 .and. (size(temp, 1, kind=c_int64_t) /= m .or. size(temp, 2) /= size(t) .or. &
+        size(a2, 1, kind=c_int64_t) /= m .or. size(a2, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_temperatures_approx: temp and a2 must be (M, size(t))', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_temperatures_approx(mix, int(approx, c_int), t0, a20, size(t, kind=c_int64_t), t, &
+                    rtol, temp, a2), ierr)
+  end subroutine gran_theory_temperatures_approx
 
   !> temp(M, size(t)) from t0(M) by Eq. 13.
   subroutine gran_theory_temperatures(mix, t0, t, rtol, temp, ierr)
