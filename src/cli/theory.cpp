@@ -1,6 +1,7 @@
-/* theory.cpp - `granary theory SCENE [--times ...] [--lags ...] [--json]`: kinetic theory of the
- * scene's mixture (HCS temperatures, relaxation and correlation times, diffusion coefficients;
- * T_k(t), MSD_k(t) and TAMSD at requested times and lags). */
+/* theory.cpp - `granary theory SCENE [--times ...] [--lags ...] [--approximation ...] [--json]`:
+ * kinetic theory of the scene's mixture (HCS temperatures, relaxation and correlation times,
+ * diffusion coefficients; T_k(t), MSD_k(t) and TAMSD at requested times and lags; with
+ * --approximation sonine also the first Sonine HCS (T_k, a2_k, tau0) and T_k(t), a2_k(t)). */
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,11 +16,15 @@ namespace {
 
 void theory_usage(FILE *f) {
   std::fprintf(f,
-               "usage: granary theory SCENE [--times t1,t2,...] [--lags l1,l2,...] [--json]\n"
+               "usage: granary theory SCENE [--times t1,t2,...] [--lags l1,l2,...] [--approximation A] [--json]\n"
                "  Prints, per species, n_k, m_k, sigma_k, T_k(0), gamma_k1 = T_k(0)/T_1(0), tau_v,k(0), D_k(0),\n"
                "  and tau0 of the homogeneous cooling state. Times are measured from the scene's t_start.\n"
                "  --times  also T_k(t) and MSD_k(t) at these times\n"
                "  --lags   also the TAMSD at these lags, for a measurement time equal to each of --times\n"
+               "  --approximation maxwellian (default: the reference level above) or sonine: also the first\n"
+               "           Sonine HCS (T_k, T_k/T_1, a2_k, tau0) and, with --times, T_k(t) and a2_k(t) from the\n"
+               "           scene's start (a2 = the Sonine HCS's when it starts in the HCS, else 0); constant or\n"
+               "           matrix restitution only. MSD and TAMSD stay at the Maxwellian level.\n"
                "  --json   the same as one JSON object on stdout (numbers %%.17g, inf/nan as null)\n");
 }
 
@@ -98,6 +103,7 @@ int cli_theory(int argc, char **argv) {
   const char *scene_path = nullptr;
   std::vector<double> times, lags;
   bool json = false;
+  int approx = GRAN_THEORY_MAXWELLIAN;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     if (!std::strcmp(a, "--help") || !std::strcmp(a, "-h")) {
@@ -105,6 +111,18 @@ int cli_theory(int argc, char **argv) {
       return 0;
     } else if (!std::strcmp(a, "--json")) {
       json = true;
+    } else if (!std::strcmp(a, "--approximation")) {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "granary theory: --approximation needs a value (maxwellian or sonine)\n");
+        return 2;
+      }
+      const char *v = argv[++i];
+      if (!std::strcmp(v, "maxwellian")) approx = GRAN_THEORY_MAXWELLIAN;
+      else if (!std::strcmp(v, "sonine")) approx = GRAN_THEORY_SONINE;
+      else {
+        std::fprintf(stderr, "granary theory: --approximation '%s': expected maxwellian or sonine\n", v);
+        return 2;
+      }
     } else if (!std::strcmp(a, "--times") || !std::strcmp(a, "--lags")) {
       if (i + 1 >= argc) {
         std::fprintf(stderr, "granary theory: %s needs a comma-separated list\n", a);
@@ -198,6 +216,35 @@ int cli_theory(int argc, char **argv) {
     }
   }
 
+  /* first Sonine level: the HCS with the scene's mean temperature, and the trajectories */
+  const bool son = approx == GRAN_THEORY_SONINE;
+  std::vector<double> Ts((size_t)M), a2s((size_t)M), Tst((size_t)(nt * M)), a2t((size_t)(nt * M));
+  double tau0s = NAN;
+  if (son) {
+    if (model == GRAN_RESTITUTION_VISCOELASTIC) {
+      std::fprintf(stderr, "granary theory: --approximation sonine: the scene's restitution is viscoelastic; the "
+                           "first Sonine approximation is implemented for constant or matrix restitution only\n");
+      return 2;
+    }
+    double num = 0, den = 0;
+    for (int64_t k = 0; k < M; k++) {
+      num += n[(size_t)k] * T0[(size_t)k];
+      den += n[(size_t)k];
+    }
+    if (gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_MEAN, num / den, Ts.data(), a2s.data(), &tau0s))
+      return fail("gran_theory_hcs_approx (sonine) failed");
+    if (nt) {
+      std::vector<double> a20((size_t)M, 0.0), T0s(T0);
+      if (hcs_start) {
+        a20 = a2s;
+        T0s = Ts;
+      }
+      if (gran_theory_temperatures_approx(mix, GRAN_THEORY_SONINE, T0s.data(), a20.data(), nt, times.data(), 1e-10,
+                                          Tst.data(), a2t.data()))
+        return fail("gran_theory_temperatures_approx (sonine) failed");
+    }
+  }
+
   if (json) {
     std::string o = "{";
     o += "\"scene\": ";
@@ -213,6 +260,27 @@ int cli_theory(int argc, char **argv) {
     jnum(o, tau0_hcs);
     o += ", \"tau_c0\": ";
     jnum(o, 1.0 / inv_tc);
+    o += ", \"approximation\": ";
+    jstr(o, son ? "sonine" : "maxwellian");
+    if (son) {
+      std::vector<double> gs((size_t)M);
+      for (int64_t k = 0; k < M; k++) gs[(size_t)k] = Ts[(size_t)k] / Ts[0];
+      o += ", \"sonine\": {\"tau0\": ";
+      jnum(o, tau0s);
+      o += ", \"T0\": ";
+      jarr(o, Ts.data(), M);
+      o += ", \"gamma\": ";
+      jarr(o, gs.data(), M);
+      o += ", \"a2\": ";
+      jarr(o, a2s.data(), M);
+      if (nt) {
+        o += ", \"T\": ";
+        jmat(o, Tst.data(), nt, M);
+        o += ", \"a2_t\": ";
+        jmat(o, a2t.data(), nt, M);
+      }
+      o += "}";
+    }
     o += ", \"species\": [";
     for (int64_t k = 0; k < M; k++) {
       const size_t K = (size_t)k;
@@ -289,6 +357,21 @@ int cli_theory(int argc, char **argv) {
         std::printf("%14.8g %4" PRId64 " %16.10g %16.10g\n", times[(size_t)i], k + 1, T[(size_t)(i * M + k)],
                     msd[(size_t)(i * M + k)]);
       std::printf("%14.8g %4s %16s %16.10g\n", times[(size_t)i], "all", "", msd_tot[(size_t)i]);
+    }
+  }
+  if (son) {
+    std::printf("\nFirst Sonine approximation: HCS with the same mean temperature, tau0 = %.8g\n", tau0s);
+    std::printf("%4s %16s %14s %14s\n", "k", "T_k", "gamma_k1", "a2_k");
+    for (int64_t k = 0; k < M; k++)
+      std::printf("%4" PRId64 " %16.10g %14.8g %14.8g\n", k + 1, Ts[(size_t)k], Ts[(size_t)k] / Ts[0],
+                  a2s[(size_t)k]);
+    if (nt) {
+      std::printf("\nT_k(t) and a2_k(t), first Sonine approximation\n");
+      std::printf("%14s %4s %16s %14s\n", "t", "k", "T_k(t)", "a2_k(t)");
+      for (int64_t i = 0; i < nt; i++)
+        for (int64_t k = 0; k < M; k++)
+          std::printf("%14.8g %4" PRId64 " %16.10g %14.8g\n", times[(size_t)i], k + 1, Tst[(size_t)(i * M + k)],
+                      a2t[(size_t)(i * M + k)]);
     }
   }
   if (nl) {
