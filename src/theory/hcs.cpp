@@ -184,6 +184,7 @@ struct Newton {
   int iters = 0, rank = 0;
   Pass P;
   const double *scale = nullptr; /* rates xi_k scale_k (frozen factors), NULL: 1 */
+  int max_steps = -1;            /* >= 0: return after this many steps without a final check */
 };
 
 int solve_dense_step(Newton &N, std::vector<double> &du, double &dc) {
@@ -342,6 +343,7 @@ int newton(Newton &N, double tol, int maxit) {
     const double sc = big > 1.0 ? 1.0 / big : 1.0;
     for (int64_t k = 0; k < M; k++) N.u[(size_t)k] += sc * du[(size_t)k];
     N.c += sc * dc;
+    if (N.max_steps >= 0 && N.iters + 1 >= N.max_steps) return GRAN_SUCCESS;
   }
 }
 
@@ -532,7 +534,7 @@ int solve_u(const gran_mixture *mix, std::vector<double> &u, int64_t *ref_out, d
 /* The HCS of rates scale_k xi_k(T) (scale frozen) from the start u (log T, any constant), by the
  * clamped Newton above (dense or low rank by M); u[ref] = 0 on return, ref the densest species. */
 int gran::hcs_solve_scaled(const gran_mixture *mix, const double *scale, std::vector<double> &u, int64_t *ref_out,
-                           double tol, int *passes) {
+                           double tol, int max_steps, int *passes) {
   const int64_t M = mix->M;
   Newton N;
   N.mix = mix;
@@ -545,6 +547,7 @@ int gran::hcs_solve_scaled(const gran_mixture *mix, const double *scale, std::ve
   N.T.assign((size_t)M, 1.0);
   N.u = u;
   N.scale = scale;
+  N.max_steps = max_steps;
   const double shift = N.u[(size_t)N.ref];
   for (auto &v : N.u) v -= shift;
   const int st = newton(N, tol, 100);

@@ -27,6 +27,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
+
+#if defined(__AVX512F__) || defined(__AVX__) || defined(__SSE2__)
+#include <immintrin.h>
+#endif
 #include <numeric>
 
 namespace {
@@ -45,58 +50,204 @@ struct SPass {
   std::vector<double> nu;   /* collision frequency scale (for the residuals) */
 };
 
-void spass(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
+/* Contributions of partner i to the sums of species k (own): w = sqrt(2 pi) n_i sigma_ki^2 g2,
+ * mu = m_i/(m_i+m_k), r = T_i/T_k, omr = 1 - r, s = sqrt(a_k + a_i), is = 1/s. */
+template <typename V> struct PairOut {
+  V zm, czo, czp, pm, cpo, cpp;
+};
+template <typename V>
+static inline PairOut<V> pair_terms(V w, double p, double q, V mu, V omu, V r, V omr, V ak, V ai, V s, V is) {
+  PairOut<V> o;
+  const V Gam = mu + r * omu, Bm = omu * omr + q * Gam; /* Bm = 1 - p Gamma = (2 a_k - A s^2)/(2 a_k) */
+  const V A = 2.0 * mu * p;
+  const V s2 = s * s, iak = 1.0 / ak, is2 = is * is, is3 = is2 * is, is5 = is3 * is2;
+  const V As2 = A * s2, G2 = 2.0 * p * Gam; /* A s^2 / a_k */
+  const V wA = w * A;
+  o.zm = (8.0 / 3.0) * wA * s * Bm;
+  o.pm = (16.0 / 15.0) * wA * ak * is * Bm * (-1.0 + 4.0 * G2 - 2.0 * G2 * G2);
+  o.czo = -wA * ak * (3.0 * As2 - 6.0 * ak - 8.0 * ai) * is3 * (1.0 / 6.0);
+  o.czp = -wA * ai * ai * (3.0 * As2 + 2.0 * ak) * is3 * iak * (1.0 / 6.0);
+  const V A2 = A * A, A3 = A2 * A, ai2 = ai * ai, ai3 = ai2 * ai, ak2 = ak * ak, ak3 = ak2 * ak;
+  const V s6 = s2 * s2 * s2;
+  const V Pk = 30.0 * A3 * s6 - 120.0 * A2 * ak3 - 336.0 * A2 * ak2 * ai - 312.0 * A2 * ak * ai2 -
+                    96.0 * A2 * ai3 + 210.0 * A * ak3 + 561.0 * A * ak2 * ai + 483.0 * A * ak * ai2 + 132.0 * A * ai3 -
+                    180.0 * ak3 - 462.0 * ak2 * ai - 368.0 * ak * ai2 - 80.0 * ai3;
+  const V Pi = 30.0 * A3 * s6 - 24.0 * A2 * ak * s2 * s2 + 6.0 * A * ak3 + 21.0 * A * ak2 * ai +
+                    15.0 * A * ak * ai2 + 4.0 * ak3 + 10.0 * ak2 * ai;
+  const V c4o = wA * Pk * is5 * (1.0 / 15.0);
+  const V c4p = wA * ai2 * Pi * is5 * iak * iak * (1.0 / 15.0);
+  o.cpo = c4o + 2.0 * o.czo + 2.0 * o.zm; /* d Phi/d a2_k: R4, 2 zeta_1, 2 zeta_0 a2_k */
+  o.cpp = c4p + 2.0 * o.czp;
+  return o;
+}
+
+/* SIMD: std::sqrt does not vectorise under -fmath-errno, so the constant-eps pass uses intrinsics */
+#if defined(__AVX512F__)
+const int VW = 8;
+typedef double vd __attribute__((vector_size(64)));
+inline vd vsqrt(vd x) { return (vd)_mm512_mask_sqrt_pd((__m512d)x, (__mmask8)-1, (__m512d)x); }
+#elif defined(__AVX__)
+const int VW = 4;
+typedef double vd __attribute__((vector_size(32)));
+inline vd vsqrt(vd x) { return (vd)_mm256_sqrt_pd((__m256d)x); }
+#elif defined(__SSE2__)
+const int VW = 2;
+typedef double vd __attribute__((vector_size(16)));
+inline vd vsqrt(vd x) { return (vd)_mm_sqrt_pd((__m128d)x); }
+#else
+const int VW = 1;
+typedef double vd;
+inline vd vsqrt(vd x) { return std::sqrt(x); }
+#endif
+inline vd vload(const double *p) {
+  vd v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void vstore(double *p, vd v) { std::memcpy(p, &v, sizeof v); }
+inline double hsum(vd v) {
+  double a[sizeof(vd) / sizeof(double)];
+  std::memcpy(a, &v, sizeof v);
+  double t = 0.0;
+  for (double x : a) t += x;
+  return t;
+}
+
+void spass_general(const gran_mixture *mix, const double *T, const double *a2, SPass &P);
+
+/* Constant eps and g2: the pairs (k, i < k) VW at a time, both directions per pair. */
+void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
   const int64_t M = mix->M;
   for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.nu}) v->assign((size_t)M, 0.0);
   const double *m = mix->m.data(), *sg = mix->sigma.data(), *n = mix->n.data();
+  double *z0 = P.z0.data(), *z1 = P.z1.data(), *phi = P.phi.data(), *dg = P.diag.data(), *of = P.off.data(),
+         *nu = P.nu.data();
+  const double p = 0.5 * (1.0 + mix->eps), q = 0.5 * (1.0 - mix->eps), W = SQ2PI * mix->g2;
+  std::vector<double> av((size_t)M), iT((size_t)M);
   for (int64_t k = 0; k < M; k++) {
-    const double mk = m[k], Tk = T[k], ak = Tk / mk, iak = 1.0 / ak, ak2 = ak * ak;
-    double z0 = 0.0, z1 = 0.0, phi = 0.0, dg = 0.0, of = 0.0, nu = 0.0;
-    for (int64_t i = 0; i < M; i++) {
-      if (n[i] == 0.0) continue;
+    av[(size_t)k] = T[k] / m[k];
+    iT[(size_t)k] = 1.0 / T[k];
+  }
+  for (int64_t k = 0; k < M; k++) {
+    const double mk = m[k], Tk = T[k], ak = av[(size_t)k], iTk = iT[(size_t)k], nk = n[k], sk = sg[k], a2k = a2[k];
+    { /* self pair */
+      const double w = W * sk * sk * nk, s = std::sqrt(2.0 * ak);
+      const PairOut<double> o = pair_terms<double>(w, p, q, 0.5, 0.5, 1.0, 0.0, ak, ak, s, 1.0 / s);
+      z0[k] += o.zm;
+      z1[k] += (o.czo + o.czp) * a2k;
+      phi[k] += o.pm + (o.cpo + o.cpp) * a2k;
+      dg[k] += o.cpo + o.cpp;
+      nu[k] += w * 0.5 * s;
+    }
+    vd vz0 = {}, vz1 = {}, vph = {}, vdg = {}, vof = {}, vnu = {};
+    int64_t i = 0;
+    for (; i + VW <= k; i += VW) {
+      const vd mi = vload(m + i), Ti = vload(T + i), ai = vload(av.data() + i), iTi = vload(iT.data() + i),
+               ni = vload(n + i), si = vload(sg + i), a2i = vload(a2 + i);
+      const vd sgm = 0.5 * (sk + si);
+      const vd w0 = W * sgm * sgm;
+      const vd inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv;
+      const vd s = vsqrt(ak + ai), is = 1.0 / s;
+      const vd akv = ak + (vd){}, Tkv = Tk + (vd){};
+      {
+        const vd w = w0 * ni;
+        const PairOut<vd> o = pair_terms<vd>(w, p, q, mu, omu, Ti * iTk, (Tkv - Ti) * iTk, akv, ai, s, is);
+        vz0 += o.zm;
+        vz1 += o.czo * a2k + o.czp * a2i;
+        vph += o.pm + o.cpo * a2k + o.cpp * a2i;
+        vdg += o.cpo;
+        vof += o.cpp;
+        vnu += w * mu * s;
+      }
+      {
+        const vd w = w0 * nk;
+        const PairOut<vd> o = pair_terms<vd>(w, p, q, omu, mu, Tk * iTi, (Ti - Tkv) * iTi, ai, akv, s, is);
+        vstore(z0 + i, vload(z0 + i) + o.zm);
+        vstore(z1 + i, vload(z1 + i) + o.czo * a2i + o.czp * a2k);
+        vstore(phi + i, vload(phi + i) + o.pm + o.cpo * a2i + o.cpp * a2k);
+        vstore(dg + i, vload(dg + i) + o.cpo);
+        vstore(of + i, vload(of + i) + o.cpp);
+        vstore(nu + i, vload(nu + i) + w * omu * s);
+      }
+    }
+    double sz0 = hsum(vz0), sz1 = hsum(vz1), sph = hsum(vph), sdg = hsum(vdg), sof = hsum(vof), snu = hsum(vnu);
+    for (; i < k; i++) {
+      const double mi = m[i], Ti = T[i], ai = av[(size_t)i], sgm = 0.5 * (sk + sg[i]), w0 = W * sgm * sgm;
+      const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv, s = std::sqrt(ak + ai), is = 1.0 / s;
+      {
+        const double w = w0 * n[i];
+        const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti * iTk, (Tk - Ti) * iTk, ak, ai, s, is);
+        sz0 += o.zm;
+        sz1 += o.czo * a2k + o.czp * a2[i];
+        sph += o.pm + o.cpo * a2k + o.cpp * a2[i];
+        sdg += o.cpo;
+        sof += o.cpp;
+        snu += w * mu * s;
+      }
+      {
+        const double w = w0 * nk, iTi = iT[(size_t)i];
+        const PairOut<double> o = pair_terms<double>(w, p, q, omu, mu, Tk * iTi, (Ti - Tk) * iTi, ai, ak, s, is);
+        z0[i] += o.zm;
+        z1[i] += o.czo * a2[i] + o.czp * a2k;
+        phi[i] += o.pm + o.cpo * a2[i] + o.cpp * a2k;
+        dg[i] += o.cpo;
+        of[i] += o.cpp;
+        nu[i] += w * omu * s;
+      }
+    }
+    z0[k] += sz0;
+    z1[k] += sz1;
+    phi[k] += sph;
+    dg[k] += sdg;
+    of[k] += sof;
+    nu[k] += snu;
+  }
+}
+
+void spass(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
+  if (mix->model == GRAN_RESTITUTION_CONSTANT && mix->g2_mat.empty()) spass_fast(mix, T, a2, P);
+  else spass_general(mix, T, a2, P);
+}
+
+/* Any restitution/g2 matrices: each unordered pair once with the accessors. */
+void spass_general(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
+  const int64_t M = mix->M;
+  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.nu}) v->assign((size_t)M, 0.0);
+  const double *m = mix->m.data(), *sg = mix->sigma.data(), *n = mix->n.data();
+  double *z0 = P.z0.data(), *z1 = P.z1.data(), *phi = P.phi.data(), *dg = P.diag.data(), *of = P.off.data(),
+         *nu = P.nu.data();
+  for (int64_t k = 0; k < M; k++) {
+    const double mk = m[k], Tk = T[k], ak = Tk / mk;
+    for (int64_t i = 0; i <= k; i++) {
+      if (n[i] == 0.0 && n[k] == 0.0) continue;
       const double mi = m[i], Ti = T[i], ai = Ti / mi;
       const double sgm = 0.5 * (sg[k] + sg[i]);
-      const double w = SQ2PI * n[i] * sgm * sgm * mix_g2(mix, k, i);
+      const double w0 = SQ2PI * sgm * sgm * mix_g2(mix, k, i);
       const double eps = mix_eps(mix, k, i), p = 0.5 * (1.0 + eps), q = 0.5 * (1.0 - eps);
       const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv;
-      const double r = Ti / Tk, omr = (Tk - Ti) / Tk;
-      const double Gam = mu + r * omu, Bm = omu * omr + q * Gam; /* Bm = 1 - p Gamma = (2 a_k - A s^2)/(2 a_k) */
-      const double A = 2.0 * mu * p;
-      const double s2 = ak + ai, s = std::sqrt(s2), is = 1.0 / s, is3 = is * is * is, is5 = is3 * is * is;
-      const double As2 = A * s2, G2 = 2.0 * p * Gam; /* A s^2 / a_k */
-      const double wA = w * A;
-      /* Maxwellian parts */
-      const double zm = (8.0 / 3.0) * wA * s * Bm;
-      const double pm = (16.0 / 15.0) * wA * ak * is * Bm * (-1.0 + 4.0 * G2 - 2.0 * G2 * G2);
-      /* a2 coefficients of zeta_k (own, partner) */
-      const double czo = -wA * ak * (3.0 * As2 - 6.0 * ak - 8.0 * ai) * is3 / 6.0;
-      const double czp = -wA * ai * ai * (3.0 * As2 + 2.0 * ak) * is3 * iak / 6.0;
-      /* a2 coefficients of sum R4/(15 a_k^2) */
-      const double A2 = A * A, A3 = A2 * A, ai2 = ai * ai, ai3 = ai2 * ai, ak3 = ak2 * ak;
-      const double s6 = s2 * s2 * s2;
-      const double Pk = 30.0 * A3 * s6 - 120.0 * A2 * ak3 - 336.0 * A2 * ak2 * ai - 312.0 * A2 * ak * ai2 -
-                        96.0 * A2 * ai3 + 210.0 * A * ak3 + 561.0 * A * ak2 * ai + 483.0 * A * ak * ai2 +
-                        132.0 * A * ai3 - 180.0 * ak3 - 462.0 * ak2 * ai - 368.0 * ak * ai2 - 80.0 * ai3;
-      const double Pi = 30.0 * A3 * s6 - 24.0 * A2 * ak * s2 * s2 + 6.0 * A * ak3 + 21.0 * A * ak2 * ai +
-                        15.0 * A * ak * ai2 + 4.0 * ak3 + 10.0 * ak2 * ai;
-      const double c4o = wA * Pk * is5 / 15.0;
-      const double c4p = wA * ai2 * Pi * is5 / (15.0 * ak2);
-      const double cpo = c4o + 2.0 * czo + 2.0 * zm; /* d Phi/d a2_k: R4, 2 zeta_1, 2 zeta_0 a2_k */
-      const double cpp = c4p + 2.0 * czp;
-      z0 += zm;
-      z1 += czo * a2[k] + czp * a2[i];
-      phi += pm + cpo * a2[k] + cpp * a2[i];
-      dg += cpo;
-      if (i == k) dg += cpp;
-      else of += cpp;
-      nu += w * mu * s;
+      const double s = std::sqrt(ak + ai), is = 1.0 / s;
+      if (n[i] != 0.0) { /* partner i acting on k */
+        const double w = w0 * n[i];
+        const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti / Tk, (Tk - Ti) / Tk, ak, ai, s, is);
+        z0[k] += o.zm;
+        z1[k] += o.czo * a2[k] + o.czp * a2[i];
+        phi[k] += o.pm + o.cpo * a2[k] + o.cpp * a2[i];
+        dg[k] += o.cpo;
+        if (i == k) dg[k] += o.cpp;
+        else of[k] += o.cpp;
+        nu[k] += w * mu * s;
+      }
+      if (i != k && n[k] != 0.0) { /* partner k acting on i */
+        const double w = w0 * n[k];
+        const PairOut<double> o = pair_terms<double>(w, p, q, omu, mu, Tk / Ti, (Ti - Tk) / Ti, ai, ak, s, is);
+        z0[i] += o.zm;
+        z1[i] += o.czo * a2[i] + o.czp * a2[k];
+        phi[i] += o.pm + o.cpo * a2[i] + o.cpp * a2[k];
+        dg[i] += o.cpo;
+        of[i] += o.cpp;
+        nu[i] += w * omu * s;
+      }
     }
-    P.z0[(size_t)k] = z0;
-    P.z1[(size_t)k] = z1;
-    P.phi[(size_t)k] = phi;
-    P.diag[(size_t)k] = dg;
-    P.off[(size_t)k] = of;
-    P.nu[(size_t)k] = nu;
   }
 }
 
@@ -344,7 +495,7 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
       }
       int64_t r2 = 0;
       const double tin = std::max(0.01 * SON_TOL, 0.01 * std::max(rT, rA));
-      GRAN_CALL(hcs_solve_scaled(mix, scale.data(), u, &r2, tin, &passes));
+      GRAN_CALL(hcs_solve_scaled(mix, scale.data(), u, &r2, tin, 1, &passes));
     }
     /* Anderson mixing of the sweep map x -> G(x), x = (u - u_ref, a2) */
     for (int64_t k = 0; k < M; k++) {

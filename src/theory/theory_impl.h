@@ -114,9 +114,11 @@ void collision_scale(const gran_mixture *mix, const double *T, double *nu);
 /* ---- HCS solves (hcs.cpp) ---------------------------------------------------------------------
  * HCS of the rates scale_k xi_k(T) with frozen factors scale_k > 0 (NULL: 1), from the start u =
  * log T (any constant); on return u[ref] = 0, ref = the densest species. Constant/matrix
- * restitution. passes (may be NULL) is incremented by the number of O(M^2) pair passes used. */
+ * restitution. max_steps >= 0: return after at most that many Newton steps (no final check;
+ * -1: until the residual is <= tol). passes (may be NULL) is incremented by the number of O(M^2)
+ * pair passes used. */
 int hcs_solve_scaled(const gran_mixture *mix, const double *scale, std::vector<double> &u, int64_t *ref_out,
-                     double tol, int *passes);
+                     double tol, int max_steps, int *passes);
 
 /* ---- HCS states (msd.cpp) ---------------------------------------------------------------------
  * Checks that (T0, tau0) is a homogeneous cooling state (|xi_k tau0/2 - 1| <= 1e-3; tau0 = inf:
