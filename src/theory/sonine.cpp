@@ -642,10 +642,16 @@ GRAN_EXTERN int gran_theory_hcs_approx(const gran_mixture *mix, int approximatio
     }
     for (int64_t k = 0; k < M; k++) {
       T0[k] = std::exp(loglam + u[(size_t)k]);
-      GRAN_CHECK(std::isfinite(T0[k]) && T0[k] > 0.0 && std::isfinite(b[(size_t)k]) && std::fabs(b[(size_t)k]) < 1.0,
-                 GRAN_ERR_NUMERIC, "Sonine HCS of species %" PRId64 " is not finite (T = %g, a2 = %g)", k, T0[k],
-                 b[(size_t)k]);
+      GRAN_CHECK(std::isfinite(T0[k]) && T0[k] > 0.0 && std::isfinite(b[(size_t)k]), GRAN_ERR_NUMERIC,
+                 "Sonine HCS of species %" PRId64 " is not finite (T = %g, a2 = %g)", k, T0[k], b[(size_t)k]);
     }
+    /* |a2| >= 1 makes f_k negative at some speeds: the expansion has failed there (e.g. a heavy
+     * species much hotter than the gas, the regime of Santos & Dufty's ordered phase) */
+    for (int64_t k = 0; k < M; k++)
+      GRAN_CHECK(std::fabs(b[(size_t)k]) < 1.0, GRAN_ERR_DOMAIN,
+                 "the first Sonine approximation fails for species %" PRId64 " of mixture 'mix': a2 = %g (|a2| >= 1; "
+                 "T_k/T_1 = %g, m_k/m_1 = %g)",
+                 k, b[(size_t)k], T0[k] / T0[0], mix->m[(size_t)k] / mix->m[0]);
     if (a2) std::copy(b.begin(), b.end(), a2);
     if (tau0) {
       *tau0 = elastic ? HUGE_VAL : 2.0 / (cbar * std::exp(0.5 * loglam));
