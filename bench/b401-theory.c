@@ -131,6 +131,53 @@ static void bench_hcs(void) {
   }
 }
 
+/* Maxwellian against first Sonine HCS (CPU time, steadier on a shared machine): m_k geometric from
+ * 1 to 10, sigma_k = m_k^(1/3), n_k ~ m_k^-2, eps = 0.5. Accuracy: the defects of the Sonine state
+ * (max |zeta_k tau0/2 - 1|, max |da2_k/dt| tau0) and how far it moves T_M/T_1 from the Maxwellian. */
+static void bench_sonine(void) {
+  printf("\n5. HCS: Maxwellian vs first Sonine approximation, m_k = 10^((k-1)/(M-1)), sigma_k = m_k^(1/3),\n"
+         "   n_k ~ m_k^-2, eps = 0.5 (CPU seconds; target: Sonine within 10x the Maxwellian)\n");
+  printf("%8s | %10s %10s %7s | %10s %10s | %12s %9s\n", "M", "Maxw. [s]", "Sonine [s]", "ratio", "zeta defect",
+         "da2 defect", "T_M/T_1 shift", "a2_1");
+  const int64_t Ms[4] = {10, 100, 1000, 10000};
+  for (int i = 0; i < 4; i++) {
+    const int64_t M = Ms[i];
+    if (M > 1000 && bench_quick()) {
+      printf("%8" PRId64 " | (skipped: BENCH_QUICK)\n", M);
+      continue;
+    }
+    double *m = malloc(sizeof(double) * (size_t)M), *sg = malloc(sizeof(double) * (size_t)M),
+           *n = malloc(sizeof(double) * (size_t)M), *T = malloc(sizeof(double) * (size_t)M),
+           *TS = malloc(sizeof(double) * (size_t)M), *a2 = malloc(sizeof(double) * (size_t)M),
+           *z = malloc(sizeof(double) * (size_t)M), *da = malloc(sizeof(double) * (size_t)M);
+    for (int64_t k = 0; k < M; k++) {
+      m[k] = pow(10.0, (double)k / (double)(M - 1));
+      sg[k] = cbrt(m[k]);
+      n[k] = pow(m[k], -2.0) / (double)M;
+    }
+    gran_mixture *mix = NULL;
+    BENCH_CHECK(gran_mixture_create(M, m, sg, n, &mix));
+    BENCH_CHECK(gran_mixture_set_restitution(mix, 0.5));
+    double tau0, taus, t0 = bench_cpu_now();
+    BENCH_CHECK(gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T, &tau0));
+    const double em = bench_cpu_now() - t0;
+    t0 = bench_cpu_now();
+    BENCH_CHECK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_MEAN, 1.0, TS, a2, &taus));
+    const double es = bench_cpu_now() - t0;
+    BENCH_CHECK(gran_theory_sonine_rates(mix, TS, a2, z, da));
+    double dz = 0, dd = 0;
+    for (int64_t k = 0; k < M; k++) {
+      dz = fmax(dz, fabs(0.5 * z[k] * taus - 1));
+      dd = fmax(dd, fabs(da[k] * taus));
+    }
+    const double shift = (TS[M - 1] / TS[0]) / (T[M - 1] / T[0]) - 1;
+    printf("%8" PRId64 " | %10.4f %10.4f %7.1f | %10.1e %10.1e | %+12.4f %9.5f\n", M, em, es, es / fmax(em, 1e-6), dz,
+           dd, shift, a2[0]);
+    free(m), free(sg), free(n), free(T), free(TS), free(a2), free(z), free(da);
+    gran_mixture_destroy(&mix);
+  }
+}
+
 int main(void) {
   printf("b401-theory: kinetic theory numerics (accuracy versus cost). Timings are wall-clock on a shared\n"
          "machine: compare rows, not absolute values.\n");
@@ -138,6 +185,7 @@ int main(void) {
   bench_msd();
   bench_tamsd();
   bench_hcs();
+  bench_sonine();
   printf("\npeak RSS %.1f MB\n", bench_peak_rss() / 1048576.0);
   return 0;
 }
