@@ -402,7 +402,6 @@ void anderson(Anderson &A, const std::vector<double> &xin, std::vector<double> &
   if (!(tr > 0.0) || !std::isfinite(tr)) return;
   for (int a = 0; a < m; a++) H[(size_t)(a * m + a)] += 1e-12 * tr;
   /* Gaussian elimination with partial pivoting */
-  std::vector<int> piv((size_t)m);
   for (int c = 0; c < m; c++) {
     int pr = c;
     for (int r = c + 1; r < m; r++)
