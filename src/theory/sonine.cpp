@@ -56,26 +56,27 @@ template <typename V> struct PairOut {
   V zm, czo, czp, pm, cpo, cpp;
 };
 template <typename V>
-static inline PairOut<V> pair_terms(V w, double p, double q, V mu, V omu, V r, V omr, V ak, V ai, V s, V is) {
+static inline PairOut<V> pair_terms(V w, double p, double q, V mu, V omu, V r, V omr, V ak, V ai, V iak, V s, V is) {
   PairOut<V> o;
   const V Gam = mu + r * omu, Bm = omu * omr + q * Gam; /* Bm = 1 - p Gamma = (2 a_k - A s^2)/(2 a_k) */
   const V A = 2.0 * mu * p;
-  const V s2 = s * s, iak = 1.0 / ak, is2 = is * is, is3 = is2 * is, is5 = is3 * is2;
+  const V s2 = s * s, is2 = is * is, is3 = is2 * is, is5 = is3 * is2;
   const V As2 = A * s2, G2 = 2.0 * p * Gam; /* A s^2 / a_k */
   const V wA = w * A;
   o.zm = (8.0 / 3.0) * wA * s * Bm;
-  o.pm = (16.0 / 15.0) * wA * ak * is * Bm * (-1.0 + 4.0 * G2 - 2.0 * G2 * G2);
-  o.czo = -wA * ak * (3.0 * As2 - 6.0 * ak - 8.0 * ai) * is3 * (1.0 / 6.0);
-  o.czp = -wA * ai * ai * (3.0 * As2 + 2.0 * ak) * is3 * iak * (1.0 / 6.0);
-  const V A2 = A * A, A3 = A2 * A, ai2 = ai * ai, ai3 = ai2 * ai, ak2 = ak * ak, ak3 = ak2 * ak;
-  const V s6 = s2 * s2 * s2;
-  const V Pk = 30.0 * A3 * s6 - 120.0 * A2 * ak3 - 336.0 * A2 * ak2 * ai - 312.0 * A2 * ak * ai2 -
-                    96.0 * A2 * ai3 + 210.0 * A * ak3 + 561.0 * A * ak2 * ai + 483.0 * A * ak * ai2 + 132.0 * A * ai3 -
-                    180.0 * ak3 - 462.0 * ak2 * ai - 368.0 * ak * ai2 - 80.0 * ai3;
-  const V Pi = 30.0 * A3 * s6 - 24.0 * A2 * ak * s2 * s2 + 6.0 * A * ak3 + 21.0 * A * ak2 * ai +
-                    15.0 * A * ak * ai2 + 4.0 * ak3 + 10.0 * ak2 * ai;
-  const V c4o = wA * Pk * is5 * (1.0 / 15.0);
-  const V c4p = wA * ai2 * Pi * is5 * iak * iak * (1.0 / 15.0);
+  o.pm = (16.0 / 15.0) * wA * ak * is * Bm * (G2 * (4.0 - 2.0 * G2) - 1.0);
+  o.czo = (-1.0 / 6.0) * wA * ak * (3.0 * As2 - 6.0 * ak - 8.0 * ai) * is3;
+  const V ai2 = ai * ai, ak2 = ak * ak, s4 = s2 * s2, s6 = s4 * s2;
+  o.czp = (-1.0 / 6.0) * wA * ai2 * (3.0 * As2 + 2.0 * ak) * is3 * iak;
+  /* P_k, P_i of the header (Horner in A and in a_i) */
+  const V C2 = ((96.0 * ai + 312.0 * ak) * ai + 336.0 * ak2) * ai + 120.0 * ak2 * ak;
+  const V C1 = ((132.0 * ai + 483.0 * ak) * ai + 561.0 * ak2) * ai + 210.0 * ak2 * ak;
+  const V C0 = ((80.0 * ai + 368.0 * ak) * ai + 462.0 * ak2) * ai + 180.0 * ak2 * ak;
+  const V Pk = ((30.0 * s6 * A - C2) * A + C1) * A - C0;
+  const V Pi = ((30.0 * s6 * A - 24.0 * ak * s4) * A + ak * ((15.0 * ai + 21.0 * ak) * ai + 6.0 * ak2)) * A +
+               ak2 * (4.0 * ak + 10.0 * ai);
+  const V c4o = (1.0 / 15.0) * wA * Pk * is5;
+  const V c4p = (1.0 / 15.0) * wA * ai2 * Pi * is5 * iak * iak;
   o.cpo = c4o + 2.0 * o.czo + 2.0 * o.zm; /* d Phi/d a2_k: R4, 2 zeta_1, 2 zeta_0 a2_k */
   o.cpp = c4p + 2.0 * o.czp;
   return o;
@@ -123,16 +124,18 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
   double *z0 = P.z0.data(), *z1 = P.z1.data(), *phi = P.phi.data(), *dg = P.diag.data(), *of = P.off.data(),
          *nu = P.nu.data();
   const double p = 0.5 * (1.0 + mix->eps), q = 0.5 * (1.0 - mix->eps), W = SQ2PI * mix->g2;
-  std::vector<double> av((size_t)M), iT((size_t)M);
+  std::vector<double> av((size_t)M), iT((size_t)M), ia((size_t)M);
   for (int64_t k = 0; k < M; k++) {
     av[(size_t)k] = T[k] / m[k];
     iT[(size_t)k] = 1.0 / T[k];
+    ia[(size_t)k] = m[k] / T[k];
   }
   for (int64_t k = 0; k < M; k++) {
     const double mk = m[k], Tk = T[k], ak = av[(size_t)k], iTk = iT[(size_t)k], nk = n[k], sk = sg[k], a2k = a2[k];
+    const double iak = ia[(size_t)k];
     { /* self pair */
       const double w = W * sk * sk * nk, s = std::sqrt(2.0 * ak);
-      const PairOut<double> o = pair_terms<double>(w, p, q, 0.5, 0.5, 1.0, 0.0, ak, ak, s, 1.0 / s);
+      const PairOut<double> o = pair_terms<double>(w, p, q, 0.5, 0.5, 1.0, 0.0, ak, ak, iak, s, 1.0 / s);
       z0[k] += o.zm;
       z1[k] += (o.czo + o.czp) * a2k;
       phi[k] += o.pm + (o.cpo + o.cpp) * a2k;
@@ -148,10 +151,10 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
       const vd w0 = W * sgm * sgm;
       const vd inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv;
       const vd s = vsqrt(ak + ai), is = 1.0 / s;
-      const vd akv = ak + (vd){}, Tkv = Tk + (vd){};
+      const vd akv = ak + (vd){}, Tkv = Tk + (vd){}, iakv = iak + (vd){}, iai = vload(ia.data() + i);
       {
         const vd w = w0 * ni;
-        const PairOut<vd> o = pair_terms<vd>(w, p, q, mu, omu, Ti * iTk, (Tkv - Ti) * iTk, akv, ai, s, is);
+        const PairOut<vd> o = pair_terms<vd>(w, p, q, mu, omu, Ti * iTk, (Tkv - Ti) * iTk, akv, ai, iakv, s, is);
         vz0 += o.zm;
         vz1 += o.czo * a2k + o.czp * a2i;
         vph += o.pm + o.cpo * a2k + o.cpp * a2i;
@@ -161,7 +164,7 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
       }
       {
         const vd w = w0 * nk;
-        const PairOut<vd> o = pair_terms<vd>(w, p, q, omu, mu, Tk * iTi, (Ti - Tkv) * iTi, ai, akv, s, is);
+        const PairOut<vd> o = pair_terms<vd>(w, p, q, omu, mu, Tk * iTi, (Ti - Tkv) * iTi, ai, akv, iai, s, is);
         vstore(z0 + i, vload(z0 + i) + o.zm);
         vstore(z1 + i, vload(z1 + i) + o.czo * a2i + o.czp * a2k);
         vstore(phi + i, vload(phi + i) + o.pm + o.cpo * a2i + o.cpp * a2k);
@@ -176,7 +179,7 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
       const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv, s = std::sqrt(ak + ai), is = 1.0 / s;
       {
         const double w = w0 * n[i];
-        const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti * iTk, (Tk - Ti) * iTk, ak, ai, s, is);
+        const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti * iTk, (Tk - Ti) * iTk, ak, ai, iak, s, is);
         sz0 += o.zm;
         sz1 += o.czo * a2k + o.czp * a2[i];
         sph += o.pm + o.cpo * a2k + o.cpp * a2[i];
@@ -186,7 +189,8 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
       }
       {
         const double w = w0 * nk, iTi = iT[(size_t)i];
-        const PairOut<double> o = pair_terms<double>(w, p, q, omu, mu, Tk * iTi, (Ti - Tk) * iTi, ai, ak, s, is);
+        const PairOut<double> o =
+            pair_terms<double>(w, p, q, omu, mu, Tk * iTi, (Ti - Tk) * iTi, ai, ak, ia[(size_t)i], s, is);
         z0[i] += o.zm;
         z1[i] += o.czo * a2[i] + o.czp * a2k;
         phi[i] += o.pm + o.cpo * a2[i] + o.cpp * a2k;
@@ -228,7 +232,7 @@ void spass_general(const gran_mixture *mix, const double *T, const double *a2, S
       const double s = std::sqrt(ak + ai), is = 1.0 / s;
       if (n[i] != 0.0) { /* partner i acting on k */
         const double w = w0 * n[i];
-        const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti / Tk, (Tk - Ti) / Tk, ak, ai, s, is);
+        const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti / Tk, (Tk - Ti) / Tk, ak, ai, 1.0 / ak, s, is);
         z0[k] += o.zm;
         z1[k] += o.czo * a2[k] + o.czp * a2[i];
         phi[k] += o.pm + o.cpo * a2[k] + o.cpp * a2[i];
@@ -239,7 +243,7 @@ void spass_general(const gran_mixture *mix, const double *T, const double *a2, S
       }
       if (i != k && n[k] != 0.0) { /* partner k acting on i */
         const double w = w0 * n[k];
-        const PairOut<double> o = pair_terms<double>(w, p, q, omu, mu, Tk / Ti, (Ti - Tk) / Ti, ai, ak, s, is);
+        const PairOut<double> o = pair_terms<double>(w, p, q, omu, mu, Tk / Ti, (Ti - Tk) / Ti, ai, ak, 1.0 / ai, s, is);
         z0[i] += o.zm;
         z1[i] += o.czo * a2[i] + o.czp * a2[k];
         phi[i] += o.pm + o.cpo * a2[i] + o.cpp * a2[k];
