@@ -184,6 +184,40 @@ static void test_trajectories(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* Matrix restitution with distinct eps_ij, a g2 matrix and a tracer species (n = 0; the accessor
+ * pass): still an HCS of the Sonine rates, and the tracer changes nothing else (the gas equals the
+ * same mixture without it). */
+static void test_matrix_tracer(void **state) {
+  (void)state;
+  enum { M = 3 };
+  const double m[M] = {1, 3, 50}, s[M] = {1, 1.4, 3.7}, n[M] = {1, 0.4, 0};
+  const double E[M * M] = {0.8, 0.7, 0.9, 0.7, 0.6, 0.85, 0.9, 0.85, 0.75};
+  const double G[M * M] = {1.1, 1.2, 1.0, 1.2, 1.3, 1.05, 1.0, 1.05, 1.0};
+  gran_mixture *mix = make(M, m, s, n, 1.0), *gas = make(2, m, s, n, 1.0);
+  GRAN_ASSERT_OK(gran_mixture_set_restitution_matrix(mix, E));
+  GRAN_ASSERT_OK(gran_mixture_set_g2_matrix(mix, G));
+  const double E2[4] = {0.8, 0.7, 0.7, 0.6}, G2[4] = {1.1, 1.2, 1.2, 1.3};
+  GRAN_ASSERT_OK(gran_mixture_set_restitution_matrix(gas, E2));
+  GRAN_ASSERT_OK(gran_mixture_set_g2_matrix(gas, G2));
+  double T[M], a2[M], tau0, z[M], da[M], Tg[2], ag[2], taug;
+  GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_T1, 1.0, T, a2, &tau0));
+  GRAN_ASSERT_OK(gran_theory_sonine_rates(mix, T, a2, z, da));
+  for (int k = 0; k < M; k++) {
+    GRAN_ASSERT_REL(0.5 * z[k] * tau0, 1.0, 1e-11);
+    GRAN_ASSERT_ABS(da[k] * tau0, 0.0, 1e-10);
+  }
+  GRAN_ASSERT_OK(gran_theory_hcs_approx(gas, GRAN_THEORY_SONINE, GRAN_HCS_NORM_T1, 1.0, Tg, ag, &taug));
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_REL(T[k], Tg[k], 1e-11);
+    GRAN_ASSERT_ABS(a2[k], ag[k], 1e-11);
+  }
+  GRAN_ASSERT_REL(tau0, taug, 1e-11);
+  print_message("tracer: T = %g %g %g, a2 = %g %g %g\n", T[0], T[1], T[2], a2[0], a2[1], a2[2]);
+  assert_true(T[2] > T[1] && fabs(a2[2]) < 0.2); /* the heavy tracer runs hotter */
+  gran_mixture_destroy(&mix);
+  gran_mixture_destroy(&gas);
+}
+
 static void test_bad_inputs(void **state) {
   (void)state;
   const double m[2] = {1, 10}, s[2] = {1, 2}, n[2] = {1, 0.5};
@@ -224,7 +258,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_monodisperse),   cmocka_unit_test(test_binary_hcs),   cmocka_unit_test(test_elastic_limit),
       cmocka_unit_test(test_equal_species),  cmocka_unit_test(test_many_species), cmocka_unit_test(test_trajectories),
-      cmocka_unit_test(test_bad_inputs),
+      cmocka_unit_test(test_matrix_tracer),  cmocka_unit_test(test_bad_inputs),
   };
   return cmocka_run_group_tests_name("t410-sonine-hcs", tests, NULL, NULL);
 }
