@@ -13,6 +13,7 @@
  * Displacements for the MSD follow the event engine's lazy form R = r + v (t - t_start): a
  * collision at the step time t changes r by -dv t, so R is the unwrapped position minus the start. */
 #include "cell_impl.h"
+#include "core/run_bounds.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -150,6 +151,10 @@ static int cell_setup_impl(gran_dsmc *s, const gran_dsmc_cell_options *o) {
   GRAN_CALL(dsmc_cell_check_options(o));
   GRAN_CHECK(!s->has_tracers, GRAN_ERR_ARG,
              "the cell selector has no tracers: every species needs n_k > 0 in the mixture");
+  /* an empty gas has no temperature (0/0): refused rather than observed as NaN */
+  GRAN_CHECK(s->N >= 1, GRAN_ERR_ARG,
+             "the cell selector needs at least 1 particle: 'counts' (or the rounded n_k x option 'volume' / cell option "
+             "'fn' = %g) give 0", o->fn);
   GRAN_CHECK(s->N < INT32_MAX, GRAN_ERR_ARG,
              "the cell selector holds fewer than 2^31 particles (" GRAN_I64_FMT " asked for)", s->N);
   {
@@ -273,6 +278,39 @@ int dsmc_cell_init(gran_dsmc *s, const gran_dsmc_cell_options *o) {
       s->bound[(size_t)k] = std::sqrt(m2);
     }
   GRAN_CALL(check_dt(s, "for the initial speeds"));
+  GRAN_CALL(dsmc_cell_check_bath(s));
+  return GRAN_SUCCESS;
+}
+
+/* Bath collisions of a step: a particle of speed v meets candidates at the rate
+ * n_b pi sigma_kb^2 (|v| + <|w|>) (cell_bath). Their expected number per particle and step, with
+ * |v| the largest speed now plus 4 thermal speeds sqrt(T_b / m) of the lightest particle (where the
+ * bath takes it), is at most kBathMaxPerStep: more is a run whose steps do not end (or whose rate
+ * overflows). */
+constexpr double kBathMaxPerStep = 1e3;
+int dsmc_cell_check_bath(const gran_dsmc *s) {
+  const DsmcCell *c = s->cell;
+  if (!(c->o.bath_density > 0)) return GRAN_SUCCESS;
+  double smax = 0, mmin = INFINITY;
+  if (c->agg) {
+    smax = agg_sigma(c, std::max<int64_t>(c->kmax, 1));
+    mmin = c->m1;
+  } else {
+    for (int64_t k = 0; k < s->M; k++)
+      if (s->count[(size_t)k] > 0) {
+        smax = std::fmax(smax, s->mix.sigma[(size_t)k]);
+        mmin = std::fmin(mmin, s->mix.m[(size_t)k]);
+      }
+  }
+  const double mb = c->o.bath_mass, Tb = c->o.bath_T, nb = c->o.bath_density;
+  const double wmean = std::sqrt(8.0 / kPi) * std::sqrt(Tb / mb);
+  const double vs = std::sqrt(c->vmax2) + 4.0 * std::sqrt(Tb / mmin);
+  const double sg = 0.5 * (smax + c->o.bath_sigma);
+  const double per_step = nb * kPi * sg * sg * (vs + wmean) * c->o.dt;
+  GRAN_CHECK(std::isfinite(per_step) && per_step <= kBathMaxPerStep, GRAN_ERR_ARG,
+             "cell options 'bath_density' = %g, 'bath_T' = %g, 'bath_mass' = %g, 'bath_sigma' = %g with 'dt' = %g give "
+             "%g expected bath collisions per particle and step (at most %g: lower the bath density or dt)",
+             nb, Tb, mb, c->o.bath_sigma, c->o.dt, per_step, kBathMaxPerStep);
   return GRAN_SUCCESS;
 }
 
@@ -785,6 +823,12 @@ int dsmc_cell_advance(gran_dsmc *s, double t_end, int64_t coll_stop) {
   const CellStepFn fn = pick_step(s);
   const double dt = c->o.dt;
   const bool by_time = t_end < DBL_MAX;
+  if (by_time) { /* the steps to t_end within the bound of every time-stepped run (core/run_bounds.h) */
+    char why[320];
+    const double steps = t_end / dt - (double)c->step;
+    GRAN_CHECK(gran_run_steps_ok(steps, (double)s->N + (double)c->C, why, sizeof why), GRAN_ERR_ARG,
+               "argument 't_end' = %g in steps of cell option 'dt' = %g: %s", s->opt.t_start + t_end, dt, why);
+  }
   for (;;) {
     if (by_time) {
       if ((double)(c->step + 1) * dt > t_end + 1e-9 * dt) break;

@@ -56,6 +56,9 @@ void dsmc_agg_end_step(gran_dsmc *s);
 int dsmc_cell_check_options(const gran_dsmc_cell_options *o);
 /* geometry and arrays (positions allocated, not drawn): creation and checkpoint reading */
 int dsmc_cell_setup(gran_dsmc *s, const gran_dsmc_cell_options *o);
+/* The bath's expected collisions per particle and step within kBathMaxPerStep (at creation and
+ * on a checkpoint read; the speeds as they stand). */
+int dsmc_cell_check_bath(const gran_dsmc *s);
 
 }  // namespace gran
 

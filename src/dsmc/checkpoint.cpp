@@ -15,6 +15,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <string>
 
 namespace gran {
@@ -363,6 +364,72 @@ int validate_state(const gran_dsmc *s, const char *path) {
   for (double x : s->traj_xyz) need(!std::isinf(x), "trajectories");
   GRAN_CHECK(!bad, GRAN_ERR_IO, "checkpoint '%s' holds an inconsistent engine state (%s; damaged or edited file?)",
              path, bad);
+  return GRAN_SUCCESS;
+}
+
+/* The counters against each other and the rest of the state, once everything is read (a counter
+ * far beyond what the run could have done, such as 9.2e18 merges, is an edited file):
+ * - per-pair collision counts sum to at most the collisions;
+ * - a collision raises at most two speed bounds and moves at most two particles between speed
+ *   classes (each move at most one rebuild): bound_raises, class_moves, class_rebuilds in
+ *   [0, 2 x collisions]; the trees' update counts >= 0;
+ * - the next tightening of the bounds lies refresh_interval collisions after the last one (with
+ *   aggregation, whose particle number changes: 1 .. max(interval, mass in monomers) after it);
+ * - aggregation (any selector): every collision is a merge, a breakup or a bounce, so
+ *   merges + breakups + bounces = collisions;
+ * - cell selector: the step count is the elapsed time in steps (t within [step dt, (step + 1) dt)
+ *   up to rounding: an advance stops at the last whole step before its end time). */
+int counters_validate(const gran_dsmc *s, const char *path) {
+  const int64_t C = s->collisions;
+  auto refuse = [&](const char *field, int64_t v, const char *rule) {
+    return GRAN_ERROR(GRAN_ERR_IO, "checkpoint '%s': counter '%s' = %lld %s (damaged or edited file?)", path, field,
+                      (long long)v, rule);
+  };
+  {
+    int64_t sum = 0;
+    for (int64_t c : s->ccount) {
+      if (c < 0 || c > C - sum) return refuse("collision_counts", c, "makes the per-pair counts exceed the collisions");
+      sum += c;
+    }
+  }
+  const double twoC = 2.0 * (double)C;
+  if (s->bound_raises < 0 || (double)s->bound_raises > twoC)
+    return refuse("bound_raises", s->bound_raises, "is outside [0, 2 x collisions]");
+  if (s->class_moves < 0 || (double)s->class_moves > twoC)
+    return refuse("class_moves", s->class_moves, "is outside [0, 2 x collisions]");
+  if (s->class_rebuilds < 0 || (double)s->class_rebuilds > twoC)
+    return refuse("class_rebuilds", s->class_rebuilds, "is outside [0, 2 x collisions]");
+  if (s->ud.nupdate < 0) return refuse("class_counters[2]", s->ud.nupdate, "is negative");
+  if (s->selector == GRAN_SELECTOR_LOWRANK)
+    for (int r = 0; r < 3; r++)
+      if (s->u[r].nupdate < 0 || s->v[r].nupdate < 0)
+        return refuse("tree_nupdate", std::min(s->u[r].nupdate, s->v[r].nupdate), "is negative");
+  {
+    /* the interval: bound_refresh, else the particle number at creation (with aggregation at most
+     * the mass in monomers: the number now may differ) */
+    const int64_t gap = s->next_refresh - s->coll_at_refresh;
+    const bool ok = s->agg ? gap >= 1 && gap <= std::max<int64_t>(s->refresh_interval, s->agg->monomers)
+                           : gap == s->refresh_interval;
+    if (s->next_refresh < s->coll_at_refresh || !ok)
+      return refuse("next_refresh", s->next_refresh, "is not the last tightening's collision count + the interval");
+  }
+  if (s->agg) {
+    const DsmcAgg *a = s->agg;
+    const double sum = (double)a->merges + (double)a->breakups + (double)a->bounces;
+    if (a->merges < 0 || a->breakups < 0 || a->bounces < 0 || sum != (double)C)
+      return GRAN_ERROR(GRAN_ERR_IO,
+                        "checkpoint '%s': counters 'merges' + 'breakups' + 'bounces' = %lld + %lld + %lld are not the "
+                        "%lld collisions (damaged or edited file?)", path, (long long)a->merges, (long long)a->breakups,
+                        (long long)a->bounces, (long long)C);
+  }
+  if (s->cell) {
+    const DsmcCell *c = s->cell;
+    const double dt = c->o.dt, k = (double)c->step, tk = s->t / dt, tol = 1e-9 + 4.0 * DBL_EPSILON * k;
+    if (!(tk >= k - tol && tk < k + 1.0 + tol))
+      return GRAN_ERROR(GRAN_ERR_IO,
+                        "checkpoint '%s': counter 'step' = %lld does not match the time %g (%g steps of dt = %g; damaged "
+                        "or edited file?)", path, (long long)c->step, s->t, tk, dt);
+  }
   return GRAN_SUCCESS;
 }
 
@@ -880,10 +947,12 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
       if (ierr == GRAN_SUCCESS) ierr = cell_state_io(rd, s);
       if (ierr == GRAN_SUCCESS && s->cell->agg) ierr = cell_agg_read(rd, s);
       if (ierr == GRAN_SUCCESS) ierr = cell_validate(s, path);
+      if (ierr == GRAN_SUCCESS) ierr = dsmc_cell_check_bath(s);
     }
     const bool aggev = o.selector != GRAN_SELECTOR_CELL && H5Lexists(g.id, "agg_options_real", H5P_DEFAULT) > 0;
     if (ierr == GRAN_SUCCESS && aggev) ierr = aggev_read(rd, s); /* event selectors with aggregation */
     if (ierr == GRAN_SUCCESS && s->classes) dsmc_class_read_done(s); /* alias tables, identities' slots */
+    if (ierr == GRAN_SUCCESS) ierr = counters_validate(s, path);
     if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK && !s->classes && !aggev)
       for (int r = 0; r < 3 && ierr == GRAN_SUCCESS; r++)
         if (std::memcmp(vtree[r].data(), s->v[r].node, sizeof(double) * vtree[r].size()) != 0)

@@ -36,6 +36,37 @@ struct H5Obj {
   }
 };
 
+/* The first option in which a checkpoint's GSRD state (c) and the scene (o) differ, or NULL: every
+ * field of gran_srd_options but the seed (each replica's own), threads and device (how, not what,
+ * is computed; the state moves between devices). The static_assert makes a new field update this
+ * list. */
+const char *srd_options_differ(const gran_srd_options &c, const gran_srd_options &o) {
+  static_assert(sizeof(gran_srd_options) == 4 * 4 + 3 * 8 + 14 * 8 + 8 + 4 * 4,
+                "gran_srd_options changed: compare the new field in srd_options_differ");
+  if (c.dim != o.dim) return "dim";
+  if (c.wall_axis != o.wall_axis) return "wall_axis";
+  if (c.wall_axis >= 0 && c.wall_rule != o.wall_rule) return "wall_rule";
+  if (c.thermostat != o.thermostat) return "thermostat";
+  for (int k = 0; k < o.dim; ++k)
+    if (c.cells[k] != o.cells[k]) return k == 0 ? "cells[0]" : k == 1 ? "cells[1]" : "cells[2]";
+  if (c.a != o.a) return "a";
+  if (c.n0 != o.n0) return "n0";
+  if (c.dt != o.dt) return "dt";
+  if (c.alpha_deg != o.alpha_deg) return "alpha";
+  if (c.eps != o.eps) return "eps";
+  if (c.sigma != o.sigma) return "sigma";
+  if (c.T0 != o.T0) return "T0";
+  if (c.shear_rate != o.shear_rate) return "shear_rate";
+  for (int k = 0; k < 3; ++k)
+    if (c.accel[k] != o.accel[k]) return k == 0 ? "accel[0]" : k == 1 ? "accel[1]" : "accel[2]";
+  if (c.vib_amp != o.vib_amp) return "vib_amp";
+  if (c.vib_omega != o.vib_omega) return "vib_omega";
+  if (c.wall_T != o.wall_T) return "wall_T";
+  if (c.sort_every != o.sort_every) return "sort_every";
+  if (c.precision != o.precision) return "precision";
+  return nullptr;
+}
+
 /* One field snapshot (replica 0). */
 struct Snap {
   int64_t index = 0; /* output index */
@@ -426,30 +457,60 @@ class SrdEngine : public gran_engine {
     gran_srd_options c;
     GRAN_CHECK(blob.size() >= 8 + sizeof c, GRAN_ERR_IO, "checkpoint '%s': the GSRD state in '%s' is truncated", fname, group);
     std::memcpy(&c, blob.data() + 8, sizeof c);
-    GRAN_CHECK(c.dim == o_.dim && c.cells[0] == o_.cells[0] && c.cells[1] == o_.cells[1] &&
-                   (o_.dim == 2 || c.cells[2] == o_.cells[2]) && c.n0 == o_.n0 && c.dt == o_.dt,
-               GRAN_ERR_IO, "checkpoint '%s': the GSRD state in '%s' does not match the scene (dimension, cells, n0, dt)",
-               fname, group);
+    {
+      const char *diff = srd_options_differ(c, o_);
+      GRAN_CHECK(diff == nullptr, GRAN_ERR_IO,
+                 "checkpoint '%s': the GSRD state in '%s' does not match the scene: option '%s' differs (a checkpoint "
+                 "resumes the run of its own scene)", fname, group, diff);
+    }
     {
       TmpFile tmp;
       GRAN_CALL(tmp.make(fname));
       GRAN_CALL(spill(tmp.path, blob));
       GRAN_CALL(gran_srd_checkpoint_read(tmp.path.c_str(), &srd_));
     }
+    {
+      /* the engine stands at the step of the last recorded output time: rows the checkpoint says
+       * were recorded were recorded by this state, and none after it */
+      int64_t next = -1;
+      GRAN_CALL(gran_h5::read_attr_int64((hid_t)file, "next_index", &next, fname));
+      const std::vector<int64_t> &os = s_->srd.out_steps;
+      const int64_t step = gran_srd_steps_(srd_);
+      GRAN_CHECK(next >= 1 && next <= (int64_t)os.size() && step == os[(size_t)next - 1], GRAN_ERR_IO,
+                 "checkpoint '%s': field 'next_index' = %lld does not match the GSRD state in '%s' (step %lld; the "
+                 "output time %lld is at step %lld)", fname, (long long)next, group, (long long)step,
+                 (long long)(next - 1), (long long)(next >= 1 && next <= (int64_t)os.size() ? os[(size_t)next - 1] : -1));
+      next_ = next;
+    }
     GRAN_CHECK(H5Aexists(g.id, "stress_t0") > 0, GRAN_ERR_IO, "checkpoint '%s': '%s' has no stress_t0", fname, group);
     H5Obj a(H5Aopen(g.id, "stress_t0", H5P_DEFAULT), H5Aclose);
     GRAN_CHECK(a.id >= 0 && H5Aread(a.id, H5T_NATIVE_DOUBLE, &stress_t0_) >= 0, GRAN_ERR_IO,
                "checkpoint '%s': cannot read stress_t0 of '%s'", fname, group);
+    GRAN_CHECK(std::isfinite(stress_t0_) && stress_t0_ >= 0 && stress_t0_ <= (double)gran_srd_steps_(srd_) * o_.dt * (1 + 1e-12),
+               GRAN_ERR_IO, "checkpoint '%s': field 'stress_t0' of '%s' = %g outside [0, the state's time]", fname, group,
+               stress_t0_);
     int64_t ns = 0;
     GRAN_CALL(gran_h5::read_attr_int64(g.id, "snapshots", &ns, fname));
     GRAN_CHECK(ns >= 0 && ns <= (int64_t)s_->srd.snap_index.size(), GRAN_ERR_IO, "checkpoint '%s': %lld snapshots out of range",
                fname, (long long)ns);
+    {
+      /* replica 0 holds one snapshot per snapshot output time recorded, the others none */
+      int64_t want = 0;
+      if (rep0_)
+        for (int64_t i : s_->srd.snap_index) want += i < next_ ? 1 : 0;
+      GRAN_CHECK(ns == want, GRAN_ERR_IO, "checkpoint '%s': field 'snapshots' of '%s' = %lld, the recorded output times "
+                 "give %lld", fname, group, (long long)ns, (long long)want);
+    }
     for (int64_t j = 0; j < ns; ++j) {
       const std::string nm = "snap" + std::to_string(j);
       GRAN_CHECK(gran_h5::exists(g.id, nm.c_str()), GRAN_ERR_IO, "checkpoint '%s': '%s/%s' missing", fname, group, nm.c_str());
       H5Obj sg(H5Gopen2(g.id, nm.c_str(), H5P_DEFAULT), H5Gclose);
       Snap sn;
       GRAN_CALL(gran_h5::read_attr_int64(sg.id, "index", &sn.index, fname));
+      /* snapshot j is the one of the j-th snapshot output time, taken when that row was recorded */
+      GRAN_CHECK(sn.index == s_->srd.snap_index[(size_t)j] && sn.index < next_, GRAN_ERR_IO,
+                 "checkpoint '%s': field 'index' of '%s/%s' = %lld (expected %lld, before the next output %lld)", fname,
+                 group, nm.c_str(), (long long)sn.index, (long long)s_->srd.snap_index[(size_t)j], (long long)next_);
       GRAN_CALL(gran_h5::read_double(sg.id, "count", sn.count, nullptr, fname));
       GRAN_CALL(gran_h5::read_double(sg.id, "velocity", sn.vel, nullptr, fname));
       GRAN_CALL(gran_h5::read_double(sg.id, "temperature", sn.temp, nullptr, fname));
@@ -477,6 +538,7 @@ class SrdEngine : public gran_engine {
   int64_t cells_ = 1, N_ = 0;
   bool rep0_ = true;
   double stress_t0_ = 0.0;
+  int64_t next_ = 0; /* next output index of a resumed checkpoint */
   std::vector<Snap> snaps_;
 
   /* homogeneous cooling: dissipation and nothing else acting on the gas */

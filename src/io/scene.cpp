@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "io/io_impl.h"
+#include "core/run_bounds.h"
 #include "srd/srd_impl.h" /* SRD_SLAB_CELLS: the memory estimate of a GSRD engine */
 #ifdef _OPENMP
 #include <omp.h>
@@ -305,6 +306,39 @@ class Tab {
 
 void require(bool ok, Tab &t, const std::string &k, const std::string &why) {
   if (!ok) t.fail(k, why);
+}
+
+/* The length of a run: the bound every time-stepped engine shares (core/run_bounds.h), naming
+ * `key` of table t; per_step: the particle (and cell) updates of one step. */
+void require_run_steps(Tab &t, const std::string &key, double steps, double per_step, const std::string &what) {
+  char why[320];
+  if (!gran::gran_run_steps_ok(steps, per_step, why, sizeof why)) t.fail(key, what + ": " + why);
+}
+
+/* A scene of the cell selector ([cell] parsed, t_end known): every species with a density gets
+ * particles (an empty gas has no temperature: NaN is never an output; with aggregation the
+ * species are cluster sizes, which may be empty: the monomers must not be), and the run's steps
+ * (t_end - t_start) / dt are within the shared bound. */
+void check_cell_run(Tab &top, Tab &en, const gran_scene &s) {
+  Tab ce = top.sub("cell");
+  const gran_dsmc_cell_options &c = s.cell;
+  const bool agg = c.e_agg > 0 || std::isfinite(c.e_frag);
+  double N = 0;
+  for (int64_t k = 0; k < s.nspecies; k++) {
+    const double nk = s.counts_kind == 0 ? (double)s.counts[(size_t)k] : std::nearbyint(s.density[(size_t)k] * s.volume / c.fn);
+    if (s.counts_kind != 0 && s.density[(size_t)k] > 0 && !(nk >= 1) && (!agg || k == 0)) {
+      const std::string msg = "n_k V / fn = " + Tab::num_str(s.density[(size_t)k]) + " x " + Tab::num_str(s.volume) +
+                              " / " + Tab::num_str(c.fn) + " gives " + Tab::num_str(nk) + " simulated particles of species " +
+                              std::to_string(k) + " (at least 1 needed: an empty species has no temperature)";
+      if (c.fn > 1 && std::nearbyint(s.density[(size_t)k] * s.volume) >= 1) ce.fail("fn", msg);
+      en.fail(s.counts_kind == 1 ? "N1" : "volume", msg);
+    }
+    N += nk;
+  }
+  const double C = (double)c.cells * (double)c.cells * (double)c.cells;
+  require_run_steps(ce, "dt", (s.t_end - s.t_start) / c.dt, N + C,
+                    "[engine] t_end - t_start = " + Tab::num_str(s.t_end - s.t_start) + " in steps of dt = " +
+                        Tab::num_str(c.dt));
 }
 
 double memory_available_bytes();
@@ -679,6 +713,9 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
     require(steps >= 1 && std::fabs((double)steps * o.dt - te) <= 1e-9 * te, en, "t_end",
             "t_end = " + Tab::num_str(te) + " is not a whole number of steps dt = " + Tab::num_str(o.dt));
   }
+  if (steps > 0)
+    require_run_steps(en, en.has("steps") ? "steps" : "t_end", (double)steps, N,
+                      std::to_string(steps) + " steps of " + Tab::num_str(N) + " particles");
   en.finish();
 
   /* ---- [boundaries] ---- */
@@ -759,6 +796,8 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
     require(steps / every <= 100000000, ob, "every", "gives more than 1e8 output times");
     for (int64_t k = 0; k <= steps; k += every) os.push_back(k);
   }
+  if (!en.has("steps") && !en.has("t_end")) /* the length from the last output time */
+    require_run_steps(ob, "times", (double)steps, N, std::to_string(steps) + " steps of " + Tab::num_str(N) + " particles");
   s.srd.steps = steps;
   s.srd.out_steps = os;
   s.srd.obs_temperature = ob.boolean("temperature", true);
@@ -1223,6 +1262,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   if (!have_tend) s.t_end = s.times.back();
   if (!(s.t_end > s.t_start))
     en.fail("t_end", "end time " + Tab::num_str(s.t_end) + " is not after t_start = " + Tab::num_str(s.t_start));
+  if (s.selector == GRAN_SELECTOR_CELL) check_cell_run(top, en, s);
   if (s.times.front() < s.t_start)
     ob.fail("times", "first output time " + Tab::num_str(s.times.front()) + " is before t_start = " + Tab::num_str(s.t_start));
   if (s.times.back() > s.t_end)

@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstring>
 #include <cerrno>
+#include <cfloat>
 #include <memory>
 #include <string>
 #include <sys/stat.h>
@@ -1075,6 +1076,109 @@ bool finite_all(const double *p, size_t n) {
     if (!std::isfinite(p[i])) return false;
   return true;
 }
+/* bits set in a generator state: a state a generator reached has 128 +- 8 of its 256 bits set;
+ * fewer than 32 or more than 224 (odds below 1e-30) is an edited state, zero the forbidden one */
+int rng_bits(const gran_rng &r) {
+  return __builtin_popcountll(r.s[0]) + __builtin_popcountll(r.s[1]) + __builtin_popcountll(r.s[2]) +
+         __builtin_popcountll(r.s[3]);
+}
+bool rng_plausible(const gran_rng &r) {
+  const int b = rng_bits(r);
+  return b >= 32 && b <= 224;
+}
+/* Every stored value of a checkpoint (s: options checked, arrays read; sc, ic: the scalars and
+ * integers as stored), each refusal naming the field:
+ * - counters: particle count = the options'; step >= 0; clamp count in [0, step x cells] (at most
+ *   one clamp per cell and step);
+ * - time = step dt (the step loop adds dt per step: within the rounding of step additions);
+ *   stress_t0 (start of the stress window) in [0, time];
+ * - energies: finite; e_initial >= 0 and > 0 unless N = 1 (the only state whose velocities are all
+ *   zero once the mean is removed, without shear); the ledger e_initial + e_collisions +
+ *   e_external is the kinetic energy now (>= 0 to rounding);
+ * - velocities: finite, finite squares, and no particle with more kinetic energy than
+ *   kVelocityFactor x the ledger's (or e_initial's) total: velocities changed through
+ *   gran_srd_particles by more than that factor in energy make the file unreadable;
+ * - positions: every coordinate in [0, L) of its axis (the step loop keeps them there);
+ * - cell reference velocities: finite and within the speeds the state allows (below);
+ * - dt_max > 0 (inf: no clamp); stress sums and wall impulses finite;
+ * - RNG states: the grid shift's and every cell's non-zero with 32..224 of 256 bits set. */
+constexpr double kVelocityFactor = 1e3;
+int ckp_validate(const char *path, const gran_srd *s, const double sc[12], const int64_t ic[3]) {
+  const gran_srd_options &o = s->opt;
+  GRAN_CHECK(ic[2] == s->n, GRAN_ERR_IO, "checkpoint '%s': field 'n' (particle count) %lld, the options give %lld", path,
+             (long long)ic[2], (long long)s->n);
+  GRAN_CHECK(ic[0] >= 0, GRAN_ERR_IO, "checkpoint '%s': field 'step' = %lld is negative", path, (long long)ic[0]);
+  GRAN_CHECK(ic[1] >= 0 && (double)ic[1] <= (double)ic[0] * (double)s->ncell, GRAN_ERR_IO,
+             "checkpoint '%s': field 'clamped' = %lld outside [0, step x cells] = [0, %g]", path, (long long)ic[1],
+             (double)ic[0] * (double)s->ncell);
+  const char *sname[12] = {"time",      "e_initial", "e_collisions", "e_external",     "dt_max",         "flux_kin",
+                           "flux_coll", "stress_t0", "wall_impulse[0]", "wall_impulse[1]", "wall_impulse[2]", "reserved"};
+  for (int k = 0; k < 12; ++k)
+    GRAN_CHECK(k == 4 || std::isfinite(sc[k]), GRAN_ERR_IO, "checkpoint '%s': field '%s' is not finite (%g)", path,
+               sname[k], sc[k]);
+  GRAN_CHECK(sc[11] == 0, GRAN_ERR_IO, "checkpoint '%s': field 'reserved' = %g (written as 0)", path, sc[11]);
+  GRAN_CHECK(sc[4] > 0, GRAN_ERR_IO, "checkpoint '%s': field 'dt_max' = %g (must be > 0 or inf)", path, sc[4]);
+  /* each step's addition rounds by at most eps t / 2: k steps by k eps t / 2 (4x margin, and at most
+   * 1e-3 of t: a step count whose time no longer changes by dt is not a run's) */
+  const double tstep = (double)ic[0] * o.dt, ttol = std::min(((double)ic[0] + 1.0) * 2.0 * DBL_EPSILON, 1e-3) * tstep;
+  GRAN_CHECK(std::fabs(sc[0] - tstep) <= ttol, GRAN_ERR_IO,
+             "checkpoint '%s': field 'time' = %.17g is not step x dt = %lld x %g = %.17g", path, sc[0],
+             (long long)ic[0], o.dt, tstep);
+  GRAN_CHECK(sc[7] >= 0 && sc[7] <= sc[0], GRAN_ERR_IO, "checkpoint '%s': field 'stress_t0' = %g outside [0, time = %g]",
+             path, sc[7], sc[0]);
+  GRAN_CHECK(sc[1] >= 0 && (sc[1] > 0 || s->n == 1), GRAN_ERR_IO,
+             "checkpoint '%s': field 'e_initial' = %g (the energy at creation is > 0 for N = %lld particles)", path, sc[1],
+             (long long)s->n);
+  const double ledger = sc[1] + sc[2] + sc[3], lscale = std::fabs(sc[1]) + std::fabs(sc[2]) + std::fabs(sc[3]);
+  GRAN_CHECK(std::isfinite(ledger) && ledger >= -1e-9 * lscale, GRAN_ERR_IO,
+             "checkpoint '%s': fields 'e_initial' + 'e_collisions' + 'e_external' = %g: a negative kinetic energy", path,
+             ledger);
+  const double emax = kVelocityFactor * std::max(std::max(ledger, sc[1]), 1e-9 * lscale);
+  const double *pv[3] = {s->vx.data(), s->vy.data(), o.dim == 3 ? s->vz.data() : nullptr};
+  const double *px[3] = {s->x.data(), s->y.data(), o.dim == 3 ? s->z.data() : nullptr};
+  const char *ax = "xyz";
+  const size_t n = (size_t)s->n;
+  for (size_t i = 0; i < n; ++i) {
+    double e = 0;
+    for (int k = 0; k < o.dim; ++k) {
+      const double v = pv[k][i];
+      GRAN_CHECK(std::isfinite(v) && std::isfinite(v * v), GRAN_ERR_IO,
+                 "checkpoint '%s': field 'v%c' of particle %zu = %g (its square is not finite)", path, ax[k], i, v);
+      e += 0.5 * v * v;
+    }
+    GRAN_CHECK(e <= emax, GRAN_ERR_IO,
+               "checkpoint '%s': field 'v' of particle %zu: kinetic energy %g exceeds %g x the stored total kinetic "
+               "energy %g", path, i, e, kVelocityFactor, emax / kVelocityFactor);
+  }
+  for (int k = 0; k < o.dim; ++k) {
+    const double hi = s->gm.box[k];
+    for (size_t i = 0; i < n; ++i)
+      GRAN_CHECK(px[k][i] >= 0.0 && px[k][i] < hi, GRAN_ERR_IO,
+                 "checkpoint '%s': field '%c' of particle %zu = %.17g outside the box [0, %.17g)", path, ax[k], i,
+                 px[k][i], hi);
+  }
+  /* a cell's reference velocity is the mean of its particles' and virtual particles' velocities
+   * (wall velocity + Maxwellian at wall_T) of an earlier step: within the fastest particle, the
+   * walls' and the Lees-Edwards speeds and 40 thermal speeds of the virtual particles */
+  const double wT = o.wall_axis >= 0 ? (o.wall_T > 0 ? o.wall_T : o.T0) : 0.0;
+  const double vcap = std::sqrt(2.0 * emax) + std::fabs(o.vib_amp * o.vib_omega) + std::fabs(o.shear_rate) * s->gm.box[1] +
+                      40.0 * std::sqrt(wT);
+  for (size_t c = 0; c < s->cell.size(); ++c) {
+    const double *V = s->cell[c].V;
+    const double q = std::sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2]);
+    GRAN_CHECK(finite_all(V, 3) && q <= vcap, GRAN_ERR_IO,
+               "checkpoint '%s': field 'cell reference velocity' of cell %zu: |V| = %g exceeds the speeds the state "
+               "allows (%g)", path, c, q, vcap);
+  }
+  GRAN_CHECK(rng_plausible(s->shift_rng), GRAN_ERR_IO,
+             "checkpoint '%s': field 'shift_rng' (grid-shift RNG state) has %d of 256 bits set (a generated state: "
+             "32..224; 0 is xoshiro's forbidden state)", path, rng_bits(s->shift_rng));
+  for (size_t c = 0; c < s->rng.size(); ++c)
+    GRAN_CHECK(rng_plausible(s->rng[c]), GRAN_ERR_IO,
+               "checkpoint '%s': field 'rng' of cell %zu has %d of 256 bits set (a generated state: 32..224; 0 is "
+               "xoshiro's forbidden state)", path, c, rng_bits(s->rng[c]));
+  return GRAN_SUCCESS;
+}
 } // namespace
 
 GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
@@ -1150,7 +1254,11 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
                  "checkpoint '%s' is damaged: CRC-32 %08x, stored %08x", path, (unsigned)crc, (unsigned)stored);
       GRAN_CHECK(std::fseek(f, 8 + (long)sizeof o, SEEK_SET) == 0, GRAN_ERR_IO, "cannot read checkpoint '%s'", path);
     }
-    GRAN_CALL(check_options(&o));
+    /* the stored options pass the check of gran_srd_create; a refusal is the file's (GRAN_ERR_IO) */
+    if (check_options(&o) != GRAN_SUCCESS) {
+      const std::string why = gran_last_error_message();
+      return GRAN_ERROR(GRAN_ERR_IO, "checkpoint '%s' holds invalid options: %s", path, why.c_str());
+    }
     std::unique_ptr<gran_srd> s(new gran_srd);
     s->opt = o;
     GRAN_CALL(alloc_state(s.get()));
@@ -1166,29 +1274,7 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
     GRAN_CHECK(total == (uint64_t)want, GRAN_ERR_IO, "checkpoint '%s': stored length %llu, file %lld", path,
                (unsigned long long)total, (long long)want);
     /* values: a CRC-consistent file may still have been written by a foreign or edited program */
-    GRAN_CHECK(ic[2] == s->n, GRAN_ERR_IO, "checkpoint '%s': particle count %lld, options give %lld", path,
-               (long long)ic[2], (long long)s->n);
-    GRAN_CHECK(ic[0] >= 0 && ic[1] >= 0, GRAN_ERR_IO, "checkpoint '%s': negative step (%lld) or clamp count (%lld)",
-               path, (long long)ic[0], (long long)ic[1]);
-    GRAN_CHECK(finite_all(sc, 4) && finite_all(sc + 5, 7), GRAN_ERR_IO,
-               "checkpoint '%s': a non-finite time, energy or stress sum", path);
-    GRAN_CHECK(sc[4] > 0, GRAN_ERR_IO, "checkpoint '%s': largest safe dt %g (must be > 0 or inf)", path, sc[4]);
-    const double *pv[3] = {s->vx.data(), s->vy.data(), o.dim == 3 ? s->vz.data() : nullptr};
-    const double *px[3] = {s->x.data(), s->y.data(), o.dim == 3 ? s->z.data() : nullptr};
-    const char *ax = "xyz";
-    for (int k = 0; k < o.dim; ++k) {
-      GRAN_CHECK(finite_all(pv[k], n), GRAN_ERR_IO, "checkpoint '%s': a non-finite velocity v%c", path, ax[k]);
-      const double hi = s->gm.box[k];
-      for (size_t i = 0; i < n; ++i)
-        GRAN_CHECK(px[k][i] >= 0.0 && px[k][i] <= hi, GRAN_ERR_IO,
-                   "checkpoint '%s': particle %zu has %c = %g outside the box [0, %g]", path, i, ax[k], px[k][i], hi);
-    }
-    for (const srd_cpu_cell &c : s->cell)
-      GRAN_CHECK(finite_all(c.V, 3), GRAN_ERR_IO, "checkpoint '%s': a non-finite cell reference velocity", path);
-    auto zero = [](const gran_rng &r) { return (r.s[0] | r.s[1] | r.s[2] | r.s[3]) == 0; };
-    GRAN_CHECK(!zero(s->shift_rng), GRAN_ERR_IO, "checkpoint '%s': the grid-shift RNG state is zero", path);
-    for (const gran_rng &r : s->rng)
-      GRAN_CHECK(!zero(r), GRAN_ERR_IO, "checkpoint '%s': a cell RNG state is zero", path);
+    GRAN_CALL(ckp_validate(path, s.get(), sc, ic));
     fg.reset();
     s->time = sc[0];
     s->e_initial = sc[1];

@@ -1,0 +1,21 @@
+/* run_bounds.h - the one bound on the length of a run that every time-stepped engine (GSRD, the
+ * DSMC cell selector) applies where a run is set up: the scene parser for [engine] t_end / steps
+ * and dt, the C API at each advance. A run of more than kRunMaxSteps steps, or of more than
+ * kRunMaxUpdates particle (and cell) updates, is refused with its estimate: such a run does not
+ * end in any useful time (1e14 updates are about 12 days at 1e8 updates per second). */
+#ifndef GRANARY_RUN_BOUNDS_H
+#define GRANARY_RUN_BOUNDS_H
+
+#include <cstddef>
+
+namespace gran {
+constexpr double kRunMaxSteps = 1e12;
+constexpr double kRunMaxUpdates = 1e14;
+constexpr double kRunUpdatesPerSecond = 1e8; /* for the estimate in the message only */
+/* true when `steps` steps of `per_step` updates each (particles, plus cells where a step visits
+ * them) are within the bounds (NaN or inf steps are not); otherwise false with the estimate in
+ * why (steps, updates, estimated days), for the caller's message naming its key. */
+bool gran_run_steps_ok(double steps, double per_step, char *why, size_t len);
+}  // namespace gran
+
+#endif
