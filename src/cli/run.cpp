@@ -120,6 +120,9 @@ void summary(const std::string &path) {
       if (!th.empty() && gran_h5::read_double(f, th.c_str(), c.th, nullptr, p)) c.th.clear();
       if (c.th.size() != c.sim.size()) c.th.assign(c.sim.size(), NAN);
       if (c.se.size() != c.sim.size()) c.se.clear();
+      for (auto *v : {&c.sim, &c.se}) /* the fill value (no value) prints as nan */
+        for (double &x : *v)
+          if (x == gran_row_fill) x = NAN;
       cols.push_back(std::move(c));
     }
   }

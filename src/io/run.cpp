@@ -307,6 +307,34 @@ struct H5Group {
   ~H5Group() { gran_h5::close_group(id); }
 };
 
+/* The _FillValue attribute (gran_row_fill) of dataset `name` in `loc`. */
+int fill_attr(int64_t loc, const char *name, const char *file) {
+  hid_t d = H5Dopen2((hid_t)loc, name, H5P_DEFAULT);
+  GRAN_CHECK(d >= 0, GRAN_ERR_IO, "cannot open dataset '%s' in '%s'", name, file);
+  const int st = gran_h5::attr_double(d, "_FillValue", gran_row_fill, file);
+  H5Dclose(d);
+  return st;
+}
+
+/* Row i of every buffer of a replica, right after record: every double finite, except NaN in a
+ * buffer with fill (no value), stored as gran_row_fill. Anything else stops the run. */
+int check_row(std::vector<gran_row_buf> &bufs, int64_t i, const gran_scene *s) {
+  for (auto &b : bufs) {
+    if (b.is_int) continue;
+    double *d = b.d.data() + i * b.row;
+    for (int64_t e = 0; e < b.row; e++) {
+      if (std::isfinite(d[e])) continue;
+      if (b.fill && std::isnan(d[e])) {
+        d[e] = gran_row_fill;
+        continue;
+      }
+      return GRAN_ERROR(GRAN_ERR_NUMERIC, "dataset '%s/%s' is %g at output time %" PRId64 " (t = %g, element %" PRId64
+                        "): the run stops here", b.group.c_str(), b.name.c_str(), d[e], i, s->times[(size_t)i], e);
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
 int write_root_attrs(Run &r, int64_t f, const char *file, const char *format) {
   const gran_scene *s = r.s;
   GRAN_CALL(gran_h5::attr_string(f, "format", format, file));
@@ -335,16 +363,32 @@ int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> 
     const gran_row_buf &c = r.reps[(size_t)k].bufs[q];
     return c.is_int ? (double)c.n[i] : c.d[i];
   };
+  /* with fill: over the replicas that have a value (none: fill; fewer than 2: no standard error) */
+  std::vector<int64_t> cnt(n, R);
+  if (b.fill)
+    for (size_t i = 0; i < n; i++) {
+      cnt[i] = 0;
+      for (int64_t k = 0; k < R; k++) cnt[i] += val(k, i) != gran_row_fill;
+    }
+  auto has = [&](int64_t k, size_t i) { return !b.fill || val(k, i) != gran_row_fill; };
   for (int64_t k = 0; k < R; k++)
-    for (size_t i = 0; i < n; i++) mean[i] += val(k, i);
-  for (size_t i = 0; i < n; i++) mean[i] /= (double)R;
+    for (size_t i = 0; i < n; i++)
+      if (has(k, i)) mean[i] += val(k, i);
+  for (size_t i = 0; i < n; i++) mean[i] = cnt[i] > 0 ? mean[i] / (double)cnt[i] : gran_row_fill;
   for (int64_t k = 0; k < R; k++)
     for (size_t i = 0; i < n; i++) {
+      if (!has(k, i)) continue;
       const double d = val(k, i) - mean[i];
       se[i] += d * d;
     }
   /* sample variance / R: the standard error of the mean; for a sum, R times that */
-  for (size_t i = 0; i < n; i++) se[i] = std::sqrt(se[i] / (double)(R - 1) / (double)R) * (b.is_int ? (double)R : 1.0);
+  for (size_t i = 0; i < n; i++)
+    se[i] = cnt[i] < 2 ? gran_row_fill
+                       : std::sqrt(se[i] / (double)(cnt[i] - 1) / (double)cnt[i]) * (b.is_int ? (double)R : 1.0);
+  for (size_t i = 0; i < n; i++)
+    GRAN_CHECK(std::isfinite(mean[i]) && std::isfinite(se[i]), GRAN_ERR_NUMERIC,
+               "dataset '%s/%s': the mean over the replicas or its standard error is not finite (element %zu of '%s')",
+               b.group.c_str(), b.name.c_str(), i, file);
   const std::string nse = b.name + "_se", nrep = b.name + "_replicas";
   if (b.is_int) {
     std::vector<int64_t> sum(n, 0);
@@ -359,6 +403,10 @@ int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> 
   GRAN_CALL(gran_h5::write_double(g, nse.c_str(), dims, se.data(), file));
   GRAN_CALL(gran_describe_(g, nse.c_str(), b.units.c_str(),
                            ("standard error of " + b.name + (b.is_int ? " (the sum)" : " (the mean)") + " from the replicas").c_str(), file));
+  if (b.fill) {
+    GRAN_CALL(fill_attr(g, b.name.c_str(), file));
+    GRAN_CALL(fill_attr(g, nse.c_str(), file));
+  }
   if (r.keep) {
     std::vector<int64_t> rd = {R};
     rd.insert(rd.end(), dims.begin(), dims.end());
@@ -372,6 +420,7 @@ int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> 
       GRAN_CALL(gran_h5::write_double(g, nrep.c_str(), rd, all.data(), file));
     }
     GRAN_CALL(gran_describe_(g, nrep.c_str(), b.units.c_str(), (b.description + "; per replica [replica][...]").c_str(), file));
+    if (b.fill) GRAN_CALL(fill_attr(g, nrep.c_str(), file));
   }
   return GRAN_SUCCESS;
 }
@@ -412,6 +461,7 @@ int write_output(Run &r, const std::string &path, int64_t nrec) {
         if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, b.name.c_str(), dims, b.n.data(), file));
         else GRAN_CALL(gran_h5::write_double(g.id, b.name.c_str(), dims, b.d.data(), file));
         GRAN_CALL(gran_describe_(g.id, b.name.c_str(), b.units.c_str(), b.description.c_str(), file));
+        if (b.fill) GRAN_CALL(fill_attr(g.id, b.name.c_str(), file));
         continue;
       }
       GRAN_CALL(write_reduced(r, q, g.id, dims, file));
@@ -690,6 +740,18 @@ int exchange(Run &r, int st, int64_t i, Verdict *v) {
   return GRAN_SUCCESS;
 }
 
+/* Collective, after a numeric failure (a non-finite row, or an engine's GRAN_ERR_NUMERIC) while
+ * advancing to output time i: the rows 0..i-1 are good and go to the partial output, as for a
+ * stopped run (no checkpoint: the state is not); the error is returned with where they are. */
+int numeric_stop(Run &r, int64_t i) {
+  const std::string msg = gran_last_error_message(), part = gran_partial_path_(r.out);
+  r.next = i;
+  if (i == 0) return GRAN_ERROR(GRAN_ERR_NUMERIC, "%s; no output time was recorded, no output written", msg.c_str());
+  GRAN_CALL(sync_status(r, r.root() ? write_output(r, part, i) : GRAN_SUCCESS));
+  return GRAN_ERROR(GRAN_ERR_NUMERIC, "%s; the %" PRId64 " output time(s) before it are in '%s' (complete = 0)", msg.c_str(),
+                    i, part.c_str());
+}
+
 /* The loop shared by run and resume: record rows next..ntimes-1, checkpoint, finish.
  * Progress and ETA are weighted by the engine's work estimate to each output time. With several
  * processes every step is collective; rank 0 alone calls the progress callback, decides on
@@ -746,7 +808,8 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
     GRAN_CALL(exchange(r, for_replicas(r, [&](int64_t k) {
                           Replica &p = r.reps[(size_t)k];
                           GRAN_CALL(p.eng->advance(s->times[(size_t)i]));
-                          return p.eng->record(p.bufs, i);
+                          GRAN_CALL(p.eng->record(p.bufs, i));
+                          return check_row(p.bufs, i, s);
                         }),
                        i, &v));
     r.next = i + 1;
@@ -786,7 +849,9 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
         v.stop = due && (stop || (ctl && ctl->stop_after_checkpoints > 0 && nckpt + 1 >= ctl->stop_after_checkpoints));
       }
     }
-    GRAN_CALL(share_verdict(r, &v));
+    const int vst = share_verdict(r, &v);
+    if (vst == GRAN_ERR_NUMERIC) return numeric_stop(r, i);
+    if (vst != GRAN_SUCCESS) return vst;
     if (v.ckpt) {
       GRAN_CALL(write_checkpoint(r));
       w_ckpt = now_s();
