@@ -387,10 +387,13 @@ class SrdEngine : public gran_engine {
                                "to the axis are scaled)", file));
       GRAN_CALL(gran_h5::attr_double(g.id, "haff_rate", rate, file));
     }
-    GRAN_CALL(write_snapshots(f, file, nrec));
-    /* a finished run: the sidecar of an earlier partial output goes with it */
-    if (nrec == (int64_t)s_->times.size()) std::remove(xmf_path(gran_partial_path_(file)).c_str());
-    return GRAN_SUCCESS;
+    return write_snapshots(f, file, nrec);
+  }
+
+  /* the XDMF sidecar OUTPUT.xmf of the field snapshots (written as OUTPUT.xmf.tmp) */
+  std::vector<std::string> sidecars(const std::string &output) const override {
+    if (s_->srd.snap_index.empty()) return {};
+    return {xmf_path(output)};
   }
 
   int checkpoint_write(int64_t file, const char *fname, const char *group) override {
@@ -517,7 +520,8 @@ class SrdEngine : public gran_engine {
     }
   }
 
-  /* /fields/snap_NNNNNN/{count, density, velocity, temperature} and the XDMF sidecar */
+  /* /fields/snap_NNNNNN/{count, density, velocity, temperature} and the XDMF sidecar (its .tmp:
+   * the driver renames it once the output file it points to is in place) */
   int write_snapshots(int64_t f, const char *file, int64_t nrec) {
     std::vector<const Snap *> use;
     for (const Snap &sn : snaps_)
@@ -610,7 +614,7 @@ class SrdEngine : public gran_engine {
       if (!ok) std::remove(tmp.c_str());
       GRAN_CHECK(ok, GRAN_ERR_IO, "cannot write the XDMF file '%s'", tmp.c_str());
     }
-    return gran_io_commit_file_(tmp, xp);
+    return GRAN_SUCCESS;
   }
 };
 

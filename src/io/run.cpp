@@ -278,20 +278,33 @@ std::string file_identity(const std::string &path) {
   return "path " + path;
 }
 
-/* Refuse two roles for one file (output, checkpoint, scene, partial output), by identity. */
+/* Refuse two roles for one file, by identity: every file a run reads or writes (the scene file,
+ * the checkpoint it resumes from or writes, the output and the partial output, the sidecars the
+ * engine writes beside them, and the .tmp of each written file). */
 int check_distinct(const Run &r, const std::string &scene_file) {
   struct Role {
-    const char *what;
-    std::string path;
+    std::string what, path;
   };
-  std::vector<Role> roles = {{"output", r.out}, {"checkpoint", r.ckpt}, {"scene file", scene_file},
-                             {"partial output", gran_partial_path_(r.out)}};
+  std::unique_ptr<gran_engine> eng; /* for its sidecars: no state is built */
+  GRAN_CALL(gran_engine_create_(r.s, eng));
+  std::vector<Role> roles = {{"scene file", scene_file}};
+  auto written = [&](const std::string &what, const std::string &path) {
+    if (path.empty()) return;
+    roles.push_back({what, path});
+    roles.push_back({"temporary file of the " + what, path + ".tmp"});
+  };
+  written("checkpoint", r.ckpt);
+  const std::string part = gran_partial_path_(r.out);
+  written("output", r.out);
+  written("partial output", part);
+  for (const auto &p : eng->sidecars(r.out)) written("sidecar of the output", p);
+  for (const auto &p : eng->sidecars(part)) written("sidecar of the partial output", p);
   for (size_t a = 0; a < roles.size(); a++)
     for (size_t b = a + 1; b < roles.size(); b++) {
       if (roles[a].path.empty() || roles[b].path.empty()) continue;
       if (file_identity(roles[a].path) == file_identity(roles[b].path))
-        return GRAN_ERROR(GRAN_ERR_ARG, "the %s '%s' and the %s '%s' are the same file", roles[a].what,
-                          roles[a].path.c_str(), roles[b].what, roles[b].path.c_str());
+        return GRAN_ERROR(GRAN_ERR_ARG, "the %s '%s' and the %s '%s' are the same file", roles[a].what.c_str(),
+                          roles[a].path.c_str(), roles[b].what.c_str(), roles[b].path.c_str());
     }
   return GRAN_SUCCESS;
 }
@@ -427,7 +440,44 @@ int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> 
 
 /* The output file with the first nrec output times (all of them for a finished run; a stopped
  * run writes what it recorded, with the root attribute complete = 0). */
+int write_output_file(Run &r, const std::string &path, int64_t nrec);
+
+/* The output file and its sidecars (gran_engine::sidecars): each sidecar is written as PATH.tmp
+ * with the output and renamed into place only after the output file is committed; a sidecar of
+ * an earlier run that this one did not write is removed (it would describe another file); on
+ * failure no sidecar .tmp is left. */
 int write_output(Run &r, const std::string &path, int64_t nrec) {
+  const std::vector<std::string> side = r.eng()->sidecars(path);
+  for (const auto &p : side) std::remove((p + ".tmp").c_str());
+  const int st = write_output_file(r, path, nrec);
+  if (st != GRAN_SUCCESS) {
+    for (const auto &p : side) std::remove((p + ".tmp").c_str());
+    return st;
+  }
+  for (const auto &p : side) {
+    const std::string tmp = p + ".tmp";
+    struct stat sb;
+    if (stat(tmp.c_str(), &sb) != 0) {
+      std::remove(p.c_str());
+      continue;
+    }
+    const int cst = gran_io_commit_file_(tmp, p);
+    if (cst != GRAN_SUCCESS) {
+      std::remove(tmp.c_str());
+      return cst;
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
+/* A finished run: the partial output of an earlier stop and its sidecars go. */
+void remove_partial(Run &r) {
+  const std::string part = gran_partial_path_(r.out);
+  std::remove(part.c_str());
+  for (const auto &p : r.eng()->sidecars(part)) std::remove(p.c_str());
+}
+
+int write_output_file(Run &r, const std::string &path, int64_t nrec) {
   const gran_scene *s = r.s;
   const int64_t nt = nrec;
   const char *file = path.c_str();
@@ -877,7 +927,7 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
       v.st = wst;
       v.msg = gran_last_error_message();
     } else {
-      std::remove(gran_partial_path_(r.out).c_str());
+      remove_partial(r);
       if (!r.ckpt.empty() && !s->keep_checkpoint) std::remove(r.ckpt.c_str());
     }
   }
