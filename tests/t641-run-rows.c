@@ -99,11 +99,116 @@ static void test_fill_value(void **state) {
   H5Fclose(f);
 }
 
+/* ---- replicas: every override goes through the memory check, which counts fixed costs ---- */
+static const char *tiny_srd(int64_t replicas, double max_gb) {
+  static char b[512];
+  snprintf(b, sizeof b,
+           "[engine]\ntype = \"srd\"\ndimension = 2\ncells = 2\nn0 = 1\nsteps = 20\nreplicas = %lld\n"
+           "max_memory_gb = %g\n[observables]\nevery = 1\n[output]\ncheckpoint = \"\"\n",
+           (long long)replicas, max_gb);
+  return b;
+}
+
+static void test_replicas_memory(void **state) {
+  (void)state;
+  gran_scene *s = NULL;
+  /* 1e6 replicas of 4 particles: about 10 GB (measured 9.0 kB a replica), not 6 */
+  assert_int_equal(gran_scene_parse(tiny_srd(1000000, 8), "rep.toml", &s), GRAN_ERR_PARSE);
+  assert_non_null(strstr(gran_last_error_message(), "key 'engine.replicas'"));
+  assert_null(s);
+  /* the same through gran_scene_set_replicas (granary run --replicas): refused, scene unchanged */
+  GRAN_ASSERT_OK(gran_scene_parse(tiny_srd(1, 1), "rep.toml", &s));
+  assert_int_equal(gran_scene_set_replicas(s, 1000000, 0), GRAN_ERR_NOMEM);
+  assert_non_null(strstr(gran_last_error_message(), "argument 'replicas'"));
+  int64_t R = 0;
+  GRAN_ASSERT_OK(gran_scene_replicas(s, &R, NULL));
+  assert_int_equal(R, 1);
+  GRAN_ASSERT_OK(gran_scene_set_replicas(s, 1000, 0)); /* 10 MB */
+  gran_scene_destroy(&s);
+  /* a DSMC scene of 4 particles likewise (measured 13 kB a replica) */
+  const char *d = "[mixture]\nnspecies = 1\nmass = [1.0]\ndensity = [0.1]\n[restitution]\neps = 0.9\n[engine]\n"
+                  "counts = [4]\nt_end = 1.0\nmax_memory_gb = 1\n[observables]\ntheory = false\n";
+  GRAN_ASSERT_OK(gran_scene_parse(d, "d.toml", &s));
+  assert_int_equal(gran_scene_set_replicas(s, 1000000, 0), GRAN_ERR_NOMEM);
+  assert_non_null(strstr(gran_last_error_message(), "argument 'replicas'"));
+  gran_scene_destroy(&s);
+}
+
+/* ---- times: bounded by the step counter (1e15 steps) and by the end of the run ---- */
+static void expect_parse(const char *text, const char *key, const char *also) {
+  gran_scene *s = NULL;
+  assert_int_equal(gran_scene_parse(text, "t.toml", &s), GRAN_ERR_PARSE);
+  const char *m = gran_last_error_message();
+  if (!strstr(m, key) || (also && !strstr(m, also))) fail_msg("message '%s' lacks '%s' / '%s'", m, key, also ? also : "");
+  assert_null(s);
+}
+
+static const char *kCellAgg =
+    "[mixture]\nnspecies = 30\nm1 = 1.0\nsigma1 = 1.0\ndensity_law = { n1 = 0.01, theta = 400.0 }\n"
+    "[restitution]\neps = 0.9\n[initial]\ntemperatures = \"equal\"\nT_mean = 1.0\n"
+    "[engine]\nselector = \"cell\"\nvolume = 1e5\nseed = 7\nt_end = %s\n"
+    "[cell]\ncells = 4\ndt = 0.5\ne_agg = 1.0\ne_frag = 3.0\neps_f = 0.7\n"
+    "[observables]\n%s\n[output]\npath = \"%s\"\ncheckpoint = \"\"\n";
+
+static void test_time_bounds(void **state) {
+  (void)state;
+  /* a time beyond the step counter was dropped silently (llround overflowed) */
+  expect_parse("[engine]\ntype = \"srd\"\ncells = 4\nsteps = 40\n[observables]\ntimes = [0, 5, 1e20]\n",
+               "key 'observables.times'", "1e15 steps");
+  expect_parse("[engine]\ntype = \"srd\"\ncells = 4\nsteps = 40\n[observables]\ntimes = [0, 5, 1e20]\n", "engine.dt",
+               NULL);
+  expect_parse("[engine]\ntype = \"srd\"\ncells = 4\ndt = 1e-300\nt_end = 1\n", "key 'engine.t_end'", "1e15 steps");
+  expect_parse("[engine]\ntype = \"srd\"\ncells = 4\nsteps = 10\n[observables]\nevery = 5\nsnapshots = {times = [1e300]}\n",
+               "key 'observables.snapshots.times'", "1e15 steps");
+  char b[2048];
+  snprintf(b, sizeof b, kCellAgg, "1e300", "msd = false", "x.h5");
+  expect_parse(b, "key 'engine.t_end'", "cell.dt");
+  snprintf(b, sizeof b, kCellAgg, "1e17", "msd = false", "x.h5");
+  expect_parse(b, "key 'engine.t_end'", "1e15 steps");
+}
+
+/* ---- messages and defaults at the edges of the scene and the C API ---- */
+static void test_messages(void **state) {
+  (void)state;
+  char b[2048];
+  const char *out = io_path("agg.h5");
+  /* aggregation: msd defaults to off (clusters appear and vanish), msd = true refused by name */
+  snprintf(b, sizeof b, kCellAgg, "10.0", "times = [5.0, 10.0]\nmsd = true", out);
+  expect_parse(b, "key 'observables.msd'", "aggregation");
+  snprintf(b, sizeof b, kCellAgg, "10.0", "times = [5.0, 10.0]\ncollision_counts = true", out);
+  expect_parse(b, "key 'observables.collision_counts'", NULL);
+  snprintf(b, sizeof b, kCellAgg, "10.0", "times = [5.0, 10.0]", out);
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(b, "agg.toml", &s));
+  GRAN_ASSERT_OK(gran_scene_run(s, out, "", NULL, NULL));
+  gran_scene_destroy(&s);
+  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  assert_true(H5Lexists(f, "msd", H5P_DEFAULT) == 0 && H5Lexists(f, "clusters", H5P_DEFAULT) > 0);
+  H5Fclose(f);
+  /* the engine type is checked first, by name */
+  expect_parse("[engine]\ntype = 0\n", "key 'engine.type'", "must be a string");
+  expect_parse("[engine]\ntype = \"gsrd\"\n", "key 'engine.type'", "\"srd\"");
+  /* the C API names its public parameter, not the variable behind it */
+  assert_int_equal(gran_srd_advance(NULL, 1), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "argument 'srd'"));
+  gran_srd_obs ob;
+  assert_int_equal(gran_srd_observe(NULL, &ob), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "argument 'srd'"));
+  double k[2];
+  int64_t c[2];
+  assert_int_equal(gran_srd_structure_factor(NULL, 2, k, k, c), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "argument 'srd'"));
+}
+
 int main(void) {
   io_tmp("t641");
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_numeric_row_stops),
       cmocka_unit_test(test_fill_value),
+      cmocka_unit_test(test_replicas_memory),
+      cmocka_unit_test(test_time_bounds),
+      cmocka_unit_test(test_messages),
   };
   int r = cmocka_run_group_tests(tests, NULL, NULL);
   io_tmp_cleanup();

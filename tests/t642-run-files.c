@@ -7,7 +7,8 @@
  *    write leaves no .xmf and no .xmf.tmp;
  *  - a FIFO, a folder or a device given as checkpoint or scene is refused before it is opened;
  *  - SIGTERM stops `granary run` like Ctrl-C (partial output, checkpoint, the resume line) with
- *    exit code 143; a write past the file size limit (SIGXFSZ ignored) fails with a named error. */
+ *    exit code 143; a write past the file size limit (SIGXFSZ ignored) fails with a named error;
+ *  - the run header names the cell selector, and --help the exit codes. */
 #include "io_test_util.h"
 
 #include <fcntl.h>
@@ -213,6 +214,35 @@ static void test_file_size_limit(void **state) {
   assert_false(io_exists(out));
 }
 
+/* the run header names the selector the scene runs */
+static void test_header_selector(void **state) {
+  (void)state;
+  const char *sc = io_path("cell.toml"), *out = io_path("cell.h5");
+  char text[1024];
+  snprintf(text, sizeof text,
+           "[mixture]\nnspecies = 1\nmass = [1.0]\ndensity = [0.01]\n[restitution]\neps = 0.9\n[engine]\n"
+           "selector = \"cell\"\ncounts = [200]\nt_end = 1.0\n[cell]\ndt = 0.5\n[observables]\ntimes = [1.0]\n"
+           "[output]\npath = \"%s\"\ncheckpoint = \"\"\n", out);
+  io_write_file(sc, text);
+  char cmd[1200], buf[8192] = "";
+  snprintf(cmd, sizeof cmd, "%s run %s 2>&1", cli(), sc);
+  FILE *p = popen(cmd, "r");
+  assert_non_null(p);
+  size_t n = fread(buf, 1, sizeof buf - 1, p);
+  buf[n] = '\0';
+  const int st = pclose(p);
+  if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) fail_msg("granary run failed: %s", buf);
+  assert_non_null(strstr(buf, "engine dsmc (cell)"));
+  /* granary run --help documents the exit codes */
+  snprintf(cmd, sizeof cmd, "%s run --help", cli());
+  p = popen(cmd, "r");
+  n = fread(buf, 1, sizeof buf - 1, p);
+  buf[n] = '\0';
+  pclose(p);
+  assert_non_null(strstr(buf, "143"));
+  assert_non_null(strstr(buf, "130"));
+}
+
 int main(void) {
   io_tmp("t642");
   const struct CMUnitTest tests[] = {
@@ -221,6 +251,7 @@ int main(void) {
       cmocka_unit_test(test_fifo),
       cmocka_unit_test(test_sigterm),
       cmocka_unit_test(test_file_size_limit),
+      cmocka_unit_test(test_header_selector),
   };
   int r = cmocka_run_group_tests(tests, NULL, NULL);
   io_tmp_cleanup();

@@ -246,7 +246,8 @@ void header(const gran_scene *s, const std::string &out, const std::string &ck) 
   int64_t N = 0;
   for (int64_t c : s->counts) N += c;
   std::printf("  engine %s (%s), %" PRId64 " species", s->engine_type.c_str(),
-              s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", s->nspecies);
+              s->selector == GRAN_SELECTOR_BIRD ? "bird" : s->selector == GRAN_SELECTOR_CELL ? "cell" : "lowrank",
+              s->nspecies);
   if (s->counts_kind == 0) std::printf(", %" PRId64 " particles", N);
   else if (s->counts_kind == 1) std::printf(", N1 = %.6g", s->N1);
   else std::printf(", volume %.6g", s->volume);

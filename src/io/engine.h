@@ -87,8 +87,9 @@ class gran_engine {
   virtual ~gran_engine() = default;
   /* Declare the row buffers of the observables the scene asks for (gran_row_buf_add). */
   virtual int declare(std::vector<gran_row_buf> &bufs) = 0;
-  /* Estimated peak bytes of one engine of this scene (before start: the driver refuses a run whose
-   * replicas would not fit in the memory available). */
+  /* Estimated peak bytes of one replica of this scene: the engine with its fixed costs and its
+   * recorded rows (the scene's model, gran_scene_dsmc_bytes_ / gran_scene_srd_bytes_; before
+   * start: the driver refuses a run whose replicas would not fit in the memory available). */
   virtual int memory(int64_t *bytes) = 0;
   /* Build the initial state (a fresh run) from `seed`: the scene's seed for replica 0 (so one
    * replica is exactly the run without replicas), a seed drawn from RNG stream r of the scene's

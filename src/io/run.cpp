@@ -222,18 +222,6 @@ int replica_seed(uint64_t seed, int64_t k, uint64_t *out) {
   return gran_rng_u64(&g, 1, out);
 }
 
-/* MemAvailable of /proc/meminfo in bytes (< 0 when unknown). */
-double memory_available() {
-  FILE *f = std::fopen("/proc/meminfo", "r");
-  if (!f) return -1;
-  char line[256];
-  double kb = -1;
-  while (std::fgets(line, sizeof line, f))
-    if (std::sscanf(line, "MemAvailable: %lf kB", &kb) == 1) break;
-  std::fclose(f);
-  return kb >= 0 ? kb * 1024.0 : -1;
-}
-
 /* mkdir -p of the folder holding `path` */
 int make_parent(const std::string &path) {
   size_t s = path.find_last_of('/');
@@ -672,9 +660,11 @@ int prepare(Run &r) {
       GRAN_CALL(p.eng->memory(&bytes));
       double rows = 0;
       for (const auto &b : p.bufs) rows += (double)b.row * (double)nt * 8.0;
-      /* engines of this process's replicas; rows of every replica on rank 0 */
-      const double need = (double)bytes * (double)nmine + rows * (double)nheld, avail = memory_available();
-      GRAN_CHECK(avail < 0 || need <= avail, GRAN_ERR_NOMEM,
+      /* engines of this process's replicas with their rows (the scene's estimate, engine.h
+       * memory()); rank 0 also holds the rows of the other processes' replicas */
+      const double need = (double)bytes * (double)nmine + rows * (double)(nheld - nmine),
+                   avail = gran_scene_memory_limit_(r.s);
+      GRAN_CHECK(need <= avail, GRAN_ERR_NOMEM,
                  "%" PRId64 " replica(s) of this scene need about %.3g GB%s (%.3g GB each, all in memory at once), "
                  "more than the %.3g GB available: lower [engine] replicas (--replicas) or the particle numbers",
                  nmine, need / 1e9, r.comm.size > 1 ? " on this process" : "", need / 1e9 / (double)nmine, avail / 1e9);
@@ -1051,7 +1041,14 @@ GRAN_EXTERN int gran_scene_set_replicas(gran_scene *scene, int64_t replicas, int
              replicas);
   GRAN_CHECK(keep_replicas == 0 || keep_replicas == 1, GRAN_ERR_ARG, "argument 'keep_replicas' must be 0 or 1, got %d",
              (int)keep_replicas);
+  const int64_t was = scene->replicas;
   scene->replicas = replicas;
+  /* the memory check of the scene, again with these replicas */
+  const int st = gran_scene_check_memory_(scene, "argument 'replicas'");
+  if (st != GRAN_SUCCESS) {
+    scene->replicas = was;
+    return st;
+  }
   scene->keep_replicas = keep_replicas;
   return GRAN_SUCCESS;
 }
