@@ -35,6 +35,8 @@ void gran_warning_add(const char *fmt, ...) __attribute__((format(printf, 1, 2))
   } while (0)
 
 #define GRAN_CHECK_PTR(p) GRAN_CHECK((p) != nullptr, GRAN_ERR_ARG, "argument '%s' is NULL", #p)
+/* the same for a pointer held under another name than the public parameter it names */
+#define GRAN_CHECK_PTR_AS(p, name) GRAN_CHECK((p) != nullptr, GRAN_ERR_ARG, "argument '%s' is NULL", #name)
 #define GRAN_CHECK_FINITE(x) \
   GRAN_CHECK(std::isfinite(x), GRAN_ERR_ARG, "argument '%s' is not finite (%g)", #x, (double)(x))
 

@@ -165,12 +165,12 @@ static void test_memory_refused_first(void **state) {
            "[mixture]\nnspecies = 1\nmass = [1.0]\ndensity = [0.1]\n[restitution]\neps = 0.9\n"
            "[initial]\ntemperatures = [1.0]\n[engine]\ncounts = [5000000]\nt_end = 1.0\nreplicas = 100000\n"
            "[observables]\ntimes = [1.0]\n[output]\npath = \"%s\"\n", out);
-  GRAN_ASSERT_OK(gran_scene_parse(text, "huge.toml", &s));
-  assert_int_equal(gran_scene_run(s, NULL, "", NULL, NULL), GRAN_ERR_NOMEM);
-  assert_non_null(strstr(gran_last_error_message(), "replicas"));
+  /* refused with the scene, naming the replicas (one replica fits) */
+  assert_int_equal(gran_scene_parse(text, "huge.toml", &s), GRAN_ERR_PARSE);
+  assert_non_null(strstr(gran_last_error_message(), "key 'engine.replicas'"));
   assert_non_null(strstr(gran_last_error_message(), "GB"));
+  assert_null(s);
   assert_false(io_exists(out));
-  gran_scene_destroy(&s);
 }
 
 /* The memory check counts what an engine holds: species arrays and trees grow with M, M x M tables

@@ -21,11 +21,15 @@
 
 namespace {
 
-volatile std::sig_atomic_t g_interrupted = 0;
-void on_sigint(int) {
-  g_interrupted = 1;
-  std::signal(SIGINT, SIG_DFL); /* a second Ctrl-C kills at once */
+/* SIGINT (Ctrl-C) and SIGTERM (what batch systems send before they kill a job) stop the run at
+ * the next output time with a checkpoint and the partial output; the exit code is 128 + the
+ * signal (130, 143). A second one of the same signal kills at once. */
+volatile std::sig_atomic_t g_interrupted = 0; /* the signal that stopped the run, 0: none */
+void on_stop_signal(int sig) {
+  g_interrupted = sig;
+  std::signal(sig, SIG_DFL);
 }
+int stop_code() { return g_interrupted ? 128 + (int)g_interrupted : 0; }
 
 void run_usage(FILE *f) {
   std::fprintf(f,
@@ -42,8 +46,10 @@ void run_usage(FILE *f) {
                "  --stop-after-checkpoints N stop after writing N checkpoints (for testing resume)\n"
                "  --quiet                    no progress line, no summary table\n"
                "  --verbose                  error messages name the library function and source line\n"
-               "  Ctrl-C stops at the next output time after writing a checkpoint; what was recorded\n"
-               "  so far goes to OUTPUT.partial.h5 (root attribute complete = 0).\n");
+               "  Ctrl-C (SIGINT) or SIGTERM stops at the next output time after writing a checkpoint; what\n"
+               "  was recorded so far goes to OUTPUT.partial.h5 (root attribute complete = 0).\n"
+               "exit codes: 0 done (or stopped by --stop-after-checkpoints), 1 error (bad scene, refused\n"
+               "  files, a failed run or write), 2 bad command line, 130 stopped by SIGINT, 143 by SIGTERM.\n");
 }
 
 struct Progress {
@@ -120,6 +126,9 @@ void summary(const std::string &path) {
       if (!th.empty() && gran_h5::read_double(f, th.c_str(), c.th, nullptr, p)) c.th.clear();
       if (c.th.size() != c.sim.size()) c.th.assign(c.sim.size(), NAN);
       if (c.se.size() != c.sim.size()) c.se.clear();
+      for (auto *v : {&c.sim, &c.se}) /* the fill value (no value) prints as nan */
+        for (double &x : *v)
+          if (x == gran_row_fill) x = NAN;
       cols.push_back(std::move(c));
     }
   }
@@ -237,7 +246,8 @@ void header(const gran_scene *s, const std::string &out, const std::string &ck) 
   int64_t N = 0;
   for (int64_t c : s->counts) N += c;
   std::printf("  engine %s (%s), %" PRId64 " species", s->engine_type.c_str(),
-              s->selector == GRAN_SELECTOR_BIRD ? "bird" : "lowrank", s->nspecies);
+              s->selector == GRAN_SELECTOR_BIRD ? "bird" : s->selector == GRAN_SELECTOR_CELL ? "cell" : "lowrank",
+              s->nspecies);
   if (s->counts_kind == 0) std::printf(", %" PRId64 " particles", N);
   else if (s->counts_kind == 1) std::printf(", N1 = %.6g", s->N1);
   else std::printf(", volume %.6g", s->volume);
@@ -270,7 +280,7 @@ int stopped(const gran_run_result &res, const std::string &out, const std::strin
                part.c_str(), out.c_str());
   if (ck.empty()) std::fprintf(stderr, "  No checkpoint was written (--no-checkpoint): the run cannot be continued.\n");
   else std::fprintf(stderr, "  Continue with: granary run --resume %s\n", ck.c_str());
-  return g_interrupted ? 130 : 0;
+  return stop_code();
 }
 
 int fail(const char *what) {
@@ -380,7 +390,10 @@ int cli_run(int argc, char **argv) {
   ctl.progress = progress_cb;
   ctl.progress_params = &pr;
   gran_run_result res = {};
-  std::signal(SIGINT, on_sigint);
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
+  /* a write beyond the file size limit fails with EFBIG (a named error) instead of killing */
+  std::signal(SIGXFSZ, SIG_IGN);
 
   std::string out_path;
   int st;
@@ -434,9 +447,9 @@ int cli_run(int argc, char **argv) {
       return 1;
     }
     gran_scene_destroy(&scene);
-    if (!res.finished) return root ? stopped(res, out_path, ck_path) : (g_interrupted ? 130 : 0);
+    if (!res.finished) return root ? stopped(res, out_path, ck_path) : stop_code();
   }
-  if (!res.finished) return root ? stopped(res, out_path, resume) : (g_interrupted ? 130 : 0);
+  if (!res.finished) return root ? stopped(res, out_path, resume) : stop_code();
   if (!root) return 0;
   int64_t nwarn = 0;
   gran_warning_count(&nwarn);

@@ -34,6 +34,13 @@ void gran_row_buf_add(std::vector<gran_row_buf> &bufs, const char *group, const 
   bufs.push_back(std::move(b));
 }
 
+void gran_row_buf_allow_fill(std::vector<gran_row_buf> &bufs, const char *group, const char *name, const char *when) {
+  gran_row_buf *b = gran_row_buf_find(bufs, group, name);
+  if (!b || b->is_int) return;
+  b->fill = 1;
+  b->description += std::string("; _FillValue (") + when + ")";
+}
+
 gran_row_buf *gran_row_buf_find(std::vector<gran_row_buf> &bufs, const char *group, const char *name) {
   for (auto &b : bufs)
     if (b.group == group && b.name == name) return &b;

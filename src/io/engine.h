@@ -16,6 +16,9 @@
  *   create (factory) -> declare(bufs) -> memory() -> start(seed) | checkpoint_read(file, group)
  *   -> for each output time i >= next: advance(t_i), record(bufs, i) [, checkpoint_write(...)]
  *   -> advance(t_end) -> write_output(file, ntimes): the engine's own groups and the theory.
+ * After each record(bufs, i) the driver checks row i of every buffer: non-finite values stop the
+ * run with GRAN_ERR_NUMERIC naming the dataset (the partial output keeps rows 0..i-1), except NaN
+ * in buffers marked with gran_row_buf_allow_fill, stored as the fill value gran_row_fill.
  *   A run stopped early (signal, progress callback) writes a partial output: write_output(file, next).
  * An engine never writes the output file's common parts and never prints.
  * Replicas: the driver creates one engine per replica (`[engine] replicas`), drives them in OpenMP
@@ -42,6 +45,12 @@ struct gran_row_buf {
   std::vector<int64_t> row_dims; /* shape of one row ({} for a scalar) */
   int64_t row = 1;               /* elements per row (product of row_dims) */
   std::string units, description;/* written as the dataset's `units` and `description` attributes */
+  /* 1: an element may have no value (an empty S(k) shell, a2 of a cell-less gas, ...): the engine
+   * records NaN there, and the driver stores gran_row_fill instead, with the dataset attribute
+   * _FillValue = gran_row_fill (CF convention: xarray reads such elements back as NaN). Every
+   * other element, and every element of a buffer without fill, must be finite: the driver stops
+   * the run with GRAN_ERR_NUMERIC otherwise (gran_row_buf_allow_fill). */
+  int fill = 0;
   std::vector<double> d;
   std::vector<int64_t> n;
 };
@@ -49,6 +58,11 @@ struct gran_row_buf {
 /* Declare a buffer (the driver sizes it to the scene's output times). */
 void gran_row_buf_add(std::vector<gran_row_buf> &bufs, const char *group, const char *name, int is_int,
                       std::vector<int64_t> row_dims, const char *units, const char *description);
+/* The fill value of rows that may hold no value: netCDF's default double fill (NC_FILL_DOUBLE). */
+constexpr double gran_row_fill = 9.969209968386869e36;
+/* Mark buffer group/name as one whose elements may be NaN for "no value" (`when` says when, and
+ * is appended to its description). Does nothing when the buffer is not declared. */
+void gran_row_buf_allow_fill(std::vector<gran_row_buf> &bufs, const char *group, const char *name, const char *when);
 /* The buffer group/name; nullptr when not declared. */
 gran_row_buf *gran_row_buf_find(std::vector<gran_row_buf> &bufs, const char *group, const char *name);
 
@@ -73,8 +87,9 @@ class gran_engine {
   virtual ~gran_engine() = default;
   /* Declare the row buffers of the observables the scene asks for (gran_row_buf_add). */
   virtual int declare(std::vector<gran_row_buf> &bufs) = 0;
-  /* Estimated peak bytes of one engine of this scene (before start: the driver refuses a run whose
-   * replicas would not fit in the memory available). */
+  /* Estimated peak bytes of one replica of this scene: the engine with its fixed costs and its
+   * recorded rows (the scene's model, gran_scene_dsmc_bytes_ / gran_scene_srd_bytes_; before
+   * start: the driver refuses a run whose replicas would not fit in the memory available). */
   virtual int memory(int64_t *bytes) = 0;
   /* Build the initial state (a fresh run) from `seed`: the scene's seed for replica 0 (so one
    * replica is exactly the run without replicas), a seed drawn from RNG stream r of the scene's
@@ -101,6 +116,15 @@ class gran_engine {
   virtual int checkpoint_read(int64_t file, const char *fname, const char *group) = 0;
   /* Columns of the end-of-run summary (simulated beside theory), only of observables that are on. */
   virtual std::vector<gran_summary_column> summary_columns() const = 0;
+  /* Files other than `output` that write_output(file = output) writes (GSRD: the XDMF sidecar).
+   * write_output writes each as PATH.tmp only; the driver renames them into place after the
+   * output itself is committed, removes the .tmp when that fails, removes a PATH left by an
+   * earlier run when this run wrote none, and checks these paths (and their .tmp) against the
+   * run's other files before any work. */
+  virtual std::vector<std::string> sidecars(const std::string &output) const {
+    (void)output;
+    return {};
+  }
   /* Short name ("dsmc") written as the output's `engine` attribute. */
   virtual const char *type() const = 0;
 };

@@ -62,6 +62,12 @@ class DsmcEngine : public gran_engine {
     if (s->obs_veldist)
       gran_row_buf_add(b, "velocity_distribution", "pdf", 0, {M, s->vd_bins}, "1",
                        "speed histogram of c = |v - u_k| / sqrt(2 T_k / m_k), normalised by N_k dc [time][k][bin]");
+    /* per-species values of a species without particles (record allows NaN only there) */
+    const char *empty = "a species without particles";
+    gran_row_buf_allow_fill(b, "temperatures", "T", empty);
+    gran_row_buf_allow_fill(b, "msd", "msd", empty);
+    gran_row_buf_allow_fill(b, "sonine_a2", "a2", empty);
+    gran_row_buf_allow_fill(b, "velocity_distribution", "pdf", empty);
     return GRAN_SUCCESS;
   }
 

@@ -6,7 +6,7 @@
  * (which also turns eps_eff clamps of the interval into a warning with dt_max), S(k) from
  * gran_srd_structure_factor, cell fields from gran_srd_fields. The Lees-Edwards stress is the
  * average over the interval since the previous output time (gran_srd_stress_reset after each
- * record; NaN for a zero-length interval). Field snapshots are held by replica 0 only (the
+ * record; the fill value for a zero-length interval). Field snapshots are held by replica 0 only (the
  * replica whose seed is the scene's, or whose checkpoint group is /engine), written into the
  * output under /fields with an XDMF sidecar (OUTPUT.xmf) that ParaView opens, and kept in the
  * checkpoint so that a resumed run writes the same file.
@@ -213,7 +213,7 @@ class SrdEngine : public gran_engine {
       gran_row_buf_add(b, "clamps", "count", 1, {}, "1",
                        "cell collisions whose eps_eff (Eq. 2.1) was clamped to [0, 1] since the previous output time");
       gran_row_buf_add(b, "clamps", "dt_max", 0, {}, "time",
-                       "largest dt that would have avoided those clamps (inf: none)");
+                       "largest dt that would have avoided those clamps");
     }
     if (q.obs_momentum)
       gran_row_buf_add(b, "momentum", "p", 0, {3}, "mass*length/time", "total momentum (x, y, z) of the gas");
@@ -233,7 +233,7 @@ class SrdEngine : public gran_engine {
     if (q.obs_stress) {
       gran_row_buf_add(b, "stress", "xy", 0, {}, "mass/(length^(d-2) time^2)",
                        "Lees-Edwards shear stress (kinetic + collisional) averaged over the interval since the previous output "
-                       "time (NaN for an empty interval)");
+                       "time");
       gran_row_buf_add(b, "stress", "kinetic", 0, {}, "mass/(length^(d-2) time^2)",
                        "its kinetic (plane-crossing) part, same interval");
       gran_row_buf_add(b, "stress", "eta", 0, {}, "mass/(length^(d-2) time)", "shear viscosity stress_xy / shear_rate");
@@ -241,6 +241,14 @@ class SrdEngine : public gran_engine {
     if (q.obs_profile)
       gran_row_buf_add(b, "velocity_profile", "u", 0, {o_.cells[1], 3}, "length/time",
                        "mean velocity of the particles in each layer of cells along y [time][layer][component]");
+    /* the values that may not exist (NaN in record; the driver writes the fill value) */
+    gran_row_buf_allow_fill(b, "clamps", "dt_max", "no clamp in the interval");
+    gran_row_buf_allow_fill(b, "energy", "ledger_error", "e_initial = 0");
+    gran_row_buf_allow_fill(b, "structure_factor", "S", "a shell without modes");
+    gran_row_buf_allow_fill(b, "stress", "xy", "an empty interval");
+    gran_row_buf_allow_fill(b, "stress", "kinetic", "an empty interval");
+    gran_row_buf_allow_fill(b, "stress", "eta", "an empty interval, or shear_rate = 0");
+    gran_row_buf_allow_fill(b, "velocity_profile", "u", "a layer without particles");
     return GRAN_SUCCESS;
   }
 
@@ -315,10 +323,10 @@ class SrdEngine : public gran_engine {
       else if (g == "temperature") d[0] = nm == "T" ? ob.temperature : ob.theta_cells;
       else if (g == "energy") {
         d[0] = nm == "e_kin" ? ob.energy : nm == "e_initial" ? ob.e_initial : nm == "e_collisions" ? ob.e_collisions
-             : nm == "e_external" ? ob.e_external : ob.ledger_error;
+             : nm == "e_external" ? ob.e_external : ob.e_initial != 0 ? ob.ledger_error : NAN;
       } else if (g == "clamps") {
         if (b.is_int) n[0] = ob.clamped;
-        else d[0] = ob.dt_max;
+        else d[0] = ob.clamped > 0 ? ob.dt_max : NAN; /* no clamp: no bound on dt */
       } else if (g == "momentum") {
         for (int k = 0; k < 3; ++k) d[k] = ob.momentum[k];
       } else if (g == "clustering") {
@@ -328,7 +336,8 @@ class SrdEngine : public gran_engine {
       } else if (g == "structure_factor") {
         std::copy(sk_s.begin(), sk_s.end(), d);
       } else if (g == "stress") {
-        const double v = nm == "xy" ? ob.stress_xy : nm == "kinetic" ? ob.stress_kin : ob.stress_xy / o_.shear_rate;
+        const double v = nm == "xy" ? ob.stress_xy : nm == "kinetic" ? ob.stress_kin
+                       : o_.shear_rate != 0 ? ob.stress_xy / o_.shear_rate : NAN;
         d[0] = span > 0 ? v : NAN;
       } else if (g == "velocity_profile") {
         profile(cnt, vel, d);
@@ -384,9 +393,13 @@ class SrdEngine : public gran_engine {
       std::vector<int64_t> c((size_t)q.sk_bins);
       GRAN_CALL(gran_srd_structure_factor(srd_, q.sk_bins, k.data(), sk.data(), c.data())); /* k and counts: geometry only */
       for (int64_t b = 0; b < q.sk_bins; ++b)
-        if (c[(size_t)b] == 0) k[(size_t)b] = NAN;
+        if (c[(size_t)b] == 0) k[(size_t)b] = gran_row_fill;
       GRAN_CALL(gran_h5::write_double(g.id, "k", {q.sk_bins}, k.data(), file));
-      GRAN_CALL(gran_describe_(g.id, "k", "1/length", "mean |k| of the modes in each shell (NaN: empty shell)", file));
+      GRAN_CALL(gran_describe_(g.id, "k", "1/length", "mean |k| of the modes in each shell; _FillValue (a shell without modes)", file));
+      {
+        H5Obj d(H5Dopen2(g.id, "k", H5P_DEFAULT), H5Dclose);
+        GRAN_CALL(gran_h5::attr_double(d.id, "_FillValue", gran_row_fill, file));
+      }
       GRAN_CALL(gran_h5::write_int64(g.id, "modes", {q.sk_bins}, c.data(), file));
       GRAN_CALL(gran_describe_(g.id, "modes", "1", "modes in each shell", file));
     }
@@ -405,10 +418,13 @@ class SrdEngine : public gran_engine {
                                "to the axis are scaled)", file));
       GRAN_CALL(gran_h5::attr_double(g.id, "haff_rate", rate, file));
     }
-    GRAN_CALL(write_snapshots(f, file, nrec));
-    /* a finished run: the sidecar of an earlier partial output goes with it */
-    if (nrec == (int64_t)s_->times.size()) std::remove(xmf_path(gran_partial_path_(file)).c_str());
-    return GRAN_SUCCESS;
+    return write_snapshots(f, file, nrec);
+  }
+
+  /* the XDMF sidecar OUTPUT.xmf of the field snapshots (written as OUTPUT.xmf.tmp) */
+  std::vector<std::string> sidecars(const std::string &output) const override {
+    if (s_->srd.snap_index.empty()) return {};
+    return {xmf_path(output)};
   }
 
   int checkpoint_write(int64_t file, const char *fname, const char *group) override {
@@ -566,7 +582,8 @@ class SrdEngine : public gran_engine {
     }
   }
 
-  /* /fields/snap_NNNNNN/{count, density, velocity, temperature} and the XDMF sidecar */
+  /* /fields/snap_NNNNNN/{count, density, velocity, temperature} and the XDMF sidecar (its .tmp:
+   * the driver renames it once the output file it points to is in place) */
   int write_snapshots(int64_t f, const char *file, int64_t nrec) {
     std::vector<const Snap *> use;
     for (const Snap &sn : snaps_)
@@ -659,7 +676,7 @@ class SrdEngine : public gran_engine {
       if (!ok) std::remove(tmp.c_str());
       GRAN_CHECK(ok, GRAN_ERR_IO, "cannot write the XDMF file '%s'", tmp.c_str());
     }
-    return gran_io_commit_file_(tmp, xp);
+    return GRAN_SUCCESS;
   }
 };
 

@@ -20,8 +20,16 @@ namespace gran_h5 {
 
 static void quiet() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
+/* Only regular files are opened: a FIFO would block the open, a device or folder is no HDF5 file
+ * (stat first, before anything opens the path). */
+static bool regular(const char *path) {
+  struct stat sb;
+  return stat(path, &sb) == 0 && S_ISREG(sb.st_mode);
+}
+
 int64_t open_file(const char *path, int readwrite) {
   quiet();
+  if (!regular(path)) return -1;
   return (int64_t)H5Fopen(path, readwrite ? H5F_ACC_RDWR : H5F_ACC_RDONLY, H5P_DEFAULT);
 }
 
@@ -330,6 +338,7 @@ int verify_file(const char *path, const char *what) {
 
 int verify_file_if_marked(const char *path, const char *what) {
   char head[sizeof kMagic] = {0};
+  if (!regular(path)) return verify_file(path, what); /* names a missing or non-regular file */
   FILE *f = std::fopen(path, "rb");
   if (!f) return GRAN_SUCCESS; /* the caller reports a missing file in its own words */
   const size_t got = std::fread(head, 1, sizeof kMagic - 1, f);

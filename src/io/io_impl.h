@@ -52,6 +52,7 @@ struct gran_scene {
   int64_t bound_refresh = 0;
   int speed_classes = -1; /* `[engine] speed_classes` (issue 11): gran_dsmc_options.speed_classes (-1: auto) */
   int64_t replicas = 1;   /* independent runs (run.cpp); replica r draws from RNG stream r of seed */
+  double max_memory = 0;  /* [engine] max_memory_gb in bytes; 0: MemAvailable at the check */
   int keep_replicas = 0;  /* also write the per-replica rows */
 
   /* [cell] (selector = "cell": src/dsmc/cell.cpp) */
@@ -106,6 +107,8 @@ int gran_scene_T0_(const gran_scene *s, const gran_mixture *mix, double *T0, dou
  * scene asks for them, TAMSD trajectories. Returns the sum. */
 struct gran_dsmc_bytes {
   double particles, species, pairs, trajectories;
+  double fixed; /* the engine's structs, its allocations' overhead, the adapter and its mixture */
+  double rows;  /* the recorded rows of every output time and their buffers (one replica's) */
 };
 double gran_scene_dsmc_bytes_(const gran_scene &s, gran_dsmc_bytes *b);
 /* Memory of one GSRD CPU engine of this scene (src/srd/srd_impl.h), by part: particles (48 B of
@@ -115,8 +118,17 @@ double gran_scene_dsmc_bytes_(const gran_scene &s, gran_dsmc_bytes *b);
  * field snapshots of replica 0 (5 doubles per cell each). Returns the sum. */
 struct gran_srd_bytes {
   double particles, cells, snapshots;
+  double fixed; /* struct gran_srd, its allocations' overhead, the adapter */
+  double rows;  /* the recorded rows of every output time and their buffers (one replica's) */
 };
 double gran_scene_srd_bytes_(const gran_scene &s, gran_srd_bytes *b);
+/* The memory check of a parsed scene after an override of what it runs (replicas): the scene's
+ * engine estimate (gran_scene_dsmc_bytes_ / gran_scene_srd_bytes_) for every replica against
+ * [engine] max_memory_gb, else MemAvailable; GRAN_ERR_NOMEM naming `key` (the override) when it
+ * does not fit. */
+int gran_scene_check_memory_(const gran_scene *s, const char *key);
+/* The bytes the run of this scene may use: [engine] max_memory_gb, else MemAvailable now. */
+double gran_scene_memory_limit_(const gran_scene *s);
 
 /* h5.cpp: thin helpers. Every function returns a granary status; the file name goes in messages. */
 namespace gran_h5 {

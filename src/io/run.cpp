@@ -222,18 +222,6 @@ int replica_seed(uint64_t seed, int64_t k, uint64_t *out) {
   return gran_rng_u64(&g, 1, out);
 }
 
-/* MemAvailable of /proc/meminfo in bytes (< 0 when unknown). */
-double memory_available() {
-  FILE *f = std::fopen("/proc/meminfo", "r");
-  if (!f) return -1;
-  char line[256];
-  double kb = -1;
-  while (std::fgets(line, sizeof line, f))
-    if (std::sscanf(line, "MemAvailable: %lf kB", &kb) == 1) break;
-  std::fclose(f);
-  return kb >= 0 ? kb * 1024.0 : -1;
-}
-
 /* mkdir -p of the folder holding `path` */
 int make_parent(const std::string &path) {
   size_t s = path.find_last_of('/');
@@ -278,20 +266,33 @@ std::string file_identity(const std::string &path) {
   return "path " + path;
 }
 
-/* Refuse two roles for one file (output, checkpoint, scene, partial output), by identity. */
+/* Refuse two roles for one file, by identity: every file a run reads or writes (the scene file,
+ * the checkpoint it resumes from or writes, the output and the partial output, the sidecars the
+ * engine writes beside them, and the .tmp of each written file). */
 int check_distinct(const Run &r, const std::string &scene_file) {
   struct Role {
-    const char *what;
-    std::string path;
+    std::string what, path;
   };
-  std::vector<Role> roles = {{"output", r.out}, {"checkpoint", r.ckpt}, {"scene file", scene_file},
-                             {"partial output", gran_partial_path_(r.out)}};
+  std::unique_ptr<gran_engine> eng; /* for its sidecars: no state is built */
+  GRAN_CALL(gran_engine_create_(r.s, eng));
+  std::vector<Role> roles = {{"scene file", scene_file}};
+  auto written = [&](const std::string &what, const std::string &path) {
+    if (path.empty()) return;
+    roles.push_back({what, path});
+    roles.push_back({"temporary file of the " + what, path + ".tmp"});
+  };
+  written("checkpoint", r.ckpt);
+  const std::string part = gran_partial_path_(r.out);
+  written("output", r.out);
+  written("partial output", part);
+  for (const auto &p : eng->sidecars(r.out)) written("sidecar of the output", p);
+  for (const auto &p : eng->sidecars(part)) written("sidecar of the partial output", p);
   for (size_t a = 0; a < roles.size(); a++)
     for (size_t b = a + 1; b < roles.size(); b++) {
       if (roles[a].path.empty() || roles[b].path.empty()) continue;
       if (file_identity(roles[a].path) == file_identity(roles[b].path))
-        return GRAN_ERROR(GRAN_ERR_ARG, "the %s '%s' and the %s '%s' are the same file", roles[a].what,
-                          roles[a].path.c_str(), roles[b].what, roles[b].path.c_str());
+        return GRAN_ERROR(GRAN_ERR_ARG, "the %s '%s' and the %s '%s' are the same file", roles[a].what.c_str(),
+                          roles[a].path.c_str(), roles[b].what.c_str(), roles[b].path.c_str());
     }
   return GRAN_SUCCESS;
 }
@@ -306,6 +307,34 @@ struct H5Group {
   int64_t id = -1;
   ~H5Group() { gran_h5::close_group(id); }
 };
+
+/* The _FillValue attribute (gran_row_fill) of dataset `name` in `loc`. */
+int fill_attr(int64_t loc, const char *name, const char *file) {
+  hid_t d = H5Dopen2((hid_t)loc, name, H5P_DEFAULT);
+  GRAN_CHECK(d >= 0, GRAN_ERR_IO, "cannot open dataset '%s' in '%s'", name, file);
+  const int st = gran_h5::attr_double(d, "_FillValue", gran_row_fill, file);
+  H5Dclose(d);
+  return st;
+}
+
+/* Row i of every buffer of a replica, right after record: every double finite, except NaN in a
+ * buffer with fill (no value), stored as gran_row_fill. Anything else stops the run. */
+int check_row(std::vector<gran_row_buf> &bufs, int64_t i, const gran_scene *s) {
+  for (auto &b : bufs) {
+    if (b.is_int) continue;
+    double *d = b.d.data() + i * b.row;
+    for (int64_t e = 0; e < b.row; e++) {
+      if (std::isfinite(d[e])) continue;
+      if (b.fill && std::isnan(d[e])) {
+        d[e] = gran_row_fill;
+        continue;
+      }
+      return GRAN_ERROR(GRAN_ERR_NUMERIC, "dataset '%s/%s' is %g at output time %" PRId64 " (t = %g, element %" PRId64
+                        "): the run stops here", b.group.c_str(), b.name.c_str(), d[e], i, s->times[(size_t)i], e);
+    }
+  }
+  return GRAN_SUCCESS;
+}
 
 int write_root_attrs(Run &r, int64_t f, const char *file, const char *format) {
   const gran_scene *s = r.s;
@@ -335,16 +364,32 @@ int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> 
     const gran_row_buf &c = r.reps[(size_t)k].bufs[q];
     return c.is_int ? (double)c.n[i] : c.d[i];
   };
+  /* with fill: over the replicas that have a value (none: fill; fewer than 2: no standard error) */
+  std::vector<int64_t> cnt(n, R);
+  if (b.fill)
+    for (size_t i = 0; i < n; i++) {
+      cnt[i] = 0;
+      for (int64_t k = 0; k < R; k++) cnt[i] += val(k, i) != gran_row_fill;
+    }
+  auto has = [&](int64_t k, size_t i) { return !b.fill || val(k, i) != gran_row_fill; };
   for (int64_t k = 0; k < R; k++)
-    for (size_t i = 0; i < n; i++) mean[i] += val(k, i);
-  for (size_t i = 0; i < n; i++) mean[i] /= (double)R;
+    for (size_t i = 0; i < n; i++)
+      if (has(k, i)) mean[i] += val(k, i);
+  for (size_t i = 0; i < n; i++) mean[i] = cnt[i] > 0 ? mean[i] / (double)cnt[i] : gran_row_fill;
   for (int64_t k = 0; k < R; k++)
     for (size_t i = 0; i < n; i++) {
+      if (!has(k, i)) continue;
       const double d = val(k, i) - mean[i];
       se[i] += d * d;
     }
   /* sample variance / R: the standard error of the mean; for a sum, R times that */
-  for (size_t i = 0; i < n; i++) se[i] = std::sqrt(se[i] / (double)(R - 1) / (double)R) * (b.is_int ? (double)R : 1.0);
+  for (size_t i = 0; i < n; i++)
+    se[i] = cnt[i] < 2 ? gran_row_fill
+                       : std::sqrt(se[i] / (double)(cnt[i] - 1) / (double)cnt[i]) * (b.is_int ? (double)R : 1.0);
+  for (size_t i = 0; i < n; i++)
+    GRAN_CHECK(std::isfinite(mean[i]) && std::isfinite(se[i]), GRAN_ERR_NUMERIC,
+               "dataset '%s/%s': the mean over the replicas or its standard error is not finite (element %zu of '%s')",
+               b.group.c_str(), b.name.c_str(), i, file);
   const std::string nse = b.name + "_se", nrep = b.name + "_replicas";
   if (b.is_int) {
     std::vector<int64_t> sum(n, 0);
@@ -359,6 +404,10 @@ int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> 
   GRAN_CALL(gran_h5::write_double(g, nse.c_str(), dims, se.data(), file));
   GRAN_CALL(gran_describe_(g, nse.c_str(), b.units.c_str(),
                            ("standard error of " + b.name + (b.is_int ? " (the sum)" : " (the mean)") + " from the replicas").c_str(), file));
+  if (b.fill) {
+    GRAN_CALL(fill_attr(g, b.name.c_str(), file));
+    GRAN_CALL(fill_attr(g, nse.c_str(), file));
+  }
   if (r.keep) {
     std::vector<int64_t> rd = {R};
     rd.insert(rd.end(), dims.begin(), dims.end());
@@ -372,13 +421,51 @@ int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> 
       GRAN_CALL(gran_h5::write_double(g, nrep.c_str(), rd, all.data(), file));
     }
     GRAN_CALL(gran_describe_(g, nrep.c_str(), b.units.c_str(), (b.description + "; per replica [replica][...]").c_str(), file));
+    if (b.fill) GRAN_CALL(fill_attr(g, nrep.c_str(), file));
   }
   return GRAN_SUCCESS;
 }
 
 /* The output file with the first nrec output times (all of them for a finished run; a stopped
  * run writes what it recorded, with the root attribute complete = 0). */
+int write_output_file(Run &r, const std::string &path, int64_t nrec);
+
+/* The output file and its sidecars (gran_engine::sidecars): each sidecar is written as PATH.tmp
+ * with the output and renamed into place only after the output file is committed; a sidecar of
+ * an earlier run that this one did not write is removed (it would describe another file); on
+ * failure no sidecar .tmp is left. */
 int write_output(Run &r, const std::string &path, int64_t nrec) {
+  const std::vector<std::string> side = r.eng()->sidecars(path);
+  for (const auto &p : side) std::remove((p + ".tmp").c_str());
+  const int st = write_output_file(r, path, nrec);
+  if (st != GRAN_SUCCESS) {
+    for (const auto &p : side) std::remove((p + ".tmp").c_str());
+    return st;
+  }
+  for (const auto &p : side) {
+    const std::string tmp = p + ".tmp";
+    struct stat sb;
+    if (stat(tmp.c_str(), &sb) != 0) {
+      std::remove(p.c_str());
+      continue;
+    }
+    const int cst = gran_io_commit_file_(tmp, p);
+    if (cst != GRAN_SUCCESS) {
+      std::remove(tmp.c_str());
+      return cst;
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
+/* A finished run: the partial output of an earlier stop and its sidecars go. */
+void remove_partial(Run &r) {
+  const std::string part = gran_partial_path_(r.out);
+  std::remove(part.c_str());
+  for (const auto &p : r.eng()->sidecars(part)) std::remove(p.c_str());
+}
+
+int write_output_file(Run &r, const std::string &path, int64_t nrec) {
   const gran_scene *s = r.s;
   const int64_t nt = nrec;
   const char *file = path.c_str();
@@ -412,6 +499,7 @@ int write_output(Run &r, const std::string &path, int64_t nrec) {
         if (b.is_int) GRAN_CALL(gran_h5::write_int64(g.id, b.name.c_str(), dims, b.n.data(), file));
         else GRAN_CALL(gran_h5::write_double(g.id, b.name.c_str(), dims, b.d.data(), file));
         GRAN_CALL(gran_describe_(g.id, b.name.c_str(), b.units.c_str(), b.description.c_str(), file));
+        if (b.fill) GRAN_CALL(fill_attr(g.id, b.name.c_str(), file));
         continue;
       }
       GRAN_CALL(write_reduced(r, q, g.id, dims, file));
@@ -572,9 +660,11 @@ int prepare(Run &r) {
       GRAN_CALL(p.eng->memory(&bytes));
       double rows = 0;
       for (const auto &b : p.bufs) rows += (double)b.row * (double)nt * 8.0;
-      /* engines of this process's replicas; rows of every replica on rank 0 */
-      const double need = (double)bytes * (double)nmine + rows * (double)nheld, avail = memory_available();
-      GRAN_CHECK(avail < 0 || need <= avail, GRAN_ERR_NOMEM,
+      /* engines of this process's replicas with their rows (the scene's estimate, engine.h
+       * memory()); rank 0 also holds the rows of the other processes' replicas */
+      const double need = (double)bytes * (double)nmine + rows * (double)(nheld - nmine),
+                   avail = gran_scene_memory_limit_(r.s);
+      GRAN_CHECK(need <= avail, GRAN_ERR_NOMEM,
                  "%" PRId64 " replica(s) of this scene need about %.3g GB%s (%.3g GB each, all in memory at once), "
                  "more than the %.3g GB available: lower [engine] replicas (--replicas) or the particle numbers",
                  nmine, need / 1e9, r.comm.size > 1 ? " on this process" : "", need / 1e9 / (double)nmine, avail / 1e9);
@@ -690,6 +780,18 @@ int exchange(Run &r, int st, int64_t i, Verdict *v) {
   return GRAN_SUCCESS;
 }
 
+/* Collective, after a numeric failure (a non-finite row, or an engine's GRAN_ERR_NUMERIC) while
+ * advancing to output time i: the rows 0..i-1 are good and go to the partial output, as for a
+ * stopped run (no checkpoint: the state is not); the error is returned with where they are. */
+int numeric_stop(Run &r, int64_t i) {
+  const std::string msg = gran_last_error_message(), part = gran_partial_path_(r.out);
+  r.next = i;
+  if (i == 0) return GRAN_ERROR(GRAN_ERR_NUMERIC, "%s; no output time was recorded, no output written", msg.c_str());
+  GRAN_CALL(sync_status(r, r.root() ? write_output(r, part, i) : GRAN_SUCCESS));
+  return GRAN_ERROR(GRAN_ERR_NUMERIC, "%s; the %" PRId64 " output time(s) before it are in '%s' (complete = 0)", msg.c_str(),
+                    i, part.c_str());
+}
+
 /* The loop shared by run and resume: record rows next..ntimes-1, checkpoint, finish.
  * Progress and ETA are weighted by the engine's work estimate to each output time. With several
  * processes every step is collective; rank 0 alone calls the progress callback, decides on
@@ -746,7 +848,8 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
     GRAN_CALL(exchange(r, for_replicas(r, [&](int64_t k) {
                           Replica &p = r.reps[(size_t)k];
                           GRAN_CALL(p.eng->advance(s->times[(size_t)i]));
-                          return p.eng->record(p.bufs, i);
+                          GRAN_CALL(p.eng->record(p.bufs, i));
+                          return check_row(p.bufs, i, s);
                         }),
                        i, &v));
     r.next = i + 1;
@@ -786,7 +889,9 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
         v.stop = due && (stop || (ctl && ctl->stop_after_checkpoints > 0 && nckpt + 1 >= ctl->stop_after_checkpoints));
       }
     }
-    GRAN_CALL(share_verdict(r, &v));
+    const int vst = share_verdict(r, &v);
+    if (vst == GRAN_ERR_NUMERIC) return numeric_stop(r, i);
+    if (vst != GRAN_SUCCESS) return vst;
     if (v.ckpt) {
       GRAN_CALL(write_checkpoint(r));
       w_ckpt = now_s();
@@ -812,7 +917,7 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
       v.st = wst;
       v.msg = gran_last_error_message();
     } else {
-      std::remove(gran_partial_path_(r.out).c_str());
+      remove_partial(r);
       if (!r.ckpt.empty() && !s->keep_checkpoint) std::remove(r.ckpt.c_str());
     }
   }
@@ -936,7 +1041,14 @@ GRAN_EXTERN int gran_scene_set_replicas(gran_scene *scene, int64_t replicas, int
              replicas);
   GRAN_CHECK(keep_replicas == 0 || keep_replicas == 1, GRAN_ERR_ARG, "argument 'keep_replicas' must be 0 or 1, got %d",
              (int)keep_replicas);
+  const int64_t was = scene->replicas;
   scene->replicas = replicas;
+  /* the memory check of the scene, again with these replicas */
+  const int st = gran_scene_check_memory_(scene, "argument 'replicas'");
+  if (st != GRAN_SUCCESS) {
+    scene->replicas = was;
+    return st;
+  }
   scene->keep_replicas = keep_replicas;
   return GRAN_SUCCESS;
 }

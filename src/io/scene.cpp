@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "io/engine.h" /* gran_row_buf: the memory of the recorded rows */
 #include "io/io_impl.h"
 #include "core/run_bounds.h"
 #include "srd/srd_impl.h" /* SRD_SLAB_CELLS: the memory estimate of a GSRD engine */
@@ -420,8 +421,9 @@ double memory_available_bytes() {
   return pages > 0 && psz > 0 ? (double)pages * (double)psz : 1e18;
 }
 
-/* [engine] max_memory_gb, read before the tables that allocate (validated again with [engine]) */
-double memory_limit_bytes(const toml::value &root) {
+/* [engine] max_memory_gb in bytes (0: not given), read before the tables that allocate
+ * (validated again with [engine]) */
+double memory_limit_explicit(const toml::value &root) {
   if (root.is_table() && root.as_table().count("engine")) {
     const toml::value &en = root.as_table().at("engine");
     if (en.is_table() && en.as_table().count("max_memory_gb")) {
@@ -430,7 +432,11 @@ double memory_limit_bytes(const toml::value &root) {
       if (std::isfinite(g) && g > 0) return g * 1e9;
     }
   }
-  return memory_available_bytes();
+  return 0;
+}
+double memory_limit_bytes(const toml::value &root) {
+  const double m = memory_limit_explicit(root);
+  return m > 0 ? m : memory_available_bytes();
 }
 
 std::string gb(double bytes) {
@@ -439,6 +445,19 @@ std::string gb(double bytes) {
   return b;
 }
 
+}  // namespace
+
+namespace {
+/* heap overhead of one allocation (glibc: 16 B header, 16 B rounding on average) */
+const double kAllocBytes = 32.0;
+
+/* Row buffers of one replica: nbuf buffers of elems doubles a row over nt output times; each
+ * buffer's descriptor (gran_row_buf; 1.5 of them: the vector grows by doubling) and two
+ * allocations (its description and its rows). Measured (RSS, VmHWM): 2-D GSRD replicas of 4
+ * particles with 21 output times take 9.0 kB each (1000 and 10000 replicas); this model gives 9.9. */
+double row_bytes(double nbuf, double elems, double nt) {
+  return 8.0 * elems * nt + nbuf * (1.5 * (double)sizeof(gran_row_buf) + 2.0 * kAllocBytes);
+}
 }  // namespace
 
 double gran_scene_dsmc_bytes_(const gran_scene &s, gran_dsmc_bytes *b) {
@@ -455,7 +474,26 @@ double gran_scene_dsmc_bytes_(const gran_scene &s, gran_dsmc_bytes *b) {
   b->pairs = (s.model == GRAN_RESTITUTION_MATRIX || s.g2_is_matrix || s.visco_kind == 1 ? 40.0 * M * M : 0.0) +
              (s.obs_collision_counts ? 8.0 * M * M * 2.0 : 0.0);
   b->trajectories = s.obs_tamsd ? 24.0 * (double)s.tamsd_tracers * M * (double)s.tamsd_samples : 0.0;
-  return b->particles + b->species + b->pairs + b->trajectories;
+  /* the engine and its adapter: structs, about 40 allocations (malloc header and rounding), the
+   * adapter's mixture (species tables and theory work space) */
+  b->fixed = 4096.0 + 40.0 * kAllocBytes + 64.0 * M;
+  /* rows: the buffers gran_engine::declare makes (DSMC adapter: stats 2, T, msd + msd_total,
+   * energy 3, momentum, M x M counts, a2, the cluster rows, the speed histograms) */
+  const bool agg = s.agg.e_agg > 0 || std::isfinite(s.agg.e_frag);
+  double elems = 2, nbuf = 2;
+  auto add = [&](bool on, double bufs, double per_row) {
+    if (on) nbuf += bufs, elems += per_row;
+  };
+  add(s.obs_temperatures, 1, M);
+  add(s.obs_msd, 2, M + 1);
+  add(s.obs_energy, 3, 3);
+  add(s.obs_momentum, 1, 3);
+  add(s.obs_collision_counts, 1, M * M);
+  add(s.obs_sonine_a2, 1, M);
+  add(agg, 3, 10 + M);
+  add(s.obs_veldist, 1, M * (double)s.vd_bins);
+  b->rows = row_bytes(nbuf, elems, (double)s.times.size());
+  return b->particles + b->species + b->pairs + b->trajectories + b->fixed + b->rows;
 }
 
 double gran_scene_srd_bytes_(const gran_scene &s, gran_srd_bytes *b) {
@@ -474,46 +512,102 @@ double gran_scene_srd_bytes_(const gran_scene &s, gran_srd_bytes *b) {
   b->particles = N * (48.0 + 2.0 + 12.0);
   b->cells = bin * (56.0 + 8.0) + (double)threads * (64.0 * slab + 4.0 * N * slab / bin);
   b->snapshots = (double)s.srd.snap_index.size() * box * 5.0 * 8.0;
-  return b->particles + b->cells + b->snapshots;
+  /* struct gran_srd, its 16 allocations, the adapter (SrdEngine and its copy of the options) */
+  b->fixed = (double)sizeof(gran_srd) + 16.0 * kAllocBytes + 2.0 * (double)sizeof(gran_srd_options) + 256.0;
+  /* rows: the buffers of the GSRD adapter's declare (engine_srd.cpp) */
+  const auto &q = s.srd;
+  double elems = 1, nbuf = 1;
+  auto add = [&](bool on, double bufs, double per_row) {
+    if (on) nbuf += bufs, elems += per_row;
+  };
+  add(q.obs_temperature, 2, 2);
+  add(q.obs_energy, 5, 5);
+  add(o.eps < 1.0, 2, 2);
+  add(q.obs_momentum, 1, 3);
+  add(q.obs_clustering, 3, 3);
+  add(q.obs_a2, 1, 1);
+  add(q.obs_sk, 1, (double)q.sk_bins);
+  add(q.obs_stress, 3, 3);
+  add(q.obs_profile, 1, 3.0 * (double)o.cells[1]);
+  b->rows = row_bytes(nbuf, elems, (double)s.times.size());
+  return b->particles + b->cells + b->snapshots + b->fixed + b->rows;
 }
 
 namespace {
 
-/* The memory of the run this scene asks for, by part, against the limit: fail naming the key of
- * the largest part. One engine (gran_scene_dsmc_bytes_), its particles twice over while a
- * checkpoint image is assembled and its trajectories twice while the TAMSD is computed; the
- * recorded rows of every output time (M x M collision counts per time too); the dense theory
- * Jacobian (M <= 2048). */
-void check_memory(const gran_scene &s, double limit, Tab &mx, Tab &en, Tab &ob) {
-  const double M = (double)s.nspecies, nt = (double)s.times.size();
-  gran_dsmc_bytes e;
-  gran_scene_dsmc_bytes_(s, &e);
-  struct Part {
-    const char *what;
-    double bytes;
-    Tab *tab;
-    const char *key;
-  } parts[] = {
-      {"particles", e.particles * (s.checkpoint_path.empty() ? 1.0 : 2.0), &en,
-       s.counts_kind == 0 ? "counts" : s.counts_kind == 1 ? "N1" : "volume"},
-      {"species arrays and trees", e.species, &mx, "nspecies"},
-      {"M x M tables", e.pairs + (s.obs_collision_counts ? 8.0 * M * M * nt : 0.0), &ob, "collision_counts"},
-      {"recorded rows", nt * 8.0 * (10.0 + 4.0 * M + (s.obs_veldist ? M * (double)s.vd_bins : 0.0)), &ob, "times"},
-      {"trajectories", 2.0 * e.trajectories, &ob, "tamsd"},
-      {"theory", s.obs_theory ? (M <= 2048 ? 32.0 * M * M : 0.0) + 3.0 * nt * M * 8.0 : 0.0, &ob, "theory"},
-  };
-  double total = 0;
-  const Part *big = &parts[0];
-  for (const Part &p : parts) {
-    total += p.bytes;
-    if (p.bytes > big->bytes) big = &p;
+/* The memory of the run this scene asks for, by part: every replica's engine and rows (the
+ * engine's estimate, gran_scene_dsmc_bytes_ / gran_scene_srd_bytes_), its particle state once
+ * more while a checkpoint image is assembled, its trajectories twice while the TAMSD is
+ * computed; once per run the dense theory Jacobian (M <= 2048). `what` and `key` name the largest
+ * part (the scene key that sets it); `detail` lists them. Returns the total. */
+struct MemPart {
+  const char *what, *table, *key;
+  double bytes;
+};
+double run_memory(const gran_scene &s, std::vector<MemPart> &parts) {
+  const double R = (double)s.replicas, ck = s.checkpoint_path.empty() ? 0.0 : 1.0;
+  parts.clear();
+  if (s.engine_type == "srd") {
+    gran_srd_bytes e;
+    gran_scene_srd_bytes_(s, &e);
+    const char *nk = "n0";
+    parts.push_back({"particles", "engine", nk, R * (e.particles + ck * 48.0 * (e.particles / 62.0))});
+    parts.push_back({"cells", "engine", "cells", R * e.cells});
+    parts.push_back({"snapshots", "observables", "snapshots", R * e.snapshots});
+    parts.push_back({"engine structs", "engine", "replicas", R * e.fixed});
+    parts.push_back({"recorded rows", "observables", "every", R * e.rows});
+  } else {
+    const double M = (double)s.nspecies, nt = (double)s.times.size();
+    gran_dsmc_bytes e;
+    gran_scene_dsmc_bytes_(s, &e);
+    parts.push_back({"particles", "engine", s.counts_kind == 0 ? "counts" : s.counts_kind == 1 ? "N1" : "volume",
+                     R * e.particles * (1.0 + ck)});
+    parts.push_back({"species arrays and trees", "mixture", "nspecies", R * e.species});
+    parts.push_back({"M x M tables", "observables", "collision_counts", R * e.pairs});
+    parts.push_back({"trajectories", "observables", "tamsd", R * 2.0 * e.trajectories});
+    parts.push_back({"engine structs", "engine", "replicas", R * e.fixed});
+    parts.push_back({"recorded rows", "observables", "times", R * e.rows});
+    parts.push_back({"theory", "observables", "theory", s.obs_theory ? (M <= 2048 ? 32.0 * M * M : 0.0) + 3.0 * nt * M * 8.0 : 0.0});
   }
+  double total = 0;
+  for (const MemPart &p : parts) total += p.bytes;
+  return total;
+}
+
+std::string mem_detail(const std::vector<MemPart> &parts, int64_t replicas) {
+  std::string d;
+  for (const MemPart &p : parts)
+    if (p.bytes > 0) d += (d.empty() ? "" : ", ") + std::string(p.what) + " " + gb(p.bytes);
+  if (replicas > 1) d += "; " + std::to_string(replicas) + " replicas";
+  return d;
+}
+
+/* The key to name when the run does not fit: [engine] replicas when one replica would fit, else
+ * the largest part's. */
+const MemPart &mem_culprit(const gran_scene &s, const std::vector<MemPart> &parts, double limit, double total,
+                           bool *replicas) {
+  const MemPart *big = &parts[0];
+  for (const MemPart &p : parts)
+    if (p.bytes > big->bytes) big = &p;
+  *replicas = s.replicas > 1 && total / (double)s.replicas <= limit;
+  return *big;
+}
+
+/* Parse time: the run against the limit, failing with the key's line. */
+void check_memory(const gran_scene &s, double limit, Tab &top) {
+  std::vector<MemPart> parts;
+  const double total = run_memory(s, parts);
   if (total <= limit) return;
-  std::string detail;
-  for (const Part &p : parts)
-    if (p.bytes > 0) detail += (detail.empty() ? "" : ", ") + std::string(p.what) + " " + gb(p.bytes);
-  big->tab->fail(big->key, "the run needs about " + gb(total) + " (" + detail + "), more than the " + gb(limit) +
-                               " available; reduce it, or set [engine] max_memory_gb to allow more");
+  bool rep = false;
+  const MemPart &big = mem_culprit(s, parts, limit, total, &rep);
+  const std::string why = "the run needs about " + gb(total) + " (" + mem_detail(parts, s.replicas) + "), more than the " +
+                          gb(limit) + " available; reduce it, or set [engine] max_memory_gb to allow more";
+  if (rep || !top.has(big.table) || !top.get(big.table).is_table()) {
+    Tab en = top.sub("engine");
+    en.fail(rep ? "replicas" : big.key, why);
+  }
+  Tab t = top.sub(big.table);
+  t.fail(t.has(big.key) ? big.key : std::string(big.key), why);
 }
 
 /* ---- GSRD scenes (`[engine] type = "srd"`) ------------------------------------------------------
@@ -556,8 +650,20 @@ void srd_vector(Tab &t, const std::string &k, int dim, double out[3]) {
   for (int i = 0; i < 3; i++) out[i] = i < dim ? v[(size_t)i] : 0.0;
 }
 
-/* rounds time t to the step grid */
-int64_t srd_step_of(double t, double dt) { return (int64_t)std::llround(t / dt); }
+/* The most steps a run may have (GSRD `steps`, the cell selector's (t_end - t_start) / dt): far
+ * below the 2^63 of the step counters, so a step number never overflows. */
+const double kMaxSteps = 1e15;
+
+/* The step of time t (key k of table tab) on the grid of dt ('what' names dt in the message),
+ * rounded; a time of more than kMaxSteps steps is refused before it is converted. */
+int64_t step_of(Tab &tab, const std::string &k, double t, double dt, const char *what) {
+  const double q = t / dt;
+  if (!(std::fabs(q) <= kMaxSteps))
+    tab.fail(k, "time " + Tab::num_str(t) + " is " + Tab::num_str(q) + " steps of " + what + " = " + Tab::num_str(dt) +
+                    ", more than the 1e15 steps a run may have");
+  return (int64_t)std::llround(q);
+}
+int64_t srd_step_of(Tab &tab, const std::string &k, double t, double dt) { return step_of(tab, k, t, dt, "engine.dt"); }
 
 /* [output] (the same keys for every engine): path, checkpoint and its cadence */
 static void parse_output_table(Tab &top, const std::string &F, gran_scene &s) {
@@ -709,7 +815,7 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   } else if (en.has("t_end")) {
     const double te = en.number("t_end");
     require(te > 0, en, "t_end", "must be > 0");
-    steps = srd_step_of(te, o.dt);
+    steps = srd_step_of(en, "t_end", te, o.dt);
     require(steps >= 1 && std::fabs((double)steps * o.dt - te) <= 1e-9 * te, en, "t_end",
             "t_end = " + Tab::num_str(te) + " is not a whole number of steps dt = " + Tab::num_str(o.dt));
   }
@@ -782,7 +888,7 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
     std::vector<double> t = parse_times(ob, "times");
     if (t.front() < 0) ob.fail("times", "output times must be >= 0");
     for (double x : t) {
-      const int64_t k = srd_step_of(x, o.dt);
+      const int64_t k = srd_step_of(ob, "times", x, o.dt);
       if (os.empty() || k > os.back()) os.push_back(k); /* rounded to the step grid; repeats dropped */
     }
     if (steps < 0) steps = std::max<int64_t>(1, os.back());
@@ -840,7 +946,7 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
         /* snapshot times (rounded to the step grid) join the output times */
         std::vector<int64_t> ks;
         for (double t : parse_times(sn, "times")) {
-          const int64_t k = srd_step_of(t, o.dt);
+          const int64_t k = srd_step_of(sn, "times", t, o.dt);
           if (t < 0 || k > steps)
             sn.fail("times", "snapshot time " + Tab::num_str(t) + " is outside the run (0 .. " +
                                  Tab::num_str((double)steps * o.dt) + ")");
@@ -871,30 +977,29 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   /* ---- [output] (the same keys as a DSMC scene) ---- */
   parse_output_table(top, F, s);
 
-  /* memory: one engine (gran_scene_srd_bytes_), its 48 B particle state once more while a
-   * checkpoint image is built, the recorded rows; per replica */
-  gran_srd_bytes e;
-  gran_scene_srd_bytes_(s, &e);
-  const double parts = e.particles + (s.checkpoint_path.empty() ? 0.0 : 48.0 * N), cells = e.cells,
-               snaps = e.snapshots, rows = (double)nt * 8.0 * (32.0 + 2.0 * (double)s.srd.sk_bins);
-  const double total = (parts + cells + snaps + rows) * (double)s.replicas;
-  if (total > mem_limit) {
-    const bool sn = snaps > parts;
-    Tab &t = sn ? ob : en;
-    t.fail(sn ? "snapshots" : nk, "the run needs about " + gb(total) + " (particles " + gb(parts) + ", cells " + gb(cells) +
-                                      ", snapshots " + gb(snaps) + ", per replica x " + std::to_string(s.replicas) +
-                                      "), more than the " + gb(mem_limit) + " available; set [engine] max_memory_gb to allow more");
-  }
+  /* memory of the run (every replica), against the limit */
+  check_memory(s, mem_limit, top);
   top.finish();
 }
 
 void parse_scene(const toml::value &root, gran_scene &s) {
   const std::string &F = s.name;
   const double mem_limit = memory_limit_bytes(root);
+  s.max_memory = memory_limit_explicit(root);
   if (is_srd_scene(root)) return parse_scene_srd(root, s, mem_limit); /* GSRD: its own tables */
   Tab top(&root, "", F);
   top.set_known({"title", "mixture", "restitution", "initial", "engine", "observables", "output", "cell", "aggregation"});
   s.title = top.string("title", "");
+  /* the engine type first: it decides which tables the scene must have */
+  if (top.has("engine") && top.get("engine").is_table()) {
+    Tab et = top.sub("engine");
+    if (et.has("type")) {
+      const toml::value &t = et.get("type");
+      if (!t.is_string()) et.fail("type", std::string("must be a string: one of \"dsmc\", \"srd\"; got ") + Tab::type_name(t));
+      if (t.as_string().str != "dsmc")
+        et.fail("type", "unknown engine \"" + t.as_string().str + "\" (one of \"dsmc\", \"srd\")");
+    }
+  }
 
   /* ---- [mixture] ---- */
   if (!top.has("mixture")) top.fail_missing("mixture", "the [mixture] table is required");
@@ -1267,6 +1372,8 @@ void parse_scene(const toml::value &root, gran_scene &s) {
     ob.fail("times", "first output time " + Tab::num_str(s.times.front()) + " is before t_start = " + Tab::num_str(s.t_start));
   if (s.times.back() > s.t_end)
     ob.fail("times", "last output time " + Tab::num_str(s.times.back()) + " is after t_end = " + Tab::num_str(s.t_end));
+  if (s.selector == GRAN_SELECTOR_CELL) /* the cell selector counts steps of cell.dt from t_start */
+    step_of(have_tend ? en : ob, have_tend ? "t_end" : "times", s.t_end - s.t_start, s.cell.dt, "cell.dt");
   if (ob.has("velocity_distribution") && ob.get("velocity_distribution").is_table()) {
     Tab vd = ob.sub("velocity_distribution");
     vd.set_known({"bins", "cmax"});
@@ -1280,10 +1387,20 @@ void parse_scene(const toml::value &root, gran_scene &s) {
     s.obs_veldist = ob.boolean("velocity_distribution", false);
   }
   s.obs_temperatures = ob.boolean("temperatures", true);
-  s.obs_msd = ob.boolean("msd", true);
+  /* with aggregation or fragmentation particles merge and split: displacements, trajectories and
+   * per-pair collision counts are not defined, so msd defaults to off there and is refused on */
+  const bool aggr = s.agg.e_agg > 0 || std::isfinite(s.agg.e_frag);
+  s.obs_msd = ob.boolean("msd", !aggr);
+  if (aggr && s.obs_msd)
+    ob.fail("msd", "the mean-squared displacement is not defined with aggregation or fragmentation (clusters appear and "
+                   "vanish): set msd = false or leave it out (its default is false there)");
   s.obs_energy = ob.boolean("energy", true);
   s.obs_momentum = ob.boolean("momentum", false);
   s.obs_collision_counts = ob.boolean("collision_counts", false);
+  if (aggr && s.obs_collision_counts)
+    ob.fail("collision_counts", "per-pair collision counts are not defined with aggregation or fragmentation");
+  if (aggr && ob.has("tamsd"))
+    ob.fail("tamsd", "trajectories are not defined with aggregation or fragmentation (clusters appear and vanish)");
   s.obs_sonine_a2 = ob.boolean("sonine_a2", false);
   s.obs_theory = ob.boolean("theory", true);
   s.theory_rtol = ob.number("theory_rtol", 1e-8);
@@ -1331,7 +1448,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
 
   /* ---- [output] ---- */
   parse_output_table(top, F, s);
-  check_memory(s, mem_limit, mx, en, ob);
+  check_memory(s, mem_limit, top);
 
   top.finish();
 }
@@ -1399,6 +1516,19 @@ int gran_scene_T0_(const gran_scene *s, const gran_mixture *mix, double *T0, dou
       gran_clear_error();
     }
   }
+  return GRAN_SUCCESS;
+}
+
+double gran_scene_memory_limit_(const gran_scene *s) {
+  return s->max_memory > 0 ? s->max_memory : memory_available_bytes();
+}
+
+int gran_scene_check_memory_(const gran_scene *s, const char *key) {
+  std::vector<MemPart> parts;
+  const double total = run_memory(*s, parts), limit = gran_scene_memory_limit_(s);
+  GRAN_CHECK(total <= limit, GRAN_ERR_NOMEM,
+             "%s: the run needs about %s (%s), more than the %s available; lower it, or set [engine] max_memory_gb to "
+             "allow more", key, gb(total).c_str(), mem_detail(parts, s->replicas).c_str(), gb(limit).c_str());
   return GRAN_SUCCESS;
 }
 

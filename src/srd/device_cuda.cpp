@@ -535,7 +535,7 @@ int gran_srd_dev_structure_factor(gran_srd *s, int64_t nbins, double *k, double 
 
 GRAN_EXTERN int gran_srd_set_device(gran_srd *s, int32_t device) {
   GRAN_TRY {
-    GRAN_CHECK_PTR(s);
+    GRAN_CHECK_PTR_AS(s, srd);
     int32_t target = 0;
     GRAN_CALL(resolve_id(device, false, &target));
     const int32_t now = s->dev.p ? s->dev.p->device : GRAN_SRD_DEVICE_CPU;
@@ -556,7 +556,7 @@ GRAN_EXTERN int gran_srd_set_device(gran_srd *s, int32_t device) {
 }
 
 GRAN_EXTERN int gran_srd_get_device(const gran_srd *s, int32_t *device) {
-  GRAN_CHECK_PTR(s);
+  GRAN_CHECK_PTR_AS(s, srd);
   GRAN_CHECK_PTR(device);
   *device = s->dev.p ? s->dev.p->device : GRAN_SRD_DEVICE_CPU;
   return GRAN_SUCCESS;

@@ -718,7 +718,7 @@ GRAN_EXTERN int gran_srd_destroy(gran_srd **srd) {
 
 GRAN_EXTERN int gran_srd_advance(gran_srd *s, int64_t steps) {
   GRAN_TRY {
-    GRAN_CHECK_PTR(s);
+    GRAN_CHECK_PTR_AS(s, srd);
     GRAN_CHECK(steps >= 0, GRAN_ERR_ARG, "argument 'steps' must be >= 0 (got %lld)", (long long)steps);
     if (s->dev.p) return gran_srd_dev_advance(s, steps); /* device hook (owner: CUDA backend) */
     const gran_srd_options &o = s->opt;
@@ -734,7 +734,7 @@ GRAN_EXTERN int gran_srd_advance(gran_srd *s, int64_t steps) {
 }
 
 GRAN_EXTERN int gran_srd_stress_reset(gran_srd *s) {
-  GRAN_CHECK_PTR(s);
+  GRAN_CHECK_PTR_AS(s, srd);
   s->flux_kin = s->flux_coll = 0.0;
   s->stress_t0 = s->time;
   return GRAN_SUCCESS;
@@ -742,7 +742,7 @@ GRAN_EXTERN int gran_srd_stress_reset(gran_srd *s) {
 
 GRAN_EXTERN int gran_srd_particles(gran_srd *s, int64_t *n, double **x, double **y, double **z, double **vx,
                                    double **vy, double **vz) {
-  GRAN_CHECK_PTR(s);
+  GRAN_CHECK_PTR_AS(s, srd);
   GRAN_CHECK_PTR(n);
   if (s->dev.p) { /* device hook (owner: CUDA backend): copy back; changes go to the device at the next advance */
     GRAN_CALL(gran_srd_dev_sync(s, 0));
@@ -866,8 +866,8 @@ static void unshifted_cells(const gran_srd *s, std::vector<int64_t> &cnt, std::v
 
 GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
   GRAN_TRY {
-    GRAN_CHECK_PTR(s);
-    GRAN_CHECK_PTR(ob);
+    GRAN_CHECK_PTR_AS(s, srd);
+    GRAN_CHECK_PTR_AS(ob, obs);
     GRAN_CALL(gran_srd_dev_sync(s, 0)); /* device hook (owner: CUDA backend): copy back */
     std::memset(ob, 0, sizeof *ob);
     const int d = s->opt.dim;
@@ -968,9 +968,9 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
 
 GRAN_EXTERN int gran_srd_structure_factor(gran_srd *s, int64_t nbins, double *k, double *sk, int64_t *count) {
   GRAN_TRY {
-    GRAN_CHECK_PTR(s);
+    GRAN_CHECK_PTR_AS(s, srd);
     GRAN_CHECK_PTR(k);
-    GRAN_CHECK_PTR(sk);
+    GRAN_CHECK_PTR_AS(sk, s);
     GRAN_CHECK_PTR(count);
     GRAN_CHECK(nbins >= 1, GRAN_ERR_ARG, "argument 'nbins' must be >= 1");
     GRAN_CHECK(s->opt.wall_axis < 0, GRAN_ERR_ARG, "S(k) needs a periodic box (no walls)");
@@ -989,7 +989,7 @@ GRAN_EXTERN int gran_srd_structure_factor(gran_srd *s, int64_t nbins, double *k,
 GRAN_EXTERN int gran_srd_velocity_profile(const gran_srd *s, int32_t axis, int32_t component, int64_t nbins,
                                           double *mean, int64_t *count) {
   GRAN_TRY {
-    GRAN_CHECK_PTR(s);
+    GRAN_CHECK_PTR_AS(s, srd);
     GRAN_CHECK_PTR(mean);
     GRAN_CHECK_PTR(count);
     const int d = s->opt.dim;
@@ -1183,7 +1183,7 @@ int ckp_validate(const char *path, const gran_srd *s, const double sc[12], const
 
 GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
   GRAN_TRY {
-    GRAN_CHECK_PTR(s);
+    GRAN_CHECK_PTR_AS(s, srd);
     GRAN_CHECK_PTR(path);
     GRAN_CALL(gran_srd_dev_sync(s, 1)); /* device hook (owner: CUDA backend): copy back, cells too */
     const std::string tmp = std::string(path) + ".tmp";
@@ -1216,7 +1216,7 @@ GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
 GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
   GRAN_TRY {
     GRAN_CHECK_PTR(path);
-    GRAN_CHECK_PTR(out);
+    GRAN_CHECK_PTR_AS(out, srd);
     *out = nullptr;
     struct stat st;
     GRAN_CHECK(stat(path, &st) == 0, GRAN_ERR_IO, "cannot open checkpoint '%s' (%s)", path, std::strerror(errno));
