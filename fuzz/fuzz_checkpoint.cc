@@ -293,29 +293,10 @@ void h5_scene_edit(hid_t f, fz::Bytes &in) {
   if (a >= 0 && H5Aread(a, t, &p) >= 0 && p) text = p;
   if (p) H5free_memory(p);
   if (a >= 0) H5Aclose(a);
-  std::vector<std::pair<size_t, size_t>> nums; /* [start, end) of numbers outside strings */
-  bool str = false;
-  for (size_t i = 0; i < text.size();) {
-    const char ch = text[i];
-    if (ch == '"') str = !str;
-    const bool starts = !str && (std::isdigit((unsigned char)ch) || ((ch == '-' || ch == '.') && i + 1 < text.size() &&
-                                                                      std::isdigit((unsigned char)text[i + 1])));
-    const bool in_word = i > 0 && (std::isalnum((unsigned char)text[i - 1]) || text[i - 1] == '_');
-    if (starts && !in_word) {
-      size_t j = i + 1;
-      while (j < text.size() && (std::isalnum((unsigned char)text[j]) || std::strchr(".+-_", text[j]))) ++j;
-      nums.push_back({i, j});
-      i = j;
-    } else {
-      ++i;
-    }
-  }
+  const auto nums = fz::toml_numbers(text.data(), text.size());
   if (!nums.empty()) {
-    static const char *vals[] = {"nan", "inf", "-inf", "0", "-0.0", "1e300", "-1e300", "1e-300", "5e-324",
-                                 "9223372036854775807", "-9223372036854775808", "2", "1", "1e15", "1e20",
-                                 "0.5", "1e-9", "1e154", "1.0000001", "4096", "-1"};
     const auto &r = nums[in.u8() % nums.size()];
-    text.replace(r.first, r.second - r.first, vals[in.u8() % (sizeof vals / sizeof vals[0])]);
+    text.replace(r.first, r.second - r.first, fz::toml_edge(in.u8()));
     H5Adelete(f, "scene");
     hid_t s = H5Screate(H5S_SCALAR);
     a = H5Acreate2(f, "scene", t, s, H5P_DEFAULT, H5P_DEFAULT);

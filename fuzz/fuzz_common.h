@@ -10,6 +10,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -107,6 +108,41 @@ struct Bytes {
     return (int32_t)(v > INT32_MAX || v < INT32_MIN ? (uint32_t)v : v);
   }
 };
+
+/* The numbers of a TOML text outside strings and comments, as [start, end) byte ranges. */
+inline std::vector<std::pair<size_t, size_t>> toml_numbers(const char *t, size_t n) {
+  std::vector<std::pair<size_t, size_t>> r;
+  bool str = false, comment = false;
+  auto alnum = [](char c) { return std::isalnum((unsigned char)c) || c == '_'; };
+  for (size_t i = 0; i < n;) {
+    const char c = t[i];
+    if (c == '\n') comment = false;
+    if (comment) {
+      ++i;
+      continue;
+    }
+    if (c == '"') str = !str;
+    if (!str && c == '#') comment = true;
+    const bool starts = !str && !comment && (std::isdigit((unsigned char)c) || ((c == '-' || c == '+' || c == '.') &&
+                                                                              i + 1 < n && std::isdigit((unsigned char)t[i + 1])));
+    if (starts && !(i > 0 && (alnum(t[i - 1]) || t[i - 1] == '.'))) {
+      size_t j = i + 1;
+      while (j < n && (alnum(t[j]) || std::strchr(".+-", t[j]))) ++j;
+      r.push_back({i, j});
+      i = j;
+    } else {
+      ++i;
+    }
+  }
+  return r;
+}
+/* Edge values in TOML spelling (floats and integers) */
+static const char *const kTomlValues[] = {"nan", "inf", "-inf", "0", "-0.0", "1e300", "-1e300", "1e-300", "5e-324",
+                                          "1.7976931348623157e308", "9223372036854775807", "-9223372036854775808",
+                                          "2", "1", "-1", "3", "4", "1e15", "1e20", "0.5", "1e-9", "1e154", "1e-154",
+                                          "1e32", "1e33", "1e60", "1.0000001", "4096", "1000000", "1e9", "0.999",
+                                          "180", "1e-30", "1e30", "65536", "2147483648"};
+inline const char *toml_edge(unsigned k) { return kTomlValues[k % (sizeof kTomlValues / sizeof kTomlValues[0])]; }
 
 /* One scratch folder per process; emptied after every input. */
 inline const std::string &scratch() {

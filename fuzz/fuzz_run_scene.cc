@@ -21,9 +21,9 @@ const double kMaxCells = 8192;       /* GSRD cells (wall layer included), cell-s
 const int64_t kMaxSpecies = 64;
 const int64_t kMaxTimes = 2000;
 const int64_t kMaxReplicas = 4;
-const int64_t kMaxSteps = 400;       /* GSRD / cell steps to the stop */
+const int64_t kMaxSteps = 200;       /* GSRD / cell steps to the stop */
 const double kRefuseAbove = 1e15;    /* more steps than this: the library must refuse the scene */
-const double kMaxStepWork = 4e5;     /* steps x particles */
+const double kMaxStepWork = 1e5;     /* steps x particles */
 const int64_t kMaxCollisions = 4000; /* event selectors: collisions to the stop (measured first) */
 const int64_t kStopAfter = 2;        /* output times recorded before the run is stopped */
 
@@ -98,7 +98,7 @@ int small_enough(const gran_scene *s, double *t_stop) {
   if (s->replicas > kMaxReplicas) return 0;
   const int64_t nt = (int64_t)s->times.size();
   if (nt > kMaxTimes) return 0;
-  const int64_t last = std::min<int64_t>(kStopAfter, std::max<int64_t>(nt, 1)) - 1;
+  const bool stops = nt >= kStopAfter; /* else the run goes to its end */
   if (s->engine_type == "srd") {
     const gran_srd_options &o = s->srd.opt;
     double box = 1, bin = 1;
@@ -109,7 +109,7 @@ int small_enough(const gran_scene *s, double *t_stop) {
     const double N = std::floor(o.n0 * box + 0.5);
     if (N > kMaxParticles || bin > kMaxCells) return 0;
     if (s->srd.obs_sk && s->srd.sk_bins > 4096) return 0;
-    const double steps = (double)(s->srd.out_steps.empty() ? s->srd.steps : s->srd.out_steps[(size_t)last]);
+    const double steps = (double)(stops ? s->srd.out_steps[kStopAfter - 1] : s->srd.steps);
     if (steps > kRefuseAbove) return 2;
     return steps <= kMaxSteps && steps * N <= kMaxStepWork;
   }
@@ -122,7 +122,7 @@ int small_enough(const gran_scene *s, double *t_stop) {
   if (!(N <= kMaxParticles)) return 0;
   if (s->obs_tamsd && (double)s->tamsd_tracers * (double)s->nspecies * (double)s->tamsd_samples > 1e5) return 0;
   if (s->obs_veldist && s->vd_bins > 10000) return 0;
-  *t_stop = nt > 0 ? s->times[(size_t)last] : s->t_end;
+  *t_stop = stops ? s->times[kStopAfter - 1] : std::max(s->t_end, nt > 0 ? s->times[(size_t)nt - 1] : s->t_end);
   if (cell) {
     if ((double)s->cell.cells * (double)s->cell.cells * (double)s->cell.cells > kMaxCells) return 0;
     const double steps = (*t_stop - s->t_start) / s->cell.dt;
@@ -133,6 +133,24 @@ int small_enough(const gran_scene *s, double *t_stop) {
 }
 
 }  // namespace
+
+/* Mutations: a third of them libFuzzer's own, two thirds replace one number of the scene (outside strings
+ * and comments) by an edge value in TOML spelling (1e300, nan, 5e-324, 2^63-1, ...), which byte
+ * mutations of ASCII text rarely produce. Deterministic in the seed libFuzzer passes. */
+extern "C" size_t LLVMFuzzerMutate(uint8_t *data, size_t size, size_t max);
+extern "C" size_t LLVMFuzzerCustomMutator(uint8_t *data, size_t size, size_t max, unsigned seed) {
+  uint64_t r = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+  if ((r >> 33) % 3 == 0) return LLVMFuzzerMutate(data, size, max);
+  const auto nums = fz::toml_numbers((const char *)data, size);
+  if (nums.empty()) return LLVMFuzzerMutate(data, size, max);
+  const auto &at = nums[(size_t)((r >> 40) % nums.size())];
+  const char *v = fz::toml_edge((unsigned)(r >> 20));
+  const size_t lv = std::strlen(v), tail = size - at.second;
+  if (size - (at.second - at.first) + lv > max) return LLVMFuzzerMutate(data, size, max);
+  std::memmove(data + at.first + lv, data + at.second, tail);
+  std::memcpy(data + at.first, v, lv);
+  return at.first + lv + tail;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   fz::setup();
