@@ -324,7 +324,7 @@ void check_srd(gran_srd *srd, fz::Bytes &in) {
       std::snprintf(b, sizeof b, "gran_srd_observe %s (resumed)", names[k]);
       fz::finite_or_fail(v[k], b);
     }
-    if (!(o.dt_max > 0)) fz::fail("gran_srd_observe dt_max (resumed) not > 0", "");
+    if (!(o.dt_max >= 0)) fz::fail("gran_srd_observe dt_max (resumed) is NaN or negative", "");
   }
 }
 
@@ -376,7 +376,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   if (!g_is_h5[which]) {
     for (int e = 0; e < nedit; ++e) srd_edit(b, in);
     srd_resize(b, flags & 1);
-    if (!(flags & 2)) srd_trailer(b); /* else the CRC stays as it was: the reader must refuse */
+    if ((flags & 0x0e) != 0x0e) srd_trailer(b); /* else (1 in 8) the CRC stays: the reader must refuse */
     spill(path, b);
     gran_srd *srd = nullptr;
     if (!fz::check(gran_srd_checkpoint_read(path.c_str(), &srd), "gran_srd_checkpoint_read")) check_srd(srd, in);

@@ -32,7 +32,7 @@ void obs_srd(gran_srd *srd, const char *when) {
     std::snprintf(b, sizeof b, "gran_srd_observe %s (%s)", names[k], when);
     fz::finite_or_fail(v[k], b);
   }
-  if (!(o.dt_max > 0)) fz::fail("gran_srd_observe dt_max not > 0", when);
+  if (!(o.dt_max >= 0)) fz::fail("gran_srd_observe dt_max is NaN or negative", when);
 }
 
 void run_srd(fz::Bytes &in) {
@@ -70,6 +70,15 @@ void run_srd(fz::Bytes &in) {
     bin *= (double)std::max<int64_t>(o.cells[k], 1) + (k == o.wall_axis ? 1 : 0);
   }
   if (bin > kMaxCells || (std::isfinite(o.n0) && o.n0 * box > kMaxParticles)) return;
+  if (getenv("GRAN_FUZZ_VERBOSE"))
+    std::fprintf(stderr,
+                 "fuzz: srd options dim %d cells %lld %lld %lld a %g n0 %g dt %g alpha %g eps %g sigma %g T0 %g shear %g "
+                 "accel %g %g %g wall_axis %d rule %d vib %g %g wall_T %g thermostat %d seed %llu sort %d threads %d "
+                 "device %d precision %d\n",
+                 o.dim, (long long)o.cells[0], (long long)o.cells[1], (long long)o.cells[2], o.a, o.n0, o.dt,
+                 o.alpha_deg, o.eps, o.sigma, o.T0, o.shear_rate, o.accel[0], o.accel[1], o.accel[2], o.wall_axis,
+                 o.wall_rule, o.vib_amp, o.vib_omega, o.wall_T, o.thermostat, (unsigned long long)o.seed, o.sort_every,
+                 o.threads, o.device, o.precision);
   gran_srd *srd = nullptr;
   if (fz::check(gran_srd_create(&o, &srd), "gran_srd_create")) return;
   obs_srd(srd, "created");
@@ -207,6 +216,22 @@ void run_dsmc(fz::Bytes &in, bool cell) {
   const double nc = (double)c.cells;
   const bool big = N > kMaxParticles || (cell && nc * nc * nc > kMaxCells) ||
                    (double)o.traj_per_species * (double)o.traj_samples * (double)M > 1e5;
+  if (getenv("GRAN_FUZZ_VERBOSE")) {
+    std::vector<double> m((size_t)M), sg((size_t)M), dn((size_t)M);
+    gran_mixture_get(mix, m.data(), sg.data(), dn.data());
+    std::fprintf(stderr, "fuzz: dsmc %s M %lld agg %d given_counts %d have_T0 %d selector %d observe %d volume %g t_start %g\n",
+                 cell ? "cell" : "event", (long long)M, (int)agg, (int)given, (int)have_T, o.selector, o.observe, o.volume,
+                 o.t_start);
+    for (int64_t k = 0; k < M; ++k)
+      std::fprintf(stderr, "fuzz:   species %lld mass %g sigma %g density %g count %lld T0 %g\n", (long long)k,
+                   m[(size_t)k], sg[(size_t)k], dn[(size_t)k], (long long)counts[(size_t)k], T0[(size_t)k]);
+    if (cell)
+      std::fprintf(stderr, "fuzz:   cell cells %lld dt %g fn %g e_agg %g e_frag %g eps_f %g heat %g bath %g %g %g %g\n",
+                   (long long)c.cells, c.dt, c.fn, c.e_agg, c.e_frag, c.eps_f, c.heat_rate, c.bath_density, c.bath_mass,
+                   c.bath_T, c.bath_sigma);
+    else
+      std::fprintf(stderr, "fuzz:   agg e_agg %g e_frag %g eps_f %g law %d\n", a.e_agg, a.e_frag, a.eps_f, a.frag_law);
+  }
   if (!big) {
     gran_dsmc *sim = nullptr;
     const int64_t *cp = given ? counts.data() : nullptr;
