@@ -219,30 +219,51 @@ bench: $(BENCH_BIN) $(CLI)
 	@for b in $(BENCH_BIN); do echo "== $$b"; GRAN_SOURCE_DIR=$(CURDIR) $$b || exit 1; done
 
 # ---- fuzz -------------------------------------------------------------------------------------
-# libFuzzer harnesses (fuzz/*.c) for the scene parser and the entry points that read files, built
-# with clang (Debian's clang and libclang-rt-dev) under ASan+UBSan in build-fuzz/; each runs for
-# FUZZ_SECONDS from the seed corpus in fuzz/corpus/NAME (new inputs go to build-fuzz/corpus/NAME,
-# crashes to build-fuzz/artifacts/).
+# libFuzzer harnesses (fuzz/fuzz_NAME.c or .cc): the scene parser and the file readers (scene,
+# resume) and the engines (run_scene: every engine run a few steps; checkpoint: checkpoints edited
+# value by value with their checksums recomputed; options: the option structs of gran_srd_create
+# and gran_dsmc_create_cell/_agg), built with clang (Debian's clang and libclang-rt-dev) under
+# ASan+UBSan in build-fuzz/; each runs for FUZZ_SECONDS (FUZZ_ONLY=NAME: that one only) from the
+# seed corpus in fuzz/corpus/NAME (and the dictionary fuzz/NAME.dict where there is one) plus, for
+# scene and run_scene, every scene of scenes/ (new inputs
+# go to build-fuzz/corpus/NAME, crashes to build-fuzz/artifacts/NAME-*). FUZZ_ARGS: more libFuzzer
+# options (e.g. -fork=1 -ignore_crashes=1 to go on after a finding).
 FUZZ_SECONDS ?= 60
+FUZZ_ONLY    ?=
+FUZZ_ARGS    ?=
 FUZZ_DEB_PKGS := clang libclang-rt-dev
 FUZZ_BUILD   := build-fuzz
 FUZZ_SAN     := -fsanitize=address,undefined -fno-sanitize-recover=all
-FUZZ_NAMES   := $(patsubst fuzz/fuzz_%.c,%,$(wildcard fuzz/fuzz_*.c))
+FUZZ_NAMES   := $(sort $(patsubst fuzz/fuzz_%.c,%,$(wildcard fuzz/fuzz_*.c)) $(patsubst fuzz/fuzz_%.cc,%,$(wildcard fuzz/fuzz_*.cc)))
+FUZZ_RUN     := $(or $(FUZZ_ONLY),$(FUZZ_NAMES))
+FUZZ_SCENES  := $(wildcard scenes/*.toml scenes/*/*.toml)
 
 fuzz:
+	@for n in $(FUZZ_RUN); do case " $(FUZZ_NAMES) " in *" $$n "*) ;; \
+	  *) echo "make fuzz: FUZZ_ONLY=$$n: no fuzz/fuzz_$$n.c(c) (harnesses: $(FUZZ_NAMES))" >&2; exit 1;; esac; done
 	@if ! command -v clang >/dev/null 2>&1; then $(call apt_install,$(FUZZ_DEB_PKGS),fuzz,exit 1); fi
 	@command -v clang >/dev/null 2>&1 || { echo "make fuzz: clang still missing ($(FUZZ_DEB_PKGS))" >&2; exit 1; }
 	@$(MAKE) --no-print-directory BUILD=$(FUZZ_BUILD) NVCC= CC=clang CXX=clang++ OPT="-O1 -g" \
 	  SAN="$(FUZZ_SAN) -fsanitize=fuzzer-no-link" $(FUZZ_BUILD)/libgranary.a
 	@mkdir -p $(FUZZ_BUILD)/artifacts
-	@set -e; for n in $(FUZZ_NAMES); do \
-	  clang -Iinclude $(FUZZ_SAN) -fsanitize=fuzzer -g -O1 -c fuzz/fuzz_$$n.c -o $(FUZZ_BUILD)/fuzz_$$n.o; \
+	@set -e; libs="$$(sed -n 's/^PKG_LIBS := //p' $(FUZZ_BUILD)/config.mk)"; \
+	cflags="$$(sed -n 's/^PKG_CFLAGS := //p' $(FUZZ_BUILD)/config.mk)"; \
+	for n in $(FUZZ_RUN); do \
+	  if [ -f fuzz/fuzz_$$n.cc ]; then \
+	    clang++ -std=c++17 -Iinclude -Isrc $$cflags -Wall -Wextra $(FUZZ_SAN) -fsanitize=fuzzer -fopenmp -g -O1 \
+	      -c fuzz/fuzz_$$n.cc -o $(FUZZ_BUILD)/fuzz_$$n.o; \
+	  else \
+	    clang -Iinclude -Wall -Wextra $(FUZZ_SAN) -fsanitize=fuzzer -g -O1 -c fuzz/fuzz_$$n.c -o $(FUZZ_BUILD)/fuzz_$$n.o; \
+	  fi; \
 	  clang++ $(FUZZ_SAN) -fsanitize=fuzzer -fopenmp $(FUZZ_BUILD)/fuzz_$$n.o $(FUZZ_BUILD)/libgranary.a \
-	    $$(sed -n 's/^PKG_LIBS := //p' $(FUZZ_BUILD)/config.mk) -lm -lpthread -o $(FUZZ_BUILD)/fuzz_$$n; \
-	  mkdir -p $(FUZZ_BUILD)/corpus/$$n; \
+	    $$libs -lm -lpthread -o $(FUZZ_BUILD)/fuzz_$$n; \
+	  mkdir -p $(FUZZ_BUILD)/corpus/$$n fuzz/corpus/$$n; \
+	  case $$n in scene|run_scene) for f in $(FUZZ_SCENES); do \
+	    cp -p $$f $(FUZZ_BUILD)/corpus/$$n/$$(echo $$f | tr / -); done;; esac; \
+	  dict=; if [ -f fuzz/$$n.dict ]; then dict=-dict=fuzz/$$n.dict; fi; \
 	  echo "== fuzz_$$n for $(FUZZ_SECONDS) s"; \
-	  $(FUZZ_BUILD)/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=30 -rss_limit_mb=4096 -max_len=65536 \
-	    -artifact_prefix=$(FUZZ_BUILD)/artifacts/$$n- -print_final_stats=1 \
+	  OMP_NUM_THREADS=1 $(FUZZ_BUILD)/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=30 -rss_limit_mb=4096 \
+	    -max_len=65536 -artifact_prefix=$(FUZZ_BUILD)/artifacts/$$n- -print_final_stats=1 $$dict $(FUZZ_ARGS) \
 	    $(FUZZ_BUILD)/corpus/$$n fuzz/corpus/$$n 2>&1 | tail -n 25; \
 	done
 

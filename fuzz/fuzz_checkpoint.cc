@@ -1,0 +1,409 @@
+/* fuzz_checkpoint.cc - libFuzzer harness for the value checks of checkpoint readers and the engines
+ * they resume. A few valid checkpoints are written once, from fixed options and seeds: GSRD binary
+ * states ("GSRDCKP2": magic, gran_srd_options, 12 double scalars, 3 int64 counters, the grid-shift
+ * RNG, the particle arrays, the cell reference velocities and RNG states, then the total length
+ * (uint64) and the CRC-32 of everything before it) and run checkpoints (HDF5 after a 512-byte
+ * header "granary-file 1\nlength N\ncrc32 C\n" holding the CRC-32 of the bytes after it) of a
+ * low-rank, a Bird-with-aggregation, a cell-with-aggregation and a GSRD run. The fuzz bytes pick
+ * one and edit it, value by value: whole doubles and int64 words (edge values such as NaN, inf,
+ * 1e300, -0, 2^63-1, or raw bits), int32 option fields, single bytes, elements of any HDF5 dataset,
+ * the GSRD state inside a run checkpoint, numbers in the stored scene text; then the checksums are
+ * recomputed, so that the reader's value checks and the resumed engine (a few steps, observed)
+ * are what the edit reaches. Every status must be a listed code with a message; nothing returned
+ * or written with GRAN_SUCCESS may be inf or NaN. */
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstddef>
+
+#include "fuzz_common.h"
+
+namespace {
+
+std::vector<std::vector<uint8_t>> g_base;   /* the valid checkpoints */
+std::vector<int> g_is_h5;                   /* 1: run checkpoint (HDF5), 0: GSRD binary */
+std::vector<std::string> g_scene;           /* the scene text of a run checkpoint */
+
+const size_t kOpt = sizeof(gran_srd_options);
+const size_t kHead = 8 + kOpt + 12 * 8 + 3 * 8 + sizeof(gran_rng); /* up to the particle arrays */
+
+std::vector<uint8_t> slurp(const std::string &path) {
+  std::vector<uint8_t> b;
+  FILE *f = std::fopen(path.c_str(), "rb");
+  if (!f) return b;
+  uint8_t buf[1 << 16];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) b.insert(b.end(), buf, buf + n);
+  std::fclose(f);
+  return b;
+}
+void spill(const std::string &path, const std::vector<uint8_t> &b) {
+  FILE *f = std::fopen(path.c_str(), "wb");
+  if (!f) fz::fail("cannot write the scratch checkpoint", path.c_str());
+  if (!b.empty()) std::fwrite(b.data(), 1, b.size(), f);
+  std::fclose(f);
+}
+
+/* ---- GSRD binary states ---- */
+void srd_base(int dim, int wall, int shear, int therm) {
+  gran_srd_options o;
+  gran_srd_options_default(&o);
+  o.dim = dim;
+  o.cells[0] = 4;
+  o.cells[1] = 4;
+  o.cells[2] = dim == 3 ? 3 : 1;
+  o.n0 = 3;
+  o.dt = 0.5;
+  o.eps = 0.9;
+  o.sigma = 0.2;
+  o.seed = 5;
+  o.threads = 1;
+  o.thermostat = therm;
+  if (wall) {
+    o.wall_axis = dim - 1;
+    o.wall_rule = 1;
+    o.accel[dim - 1] = -0.01;
+    o.vib_amp = 0.1;
+    o.vib_omega = 0.3;
+  }
+  if (shear) o.shear_rate = 0.05;
+  gran_srd *s = nullptr;
+  const std::string p = fz::scratch() + "/base.gsrd";
+  if (gran_srd_create(&o, &s) || gran_srd_advance(s, 3) || gran_srd_checkpoint_write(s, p.c_str()))
+    fz::fail("cannot write a GSRD base checkpoint", gran_last_error_message());
+  gran_srd_destroy(&s);
+  g_base.push_back(slurp(p));
+  g_is_h5.push_back(0);
+  g_scene.push_back("");
+  std::remove(p.c_str());
+}
+
+/* the bytes a GSRD state of these options has (the reader's rule); -1 when none */
+int64_t srd_bytes(const gran_srd_options &o) {
+  double ncb = 1, nc = 1;
+  for (int k = 0; k < 3; ++k) {
+    const double L = k < o.dim ? (double)o.cells[k] : 1.0;
+    ncb *= L;
+    nc *= L + (k == o.wall_axis ? 1 : 0);
+  }
+  const double nn = std::floor(o.n0 * ncb + 0.5);
+  if (!(nn >= 1 && nn < 4e9) || !(nc < 4e9) || (o.dim != 2 && o.dim != 3)) return -1;
+  return (int64_t)(kHead + nn * 8.0 * 2 * o.dim + nc * 3 * 8 + nc * (double)sizeof(gran_rng) + 8 + 4);
+}
+
+void put_word(std::vector<uint8_t> &b, size_t at, fz::Bytes &in) {
+  if (at + 8 > b.size()) return;
+  const uint8_t c = in.u8();
+  uint64_t w;
+  if (c < 110) {
+    const double d = in.edge_double();
+    std::memcpy(&w, &d, 8);
+  } else if (c < 200) {
+    const int64_t i = in.edge_int();
+    std::memcpy(&w, &i, 8);
+  } else if (c < 230) { /* the old value scaled by a power of two (a double field stays plausible) */
+    double d;
+    std::memcpy(&d, &b[at], 8);
+    d = std::ldexp(d, (int8_t)in.u8());
+    std::memcpy(&w, &d, 8);
+  } else {
+    w = in.u64();
+  }
+  std::memcpy(&b[at], &w, 8);
+}
+
+/* one edit of a GSRD state (the trailer is fixed afterwards) */
+void srd_edit(std::vector<uint8_t> &b, fz::Bytes &in) {
+  if (b.size() < kHead + 12) return;
+  static const size_t i32s[] = {offsetof(gran_srd_options, dim),        offsetof(gran_srd_options, wall_axis),
+                                offsetof(gran_srd_options, wall_rule),  offsetof(gran_srd_options, thermostat),
+                                offsetof(gran_srd_options, sort_every), offsetof(gran_srd_options, threads),
+                                offsetof(gran_srd_options, device),     offsetof(gran_srd_options, precision)};
+  const size_t body = b.size() - 12;
+  switch (in.u8() % 5) {
+  case 0: { /* an int32 option */
+    const size_t at = 8 + i32s[in.u8() % (sizeof i32s / sizeof i32s[0])];
+    const int32_t v = (int32_t)(in.u8() < 128 ? in.edge_int() : (int64_t)(int8_t)in.u8());
+    std::memcpy(&b[at], &v, 4);
+    break;
+  }
+  case 1: /* a word of the options, scalars, counters or grid-shift RNG */
+  case 2: put_word(b, 8 + 8 * (in.u8() % ((kHead - 8) / 8)), in); break;
+  case 3: put_word(b, 8 + 8 * (size_t)(in.u16() % ((body - 8) / 8)), in); break; /* any word */
+  default: b[8 + in.u16() % (body - 8)] = in.u8(); break;                         /* a byte */
+  }
+}
+
+/* The length the (edited) options imply, when the bytes ask for it and it stays small: the state
+ * is cut or grown (grown by repeating its own bytes) and the particle counter set to match. */
+void srd_resize(std::vector<uint8_t> &b, bool want) {
+  if (!want || b.size() < kHead + 12) return;
+  gran_srd_options o;
+  std::memcpy(&o, &b[8], kOpt);
+  const int64_t n = srd_bytes(o);
+  if (n <= 0 || n > (1 << 20) || (size_t)n == b.size()) return;
+  const size_t old = b.size() - 12;
+  b.resize((size_t)n);
+  for (size_t i = old; i < b.size(); ++i) b[i] = b[kHead + (i - old) % (old - kHead)];
+  double ncb = 1;
+  for (int k = 0; k < o.dim; ++k) ncb *= (double)o.cells[k];
+  const int64_t np = (int64_t)std::floor(o.n0 * ncb + 0.5);
+  std::memcpy(&b[8 + kOpt + 12 * 8 + 2 * 8], &np, 8);
+}
+
+void srd_trailer(std::vector<uint8_t> &b) {
+  if (b.size() < 12) return;
+  const uint64_t total = b.size();
+  std::memcpy(&b[b.size() - 12], &total, 8);
+  const uint32_t crc = (uint32_t)crc32(crc32(0L, Z_NULL, 0), b.data(), (uInt)(b.size() - 4));
+  std::memcpy(&b[b.size() - 4], &crc, 4);
+}
+
+/* ---- run checkpoints (HDF5) ---- */
+int stop_first(const gran_run_progress *p, void *params) {
+  (void)p, (void)params;
+  return 1;
+}
+
+const char *kScenes[] = {
+    /* low-rank, two species, trajectories and collision counts */
+    "[mixture]\nnspecies = 2\nmass = [1.0, 4.0]\ndensity = [0.1, 0.02]\n[restitution]\neps = 0.8\n"
+    "[engine]\ncounts = [40, 10]\nseed = 3\nt_end = 1.0\n[observables]\ntimes = [0.25, 0.5, 1.0]\n"
+    "collision_counts = true\nsonine_a2 = true\ntamsd = { tracers = 2, dt = 0.25, samples = 5 }\n",
+    /* Bird with aggregation and binary fragmentation */
+    "[mixture]\nnspecies = 4\nm1 = 1.0\nsigma1 = 1.0\ndensity_law = { n1 = 0.05, theta = 3.0 }\n[restitution]\n"
+    "eps = 0.9\n[initial]\ntemperatures = \"equal\"\nT_mean = 1.0\n[engine]\nselector = \"bird\"\nvolume = 2000\n"
+    "seed = 7\nt_end = 1.0\n[aggregation]\ne_agg = 1.0\ne_frag = 3.0\neps_f = 0.7\nfrag_law = \"binary\"\n"
+    "[observables]\ntimes = [0.25, 0.5, 1.0]\nmsd = false\n",
+    /* cell selector with aggregation and a bath */
+    "[mixture]\nnspecies = 4\nm1 = 1.0\nsigma1 = 1.0\ndensity_law = { n1 = 0.05, theta = 400.0 }\n[restitution]\n"
+    "eps = 0.9\n[initial]\ntemperatures = \"equal\"\nT_mean = 1.0\n[engine]\nselector = \"cell\"\nvolume = 4000\n"
+    "seed = 7\nt_end = 1.0\n[cell]\ncells = 2\ndt = 0.1\ne_agg = 1.0\ne_frag = 3.0\neps_f = 0.7\nheat_rate = 0.01\n"
+    "bath_density = 0.01\nbath_mass = 0.5\nbath_T = 1.0\nbath_sigma = 0.5\n[observables]\ntimes = [0.2, 0.5, 1.0]\n"
+    "msd = false\n",
+    /* GSRD 2-D with walls, gravity and snapshots (its binary state inside /engine/state) */
+    "[engine]\ntype = \"srd\"\ndimension = 2\ncells = [6, 5]\nn0 = 4\ndt = 0.5\nalpha = 120\neps = 0.9\nsigma = 0.2\n"
+    "T0 = 1.0\nsteps = 8\nseed = 3\nthreads = 1\n[boundaries]\nwalls = {axis = \"y\", rule = \"slip\"}\n[forces]\n"
+    "gravity = [0, -0.01]\n[observables]\nevery = 2\nsonine_a2 = true\nsnapshots = {every = 2}\n",
+};
+
+void h5_base(const char *text) {
+  gran_scene *s = nullptr;
+  const std::string out = fz::scratch() + "/base.h5", ck = fz::scratch() + "/base.ckpt";
+  gran_run_control ctl = {0, stop_first, nullptr};
+  if (gran_scene_parse(text, "base.toml", &s) || gran_scene_run(s, out.c_str(), ck.c_str(), &ctl, nullptr))
+    fz::fail("cannot write a run base checkpoint", gran_last_error_message());
+  gran_scene_destroy(&s);
+  g_base.push_back(slurp(ck));
+  g_is_h5.push_back(1);
+  g_scene.push_back(text);
+  fz::clean_scratch();
+}
+
+const size_t kUserBlock = 512;
+void h5_header(std::vector<uint8_t> &b) {
+  if (b.size() < kUserBlock) return;
+  const uLong c = crc32(crc32(0L, Z_NULL, 0), b.data() + kUserBlock, (uInt)(b.size() - kUserBlock));
+  char head[kUserBlock];
+  std::memset(head, 0, sizeof head);
+  std::snprintf(head, sizeof head, "granary-file 1\nlength %zu\ncrc32 %08lx\n", b.size(), (unsigned long)c);
+  std::memcpy(b.data(), head, kUserBlock);
+}
+
+/* the datasets of the file in name order */
+herr_t list_ds(hid_t, const char *name, const H5O_info_t *info, void *op) {
+  if (info->type == H5O_TYPE_DATASET) ((std::vector<std::string> *)op)->push_back(name);
+  return 0;
+}
+
+/* one element of one dataset: an edge value or raw bits of its class; a byte dataset (the GSRD
+ * state) gets a GSRD edit with its own trailer fixed */
+void h5_dataset_edit(hid_t f, const std::vector<std::string> &ds, fz::Bytes &in, bool resize) {
+  if (ds.empty()) return;
+  const std::string &name = ds[in.u8() % ds.size()];
+  hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  if (d < 0) return;
+  hid_t ty = H5Dget_type(d), sp = H5Dget_space(d);
+  const hssize_t np = H5Sget_simple_extent_npoints(sp);
+  const H5T_class_t cl = H5Tget_class(ty);
+  if (np > 0 && cl == H5T_INTEGER && H5Tget_size(ty) == 1) {
+    std::vector<uint8_t> b((size_t)np);
+    if (H5Dread(d, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data()) >= 0) {
+      const int k = 1 + in.u8() % 3;
+      for (int e = 0; e < k; ++e) srd_edit(b, in);
+      const size_t before = b.size();
+      srd_resize(b, resize);
+      srd_trailer(b);
+      if (b.size() == before) {
+        H5Dwrite(d, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data());
+      } else { /* another length: a new dataset in its place */
+        H5Dclose(d);
+        d = -1;
+        const std::string parent = name.find('/') == std::string::npos ? "." : name.substr(0, name.rfind('/'));
+        const std::string leaf = name.substr(name.rfind('/') + 1);
+        hid_t g = H5Gopen2(f, parent.c_str(), H5P_DEFAULT);
+        if (g >= 0 && H5Ldelete(g, leaf.c_str(), H5P_DEFAULT) >= 0) {
+          hsize_t dim = b.size();
+          hid_t s2 = H5Screate_simple(1, &dim, nullptr);
+          hid_t d2 = H5Dcreate2(g, leaf.c_str(), H5T_NATIVE_UCHAR, s2, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+          if (d2 >= 0) H5Dwrite(d2, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data()), H5Dclose(d2);
+          H5Sclose(s2);
+        }
+        if (g >= 0) H5Gclose(g);
+      }
+    }
+  } else if (np > 0 && (cl == H5T_FLOAT || cl == H5T_INTEGER)) {
+    hsize_t at = (hsize_t)(((uint32_t)in.u16() << 16 | in.u16()) % (uint64_t)np), one = 1;
+    /* the element in the dataset's own row-major order */
+    const int rank = H5Sget_simple_extent_ndims(sp);
+    std::vector<hsize_t> dims((size_t)std::max(rank, 1)), pos((size_t)std::max(rank, 1), 0);
+    H5Sget_simple_extent_dims(sp, dims.data(), nullptr);
+    for (int k = rank - 1; k >= 0; --k) {
+      pos[(size_t)k] = at % dims[(size_t)k];
+      at /= dims[(size_t)k];
+    }
+    std::vector<hsize_t> cnt((size_t)std::max(rank, 1), 1);
+    H5Sselect_hyperslab(sp, H5S_SELECT_SET, pos.data(), nullptr, cnt.data(), nullptr);
+    hid_t ms = H5Screate_simple(1, &one, nullptr);
+    const uint8_t c = in.u8();
+    if (cl == H5T_FLOAT) {
+      double v = c < 160 ? in.edge_double() : c < 220 ? (double)in.edge_int() : in.raw_double();
+      H5Dwrite(d, H5T_NATIVE_DOUBLE, ms, sp, H5P_DEFAULT, &v);
+    } else {
+      int64_t v = c < 180 ? in.edge_int() : c < 220 ? (int64_t)(int8_t)in.u8() : (int64_t)in.u64();
+      H5Dwrite(d, H5T_NATIVE_INT64, ms, sp, H5P_DEFAULT, &v); /* converted (clipped) to the stored type */
+    }
+    H5Sclose(ms);
+  }
+  H5Sclose(sp);
+  H5Tclose(ty);
+  if (d >= 0) H5Dclose(d);
+}
+
+/* one number of the stored scene text replaced by an edge value (TOML spellings) */
+void h5_scene_edit(hid_t f, fz::Bytes &in) {
+  if (H5Aexists(f, "scene") <= 0) return;
+  hid_t a = H5Aopen(f, "scene", H5P_DEFAULT);
+  hid_t t = H5Tcopy(H5T_C_S1);
+  H5Tset_size(t, H5T_VARIABLE);
+  H5Tset_cset(t, H5T_CSET_UTF8);
+  char *p = nullptr;
+  std::string text;
+  if (a >= 0 && H5Aread(a, t, &p) >= 0 && p) text = p;
+  if (p) H5free_memory(p);
+  if (a >= 0) H5Aclose(a);
+  const auto nums = fz::toml_numbers(text.data(), text.size());
+  if (!nums.empty()) {
+    const auto &r = nums[in.u8() % nums.size()];
+    text.replace(r.first, r.second - r.first, fz::toml_edge(in.u8()));
+    H5Adelete(f, "scene");
+    hid_t s = H5Screate(H5S_SCALAR);
+    a = H5Acreate2(f, "scene", t, s, H5P_DEFAULT, H5P_DEFAULT);
+    const char *q = text.c_str();
+    if (a >= 0) H5Awrite(a, t, &q), H5Aclose(a);
+    H5Sclose(s);
+  }
+  H5Tclose(t);
+}
+
+void check_srd(gran_srd *srd, fz::Bytes &in) {
+  const int64_t steps = 1 + in.u8() % 3;
+  for (int r = 0; r < 2; ++r) {
+    if (fz::check(gran_srd_advance(srd, steps), "gran_srd_advance (resumed)")) return;
+    gran_srd_obs o;
+    if (fz::check(gran_srd_observe(srd, &o), "gran_srd_observe (resumed)")) return;
+    const double v[] = {o.time, o.temperature, o.theta_cells, o.energy, o.e_initial, o.e_collisions, o.e_external,
+                        o.ledger_error, o.momentum[0], o.momentum[1], o.momentum[2], o.e_kin, o.mach, o.sigma_rho,
+                        o.a2, o.stress_xy, o.stress_kin};
+    static const char *names[] = {"time", "temperature", "theta_cells", "energy", "e_initial", "e_collisions",
+                                  "e_external", "ledger_error", "momentum[0]", "momentum[1]", "momentum[2]",
+                                  "e_kin", "mach", "sigma_rho", "a2", "stress_xy", "stress_kin"};
+    for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k) {
+      char b[64];
+      std::snprintf(b, sizeof b, "gran_srd_observe %s (resumed)", names[k]);
+      fz::finite_or_fail(v[k], b);
+    }
+    if (!(o.dt_max >= 0)) fz::fail("gran_srd_observe dt_max (resumed) is NaN or negative", "");
+  }
+}
+
+void check_dsmc(const std::string &scene, const std::string &path) {
+  gran_scene *s = nullptr;
+  gran_mixture *mix = nullptr;
+  if (gran_scene_parse(scene.c_str(), "base.toml", &s) == GRAN_SUCCESS && gran_scene_mixture(s, &mix) == GRAN_SUCCESS) {
+    gran_dsmc *sim = nullptr;
+    if (!fz::check(gran_dsmc_checkpoint_read(path.c_str(), "/engine", mix, &sim), "gran_dsmc_checkpoint_read")) {
+      int64_t M = 0;
+      gran_mixture_nspecies(mix, &M);
+      std::vector<int64_t> n((size_t)M);
+      std::vector<double> T((size_t)M);
+      for (int r = 0; r < 3; ++r) {
+        if (fz::check(gran_dsmc_advance_collisions(sim, 100), "gran_dsmc_advance_collisions (resumed)")) break;
+        gran_dsmc_stats ss;
+        if (!fz::check(gran_dsmc_get_stats(sim, &ss), "gran_dsmc_get_stats")) fz::finite_or_fail(ss.time, "time (resumed)");
+        if (!fz::check(gran_dsmc_counts(sim, n.data()), "gran_dsmc_counts") &&
+            !fz::check(gran_dsmc_temperatures(sim, T.data()), "gran_dsmc_temperatures"))
+          for (int64_t k = 0; k < M; ++k)
+            if (n[(size_t)k] > 0) fz::finite_or_fail(T[(size_t)k], "gran_dsmc_temperatures (resumed, non-empty)");
+        double e[3];
+        if (!fz::check(gran_dsmc_energy(sim, &e[0], &e[1], &e[2]), "gran_dsmc_energy"))
+          for (double x : e) fz::finite_or_fail(x, "gran_dsmc_energy (resumed)");
+      }
+      gran_dsmc_destroy(&sim);
+    }
+  }
+  gran_mixture_destroy(&mix);
+  gran_scene_destroy(&s);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  fz::setup();
+  if (g_base.empty()) {
+    srd_base(2, 0, 0, 0);
+    srd_base(3, 1, 0, 1);
+    srd_base(2, 0, 1, 2);
+    for (const char *t : kScenes) h5_base(t);
+  }
+  fz::Bytes in(data, size);
+  const size_t which = in.u8() % g_base.size();
+  const uint8_t flags = in.u8();
+  const int nedit = 1 + in.u8() % 6;
+  std::vector<uint8_t> b = g_base[which];
+  const std::string path = fz::scratch() + "/in.ckpt";
+  if (!g_is_h5[which]) {
+    for (int e = 0; e < nedit; ++e) srd_edit(b, in);
+    srd_resize(b, flags & 1);
+    if ((flags & 0x0e) != 0x0e) srd_trailer(b); /* else (1 in 8) the CRC stays: the reader must refuse */
+    spill(path, b);
+    gran_srd *srd = nullptr;
+    if (!fz::check(gran_srd_checkpoint_read(path.c_str(), &srd), "gran_srd_checkpoint_read")) check_srd(srd, in);
+    gran_srd_destroy(&srd);
+  } else {
+    spill(path, b);
+    hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (f < 0) fz::fail("the base checkpoint does not open in HDF5", path.c_str());
+    std::vector<std::string> ds;
+    H5Ovisit(f, H5_INDEX_NAME, H5_ITER_INC, list_ds, &ds); /* the HDF5 1.10 API (Debian 12) */
+    for (int e = 0; e < nedit; ++e) {
+      if (in.u8() < 32) h5_scene_edit(f, in);
+      else h5_dataset_edit(f, ds, in, flags & 1);
+    }
+    H5Fclose(f);
+    b = slurp(path);
+    h5_header(b);
+    spill(path, b);
+    if (g_scene[which].find("type = \"srd\"") == std::string::npos) check_dsmc(g_scene[which], path);
+    const std::string out = fz::scratch() + "/out.h5";
+    gran_run_control ctl = {0, stop_first, nullptr};
+    gran_run_result res;
+    if (!fz::check(gran_scene_resume(path.c_str(), out.c_str(), &ctl, &res), "gran_scene_resume")) {
+      fz::finite_or_fail(res.time, "gran_run_result time (resumed)");
+      fz::output_nonfinite(fz::scan_h5(res.finished ? out : fz::scratch() + "/out.partial.h5"));
+    }
+  }
+  fz::clean_scratch();
+  return 0;
+}
