@@ -580,7 +580,11 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
                int *passes_out) {
   const int64_t M = mix->M;
   int passes = 0;
-  std::vector<double> T((size_t)M), scale((size_t)M, 1.0), da((size_t)M, 0.0), Dk((size_t)M), a2p, uold, U, V;
+  std::vector<double> T((size_t)M), scale((size_t)M, 1.0), da((size_t)M, 0.0), Dk((size_t)M), a2p, uold;
+  /* the three coupling kernels (ACA factors, self entries): an approximate Jacobian, refreshed
+   * while the state still moves (residuals above 1e-4) and then kept */
+  std::vector<double> UC, VC, UZ, VZ, UL, VL, Ckk((size_t)M), Zkk((size_t)M);
+  int rc = 0, rz = 0, rk = 0;
   a2.assign((size_t)M, 0.0);
   SPass P;
   int64_t ref = 0;
@@ -621,6 +625,7 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
       return GRAN_ERROR(GRAN_ERR_NOCONV,
                         "Sonine HCS (M = %" PRId64 ") did not converge: residuals %.3g (T), %.3g (a2) after %d sweeps",
                         M, rT, rA, it);
+    const bool refresh = std::max(rT, rA) > 1e-4 || UC.empty();
     for (int64_t k = 0; k < M; k++) {
       const double D = P.diag[(size_t)k] + (P.off[(size_t)k] * P.diag[(size_t)k] > 0.0 ? P.off[(size_t)k] : 0.0);
       if (!(std::fabs(D) > 0.0) || !std::isfinite(D))
@@ -631,13 +636,21 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
     if (M > 1) {
       /* Phi is linear in a2: solve diag da + C da = -Phi (C_ki = d Phi_k/d a2_i, i != k, ACA)
        * by a few D-preconditioned Richardson steps from the Jacobi step above */
-      int rc = 0;
-      aca_kernel(M, ref, [&](int64_t k, int64_t i) { return lzeta(mix, T.data(), k, i, true); }, SON_ACA_TOL,
-                 (int)std::min<int64_t>(M, 64), U, V, &rc);
-      std::vector<double> Cda((size_t)M), Ckk((size_t)M);
-      for (int64_t k = 0; k < M; k++) Ckk[(size_t)k] = lzeta(mix, T.data(), k, k, true);
+      if (refresh) {
+        aca_kernel(M, ref, [&](int64_t k, int64_t i) { return lzeta(mix, T.data(), k, i, true); }, SON_ACA_TOL,
+                   (int)std::min<int64_t>(M, 64), UC, VC, &rc);
+        aca_kernel(M, ref, [&](int64_t k, int64_t i) { return lzeta(mix, T.data(), k, i); }, SON_ACA_TOL,
+                   (int)std::min<int64_t>(M, 64), UZ, VZ, &rz);
+        aca_kernel(M, ref, [&](int64_t k, int64_t i) { return lphi(mix, T.data(), a2p.data(), k, i); }, SON_ACA_TOL,
+                   (int)std::min<int64_t>(M, 64), UL, VL, &rk);
+        for (int64_t k = 0; k < M; k++) {
+          Ckk[(size_t)k] = lzeta(mix, T.data(), k, k, true);
+          Zkk[(size_t)k] = lzeta(mix, T.data(), k, k);
+        }
+      }
+      std::vector<double> Cda((size_t)M);
       for (int it2 = 0; it2 < 4; it2++) {
-        lr_apply(M, rc, U, V, da.data(), Cda.data());
+        lr_apply(M, rc, UC, VC, da.data(), Cda.data());
         for (int64_t k = 0; k < M; k++) {
           const double res = P.phi[(size_t)k] + (P.diag[(size_t)k] - Ckk[(size_t)k]) * da[(size_t)k] + Cda[(size_t)k];
           da[(size_t)k] -= res / Dk[(size_t)k];
@@ -647,14 +660,11 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
     for (int64_t k = 0; k < M; k++) a2[(size_t)k] += da[(size_t)k];
     if (M > 1) {
       /* zeta_k at the updated a2: z1_k + d zeta_k/d a2_k da_k + sum_{i != k} Z_ki da_i (Z: ACA) */
-      int rz = 0;
-      aca_kernel(M, ref, [&](int64_t k, int64_t i) { return lzeta(mix, T.data(), k, i); }, SON_ACA_TOL,
-                 (int)std::min<int64_t>(M, 64), U, V, &rz);
       std::vector<double> Zda((size_t)M);
-      lr_apply(M, rz, U, V, da.data(), Zda.data());
+      lr_apply(M, rz, UZ, VZ, da.data(), Zda.data());
       for (int64_t k = 0; k < M; k++) {
         const double z0 = P.z0[(size_t)k];
-        const double dz = P.zdg[(size_t)k] * da[(size_t)k] + Zda[(size_t)k] - lzeta(mix, T.data(), k, k) * da[(size_t)k];
+        const double dz = P.zdg[(size_t)k] * da[(size_t)k] + Zda[(size_t)k] - Zkk[(size_t)k] * da[(size_t)k];
         scale[(size_t)k] = 1.0 + (P.z1[(size_t)k] + dz) / z0;
         if (!(z0 > 0.0) || !(scale[(size_t)k] > 0.0) || !std::isfinite(scale[(size_t)k]))
           return GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine HCS: cooling rate of species %" PRId64 " is not positive", k);
@@ -671,9 +681,6 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
 #endif
       /* step 3: dPhi_k/du . du = Phi_k du_k/2 + sum_i L_ki (du_i - du_k), L_ki = lphi (ACA; the
        * homogeneity sum_i dPhi_k/du_i = Phi_k/2 gives the own part) */
-      int rk = 0;
-      aca_kernel(M, ref, [&](int64_t k, int64_t i) { return lphi(mix, T.data(), a2p.data(), k, i); }, SON_ACA_TOL,
-                 (int)std::min<int64_t>(M, 64), U, V, &rk);
 #ifdef GRAN_HCS_DEBUG
       std::fprintf(stderr, "sonine: lphi rank %d\n", rk);
 #endif
@@ -681,14 +688,14 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
       for (int64_t k = 0; k < M; k++) du[(size_t)k] = u[(size_t)k] - (uold[(size_t)k] - uold[(size_t)ref]);
       for (int l = 0; l < rk; l++)
         for (int64_t k = 0; k < M; k++) {
-          vd[(size_t)l] += V[(size_t)l * M + k] * du[(size_t)k];
-          v1[(size_t)l] += V[(size_t)l * M + k];
+          vd[(size_t)l] += VL[(size_t)l * M + k] * du[(size_t)k];
+          v1[(size_t)l] += VL[(size_t)l * M + k];
         }
       for (int64_t k = 0; k < M; k++) {
         double Ld = 0.0, L1 = 0.0;
         for (int l = 0; l < rk; l++) {
-          Ld += U[(size_t)l * M + k] * vd[(size_t)l];
-          L1 += U[(size_t)l * M + k] * v1[(size_t)l];
+          Ld += UL[(size_t)l * M + k] * vd[(size_t)l];
+          L1 += UL[(size_t)l * M + k] * v1[(size_t)l];
         }
         const double J = 0.5 * P.phi[(size_t)k] * du[(size_t)k] + Ld - du[(size_t)k] * L1;
         a2[(size_t)k] -= J / Dk[(size_t)k];
