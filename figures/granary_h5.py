@@ -158,6 +158,10 @@ class Output:
     def T_theory(self):
         return self.get("temperatures/T_theory")
 
+    def T_theory_sonine(self):
+        """First Sonine T_k(t) ([observables] theory_sonine = true), else None."""
+        return self.get("temperatures/T_theory_sonine")
+
     # mean squared displacements
     def msd(self):
         return self.get("msd/msd")

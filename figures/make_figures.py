@@ -330,6 +330,11 @@ def fig6(args, f):
                     lst.append(v)
         if th is not None:
             ax.plot(k, th[-1], "k-", lw=1, label="theory (Eqs. 14-15)")
+        ths = lo.T_theory_sonine()
+        if ths is not None:
+            ax.plot(k, ths[-1], "--", color="C2", lw=1, label="first Sonine theory")
+            if th is not None:  # the Sonine curve in the residual panel: 100 (T_Sonine / T_Maxwellian - 1)
+                rx.plot(k, 100.0 * (ths[-1] / th[-1] - 1.0), "--", color="C2", lw=1)
         ax.set_xscale("log")
         ax.set_yscale("log")
         rx.set_xlabel("k = m_k / m_1")
@@ -342,6 +347,8 @@ def fig6(args, f):
                "no particles are left out; the heaviest have few particles, hence the scatter. The "
                "two selectors agree within noise. " + THEORY_OFF +
                "temperature ratios by about 1 % (first Sonine correction)." +
+               (" Dashed: the first Sonine theory (temperatures/T_theory_sonine, from a2 = 0 at t = 0; "
+                "lower panel: its shift from the Maxwellian curve)." if lo.T_theory_sonine() is not None else "") +
                beyond(k.astype(float), *meas, xname="k"))
 
 

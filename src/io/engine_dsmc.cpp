@@ -295,6 +295,25 @@ class DsmcEngine : public gran_engine {
     return GRAN_SUCCESS;
   }
 
+  /* First Sonine T_k(t), a2_k(t) from the scene's start (T0, Maxwellian velocities: a2 = 0). */
+  int write_sonine_theory(int64_t gid, const char *file, const std::vector<double> &tt) {
+    const int64_t M = s_->nspecies, nt = (int64_t)tt.size();
+    std::vector<double> T((size_t)(nt * M)), a2((size_t)(nt * M));
+    if (gran_theory_temperatures_approx(mix_, GRAN_THEORY_SONINE, T0_.data(), nullptr, nt, tt.data(), s_->theory_rtol,
+                                        T.data(), a2.data()) != GRAN_SUCCESS) {
+      gran_warning_add("no T_theory_sonine in the output: %s", gran_last_error_message());
+      return gran_h5::attr_string(gid, "theory_sonine_error", gran_last_error_message(), file);
+    }
+    GRAN_CALL(gran_h5::write_double(gid, "T_theory_sonine", {nt, M}, T.data(), file));
+    GRAN_CALL(gran_describe_(gid, "T_theory_sonine", "energy",
+                             "partial temperatures in the first Sonine approximation, from a2 = 0 at the start "
+                             "(gran_theory_temperatures_approx) [time][k]", file));
+    GRAN_CALL(gran_h5::write_double(gid, "a2_theory_sonine", {nt, M}, a2.data(), file));
+    GRAN_CALL(gran_describe_(gid, "a2_theory_sonine", "1",
+                             "Sonine coefficients a2_k in the first Sonine approximation [time][k]", file));
+    return GRAN_SUCCESS;
+  }
+
   /* Theory beside the simulation; a theory call that fails leaves a warning and an attribute. */
   int write_theory(int64_t f, const char *file, const std::vector<double> &tt) {
     const gran_scene *s = s_;
@@ -313,6 +332,7 @@ class DsmcEngine : public gran_engine {
         gran_warning_add("no T_theory in the output: %s", gran_last_error_message());
         GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
       }
+      if (s->obs_theory_sonine) GRAN_CALL(write_sonine_theory(g.id, file, tt));
     }
     if (s->obs_msd) {
       H5Group g;

@@ -880,6 +880,8 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   /* ---- [observables] ---- */
   Tab ob(nullptr, "observables", F);
   if (top.has("observables")) ob = top.sub("observables");
+  if (ob.has("theory_sonine"))
+    ob.fail("theory_sonine", "the first Sonine theory is written by DSMC scenes only, not by GSRD scenes");
   ob.set_known({"times", "every", "temperature", "energy", "momentum", "clustering", "sonine_a2", "structure_factor",
                 "stress", "velocity_profile", "theory", "snapshots"});
   if (ob.has("times") && ob.has("every")) ob.fail("every", "give either 'times' or 'every', not both");
@@ -1353,7 +1355,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   Tab ob(nullptr, "observables", F);
   if (top.has("observables")) ob = top.sub("observables");
   ob.set_known({"times", "temperatures", "msd", "energy", "momentum", "collision_counts", "sonine_a2", "theory",
-                "theory_rtol", "velocity_distribution", "tamsd"});
+                "theory_rtol", "theory_sonine", "velocity_distribution", "tamsd"});
   if (ob.has("times")) {
     s.times = parse_times(ob, "times");
   } else {
@@ -1405,6 +1407,18 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   s.obs_theory = ob.boolean("theory", true);
   s.theory_rtol = ob.number("theory_rtol", 1e-8);
   require(s.theory_rtol > 0 && s.theory_rtol < 1, ob, "theory_rtol", "must be in (0, 1)");
+  /* the first Sonine trajectory (gran_theory_temperatures_approx) exists for constant or matrix
+   * restitution of a gas whose species are fixed */
+  s.obs_theory_sonine = ob.boolean("theory_sonine", false);
+  if (s.obs_theory_sonine) {
+    if (!s.obs_theory) ob.fail("theory_sonine", "needs theory = true (it is written beside T_theory)");
+    if (!s.obs_temperatures) ob.fail("theory_sonine", "needs temperatures = true (it is written beside T_theory)");
+    if (s.model == GRAN_RESTITUTION_VISCOELASTIC)
+      ob.fail("theory_sonine", "the first Sonine theory is implemented for constant or matrix restitution, not "
+                               "viscoelastic restitution");
+    if (s.agg.e_agg > 0 || std::isfinite(s.agg.e_frag))
+      ob.fail("theory_sonine", "no Sonine theory for aggregation or fragmentation (the species change)");
+  }
   if (ob.has("tamsd")) {
     Tab ta = ob.sub("tamsd");
     ta.set_known({"tracers", "dt", "samples", "lags"});

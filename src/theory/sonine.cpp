@@ -26,8 +26,10 @@
 #include <gsl/gsl_odeiv2.h>
 
 #include <algorithm>
+#include <complex>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 
 #if defined(__AVX512F__) || defined(__AVX__) || defined(__SSE2__)
 #include <immintrin.h>
@@ -47,6 +49,7 @@ struct SPass {
   std::vector<double> phi;  /* da2_k/dt */
   std::vector<double> diag; /* d phi_k / d a2_k */
   std::vector<double> off;  /* sum_{i != k} d phi_k / d a2_i */
+  std::vector<double> zdg;  /* d zeta_k / d a2_k */
   std::vector<double> nu;   /* collision frequency scale (for the residuals) */
 };
 
@@ -119,10 +122,10 @@ void spass_general(const gran_mixture *mix, const double *T, const double *a2, S
 /* Constant eps and g2: the pairs (k, i < k) VW at a time, both directions per pair. */
 void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
   const int64_t M = mix->M;
-  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.nu}) v->assign((size_t)M, 0.0);
+  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.zdg, &P.nu}) v->assign((size_t)M, 0.0);
   const double *m = mix->m.data(), *sg = mix->sigma.data(), *n = mix->n.data();
   double *z0 = P.z0.data(), *z1 = P.z1.data(), *phi = P.phi.data(), *dg = P.diag.data(), *of = P.off.data(),
-         *nu = P.nu.data();
+         *nu = P.nu.data(), *zd = P.zdg.data();
   const double p = 0.5 * (1.0 + mix->eps), q = 0.5 * (1.0 - mix->eps), W = SQ2PI * mix->g2;
   std::vector<double> av((size_t)M), iT((size_t)M), ia((size_t)M);
   for (int64_t k = 0; k < M; k++) {
@@ -140,9 +143,10 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
       z1[k] += (o.czo + o.czp) * a2k;
       phi[k] += o.pm + (o.cpo + o.cpp) * a2k;
       dg[k] += o.cpo + o.cpp;
+      zd[k] += o.czo + o.czp;
       nu[k] += w * 0.5 * s;
     }
-    vd vz0 = {}, vz1 = {}, vph = {}, vdg = {}, vof = {}, vnu = {};
+    vd vz0 = {}, vz1 = {}, vph = {}, vdg = {}, vof = {}, vnu = {}, vzd = {};
     int64_t i = 0;
     for (; i + VW <= k; i += VW) {
       const vd mi = vload(m + i), Ti = vload(T + i), ai = vload(av.data() + i), iTi = vload(iT.data() + i),
@@ -160,6 +164,7 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
         vph += o.pm + o.cpo * a2k + o.cpp * a2i;
         vdg += o.cpo;
         vof += o.cpp;
+        vzd += o.czo;
         vnu += w * mu * s;
       }
       {
@@ -170,10 +175,12 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
         vstore(phi + i, vload(phi + i) + o.pm + o.cpo * a2i + o.cpp * a2k);
         vstore(dg + i, vload(dg + i) + o.cpo);
         vstore(of + i, vload(of + i) + o.cpp);
+        vstore(zd + i, vload(zd + i) + o.czo);
         vstore(nu + i, vload(nu + i) + w * omu * s);
       }
     }
-    double sz0 = hsum(vz0), sz1 = hsum(vz1), sph = hsum(vph), sdg = hsum(vdg), sof = hsum(vof), snu = hsum(vnu);
+    double sz0 = hsum(vz0), sz1 = hsum(vz1), sph = hsum(vph), sdg = hsum(vdg), sof = hsum(vof), snu = hsum(vnu),
+           szd = hsum(vzd);
     for (; i < k; i++) {
       const double mi = m[i], Ti = T[i], ai = av[(size_t)i], sgm = 0.5 * (sk + sg[i]), w0 = W * sgm * sgm;
       const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv, s = std::sqrt(ak + ai), is = 1.0 / s;
@@ -185,6 +192,7 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
         sph += o.pm + o.cpo * a2k + o.cpp * a2[i];
         sdg += o.cpo;
         sof += o.cpp;
+        szd += o.czo;
         snu += w * mu * s;
       }
       {
@@ -196,9 +204,11 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
         phi[i] += o.pm + o.cpo * a2[i] + o.cpp * a2k;
         dg[i] += o.cpo;
         of[i] += o.cpp;
+        zd[i] += o.czo;
         nu[i] += w * omu * s;
       }
     }
+    zd[k] += szd;
     z0[k] += sz0;
     z1[k] += sz1;
     phi[k] += sph;
@@ -216,10 +226,10 @@ void spass(const gran_mixture *mix, const double *T, const double *a2, SPass &P)
 /* Any restitution/g2 matrices: each unordered pair once with the accessors. */
 void spass_general(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
   const int64_t M = mix->M;
-  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.nu}) v->assign((size_t)M, 0.0);
+  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.zdg, &P.nu}) v->assign((size_t)M, 0.0);
   const double *m = mix->m.data(), *sg = mix->sigma.data(), *n = mix->n.data();
   double *z0 = P.z0.data(), *z1 = P.z1.data(), *phi = P.phi.data(), *dg = P.diag.data(), *of = P.off.data(),
-         *nu = P.nu.data();
+         *nu = P.nu.data(), *zd = P.zdg.data();
   for (int64_t k = 0; k < M; k++) {
     const double mk = m[k], Tk = T[k], ak = Tk / mk;
     for (int64_t i = 0; i <= k; i++) {
@@ -237,7 +247,8 @@ void spass_general(const gran_mixture *mix, const double *T, const double *a2, S
         z1[k] += o.czo * a2[k] + o.czp * a2[i];
         phi[k] += o.pm + o.cpo * a2[k] + o.cpp * a2[i];
         dg[k] += o.cpo;
-        if (i == k) dg[k] += o.cpp;
+        zd[k] += o.czo;
+        if (i == k) dg[k] += o.cpp, zd[k] += o.czp;
         else of[k] += o.cpp;
         nu[k] += w * mu * s;
       }
@@ -249,6 +260,7 @@ void spass_general(const gran_mixture *mix, const double *T, const double *a2, S
         phi[i] += o.pm + o.cpo * a2[i] + o.cpp * a2[k];
         dg[i] += o.cpo;
         of[i] += o.cpp;
+        zd[i] += o.czo;
         nu[i] += w * omu * s;
       }
     }
@@ -284,6 +296,7 @@ void sresidual(const SPass &P, double *rT, double *rA, double *cstar) {
 
 const int64_t SON_DENSE_MAX = 64; /* GSL hybrids polish of the 2M-1 unknowns up to here */
 const double SON_TOL = 1e-13;
+const double SON_ACA_TOL = 1e-6; /* the coupling kernels of the sweep (an approximate Jacobian) */
 
 /* ---- GSL hybrids on x = (log T_k - log T_ref for k != ref, a2_k) ---------------------------- */
 struct SSys {
@@ -360,8 +373,8 @@ void polish_hybrids(const gran_mixture *mix, int64_t ref, std::vector<double> &u
 
 /* Anderson acceleration (type II, depth <= 5) of a fixed-point iteration x <- G(x): given the
  * iterate xin and gx = G(xin), replaces gx by the mixed next iterate. The sweep map below
- * converges linearly (factor ~ 1/2: the a2 of different species are coupled by their collisions);
- * the mixing makes it superlinear in practice. */
+ * converges linearly (factor ~ 1/12 per sweep alone: the lag between its temperature step and the
+ * a2 that follows); the mixing brings it to ~ 1/30. */
 struct Anderson {
   int depth = 5;
   std::vector<std::vector<double>> dF, dG; /* differences of residuals f = G(x) - x and of G */
@@ -433,17 +446,145 @@ void anderson(Anderson &A, const std::vector<double> &xin, std::vector<double> &
     for (size_t i = 0; i < n; i++) gx[i] -= gam[(size_t)a] * A.dG[(size_t)a][i];
 }
 
+/* T_i d/dT_i of partner i's term in Phi_k at fixed a2 (complex step: exact to rounding). Entry
+ * (k, k) is the partner part of the self pair. A smooth kernel in (k, i): compressed by ACA. */
+double lphi(const gran_mixture *mix, const double *T, const double *a2, int64_t k, int64_t i) {
+  typedef std::complex<double> cd;
+  const double ni = mix->n[(size_t)i];
+  if (ni == 0.0) return 0.0;
+  const double mk = mix->m[(size_t)k], mi = mix->m[(size_t)i], Tk = T[k], h = 1e-30;
+  const double sgm = 0.5 * (mix->sigma[(size_t)k] + mix->sigma[(size_t)i]);
+  const double w = SQ2PI * sgm * sgm * mix_g2(mix, k, i) * ni;
+  const double eps = mix_eps(mix, k, i), p = 0.5 * (1.0 + eps), q = 0.5 * (1.0 - eps);
+  const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv, ak = Tk / mk;
+  const cd Ti(T[i], T[i] * h), ai = Ti / mi, s = std::sqrt(ak + ai);
+  const PairOut<cd> o = pair_terms<cd>(cd(w), p, q, cd(mu), cd(omu), Ti / Tk, (Tk - Ti) / Tk, cd(ak), ai,
+                                       cd(1.0 / ak), s, 1.0 / s);
+  return std::imag(o.pm + o.cpo * a2[k] + o.cpp * a2[i]) / h;
+}
+
+/* d zeta_k / d a2_i of partner i (the coefficient czp of pair_terms); entry (k, k) the partner part
+ * of the self pair. A smooth kernel in (k, i): compressed by ACA. */
+double lzeta(const gran_mixture *mix, const double *T, int64_t k, int64_t i, bool phi = false) {
+  const double ni = mix->n[(size_t)i];
+  if (ni == 0.0) return 0.0;
+  const double mk = mix->m[(size_t)k], mi = mix->m[(size_t)i], Tk = T[k], Ti = T[i];
+  const double sgm = 0.5 * (mix->sigma[(size_t)k] + mix->sigma[(size_t)i]);
+  const double w = SQ2PI * sgm * sgm * mix_g2(mix, k, i) * ni;
+  const double eps = mix_eps(mix, k, i), p = 0.5 * (1.0 + eps), q = 0.5 * (1.0 - eps);
+  const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv, ak = Tk / mk, ai = Ti / mi;
+  const double s = std::sqrt(ak + ai);
+  const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti / Tk, (Tk - Ti) / Tk, ak, ai, 1.0 / ak, s, 1.0 / s);
+  return phi ? o.cpp : o.czp;
+}
+
+/* U (V^T x) of a rank-r factorisation (column-major M x r) */
+void lr_apply(int64_t M, int r, const std::vector<double> &U, const std::vector<double> &V, const double *x,
+              double *y) {
+  std::vector<double> t((size_t)r, 0.0);
+  for (int l = 0; l < r; l++)
+    for (int64_t k = 0; k < M; k++) t[(size_t)l] += V[(size_t)l * M + k] * x[k];
+  for (int64_t k = 0; k < M; k++) {
+    double sum = 0.0;
+    for (int l = 0; l < r; l++) sum += U[(size_t)l * M + k] * t[(size_t)l];
+    y[k] = sum;
+  }
+}
+
+/* Adaptive cross approximation (partial pivoting) of the M x M kernel entry(k, j) ~ U V^T (U, V
+ * column-major M x r), relative accuracy tol. */
+template <class F>
+void aca_kernel(int64_t M, int64_t start, F entry, double tol, int rmax, std::vector<double> &U, std::vector<double> &V,
+                int *rank) {
+  int r = 0;
+  U.clear();
+  V.clear();
+  std::vector<char> usedr((size_t)M, 0), usedc((size_t)M, 0);
+  std::vector<double> row((size_t)M), col((size_t)M);
+  double norm2 = 0.0;
+  int64_t i = start;
+  int misses = 0;
+  while (r < rmax) {
+    usedr[(size_t)i] = 1;
+    for (int64_t j = 0; j < M; j++) row[(size_t)j] = entry(i, j);
+    for (int l = 0; l < r; l++) {
+      const double ui = U[(size_t)l * M + i];
+      for (int64_t j = 0; j < M; j++) row[(size_t)j] -= ui * V[(size_t)l * M + j];
+    }
+    int64_t jp = -1;
+    double best = 0.0;
+    for (int64_t j = 0; j < M; j++)
+      if (!usedc[(size_t)j] && std::fabs(row[(size_t)j]) > best) best = std::fabs(row[(size_t)(jp = j)]);
+    if (jp < 0 || best <= 1e-300) {
+      if (++misses > 3) break;
+      int64_t next = -1;
+      for (int64_t k = 0; k < M && next < 0; k++)
+        if (!usedr[(size_t)k]) next = k;
+      if (next < 0) break;
+      i = next;
+      continue;
+    }
+    usedc[(size_t)jp] = 1;
+    const double piv = row[(size_t)jp];
+    for (int64_t k = 0; k < M; k++) col[(size_t)k] = entry(k, jp);
+    for (int l = 0; l < r; l++) {
+      const double vj = V[(size_t)l * M + jp];
+      for (int64_t k = 0; k < M; k++) col[(size_t)k] -= vj * U[(size_t)l * M + k];
+    }
+    for (auto &v : row) v /= piv;
+    double uu = 0.0, vv = 0.0, cross = 0.0;
+    for (int64_t k = 0; k < M; k++) {
+      uu += col[(size_t)k] * col[(size_t)k];
+      vv += row[(size_t)k] * row[(size_t)k];
+    }
+    for (int l = 0; l < r; l++) {
+      double a = 0.0, b = 0.0;
+      for (int64_t k = 0; k < M; k++) {
+        a += U[(size_t)l * M + k] * col[(size_t)k];
+        b += V[(size_t)l * M + k] * row[(size_t)k];
+      }
+      cross += a * b;
+    }
+    norm2 += uu * vv + 2.0 * cross;
+    U.insert(U.end(), col.begin(), col.end());
+    V.insert(V.end(), row.begin(), row.end());
+    r++;
+    misses = 0;
+    if (std::sqrt(uu * vv) <= tol * std::sqrt(std::fabs(norm2))) break;
+    int64_t ip = -1;
+    best = -1.0;
+    for (int64_t k = 0; k < M; k++)
+      if (!usedr[(size_t)k] && std::fabs(col[(size_t)k]) > best) best = std::fabs(col[(size_t)(ip = k)]);
+    if (ip < 0) break;
+    i = ip;
+  }
+  *rank = r;
+}
+
 /* The Sonine HCS: u = log T (u[ref] = 0), a2, the mean rate c at T = exp(u).
- * Start: the Maxwellian HCS (u0, a2 = 0). Each sweep: one Sonine pass at (T, a2); a2_k -= phi_k/D_k
- * with D_k = d phi_k/d a2_k + sum_{i != k} d phi_k/d a2_i (exact when all a2 are equal, the slow
- * mode of the plain Jacobi sweep); then the HCS of the rates zeta_k = z0_k (1 + z1_k/z0_k) with
- * the factors frozen (hcs_solve_scaled: clamped Newton, warm). M <= SON_DENSE_MAX: GSL hybrids
+ * Start: the Maxwellian HCS (u0, a2 = 0). Each sweep is one block Gauss-Seidel step of Newton's
+ * method on (a2, u) with one Sonine pass at (T, a2):
+ *  1. a2: Phi is linear in a2, d Phi_k/d a2_i = diag_k (i = k) + C_ki; the partner kernel C is
+ *     compressed by ACA and diag da + C da = -Phi solved by D-preconditioned Richardson steps
+ *     (D_k = diag_k + the partner sum when it has the same sign: exact when all a2 are equal);
+ *  2. u: zeta_k at the new a2 (z1_k plus its change through the own coefficient and the ACA of
+ *     the partner kernel Z_ki = d zeta_k/d a2_i), then one clamped Newton step of the HCS of the
+ *     rates zeta_k = z0_k (1 + z1_k/z0_k) with the factors frozen (hcs_solve_scaled, warm);
+ *  3. a2 again, for that temperature step du: a2_k -= (dPhi_k/du . du)/D_k, the partner part of
+ *     dPhi_k/du_i an ACA-compressed kernel (complex-step derivatives of the pair terms) and the
+ *     own part from the homogeneity of Phi (degree 1/2 in T).
+ * The sweep map is Anderson-mixed; each sweep reduces the residuals ~30x (the plain sweep without
+ * steps 1's partner kernel, 2's a2 change and 3 gained ~5x). M <= SON_DENSE_MAX: GSL hybrids
  * polishes the 2M - 1 unknowns together. */
 int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<double> &a2, double *cbar,
                int *passes_out) {
   const int64_t M = mix->M;
   int passes = 0;
-  std::vector<double> T((size_t)M), scale((size_t)M, 1.0);
+  std::vector<double> T((size_t)M), scale((size_t)M, 1.0), da((size_t)M, 0.0), Dk((size_t)M), a2p, uold;
+  /* the three coupling kernels (ACA factors, self entries): an approximate Jacobian, refreshed
+   * while the state still moves (residuals above 1e-4) and then kept */
+  std::vector<double> UC, VC, UZ, VZ, UL, VL, Ckk((size_t)M), Zkk((size_t)M);
+  int rc = 0, rz = 0, rk = 0;
   a2.assign((size_t)M, 0.0);
   SPass P;
   int64_t ref = 0;
@@ -462,6 +603,7 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
     const double shift = u[(size_t)ref];
     for (int64_t k = 0; k < M; k++) T[(size_t)k] = std::exp(u[(size_t)k] - shift);
     spass(mix, T.data(), a2.data(), P);
+    a2p = a2;
     passes++;
     sresidual(P, &rT, &rA, &c);
 #ifdef GRAN_HCS_DEBUG
@@ -483,22 +625,81 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
       return GRAN_ERROR(GRAN_ERR_NOCONV,
                         "Sonine HCS (M = %" PRId64 ") did not converge: residuals %.3g (T), %.3g (a2) after %d sweeps",
                         M, rT, rA, it);
+    const bool refresh = std::max(rT, rA) > 1e-4 || UC.empty();
     for (int64_t k = 0; k < M; k++) {
       const double D = P.diag[(size_t)k] + (P.off[(size_t)k] * P.diag[(size_t)k] > 0.0 ? P.off[(size_t)k] : 0.0);
       if (!(std::fabs(D) > 0.0) || !std::isfinite(D))
         return GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine HCS: zero a2 relaxation rate for species %" PRId64, k);
-      a2[(size_t)k] -= P.phi[(size_t)k] / D;
+      Dk[(size_t)k] = D;
+      da[(size_t)k] = -P.phi[(size_t)k] / D;
     }
     if (M > 1) {
+      /* Phi is linear in a2: solve diag da + C da = -Phi (C_ki = d Phi_k/d a2_i, i != k, ACA)
+       * by a few D-preconditioned Richardson steps from the Jacobi step above */
+      if (refresh) {
+        aca_kernel(M, ref, [&](int64_t k, int64_t i) { return lzeta(mix, T.data(), k, i, true); }, SON_ACA_TOL,
+                   (int)std::min<int64_t>(M, 64), UC, VC, &rc);
+        aca_kernel(M, ref, [&](int64_t k, int64_t i) { return lzeta(mix, T.data(), k, i); }, SON_ACA_TOL,
+                   (int)std::min<int64_t>(M, 64), UZ, VZ, &rz);
+        aca_kernel(M, ref, [&](int64_t k, int64_t i) { return lphi(mix, T.data(), a2p.data(), k, i); }, SON_ACA_TOL,
+                   (int)std::min<int64_t>(M, 64), UL, VL, &rk);
+        for (int64_t k = 0; k < M; k++) {
+          Ckk[(size_t)k] = lzeta(mix, T.data(), k, k, true);
+          Zkk[(size_t)k] = lzeta(mix, T.data(), k, k);
+        }
+      }
+      std::vector<double> Cda((size_t)M);
+      for (int it2 = 0; it2 < 4; it2++) {
+        lr_apply(M, rc, UC, VC, da.data(), Cda.data());
+        for (int64_t k = 0; k < M; k++) {
+          const double res = P.phi[(size_t)k] + (P.diag[(size_t)k] - Ckk[(size_t)k]) * da[(size_t)k] + Cda[(size_t)k];
+          da[(size_t)k] -= res / Dk[(size_t)k];
+        }
+      }
+    }
+    for (int64_t k = 0; k < M; k++) a2[(size_t)k] += da[(size_t)k];
+    if (M > 1) {
+      /* zeta_k at the updated a2: z1_k + d zeta_k/d a2_k da_k + sum_{i != k} Z_ki da_i (Z: ACA) */
+      std::vector<double> Zda((size_t)M);
+      lr_apply(M, rz, UZ, VZ, da.data(), Zda.data());
       for (int64_t k = 0; k < M; k++) {
         const double z0 = P.z0[(size_t)k];
-        scale[(size_t)k] = 1.0 + P.z1[(size_t)k] / z0;
+        const double dz = P.zdg[(size_t)k] * da[(size_t)k] + Zda[(size_t)k] - Zkk[(size_t)k] * da[(size_t)k];
+        scale[(size_t)k] = 1.0 + (P.z1[(size_t)k] + dz) / z0;
         if (!(z0 > 0.0) || !(scale[(size_t)k] > 0.0) || !std::isfinite(scale[(size_t)k]))
           return GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine HCS: cooling rate of species %" PRId64 " is not positive", k);
       }
       int64_t r2 = 0;
       const double tin = std::max(0.01 * SON_TOL, 0.01 * std::max(rT, rA));
+      uold = u;
+#ifdef GRAN_HCS_DEBUG
+      const clock_t c0 = clock();
+#endif
       GRAN_CALL(hcs_solve_scaled(mix, scale.data(), u, &r2, tin, 1, &passes));
+#ifdef GRAN_HCS_DEBUG
+      std::fprintf(stderr, "sonine: newton step %.3f s\n", (double)(clock() - c0) / CLOCKS_PER_SEC);
+#endif
+      /* step 3: dPhi_k/du . du = Phi_k du_k/2 + sum_i L_ki (du_i - du_k), L_ki = lphi (ACA; the
+       * homogeneity sum_i dPhi_k/du_i = Phi_k/2 gives the own part) */
+#ifdef GRAN_HCS_DEBUG
+      std::fprintf(stderr, "sonine: lphi rank %d\n", rk);
+#endif
+      std::vector<double> du((size_t)M), vd((size_t)rk, 0.0), v1((size_t)rk, 0.0);
+      for (int64_t k = 0; k < M; k++) du[(size_t)k] = u[(size_t)k] - (uold[(size_t)k] - uold[(size_t)ref]);
+      for (int l = 0; l < rk; l++)
+        for (int64_t k = 0; k < M; k++) {
+          vd[(size_t)l] += VL[(size_t)l * M + k] * du[(size_t)k];
+          v1[(size_t)l] += VL[(size_t)l * M + k];
+        }
+      for (int64_t k = 0; k < M; k++) {
+        double Ld = 0.0, L1 = 0.0;
+        for (int l = 0; l < rk; l++) {
+          Ld += UL[(size_t)l * M + k] * vd[(size_t)l];
+          L1 += UL[(size_t)l * M + k] * v1[(size_t)l];
+        }
+        const double J = 0.5 * P.phi[(size_t)k] * du[(size_t)k] + Ld - du[(size_t)k] * L1;
+        a2[(size_t)k] -= J / Dk[(size_t)k];
+      }
     }
     /* Anderson mixing of the sweep map x -> G(x), x = (u - u_ref, a2) */
     for (int64_t k = 0; k < M; k++) {

@@ -1,0 +1,167 @@
+/* t645-theory-sonine-run.c - `[observables] theory_sonine = true`: the run driver writes the first
+ * Sonine theory (temperatures/T_theory_sonine, temperatures/a2_theory_sonine) beside T_theory;
+ * the values are gran_theory_temperatures_approx's from the scene's start (T0, a2 = 0) at the
+ * output times; off by default; refused (GRAN_ERR_PARSE naming the key) where it has no meaning. */
+#include "io_test_util.h"
+
+#include <math.h>
+#include <string.h>
+
+#define NT 8
+#define M 2
+
+static const char *kFmt = "title = \"sonine\"\n"
+                          "[mixture]\n"
+                          "nspecies = 2\n"
+                          "mass = [1.0, 4.0]\n"
+                          "density = [0.1, 0.02]\n"
+                          "[restitution]\n"
+                          "eps = 0.7\n"
+                          "[initial]\n"
+                          "temperatures = \"hcs\"\n"
+                          "[engine]\n"
+                          "selector = \"lowrank\"\n"
+                          "counts = [2000, 400]\n"
+                          "seed = 5\n"
+                          "t_end = 20.0\n"
+                          "[observables]\n"
+                          "times = { log = { start = 0.1, stop = 20.0, n = 8 } }\n"
+                          "%s"
+                          "[output]\n"
+                          "path = \"%s\"\n";
+
+static void run_scene(const char *extra, const char *out, gran_mixture **mix) {
+  char text[2048];
+  snprintf(text, sizeof text, kFmt, extra, out);
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(text, "sonine.toml", &s));
+  if (mix) GRAN_ASSERT_OK(gran_scene_mixture(s, mix));
+  gran_run_result res;
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, NULL, NULL, &res));
+  assert_int_equal(res.finished, 1);
+  gran_scene_destroy(&s);
+}
+
+static void test_datasets(void **state) {
+  (void)state;
+  const char *out = io_path("sonine.h5");
+  gran_mixture *mix = NULL;
+  run_scene("theory_sonine = true\n", out, &mix);
+  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  size_t n = 0, nt = 0, nT0 = 0, na = 0, nm = 0;
+  double *t = io_h5_read_double(f, "temperatures/time", &nt);
+  double *T0 = io_h5_read_double(f, "species/T0", &nT0);
+  double *Tm = io_h5_read_double(f, "temperatures/T_theory", &nm);
+  double *Ts = io_h5_read_double(f, "temperatures/T_theory_sonine", &n);
+  double *as = io_h5_read_double(f, "temperatures/a2_theory_sonine", &na);
+  assert_non_null(t);
+  assert_non_null(T0);
+  assert_non_null(Tm);
+  assert_non_null(Ts);
+  assert_non_null(as);
+  assert_int_equal(nt, NT);
+  assert_int_equal(nT0, M);
+  assert_int_equal(n, NT * M);
+  assert_int_equal(na, NT * M);
+  hsize_t d[4];
+  assert_int_equal(io_h5_dims(f, "temperatures/T_theory_sonine", d), 2);
+  assert_int_equal(d[0], NT);
+  assert_int_equal(d[1], M);
+  hid_t ds = H5Dopen2(f, "temperatures/T_theory_sonine", H5P_DEFAULT);
+  char *u = io_h5_attr_string(ds, "units");
+  H5Dclose(ds);
+  H5Fclose(f);
+
+  /* the same call the driver makes: Sonine trajectory from T0 with Maxwellian velocities (a2 = 0) */
+  double Tr[NT * M], ar[NT * M];
+  GRAN_ASSERT_OK(gran_theory_temperatures_approx(mix, GRAN_THEORY_SONINE, T0, NULL, NT, t, 1e-8, Tr, ar));
+  double a2h[M], Th[M];
+  GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_T1, 1.0, Th, a2h, NULL));
+  for (int j = 0; j < NT * M; j++) {
+    assert_true(isfinite(Ts[j]) && Ts[j] > 0);
+    assert_true(isfinite(as[j]) && fabs(as[j]) < 1);
+    GRAN_ASSERT_REL(Ts[j], Tr[j], 1e-14);
+    GRAN_ASSERT_ABS(as[j], ar[j], 1e-15);
+    /* first Sonine correction of a Maxwellian-HCS start: a fraction of a per cent of T */
+    assert_true(fabs(Ts[j] / Tm[j] - 1) < 0.01);
+  }
+  /* a2_k grows from 0 towards the Sonine HCS values (same sign) and T departs from the Maxwellian */
+  for (int k = 0; k < M; k++) {
+    const double a_last = as[(NT - 1) * M + k];
+    assert_true(a_last * a2h[k] > 0);
+    assert_true(fabs(a_last) > fabs(as[k]));
+    assert_true(fabs(Ts[(NT - 1) * M + k] / Tm[(NT - 1) * M + k] - 1) > 1e-5);
+  }
+  assert_non_null(u);
+  assert_string_equal(u, "energy");
+  free(u);
+  free(t), free(T0), free(Tm), free(Ts), free(as);
+  gran_mixture_destroy(&mix);
+
+  /* off by default: no Sonine datasets */
+  const char *out2 = io_path("plain.h5");
+  run_scene("", out2, NULL);
+  f = H5Fopen(out2, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  assert_int_equal(H5Lexists(f, "temperatures/T_theory", H5P_DEFAULT), 1);
+  assert_int_equal(H5Lexists(f, "temperatures/T_theory_sonine", H5P_DEFAULT), 0);
+  assert_int_equal(H5Lexists(f, "temperatures/a2_theory_sonine", H5P_DEFAULT), 0);
+  H5Fclose(f);
+}
+
+static void expect_refused(const char *text, const char *why) {
+  gran_scene *s = NULL;
+  GRAN_ASSERT_ERR(gran_scene_parse(text, "bad.toml", &s), GRAN_ERR_PARSE);
+  assert_null(s);
+  const char *msg = gran_last_error_message();
+  if (!strstr(msg, "key 'observables.theory_sonine'") || !strstr(msg, why))
+    fail_msg("message '%s' lacks the key or '%s'", msg, why);
+}
+
+static void test_refused(void **state) {
+  (void)state;
+  const char *tail = "[observables]\ntheory_sonine = true\n";
+  char text[1024];
+  snprintf(text, sizeof text,
+           "[mixture]\nnspecies = 1\ndensity = [0.1]\n[restitution]\nmodel = \"viscoelastic\"\nbeta = 0.1\n[initial]\n"
+           "temperatures = \"equal\"\n[engine]\ncounts = [100]\nt_end = 1.0\n%s",
+           tail);
+  expect_refused(text, "viscoelastic");
+  snprintf(text, sizeof text,
+           "[mixture]\nnspecies = 30\nm1 = 1.0\nsigma1 = 1.0\ndensity_law = { n1 = 0.01, theta = 400.0 }\n"
+           "[restitution]\neps = 0.9\n[initial]\ntemperatures = \"equal\"\n[engine]\nvolume = 5e6\nt_end = 1.0\n"
+           "[aggregation]\ne_agg = 1.0\n%s",
+           tail);
+  expect_refused(text, "aggregation");
+  snprintf(text, sizeof text, "[engine]\ntype = \"srd\"\ncells = 4\nsteps = 3\n%s", tail);
+  expect_refused(text, "GSRD");
+  snprintf(text, sizeof text, "[mixture]\nnspecies = 1\ndensity = [0.1]\n[engine]\ncounts = [100]\nt_end = 1.0\n%stheory = false\n",
+           tail);
+  expect_refused(text, "theory = true");
+  snprintf(text, sizeof text,
+           "[mixture]\nnspecies = 1\ndensity = [0.1]\n[engine]\ncounts = [100]\nt_end = 1.0\n%stemperatures = false\n", tail);
+  expect_refused(text, "temperatures = true");
+  /* not a boolean */
+  snprintf(text, sizeof text, "[mixture]\nnspecies = 1\ndensity = [0.1]\n[engine]\ncounts = [100]\nt_end = 1.0\n"
+                              "[observables]\ntheory_sonine = 1\n");
+  gran_scene *s = NULL;
+  GRAN_ASSERT_ERR(gran_scene_parse(text, "bad.toml", &s), GRAN_ERR_PARSE);
+  assert_non_null(strstr(gran_last_error_message(), "observables.theory_sonine"));
+}
+
+static int teardown(void **state) {
+  (void)state;
+  io_tmp_cleanup();
+  return 0;
+}
+
+int main(void) {
+  io_tmp("t645");
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_datasets),
+      cmocka_unit_test(test_refused),
+  };
+  return cmocka_run_group_tests_name("t645-theory-sonine-run", tests, NULL, teardown);
+}
