@@ -10,6 +10,7 @@
 
 #include "cuda_impl.h"
 #include "srd_cuda.h"
+#include "srd/device_cuda.h" /* gran_srd_dev_check_params */
 
 namespace {
 
@@ -60,7 +61,7 @@ __global__ void k_stream_bin(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, 
   const int dim = gm.dim;
   const int lane = threadIdx.x & 31;
   const double s[3] = {sx, sy, sz};
-  double a[SRD_ACC_N] = {0, 0, 0, 0, 0, 0};
+  double a[SRD_ACC_N] = {};
   const int64_t stride = (int64_t)gridDim.x * blockDim.x;
   for (int64_t base = (int64_t)blockIdx.x * blockDim.x + (threadIdx.x - lane); base < n; base += stride) {
     const int64_t i = base + lane;
@@ -121,6 +122,7 @@ __global__ void k_stream_bin(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, 
     }
   }
   if (K.fx & (SRD_FX_ACCEL | SRD_FX_WALL | SRD_FX_LE)) flush_acc(a, SRD_ACC_FLUX, SRD_ACC_IMP + 1, acc);
+  flush_acc(a, SRD_ACC_BAD, SRD_ACC_BAD + 1, acc); /* non-finite moves: no atomic unless one was met */
 }
 
 /* Per cell (srd_dev_cell): moments, new reference, virtual particles, axis, eps_eff, thermostat;
@@ -155,7 +157,7 @@ __global__ void k_rotate(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, doub
                          const CellRot *__restrict__ rot, double *__restrict__ acc) {
   const int dim = gm.dim;
   const double s[3] = {sx, sy, sz};
-  double a[SRD_ACC_N] = {0, 0, 0, 0, 0, 0};
+  double a[SRD_ACC_N] = {};
   for (int64_t i = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; i < n; i += (int64_t)gridDim.x * blockDim.x) {
     double p[3] = {0, 0, 0}, v[3] = {0, 0, 0};
     for (int k = 0; k < dim; ++k) p[k] = (double)d.x[k][i];
@@ -167,7 +169,7 @@ __global__ void k_rotate(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, doub
     srd_dev_collide(&K, &gm, &cr.rot, dvx, p[1], v, a);
     for (int k = 0; k < dim; ++k) d.v[k][i] = (T)v[k];
   }
-  if (K.fx & (SRD_FX_EPS | SRD_FX_THERMO | SRD_FX_WALL | SRD_FX_LE)) flush_acc(a, SRD_ACC_DE, SRD_ACC_N, acc);
+  if (K.fx & (SRD_FX_EPS | SRD_FX_THERMO | SRD_FX_WALL | SRD_FX_LE)) flush_acc(a, SRD_ACC_DE, SRD_ACC_LEW + 1, acc);
 }
 
 /* particles per cell of the unshifted grid (no Lees-Edwards image), as doubles */
@@ -244,6 +246,7 @@ __global__ void k_touch(char *p, size_t n) {
 
 constexpr int kThreads = 256;
 constexpr int kClamp = 0, kDtMax = 1, kMom = 2, kAcc = 6, kStat = 16;
+static_assert(kAcc + SRD_ACC_N <= kStat, "the ledger sums fit the stat block");
 constexpr unsigned long long kInfBits = 0x7ff0000000000000ull; /* +inf */
 
 }  // namespace
@@ -283,23 +286,8 @@ unsigned grid_for(int64_t n) {
   return (unsigned)(want < 1 ? 1 : want > cap ? cap : want);
 }
 
-int check_params(const gran_cuda_srd_params *p) {
-  GRAN_CHECK_PTR(p);
-  const srd_geom &g = p->geom;
-  GRAN_CHECK(g.dim == 2 || g.dim == 3, GRAN_ERR_ARG, "geom.dim = %d: must be 2 or 3", (int)g.dim);
-  GRAN_CHECK(p->n >= 0, GRAN_ERR_ARG, "n = " GRAN_I64_FMT " is negative", p->n);
-  GRAN_CHECK(p->precision == 0 || p->precision == 1, GRAN_ERR_ARG, "precision = %d: must be 0 (double) or 1 (float)",
-             (int)p->precision);
-  GRAN_CHECK(p->dt > 0.0 && std::isfinite(p->dt), GRAN_ERR_ARG, "dt = %g must be positive", p->dt);
-  GRAN_CHECK(g.a > 0.0, GRAN_ERR_ARG, "geom.a = %g must be positive", g.a);
-  for (int k = 0; k < 3; ++k)
-    GRAN_CHECK(g.nc[k] >= 1 && g.L[k] >= 1, GRAN_ERR_ARG, "geom.nc[%d] / geom.L[%d] must be >= 1", k, k);
-  GRAN_CHECK(p->n <= (int64_t)UINT32_MAX, GRAN_ERR_UNSUPPORTED,
-             "n = " GRAN_I64_FMT " particles: the GPU sort keys hold at most 2^32 - 1", p->n);
-  GRAN_CHECK(cells_of(g) <= (int64_t)UINT32_MAX, GRAN_ERR_UNSUPPORTED,
-             "binning grid of " GRAN_I64_FMT " cells: the GPU sort keys hold at most 2^32 - 1", cells_of(g));
-  return GRAN_SUCCESS;
-}
+/* the one parameter check of the launchers, shared with the host reference (device_cuda.cpp) */
+int check_params(const gran_cuda_srd_params *p) { return gran_srd_dev_check_params(p); }
 
 size_t bytes_of(const gran_cuda_srd_params *p) {
   const size_t n = (size_t)p->n, nc = (size_t)cells_of(p->geom), real = p->precision ? 4 : 8;

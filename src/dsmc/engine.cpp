@@ -4,6 +4,7 @@
 #include "dsmc_impl.h"
 #include "cell_impl.h"
 #include "agg_impl.h"
+#include "core/derived.h" /* the rule for derived values: finite and within range */
 
 #include <algorithm>
 #include <cfloat>
@@ -524,9 +525,9 @@ int dsmc_create_impl(const gran_mixture *mix, const int64_t *counts, const doubl
     s->e_initial = e + ec;
     dsmc_refresh_bounds(s);
     /* finite inputs can still overflow what is derived from them (T0 = 1e308: v^2 is inf) */
-    bool finite = std::isfinite(s->e_initial) && std::isfinite(s->rate) && std::isfinite(s->cmax);
-    for (int64_t k = 0; k < M && finite; k++) finite = std::isfinite(s->bound2[(size_t)k]);
-    for (int r = 0; r < 3 && finite; r++) finite = std::isfinite(s->uv[r]);
+    bool finite = gran_derived_finite(s->e_initial) && gran_derived_finite(s->rate) && gran_derived_finite(s->cmax);
+    for (int64_t k = 0; k < M && finite; k++) finite = gran_derived_finite(s->bound2[(size_t)k]);
+    for (int r = 0; r < 3 && finite; r++) finite = gran_derived_finite(s->uv[r]);
     if (!finite) {
       const double rate = s->rate;
       gran_dsmc_destroy(&s);

@@ -20,6 +20,8 @@
 #include "io/io_impl.h"
 #include "core/run_bounds.h"
 #include "srd/srd_impl.h" /* SRD_SLAB_CELLS: the memory estimate of a GSRD engine */
+#include "srd/srd_limits.h" /* the bounds on what a GSRD run derives from its inputs */
+#include "core/derived.h"
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -504,10 +506,7 @@ double gran_scene_srd_bytes_(const gran_scene &s, gran_srd_bytes *b) {
     bin *= (double)(o.cells[k] + (k == o.wall_axis ? 1 : 0)); /* walls: one more layer to shift into */
   }
   const double N = std::floor(o.n0 * box + 0.5), slab = std::min(bin, (double)SRD_SLAB_CELLS);
-  int threads = o.threads;
-#ifdef _OPENMP
-  if (threads <= 0) threads = omp_get_max_threads();
-#endif
+  int threads = srd_threads_used(o.threads); /* the engine's count (at most 4 per processor) */
   if (threads <= 0) threads = 1;
   b->particles = N * (48.0 + 2.0 + 12.0);
   b->cells = bin * (56.0 + 8.0) + (double)threads * (64.0 * slab + 4.0 * N * slab / bin);
@@ -769,7 +768,6 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   require(o.eps == 1 || o.sigma > 0, en, "eps", "eps < 1 dissipates only with sigma > 0 (Eq. 2.1): give [engine] sigma");
   o.T0 = en.number("T0", 1.0);
   require(o.T0 > 0, en, "T0", "temperature must be > 0, got " + Tab::num_str(o.T0));
-  require(std::isfinite(o.T0 * 100.0 * N), en, "T0", "temperature " + Tab::num_str(o.T0) + " is too large");
   if (en.has("seed")) {
     const toml::value &x = en.get("seed");
     if (!x.is_integer()) en.fail("seed", std::string("expected an integer, got ") + Tab::type_name(x));
@@ -824,12 +822,15 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
                       std::to_string(steps) + " steps of " + Tab::num_str(N) + " particles");
   en.finish();
 
-  /* ---- [boundaries] ---- */
+  /* ---- [boundaries] ---- (the tables are kept for the derived-value check at the end) */
+  Tab le_t(nullptr, "boundaries.lees_edwards", F), wl_t(nullptr, "boundaries.walls", F),
+      vb_t(nullptr, "boundaries.vibrating_wall", F), fo_t(nullptr, "forces", F);
   if (top.has("boundaries")) {
     Tab bd = top.sub("boundaries");
     bd.set_known({"lees_edwards", "walls", "vibrating_wall"});
     if (bd.has("lees_edwards")) {
       Tab le = bd.sub("lees_edwards");
+      le_t = le;
       le.set_known({"shear_rate"});
       if (!le.has("shear_rate")) le.fail_missing("shear_rate");
       o.shear_rate = le.number("shear_rate");
@@ -838,6 +839,7 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
     }
     if (bd.has("walls")) {
       Tab w = bd.sub("walls");
+      wl_t = w;
       w.set_known({"axis", "rule", "T"});
       if (!w.has("axis")) w.fail_missing("axis", "\"x\", \"y\" or \"z\"");
       o.wall_axis = srd_axis(w, "axis", o.dim);
@@ -853,6 +855,7 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
     }
     if (bd.has("vibrating_wall")) {
       Tab v = bd.sub("vibrating_wall");
+      vb_t = v;
       v.set_known({"amplitude", "omega"});
       if (!v.has("amplitude")) v.fail_missing("amplitude");
       if (!v.has("omega")) v.fail_missing("omega");
@@ -867,13 +870,17 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   }
 
   /* ---- [forces] ---- */
+  double gforce = 0, bforce = 0; /* |gravity|, |body_force| */
   if (top.has("forces")) {
     Tab fo = top.sub("forces");
+    fo_t = fo;
     fo.set_known({"gravity", "body_force"});
     double g[3] = {0, 0, 0}, f[3] = {0, 0, 0};
     if (fo.has("gravity")) srd_vector(fo, "gravity", o.dim, g);
     if (fo.has("body_force")) srd_vector(fo, "body_force", o.dim, f);
     for (int k = 0; k < 3; k++) o.accel[k] = g[k] + f[k];
+    gforce = std::hypot(std::hypot(g[0], g[1]), g[2]);
+    bforce = std::hypot(std::hypot(f[0], f[1]), f[2]);
     fo.finish();
   }
 
@@ -975,6 +982,22 @@ void parse_scene_srd(const toml::value &root, gran_scene &s, double mem_limit) {
   for (int64_t i = 0; i < nt; i++) s.times[(size_t)i] = (double)os[(size_t)i] * o.dt;
   s.t_start = 0.0;
   s.t_end = (double)steps * o.dt;
+
+  /* ---- what the run derives from its inputs (src/srd/srd_limits.h, the bounds gran_srd_create
+   * checks too, here with the run's length): named by the scene key ---- */
+  {
+    srd_limit_fail lf;
+    if (!srd_check_limits(o, s.t_end, &lf)) {
+      const std::string k = lf.key;
+      if (k == "a") en.fail(en.has("a") ? "a" : en.has("box") ? "box" : "cells", lf.why);
+      if (k == "wall_T") wl_t.fail("T", lf.why);
+      if (k == "shear_rate") le_t.fail("shear_rate", lf.why);
+      if (k == "vib_amp") vb_t.fail("amplitude", lf.why);
+      if (k == "vib_omega") vb_t.fail("omega", lf.why);
+      if (k == "accel") fo_t.fail(fo_t.has("gravity") && (!fo_t.has("body_force") || gforce >= bforce) ? "gravity" : "body_force", lf.why);
+      en.fail(k, lf.why); /* T0, dt, sigma */
+    }
+  }
 
   /* ---- [output] (the same keys as a DSMC scene) ---- */
   parse_output_table(top, F, s);
@@ -1192,7 +1215,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
     for (double m : mass) mmin = std::fmin(mmin, m);
     for (double T : s.T_list) Tmax = std::fmax(Tmax, T);
     const char *tk = s.init == SCENE_INIT_LIST ? "temperatures" : in.has("T1") ? "T1" : "T_mean";
-    require(std::isfinite(300.0 * Tmax / mmin) && std::isfinite(1.5 * Tmax * 4e9 * 100.0), in, tk,
+    require(gran_derived_finite(300.0 * Tmax / mmin) && gran_derived_finite(1.5 * Tmax * 4e9 * 100.0), in, tk,
             "temperature " + Tab::num_str(Tmax) + " is too large: speeds and energies would overflow");
     in.finish();
   } else if (s.model == GRAN_RESTITUTION_VISCOELASTIC) {

@@ -22,6 +22,7 @@
 #include "granary_impl.h"
 #include "srd/device_cuda.h"
 #include "srd/srd_impl.h"
+#include "srd/srd_limits.h"
 #include "../cuda/srd_cuda.h"
 
 /* ---- (1) selection -------------------------------------------------------------------------- */
@@ -74,6 +75,50 @@ int gran_srd_device_resolve(const char *device, int *use_cuda) {
   return GRAN_SUCCESS;
 }
 
+/* ---- the launchers' parameters: one check for the GPU and the host reference ------------------ */
+
+int gran_srd_dev_check_params(const gran_cuda_srd_params *p) {
+  GRAN_CHECK_PTR(p);
+  const srd_geom &g = p->geom;
+  GRAN_CHECK(g.dim == 2 || g.dim == 3, GRAN_ERR_ARG, "geom.dim = %d: must be 2 or 3", (int)g.dim);
+  GRAN_CHECK(p->n >= 0, GRAN_ERR_ARG, "n = " GRAN_I64_FMT " is negative", p->n);
+  GRAN_CHECK(p->precision == 0 || p->precision == 1, GRAN_ERR_ARG, "precision = %d: must be 0 (double) or 1 (float)",
+             (int)p->precision);
+  GRAN_CHECK(p->dt > 0.0 && std::isfinite(p->dt), GRAN_ERR_ARG, "dt = %g must be positive", p->dt);
+  GRAN_CHECK(g.a > 0.0 && std::isfinite(g.a) && std::isfinite(g.inv_a), GRAN_ERR_ARG,
+             "geom.a = %g must be positive (and 1 / a finite)", g.a);
+  for (int k = 0; k < 3; ++k) {
+    GRAN_CHECK(g.nc[k] >= 1 && g.L[k] >= 1, GRAN_ERR_ARG, "geom.nc[%d] / geom.L[%d] must be >= 1", k, k);
+    GRAN_CHECK(k >= g.dim || (g.box[k] > 0.0 && std::isfinite(g.box[k])), GRAN_ERR_ARG,
+               "geom.box[%d] = %g must be positive and finite", k, g.box[k]);
+  }
+  /* the sorts (CUB radix sort on the GPU, the reference's counting sort) key cells and index
+   * particles with 32 bits */
+  GRAN_CHECK(p->n <= (int64_t)UINT32_MAX, GRAN_ERR_UNSUPPORTED,
+             "n = " GRAN_I64_FMT " particles: the sort indices hold at most 2^32 - 1", p->n);
+  GRAN_CHECK(g.nc[0] * g.nc[1] * g.nc[2] <= (int64_t)UINT32_MAX, GRAN_ERR_UNSUPPORTED,
+             "binning grid of " GRAN_I64_FMT " cells: the sort keys hold at most 2^32 - 1", g.nc[0] * g.nc[1] * g.nc[2]);
+  if (p->precision == 1) { /* float storage: the range of srd_limits.h, on what the parameters hold */
+    double gn = 0;
+    for (int k = 0; k < 3; ++k) gn += p->g[k] * p->g[k];
+    const struct {
+      double v, lo, hi;
+      const char *what;
+    } c[] = {{g.a, SRD_FLOAT_LO, SRD_FLOAT_HI, "geom.a"},
+             {std::max({g.box[0], g.box[1], g.box[2]}), SRD_FLOAT_LO, SRD_FLOAT_HI, "the box length geom.box"},
+             {p->T0 > 0 ? p->T0 : 1.0, SRD_FLOAT_LO, SRD_FLOAT_HI, "T0"},
+             {p->wall_T > 0 ? p->wall_T : 1.0, SRD_FLOAT_LO, SRD_FLOAT_HI, "wall_T"},
+             {std::fabs(g.le_dv), 0.0, 1e15, "the Lees-Edwards velocity jump geom.le_dv"},
+             {std::sqrt(gn) * p->dt, 0.0, 1e15, "the speed |g| dt gained per step"}};
+    for (const auto &q : c) {
+      const std::string why = gran_derived_why(q.v, q.lo, q.hi, q.what);
+      GRAN_CHECK(why.empty(), GRAN_ERR_ARG, "precision = 1 (float storage): %s (speeds within 1e-15 .. 1e15, "
+                 "temperatures and lengths within 1e-30 .. 1e30)", why.c_str());
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
 /* ---- (2) host reference of the device algorithm --------------------------------------------- */
 
 namespace {
@@ -90,7 +135,7 @@ struct RefState {
   std::vector<unsigned char> active;
   srd_geom last_gm{};
   double last_s[3] = {0, 0, 0};
-  double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0};
+  double acc[SRD_ACC_N] = {};
   int64_t clamped = 0;
   double dt_max = INFINITY;
   double store(double a) const { return f32 ? (double)(float)a : a; }
@@ -100,21 +145,7 @@ struct RefState {
 RefState *ref_of(gran_cuda_srd *h) { return reinterpret_cast<RefState *>(h); }
 const RefState *ref_of(const gran_cuda_srd *h) { return reinterpret_cast<const RefState *>(h); }
 
-int check_params(const gran_cuda_srd_params *p) {
-  GRAN_CHECK_PTR(p);
-  const srd_geom &g = p->geom;
-  GRAN_CHECK(g.dim == 2 || g.dim == 3, GRAN_ERR_ARG, "geom.dim = %d: must be 2 or 3", (int)g.dim);
-  GRAN_CHECK(p->n >= 0, GRAN_ERR_ARG, "n = " GRAN_I64_FMT " is negative", p->n);
-  GRAN_CHECK(p->precision == 0 || p->precision == 1, GRAN_ERR_ARG, "precision = %d: must be 0 (double) or 1 (float)",
-             (int)p->precision);
-  GRAN_CHECK(p->dt > 0.0 && std::isfinite(p->dt), GRAN_ERR_ARG, "dt = %g must be positive", p->dt);
-  GRAN_CHECK(g.a > 0.0, GRAN_ERR_ARG, "geom.a = %g must be positive", g.a);
-  for (int k = 0; k < 3; ++k)
-    GRAN_CHECK(g.nc[k] >= 1 && g.L[k] >= 1, GRAN_ERR_ARG, "geom.nc[%d] / geom.L[%d] must be >= 1", k, k);
-  GRAN_CHECK(g.nc[0] * g.nc[1] * g.nc[2] <= (int64_t)UINT32_MAX, GRAN_ERR_UNSUPPORTED,
-             "binning grid of " GRAN_I64_FMT " cells: the sort keys hold at most 2^32 - 1", g.nc[0] * g.nc[1] * g.nc[2]);
-  return GRAN_SUCCESS;
-}
+int check_params(const gran_cuda_srd_params *p) { return gran_srd_dev_check_params(p); }
 
 }  // namespace
 
@@ -397,6 +428,7 @@ int dev_start(gran_srd *s, int32_t device) {
              (int)device);
   const gran_srd_launchers *L = gran_srd_launchers_get(device);
   GRAN_CHECK(L != nullptr, GRAN_ERR_INTERNAL, "no launchers for device %d", (int)device);
+  GRAN_CALL(srd_check_finite(s, "when copied to the device"));
   const gran_cuda_srd_params p = params_of(s);
   double *x[3], *v[3];
   host_arrays(s, x, v);
@@ -454,6 +486,7 @@ int gran_srd_dev_sync(const gran_srd *cs, int cells) {
     host_arrays(s, x, v);
     GRAN_CALL(d->L->download(d->h, x, v, nullptr, nullptr));
     d->host_current = true;
+    GRAN_CALL(srd_check_finite(s, "after the copy back from the device"));
   }
   if (cells) {
     std::vector<double> ref((size_t)s->ncell * 3);
@@ -472,6 +505,7 @@ int gran_srd_dev_advance(gran_srd *s, int64_t steps) {
   GRAN_CHECK(d != nullptr, GRAN_ERR_INTERNAL, "the run is not on a device");
   const gran_srd_options &o = s->opt;
   if (d->host_dirty) {
+    GRAN_CALL(srd_check_finite(s, "when copied to the device (written through gran_srd_particles)"));
     double *x[3], *v[3];
     host_arrays(s, x, v);
     GRAN_CALL(d->L->upload(d->h, x, v, nullptr, nullptr));
@@ -504,6 +538,13 @@ int gran_srd_dev_advance(gran_srd *s, int64_t steps) {
     if (o.wall_axis >= 0) s->wall_impulse[o.wall_axis] += acc[SRD_ACC_IMP];
     s->e_coll += acc[SRD_ACC_DE];
     s->flux_coll += acc[SRD_ACC_VIR];
+    if (e == GRAN_SUCCESS && acc[SRD_ACC_BAD] > 0) {
+      /* the per-step check of the device (srd_dev_move): name the first such particle from the
+       * state copied back; a non-finite value stays one, so the copy shows it */
+      GRAN_CALL(gran_srd_dev_sync(s, 0));
+      return GRAN_ERROR(GRAN_ERR_NUMERIC, "GSRD on the device: %.0f particle moves met a non-finite position or velocity "
+                        "in the last %lld steps; the run cannot continue", acc[SRD_ACC_BAD], (long long)steps);
+    }
   }
   return e != GRAN_SUCCESS ? e : e2;
 }

@@ -40,5 +40,10 @@ int gran_srd_dev_advance(gran_srd *s, int64_t steps);
 int gran_srd_dev_sync(const gran_srd *s, int cells);
 void gran_srd_dev_touch(gran_srd *s);
 int gran_srd_dev_structure_factor(gran_srd *s, int64_t nbins, double *k, double *sk, int64_t *count);
+/* The one check of the launchers' parameters (cuda/srd_cuda.h), used by the GPU (cuda/srd.cu) and the
+ * host reference (device_cuda.cpp) alike: shape, counts, and for float storage the lengths and the
+ * speeds the parameters imply within the range of srd_limits.h. */
+struct gran_cuda_srd_params;
+int gran_srd_dev_check_params(const gran_cuda_srd_params *p);
 #endif
 #endif

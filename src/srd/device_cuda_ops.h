@@ -32,8 +32,11 @@ typedef struct srd_dev_const {
   double ca, sa;    /* cos, sin of the rotation angle */
 } srd_dev_const;
 
-/* accumulators of the streaming pass (energy ledger and Lees-Edwards stress) */
-enum { SRD_ACC_FLUX = 0, SRD_ACC_EXT = 1, SRD_ACC_IMP = 2, SRD_ACC_DE = 3, SRD_ACC_VIR = 4, SRD_ACC_LEW = 5, SRD_ACC_N = 6 };
+/* accumulators of the streaming pass (energy ledger and Lees-Edwards stress); SRD_ACC_BAD counts the
+ * particles whose position or velocity was not finite after a move (the per-step check of the
+ * device algorithm: the host reads it with the ledger and names the particle, device_cuda.cpp) */
+enum { SRD_ACC_FLUX = 0, SRD_ACC_EXT = 1, SRD_ACC_IMP = 2, SRD_ACC_DE = 3, SRD_ACC_VIR = 4, SRD_ACC_LEW = 5,
+       SRD_ACC_BAD = 6, SRD_ACC_N = 7 };
 
 /* Float storage of coordinate k: the rounding may not put a particle onto a wall (on the wall axis
  * a stored position stays in [0, box); periodic axes wrap any value at the next step). */
@@ -74,6 +77,7 @@ GRAN_HD static inline void srd_dev_move(const srd_dev_const *k, const srd_geom *
   }
   srd_wrap(gm, p, v);
   if (ledger) acc[SRD_ACC_EXT] += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - e0;
+  if (srd_nonfinite(p, v) != 0.0) acc[SRD_ACC_BAD] += 1.0; /* non-finite stays non-finite: see srd_wrap1 */
 }
 
 /* Per-cell body (engine.cpp step phase 5): moments from the sums, new reference velocity, virtual

@@ -14,6 +14,7 @@
  * compiled out of the loops.
  */
 #include "srd/srd_impl.h"
+#include "srd/srd_limits.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -29,17 +30,42 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+#if defined(__SSE__) || defined(__x86_64__)
+#include <xmmintrin.h>
+#define SRD_HAVE_MXCSR 1
+#endif
 
-namespace {
-
-int nthreads_of(const gran_srd *s) {
+/* threads a run with option `threads` uses: 0 the OpenMP default; more than 4
+ * per processor are reduced to that (results do not depend on the thread count; alloc_state warns) */
+int srd_threads_used(int32_t threads) {
 #ifdef _OPENMP
-  return s->opt.threads > 0 ? s->opt.threads : omp_get_max_threads();
+  if (threads <= 0) return omp_get_max_threads();
+  const int cap = 4 * std::max(1, omp_get_num_procs());
+  return threads > cap ? cap : threads;
 #else
-  (void)s;
+  (void)threads;
   return 1;
 #endif
 }
+
+namespace {
+
+int nthreads_of(const gran_srd *s) { return srd_threads_used(s->opt.threads); }
+
+/* Subnormal arithmetic in the step: a gas cooled below T ~ 1e-305 has squared
+ * velocities below the smallest normal double, which many CPUs compute 10-100x slower. Each thread's
+ * share of a step's parallel loops runs with flush-to-zero and denormals-are-zero set (x86 MXCSR),
+ * restored when it ends, so nothing outside the engine sees the mode. A normal run has no subnormal
+ * operand or result, so its numbers are the same bit for bit; below T ~ 1e-305 the cells'
+ * temperatures read 0 in the step (eps_eff = 1 there already: kappa ~ sqrt(theta) < 1e-150), and
+ * gran_srd_observe (not flushed) warns. */
+struct FtzScope {
+#ifdef SRD_HAVE_MXCSR
+  unsigned old;
+  FtzScope() : old(_mm_getcsr()) { _mm_setcsr(old | 0x8040u); } /* FTZ (bit 15) | DAZ (bit 6) */
+  ~FtzScope() { _mm_setcsr(old); }
+#endif
+};
 
 /* ---- fast consecutive jumps: the jump polynomial as a byte-table linear map over GF(2) ----
  * jump(s) is linear in the 256 state bits: J s = XOR over set bits b of J e_b. Grouping the bits in
@@ -142,8 +168,27 @@ struct StepCtx {
   bool thermo;
 };
 
+/* GRAN_ERR_NUMERIC naming the first particle whose position or velocity was not finite after the
+ * streaming of step `step` (`code` from the streaming pass: i 32 + component 4 + kind, component 0..5
+ * = x y z vx vy vz non-finite before the move, 6 = finite before, not after it; kind 0 NaN, 1 +inf,
+ * 2 -inf) */
+int report_nonfinite(int64_t step, double code) {
+  const int64_t c = (int64_t)code, i = c / 32, comp = (c / 4) % 8, kind = c % 4;
+  static const char *const names[6] = {"x", "y", "z", "vx", "vy", "vz"};
+  static const char *const kinds[3] = {"nan", "inf", "-inf"};
+  if (comp < 6)
+    return GRAN_ERROR(GRAN_ERR_NUMERIC,
+                      "GSRD step %lld: particle %lld has a non-finite %s (%s) at the start of the step (written through "
+                      "gran_srd_particles, or made by the step before); the run cannot continue",
+                      (long long)step + 1, (long long)i, names[comp], kinds[kind < 3 ? kind : 0]);
+  return GRAN_ERROR(GRAN_ERR_NUMERIC,
+                    "GSRD step %lld: the move of particle %lld left the range of doubles (its position or velocity is "
+                    "not finite after x += v dt); the run cannot continue",
+                    (long long)step + 1, (long long)i);
+}
+
 template <int DIM, bool DISSIP, bool LE, bool WALL, bool ACCEL>
-void do_steps(gran_srd *s, int64_t nsteps) {
+int do_steps(gran_srd *s, int64_t nsteps) {
   const int64_t n = s->n, ncell = s->ncell;
   const int nth = nthreads_of(s);
   const int64_t nb = (n + SRD_BLOCK - 1) / SRD_BLOCK;
@@ -253,8 +298,9 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       const double rate = o.shear_rate, hy = 0.5 * gm.box[1];
 #pragma omp parallel for schedule(static) num_threads(nth)
       for (int64_t b = 0; b < nb; ++b) {
+        FtzScope ftz;
         const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
-        double flux = 0.0, ext = 0.0, imp = 0.0;
+        double flux = 0.0, ext = 0.0, imp = 0.0, bad = -1.0; /* bad: report_nonfinite's code of the first */
         uint16_t *row = off + b * srow;
         for (int64_t k = 0; k < srow; ++k) row[k] = 0;
         uint32_t sid[SRD_BLOCK];
@@ -282,6 +328,14 @@ void do_steps(gran_srd *s, int64_t nsteps) {
           if (ACCEL || WALL || LE) {
             ext += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - e0;
           }
+          /* the per-step finiteness check: a NaN or inf stays one through the move (srd_wrap1) */
+          if (srd_nonfinite(p, v) != 0.0 && bad < 0.0) {
+            const double in[6] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0, vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+            int comp = 6, kind = 0;
+            for (int q = 0; q < 6 && comp == 6; ++q)
+              if (!std::isfinite(in[q])) comp = q, kind = std::isnan(in[q]) ? 0 : in[q] > 0 ? 1 : 2;
+            bad = (double)(i * 32 + comp * 4 + kind);
+          }
           px[i] = p[0];
           py[i] = p[1];
           vx[i] = v[0];
@@ -301,7 +355,10 @@ void do_steps(gran_srd *s, int64_t nsteps) {
         part[4 * b] = flux;
         part[4 * b + 1] = ext;
         part[4 * b + 2] = imp;
+        part[4 * b + 3] = bad;
       }
+      for (int64_t b = 0; b < nb; ++b) /* the first non-finite particle, in particle order */
+        if (part[4 * b + 3] >= 0.0) return report_nonfinite(s->step, part[4 * b + 3]);
       if (LE || ACCEL || WALL) {
         double t[3]; /* kinetic flux, external work, wall impulse */
         sum_blocks3(part, nb, t);
@@ -322,6 +379,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       std::vector<double> tp((size_t)nslab * 2, 0.0);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
       for (int64_t sl = 0; sl < nslab; ++sl) {
+        FtzScope ftz;
 #ifdef _OPENMP
         std::vector<srd_slab_cell> &W = work[(size_t)omp_get_thread_num()];
 #else
@@ -358,6 +416,7 @@ void do_steps(gran_srd *s, int64_t nsteps) {
     double dtmax = INFINITY;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nth) reduction(+ : nclamp) reduction(min : dtmax)
     for (int64_t sl = 0; sl < nslab; ++sl) {
+      FtzScope ftz;
 #ifdef _OPENMP
       std::vector<srd_slab_cell> &Wv = work[(size_t)omp_get_thread_num()];
 #else
@@ -513,9 +572,10 @@ void do_steps(gran_srd *s, int64_t nsteps) {
       vz = DIM == 3 ? s->vz.data() : nullptr;
     }
   }
+  return GRAN_SUCCESS;
 }
 
-typedef void (*step_fn)(gran_srd *, int64_t);
+typedef int (*step_fn)(gran_srd *, int64_t);
 
 template <int DIM, bool D, bool LE, bool W>
 step_fn pick4(bool acc) {
@@ -565,7 +625,11 @@ int check_options(const gran_srd_options *o) {
              "option 'thermostat' must be 0 (off), 1 (cell-level) or 2 (global, profile-unbiased) (got %d)",
              (int)o->thermostat);
   GRAN_CHECK(o->sort_every >= 0, GRAN_ERR_ARG, "option 'sort_every' must be >= 0");
-  GRAN_CHECK(o->threads >= 0, GRAN_ERR_ARG, "option 'threads' must be >= 0");
+  GRAN_CHECK(o->threads >= 0 && o->threads <= SRD_MAX_THREADS, GRAN_ERR_ARG,
+             "option 'threads' must be in 0..%d (0: all processors; got %d)", SRD_MAX_THREADS, (int)o->threads);
+  /* derived values (srd_limits.h): displacements per step, energies, densities, kappa, float range */
+  srd_limit_fail lf;
+  GRAN_CHECK(srd_check_limits(*o, -1.0, &lf), GRAN_ERR_ARG, "option '%s': %s", lf.key, lf.why.c_str());
   return GRAN_SUCCESS;
 }
 
@@ -616,6 +680,10 @@ int alloc_state(gran_srd *s) {
     for (int64_t c = 0; c < nc; ++c) std::memset((void *)&ce[c], 0, sizeof(srd_cpu_cell));
   }
   s->rng.resize((size_t)s->ncell); /* uninitialised: every state is written by setup_streams or read */
+  if (o.threads > 0 && srd_threads_used(o.threads) < o.threads)
+    gran_warning_add("GSRD: option 'threads' = %d is more than 4 per processor; the engine uses %d (results do not "
+                     "depend on the thread count)",
+                     (int)o.threads, srd_threads_used(o.threads));
   const double al = o.alpha_deg * M_PI / 180.0;
   s->ca = std::cos(al);
   s->sa = std::sin(al);
@@ -727,8 +795,7 @@ GRAN_EXTERN int gran_srd_advance(gran_srd *s, int64_t steps) {
     const bool w = o.wall_axis >= 0;
     const bool acc = o.accel[0] != 0 || o.accel[1] != 0 || o.accel[2] != 0;
     step_fn f = o.dim == 2 ? pick1<2>(dis, le, w, acc) : pick1<3>(dis, le, w, acc);
-    f(s, steps);
-    return GRAN_SUCCESS;
+    return f(s, steps);
   }
   GRAN_CATCH
 }
@@ -834,7 +901,7 @@ void srd_sk_shells(const gran_srd *s, const double *power, int64_t nbins, double
 
 /* cell counts and mean velocities of the unshifted lattice (serial, particle order) */
 static void unshifted_cells(const gran_srd *s, std::vector<int64_t> &cnt, std::vector<double> &V,
-                            std::vector<double> &Q) {
+                            std::vector<double> &Q, std::vector<uint32_t> *cells = nullptr) {
   const int d = s->opt.dim;
   srd_geom g = s->gm;
   g.le_on = 0;
@@ -862,13 +929,38 @@ static void unshifted_cells(const gran_srd *s, std::vector<int64_t> &cnt, std::v
     Q[c[i]] += ux * ux + uy * uy + uz * uz;
   }
   (void)zero;
+  if (cells) cells->swap(c);
+}
+
+/* the first particle (index order) with a non-finite position or velocity, by array */
+int srd_check_finite(const gran_srd *s, const char *when) {
+  const bool d3 = s->opt.dim == 3;
+  const double *a[6] = {s->x.data(), s->y.data(), d3 ? s->z.data() : nullptr,
+                        s->vx.data(), s->vy.data(), d3 ? s->vz.data() : nullptr};
+  static const char *const names[6] = {"x", "y", "z", "vx", "vy", "vz"};
+  int64_t first = s->n;
+  int comp = -1;
+  for (int k = 0; k < 6; ++k) {
+    if (!a[k]) continue;
+    const double *p = a[k];
+    for (int64_t i = 0; i < first; ++i)
+      if (!(p[i] - p[i] == 0.0)) {
+        first = i;
+        comp = k;
+        break;
+      }
+  }
+  if (comp < 0) return GRAN_SUCCESS;
+  return GRAN_ERROR(GRAN_ERR_NUMERIC, "GSRD: particle %lld has a non-finite %s (%g) %s; the run cannot continue",
+                    (long long)first, names[comp], a[comp][first], when);
 }
 
 GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
   GRAN_TRY {
     GRAN_CHECK_PTR_AS(s, srd);
     GRAN_CHECK_PTR_AS(ob, obs);
-    GRAN_CALL(gran_srd_dev_sync(s, 0)); /* device hook (owner: CUDA backend): copy back */
+    GRAN_CALL(gran_srd_dev_sync(s, 0)); /* device hook (owner: CUDA backend): copy back (and checked) */
+    if (!s->dev.p) GRAN_CALL(srd_check_finite(s, "when observed (after the last step, or written through gran_srd_particles)"));
     std::memset(ob, 0, sizeof *ob);
     const int d = s->opt.dim;
     const int64_t n = s->n;
@@ -883,6 +975,8 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     }
     for (int k = 0; k < 3; ++k) ob->momentum[k] = P[k];
     const double E = energy_of(s);
+    GRAN_CHECK(std::isfinite(E) && std::isfinite(P[0] + P[1] + P[2]), GRAN_ERR_NUMERIC,
+               "GSRD: the kinetic energy (%g) or the momentum of the finite velocities overflows", E);
     ob->energy = E;
     double th = 0;
     for (int64_t i = 0; i < n; ++i) {
@@ -896,7 +990,8 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     ob->ledger_error = (s->e_initial + s->e_coll + s->e_ext - E) / s->e_initial;
     std::vector<int64_t> cnt;
     std::vector<double> V, Q;
-    unshifted_cells(s, cnt, V, Q);
+    std::vector<uint32_t> cell_of;
+    unshifted_cells(s, cnt, V, Q, &cell_of);
     double ek = 0, qs = 0, r1 = 0, r2 = 0;
     int64_t nbox = 0;
     for (int64_t c = 0; c < s->ncell; ++c) {
@@ -922,20 +1017,29 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
      *   E sum|w|^4 = d(d+2) T^2 sum_c n_c (1 + a2 h(n_c)),
      *   a2 = [(d/(d+2)) N_in sum|w|^4 / (sum|w|^2)^2 - 1] N_in / sum_c n_c h(n_c),
      * N_in = particles in cells with n >= 2 (a Maxwellian gives 0, not +0.018 as the plain
-     * (d/(d+2)) <u^4>/<u^2>^2 - 1 with N in place of N_in did at n0 = 5). */
+     * (d/(d+2)) <u^4>/<u^2>^2 - 1 with N in place of N_in did at n0 = 5).
+     * The fourth moment of T0 ~ 1e-154 or 1e154 under- or overflows: u is scaled
+     * by the power of two 2^-e that puts the largest |component| in [0.5, 1) (exact: the same bits
+     * of a2 as unscaled wherever neither under- nor overflows, any temperature otherwise). */
     {
-      srd_geom g = s->gm;
-      g.le_on = 0;
-      const double zero[3] = {0, 0, 0};
+      double umax = 0;
+      for (int64_t i = 0; i < n; ++i) {
+        const uint32_t cc = cell_of[(size_t)i];
+        if (cnt[cc] < 2) continue;
+        const double *m = &V[3 * (size_t)cc];
+        umax = std::max({umax, std::fabs(s->vx[i] - m[0]), std::fabs(s->vy[i] - m[1]),
+                         d == 3 ? std::fabs(s->vz[i] - m[2]) : 0.0});
+      }
+      int ex = 0;
+      if (umax > 0) std::frexp(umax, &ex);
+      const double us = std::ldexp(1.0, -ex);
       double m2 = 0, m4 = 0, nin = 0, hsum = 0;
       for (int64_t i = 0; i < n; ++i) {
-        const double p[3] = {s->x[i], s->y[i], d == 3 ? s->z[i] : 0.0};
-        double dvx;
-        const int64_t cc = srd_bin(&g, zero, p, &dvx);
+        const uint32_t cc = cell_of[(size_t)i];
         const double nc = (double)cnt[cc];
         if (nc < 2) continue;
-        const double *m = &V[3 * cc];
-        const double ux = s->vx[i] - m[0], uy = s->vy[i] - m[1], uz = d == 3 ? s->vz[i] - m[2] : 0.0;
+        const double *m = &V[3 * (size_t)cc];
+        const double ux = (s->vx[i] - m[0]) * us, uy = (s->vy[i] - m[1]) * us, uz = d == 3 ? (s->vz[i] - m[2]) * us : 0.0;
         const double w2 = (ux * ux + uy * uy + uz * uz) * nc / (nc - 1.0);
         m2 += w2;
         m4 += w2 * w2;
@@ -945,6 +1049,10 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
       ob->a2 = m2 > 0 ? ((double)d / (d + 2.0) * m4 * nin / (m2 * m2) - 1.0) * nin / hsum : 0.0;
     }
     /* ---- end Sonine a2 ---- */
+    if (ob->temperature > 0 && ob->temperature < 1e-300)
+      gran_warning_add("GSRD: the temperature %g is below 1e-300: squared velocities are subnormal doubles, flushed to "
+                       "zero in the collision step (the cells' temperatures read 0 there: no dissipation, no thermostat)",
+                       ob->temperature);
     ob->clamped = s->clamped;
     ob->dt_max = s->dt_max;
     if (s->clamped > 0)
@@ -1005,8 +1113,7 @@ GRAN_EXTERN int gran_srd_velocity_profile(const gran_srd *s, int32_t axis, int32
       count[b] = 0;
     }
     for (int64_t i = 0; i < s->n; ++i) { /* serial, particle order: deterministic */
-      int64_t b = (int64_t)(p[i] * w);
-      b = b < 0 ? 0 : (b >= nbins ? nbins - 1 : b);
+      const int64_t b = srd_clamp_bin(p[i] * w, nbins);
       mean[b] += v[i];
       count[b] += 1;
     }

@@ -34,8 +34,7 @@ GRAN_EXTERN int gran_srd_fields(gran_srd *srd, double *count, double *velocity, 
     for (int64_t i = 0; i < n; ++i) {
       int64_t c = 0, stride = 1;
       for (int k = 0; k < d; ++k) {
-        double f = std::floor(px[k][i] * inv_a);
-        int64_t ck = f < 0 ? 0 : f >= (double)L[k] ? L[k] - 1 : (int64_t)f;
+        const int64_t ck = srd_clamp_bin(px[k][i] * inv_a, L[k]); /* also a NaN position: a cell of the grid */
         c += ck * stride;
         stride *= L[k];
       }

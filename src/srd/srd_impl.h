@@ -110,4 +110,12 @@ inline void srd_refs_set(gran_srd *s, const double *in) {
 int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &power);
 void srd_sk_shells(const gran_srd *s, const double *power, int64_t nbins, double *k, double *sk, int64_t *count);
 
+/* Threads a run with option `threads` uses (engine.cpp): 0 the OpenMP default; at most 4 per
+ * processor (the scene's memory estimate uses the same count). */
+int srd_threads_used(int32_t threads);
+/* GRAN_ERR_NUMERIC naming the first particle (in index order) whose position or velocity in the
+ * host arrays is not finite, and `when` ("after the copy back from the device", ...); else
+ * GRAN_SUCCESS (engine.cpp). */
+int srd_check_finite(const gran_srd *s, const char *when);
+
 #endif

@@ -12,7 +12,9 @@
  * scaled by eps_eff of Eq. 2.1 (Eqs. 2.3-2.5). eps = 1 compiles the scaling out (SRD_DISSIP = 0).
  *
  * Conventions:
- *  - Positions lie in [0, box) on periodic axes; cell (i, j, k) -> index i + nc0 (j + nc1 k).
+ *  - Positions lie in [0, box) on periodic axes; cell (i, j, k) -> index i + nc0 (j + nc1 k). Every
+ *    bin index is clamped into the grid (srd_clamp_bin), whatever the coordinate (also NaN or
+ *    huge): no particle is ever binned outside the arrays.
  *  - Grid shift: a vector s with components uniform in [0, a) (the same distribution as
  *    [-a/2, a/2) modulo a); a particle at x is binned in cell floor((x + s) / a) (periodic wrap).
  *    On a wall axis the binning grid has L + 1 layers (layers 0 and L are cut by the walls).
@@ -154,43 +156,58 @@ GRAN_HD static inline int srd_wall_reflect(const srd_geom *gm, double p[3], doub
   return 1;
 }
 
+/* x mod b in [0, b) for any finite x (b > 0); a non-finite x stays non-finite (the engine's
+ * per-step check names it). x - b floor(x / b) is exact for the |x| < 2 b of ordinary steps and
+ * stays inside [0, b) up to rounding (-tiny + b rounds to b: 0); far outside (|x| >> 2^53 b the
+ * product b floor(x / b) is off by more than b) the exact fmod repairs it. */
+GRAN_HD static inline double srd_wrap1(double x, double b) {
+  double r = x - b * floor(x / b);
+  if (r >= 0.0 && r < b) return r;
+  if (r == b) return 0.0; /* -tiny + b rounds to b */
+  if (!(x - x == 0.0)) return x; /* inf or NaN: left for the finiteness check */
+  r = fmod(x, b);                 /* exact, |r| < b, the sign of x */
+  if (r < 0.0) r += b;
+  return r < b ? r : 0.0;
+}
+
+/* Bin index of the scaled coordinate q = x / a: floor(q) clamped into [0, n - 1], decided in double
+ * before any conversion (a NaN, an infinity or a value beyond int64 is never converted). */
+GRAN_HD static inline int64_t srd_clamp_bin(double q, int64_t n) {
+  if (!(q >= 1.0)) return 0;               /* q < 1 (truncation gives 0 for q in (-1, 1)), or NaN */
+  if (q >= (double)n) return n - 1;        /* n < 2^53: exact */
+  return (int64_t)q;
+}
+
+/* 0 when the three components of p and of v are finite, else NaN (x - x is 0 for every finite x):
+ * the per-step finiteness check, a few additions per particle folded into the streaming pass */
+GRAN_HD static inline double srd_nonfinite(const double p[3], const double v[3]) {
+  return ((p[0] - p[0]) + (p[1] - p[1]) + (p[2] - p[2])) + ((v[0] - v[0]) + (v[1] - v[1]) + (v[2] - v[2]));
+}
+
 /* Periodic wrap of the periodic axes, with the Lees-Edwards rule across y. */
 GRAN_HD static inline void srd_wrap(const srd_geom *gm, double p[3], double v[3]) {
-  if (gm->le_on) {
-    if (p[1] >= gm->box[1]) {
-      p[1] -= gm->box[1];
-      p[0] -= gm->le_dx;
-      v[0] -= gm->le_dv;
-    } else if (p[1] < 0.0) {
-      p[1] += gm->box[1];
-      p[0] += gm->le_dx;
-      v[0] += gm->le_dv;
-    }
+  if (gm->le_on && (p[1] >= gm->box[1] || p[1] < 0.0)) {
+    /* m images crossed (m = +-1 in an ordinary step; any m when a step moves more than Ly): each
+     * shifts x by le_dx and vx by le_dv */
+    const double m = floor(p[1] / gm->box[1]);
+    p[1] -= m * gm->box[1];
+    p[0] -= m * gm->le_dx;
+    v[0] -= m * gm->le_dv;
   }
   for (int k = 0; k < gm->dim; ++k) {
     if (k == gm->wall_axis) continue;
     const double b = gm->box[k];
-    if (p[k] >= b || p[k] < 0.0) {
-      p[k] -= b * floor(p[k] / b);
-      if (p[k] >= b) p[k] = 0.0; /* -tiny + b rounds to b */
-    }
+    if (p[k] >= b || p[k] < 0.0) p[k] = srd_wrap1(p[k], b);
   }
 }
 
 /* Index along a periodic axis or the wall axis k of the shifted cell that holds coordinate x
  * (already shifted: x = p[k] + s[k], Lees-Edwards correction applied on x). */
 GRAN_HD static inline int64_t srd_bin_index(const srd_geom *gm, int k, double x) {
-  if (k == gm->wall_axis) {
-    int64_t ck = (int64_t)(x * gm->inv_a);
-    if (ck > gm->L[k]) ck = gm->L[k];
-    return ck;
-  }
+  if (k == gm->wall_axis) return srd_clamp_bin(x * gm->inv_a, gm->L[k] + 1); /* layers 0 .. L */
   const double b = gm->box[k];
   if (x >= b || x < 0.0) x -= b * floor(x / b);
-  int64_t ck = (int64_t)(x * gm->inv_a);
-  if (ck >= gm->L[k]) ck = gm->L[k] - 1;
-  if (ck < 0) ck = 0;
-  return ck;
+  return srd_clamp_bin(x * gm->inv_a, gm->L[k]);
 }
 
 /* Index along y (k = 1) of the shifted cell that holds p; *wrapped = 1 when the shifted y lay
@@ -200,15 +217,13 @@ GRAN_HD static inline int64_t srd_bin_y(const srd_geom *gm, const double s[3], c
   int64_t cy;
   *wrapped = 0;
   if (gm->wall_axis == 1) {
-    cy = (int64_t)(y * gm->inv_a);
-    if (cy > gm->L[1]) cy = gm->L[1];
+    cy = srd_clamp_bin(y * gm->inv_a, gm->L[1] + 1); /* layers 0 .. L */
   } else {
     if (y >= gm->box[1]) {
       y -= gm->box[1];
       *wrapped = 1;
     }
-    cy = (int64_t)(y * gm->inv_a);
-    if (cy >= gm->L[1]) cy = gm->L[1] - 1;
+    cy = srd_clamp_bin(y * gm->inv_a, gm->L[1]);
   }
   return cy;
 }
@@ -301,7 +316,7 @@ GRAN_HD static inline void srd_cell_moments(const srd_cell_sum *cs, const double
 GRAN_HD static inline double srd_eps_eff(double one_minus_eps2_sigma2_dt, double rho, double theta, int *clamped) {
   double e = 1.0 - one_minus_eps2_sigma2_dt * rho * sqrt(theta);
   *clamped = 0;
-  if (e < 0.0) {
+  if (!(e >= 0.0)) { /* below 0, or NaN (inf x 0: never with the limits of srd_limits.h) */
     e = 0.0;
     *clamped = 1;
   } else if (e > 1.0) {
