@@ -320,6 +320,17 @@ int fill_attr(int64_t loc, const char *name, const char *file) {
 /* Row i of every buffer of a replica, right after record: every double finite, except NaN in a
  * buffer with fill (no value), stored as gran_row_fill. Anything else stops the run. */
 int check_row(std::vector<gran_row_buf> &bufs, int64_t i, const gran_scene *s) {
+  /* Fault injection for the tests of this rule: GRAN_FAULT_ROW = I puts NaN into the first element
+   * of the first buffer without fill at output time I (engines no longer produce such rows from
+   * accepted inputs, so only this reaches the stop path from a scene). */
+  const char *fe = std::getenv("GRAN_FAULT_ROW"); /* once per output time: negligible */
+  const int64_t fault = fe && *fe ? (int64_t)std::strtoll(fe, nullptr, 10) : (int64_t)-1;
+  if (fault == i)
+    for (auto &b : bufs)
+      if (!b.is_int && !b.fill && b.row > 0) {
+        b.d[(size_t)(i * b.row)] = NAN;
+        break;
+      }
   for (auto &b : bufs) {
     if (b.is_int) continue;
     double *d = b.d.data() + i * b.row;
