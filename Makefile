@@ -7,14 +7,27 @@
 #   make info    show the configuration                   make clean      remove build folders
 #   make help    this text                                make figures    seed figures as PNG (QUICK=1)
 # Override OPT (default -O3 -march=native: tuned for the building CPU), NVCC (empty disables CUDA),
-# CUDA_ARCH / CUDA_PTX (default 80 90 100 120 / 120), BUILD (build folder), T (test patterns: T='t2* t52*').
+# CUDA_ARCH / CUDA_PTX (default: the visible GPU's SM, else PTX compute_80 only; all four GPUs:
+# CUDA_ARCH="80 90 100 120"), BUILD (build folder), T (test patterns: T='t2* t52*').
+# Builds and tests run on every core unless -jN is given (make -j1: one at a time); ccache is used
+# for CC/CXX when it is installed.
 # HELP_END
+
+# Parallel by default: -j<cores> unless the command line gives -j (GNU make 4.3 lets a command-line
+# -j win; make 4.4 shows it in MAKEFLAGS). Only the top-level make adds it: sub-makes share its
+# jobserver.
+NPROC := $(shell nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
+ifeq ($(MAKELEVEL)$(filter -j%,$(MAKEFLAGS)),0)
+MAKEFLAGS += -j$(NPROC)
+endif
 
 BUILD   ?= build
 prefix  ?= /usr/local
 DESTDIR ?=
-CC      := gcc
-CXX     := g++
+# ccache in front of the C and C++ compilers when it is installed (not required).
+CCACHE  := $(shell command -v ccache 2>/dev/null)
+CC      := $(if $(CCACHE),ccache )gcc
+CXX     := $(if $(CCACHE),ccache )g++
 FC      := gfortran
 OPT     ?= -O3 -march=native
 SAN     ?=
@@ -23,12 +36,27 @@ NVCC    ?= $(firstword $(shell command -v nvcc 2>/dev/null) $(wildcard /usr/loca
 CUDA_HOME ?= $(patsubst %/bin/nvcc,%,$(NVCC))
 # ---- CUDA block (owner: cuda backend) ----
 # CUDA_ARCH: SM numbers to build cubins for (A100 = 80, H100/H200 = 90, B200 = 100, RTX PRO/50xx =
-# 120); CUDA_PTX: the one whose PTX is embedded for JIT on later GPUs. `make CUDA_ARCH=90 CUDA_PTX=90`
-# builds for one GPU only (faster compile).
-CUDA_ARCH ?= 80 90 100 120
-CUDA_PTX  ?= 120
-CUDA_GENCODE := $(foreach a,$(CUDA_ARCH),-gencode arch=compute_$(a),code=sm_$(a)) \
-                $(foreach a,$(CUDA_PTX),-gencode arch=compute_$(a),code=compute_$(a))
+# 120); CUDA_PTX: those whose PTX is embedded for JIT on later GPUs. Default: the SM of each visible
+# GPU (nvidia-smi) that this nvcc supports, with its PTX; without a visible GPU no cubin and the PTX
+# of compute_80 (or the lowest this nvcc has above it), which the driver compiles at the first
+# launch on any GPU from A100 on. CUDA_PTX defaults to the last of CUDA_ARCH when CUDA_ARCH is
+# given. `make CUDA_ARCH="80 90 100 120"` builds the fat binary for all four.
+ifeq ($(origin CUDA_ARCH),undefined)
+ifneq ($(NVCC),)
+CUDA_GPU_SM := $(shell timeout 20 nvidia-smi --query-gpu=compute_cap --format=csv,noheader 2>/dev/null | tr -d ' .' | grep -E '^[0-9]+$$' | sort -un)
+CUDA_ARCH := $(filter $(shell $(NVCC) --list-gpu-code 2>/dev/null | sed -n 's/^sm_//p'),$(CUDA_GPU_SM))
+endif
+endif
+CUDA_PTX_LOW := $(if $(NVCC),$(or $(firstword $(shell $(NVCC) --list-gpu-arch 2>/dev/null | sed -n 's/^compute_//p' | awk '$$1 >= 80' | sort -n)),80),80)
+CUDA_PTX  ?= $(if $(strip $(CUDA_ARCH)),$(lastword $(CUDA_ARCH)),$(CUDA_PTX_LOW))
+# one -gencode per virtual architecture: code=sm_A for each of CUDA_ARCH, code=compute_A for each of
+# CUDA_PTX (front end run once per architecture)
+comma := ,
+empty :=
+space := $(empty) $(empty)
+CUDA_CODES = $(strip $(if $(filter $(1),$(CUDA_ARCH)),sm_$(1)) $(if $(filter $(1),$(CUDA_PTX)),compute_$(1)))
+CUDA_GENCODE := $(foreach a,$(sort $(CUDA_ARCH) $(CUDA_PTX)),-gencode 'arch=compute_$(a)$(comma)code=[$(subst $(space),$(comma),$(call CUDA_CODES,$(a)))]')
+CUDA_ARCH_STR := $(strip $(foreach a,$(CUDA_ARCH),sm_$(a)) $(foreach a,$(CUDA_PTX),compute_$(a)))
 # cuFFT (S(k) of GSRD runs on the GPU): the toolkit ships it as a shared library only.
 CUDA_FFT_LIBS = -lcufft -Wl,-rpath,$(CUDA_HOME)/lib64
 # ---- end CUDA block ----
@@ -69,7 +97,20 @@ deps:
 # ---- flags ------------------------------------------------------------------------------------
 WARN       := -Wall -Wextra
 CUDA_FLAG  := $(if $(NVCC),-DGRAN_HAVE_CUDA=1,)
-BUILD_CONFIG_STR := cxx=$(CXX) opt=$(OPT) $(if $(SAN),san=$(SAN) ,)cuda=$(if $(NVCC),yes,no)
+# The configuration `granary info` prints ("key=value; ..."), and the CUDA code generation; each is
+# kept in a stamp file under $(BUILD) that is rewritten when it changes, so that the objects that use
+# it are rebuilt (errors.o for the first, cuda/*.o for the second).
+CXX_NAME := $(filter-out ccache %/ccache,$(CXX))
+BUILD_CONFIG_STR := cxx=$(CXX_NAME) $(shell $(CXX_NAME) -dumpfullversion 2>/dev/null); opt=$(OPT)$(if $(SAN),; san=$(SAN),); \
+  cuda=$(if $(NVCC),nvcc $(shell $(NVCC) --version 2>/dev/null | sed -n 's/.*release \([0-9.]*\).*/\1/p'),no)$(if $(NVCC),; cuda_arch=$(CUDA_ARCH_STR))
+# $(call stamp,FILE,TEXT): write TEXT to FILE unless it holds it already (at parse time).
+stamp = $(shell mkdir -p $(dir $(1)) && { [ "$$(cat $(1) 2>/dev/null)" = '$(2)' ] || printf '%s\n' '$(2)' > $(1); })
+BUILD_CONFIG_STAMP := $(BUILD)/stamp/build-config
+CUDA_STAMP := $(BUILD)/stamp/cuda-gencode
+ifeq ($(filter $(NOCONFIG_GOALS),$(MAKECMDGOALS)),)
+$(call stamp,$(BUILD_CONFIG_STAMP),$(BUILD_CONFIG_STR))
+$(call stamp,$(CUDA_STAMP),$(CUDA_GENCODE))
+endif
 CPPFLAGS   := -Iinclude -Isrc $(CUDA_FLAG)
 CXXFLAGS   := -std=c++17 $(OPT) $(SAN) $(WARN) -fPIC -fvisibility=hidden -MMD -MP
 CFLAGS     := -std=c99 $(OPT) $(SAN) $(WARN) -MMD -MP
@@ -93,11 +134,14 @@ FMOD_SRC := bindings/granary.f90
 FMOD_OBJ := $(BUILD)/obj/bindings/granary.o
 
 LIB_A    := $(BUILD)/libgranary.a
-LIB_SO   := $(BUILD)/libgranary.so
-# Shared library: SONAME libgranary.so.MAJOR, file libgranary.so.MAJOR.MINOR.PATCH (ldconfig style).
+# Shared library: SONAME libgranary.so.MAJOR, file libgranary.so.MAJOR.MINOR.PATCH, and the links
+# libgranary.so -> libgranary.so.MAJOR -> the file (ldconfig style), in $(BUILD) as in the
+# installation, so that a program linked with -L$(BUILD) -lgranary finds its SONAME there.
 VERSION  := $(shell sed -n 's/^\#define GRAN_VERSION_STRING "\(.*\)"/\1/p' include/granary.h)
 SOMAJOR  := $(firstword $(subst ., ,$(VERSION)))
 SONAME   := libgranary.so.$(SOMAJOR)
+LIB_SO   := $(BUILD)/libgranary.so
+LIB_SO_FILE := $(BUILD)/libgranary.so.$(VERSION)
 LIBF_A   := $(BUILD)/libgranary_fortran.a
 CLI      := $(BUILD)/granary
 
@@ -125,8 +169,9 @@ $(BUILD)/obj/%.o: %.cpp $(CONFIG)
 	$(CXX) $(CPPFLAGS) $(PKG_CFLAGS) $(CXXFLAGS) -c $< -o $@
 
 $(BUILD)/obj/src/core/errors.o: CPPFLAGS += -DGRAN_BUILD_CONFIG='"$(BUILD_CONFIG_STR)"'
+$(BUILD)/obj/src/core/errors.o: $(BUILD_CONFIG_STAMP)
 
-$(BUILD)/obj/cuda/%.o: cuda/%.cu $(CONFIG) include/granary.h src/granary_impl.h src/core/xoshiro.h $(wildcard cuda/*.h src/srd/*.h)
+$(BUILD)/obj/cuda/%.o: cuda/%.cu $(CONFIG) $(CUDA_STAMP) include/granary.h src/granary_impl.h src/core/xoshiro.h $(wildcard cuda/*.h src/srd/*.h)
 	@mkdir -p $(@D)
 	$(NVCC) $(CPPFLAGS) $(NVCCFLAGS) -c $< -o $@
 
@@ -138,8 +183,12 @@ $(LIB_A): $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(LIB_SO): $(LIB_OBJ)
+$(LIB_SO_FILE): $(LIB_OBJ)
 	$(CXX) -shared $(SAN) -Wl,-soname,$(SONAME) -o $@ $^ $(LDLIBS)
+
+$(LIB_SO): $(LIB_SO_FILE)
+	ln -sf $(notdir $(LIB_SO_FILE)) $(BUILD)/$(SONAME)
+	ln -sf $(SONAME) $@
 
 $(LIBF_A): $(FMOD_OBJ)
 	@rm -f $@
@@ -179,8 +228,9 @@ $(BUILD)/tests/gpu/%: tests/gpu/%.c tests/granary_test.h $(LIB_A)
 # examples against a temporary installation, through pkg-config.
 TEST_SH  := $(sort $(wildcard $(patsubst %,tests/%.sh,$(T))))
 
+# The runner runs as many tests at once as make runs jobs (-jN; default and plain -j: the cores).
 test: $(TEST_BIN) $(CLI) check-header $(LIB_SO) $(LIBF_A)
-	@GRAN_SOURCE_DIR=$(CURDIR) GRAN_BUILD=$(BUILD) GRAN_SAN="$(SAN)" GRAN_OPT="$(OPT)" GRAN_NVCC="$(NVCC)" \
+	@GRAN_TEST_JOBS=$(or $(patsubst -j%,%,$(filter -j%,$(MAKEFLAGS))),$(NPROC)) GRAN_SOURCE_DIR=$(CURDIR) GRAN_BUILD=$(BUILD) GRAN_SAN="$(SAN)" GRAN_OPT="$(OPT)" GRAN_NVCC="$(NVCC)" \
 	  GRAN_CLI=$(CURDIR)/$(CLI) sh tests/run-tests.sh $(TEST_BIN) $(TEST_SH)
 
 # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer, in their own build folder
@@ -338,7 +388,7 @@ install: all
 	  $(DESTDIR)$(prefix)/include/granary
 	install -m 644 include/granary.h $(DESTDIR)$(prefix)/include/
 	install -m 644 $(LIB_A) $(LIBF_A) $(DESTDIR)$(prefix)/lib/
-	install -m 755 $(LIB_SO) $(DESTDIR)$(prefix)/lib/libgranary.so.$(VERSION)
+	install -m 755 $(LIB_SO_FILE) $(DESTDIR)$(prefix)/lib/libgranary.so.$(VERSION)
 	ln -sf libgranary.so.$(VERSION) $(DESTDIR)$(prefix)/lib/$(SONAME)
 	ln -sf $(SONAME) $(DESTDIR)$(prefix)/lib/libgranary.so
 	install -m 644 $(BUILD)/mod/granary.mod $(DESTDIR)$(prefix)/include/granary/
@@ -351,6 +401,8 @@ info:
 	@echo "  CC=$(CC) CXX=$(CXX) FC=$(FC)"
 	@echo "  OPT=$(OPT) SAN=$(SAN)"
 	@echo "  NVCC=$(if $(NVCC),$(NVCC),(none: CUDA backend is a stub))"
+	@echo "  CUDA_ARCH=$(CUDA_ARCH) CUDA_PTX=$(CUDA_PTX)$(if $(NVCC),: $(CUDA_ARCH_STR))"
+	@echo "  jobs: $(NPROC) cores$(if $(CCACHE),; ccache $(CCACHE),)"
 	@echo "  packages: $$(for p in $(PKGS); do printf '%s=%s ' $$p $$(pkg-config --modversion $$p 2>/dev/null || echo missing); done)"
 	@echo "  toml11: $$([ -f /usr/include/toml.hpp ] && echo found || echo missing)"
 	@echo "  sources: $(words $(LIB_SRC)) library, $(words $(CU_SRC)) cuda, $(words $(TEST_C) $(TEST_F)) tests, $(words $(BENCH_C)) benches"

@@ -2,7 +2,22 @@
 #include <cstdio>
 #include <cstring>
 
+#include <string>
+
 #include "cli.h"
+
+/* The value of KEY in the build configuration "key=value; key=value; ...", or "" when absent. */
+static std::string config_field(const char *cfg, const char *key) {
+  std::string c(cfg), k = std::string(key) + "=";
+  size_t at = 0;
+  while (at < c.size()) {
+    size_t end = c.find("; ", at);
+    if (end == std::string::npos) end = c.size();
+    if (c.compare(at, k.size(), k) == 0) return c.substr(at + k.size(), end - at - k.size());
+    at = end + 2;
+  }
+  return "";
+}
 
 int cli_info(int argc, char **argv) {
   if (argc > 1 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"))) {
@@ -28,7 +43,16 @@ int cli_info(int argc, char **argv) {
   gran_get_build_config(&cfg);
   std::printf("granary %d.%d.%d\n", maj, min, pat);
   std::printf("build:        %s\n", cfg);
+  std::string compiler = config_field(cfg, "cxx"), opt = config_field(cfg, "opt");
+  if (!compiler.empty()) std::printf("compiler:     %s%s%s%s\n", compiler.c_str(), opt.empty() ? "" : " (", opt.c_str(), opt.empty() ? "" : ")");
   std::printf("CUDA backend: %s\n", compiled ? "compiled" : "not compiled (no nvcc at build time)");
+  if (compiled) {
+    std::string arch = config_field(cfg, "cuda_arch");
+    std::printf("CUDA code:    %s%s\n", arch.empty() ? "unknown" : arch.c_str(),
+                arch.find("sm_") == std::string::npos && !arch.empty()
+                    ? " (PTX only: compiled for the GPU at the first launch)"
+                    : "");
+  }
   std::printf("GPUs visible: %d\n", ngpu);
   return 0;
 }
