@@ -474,13 +474,30 @@ static void test_threads(void **state) {
   free(a[1]);
 }
 
+/* gran_srd_advance: a call of more steps than the run-length bound (1e12 steps, 1e14 updates) is
+ * refused before any step, naming the argument and giving the estimate; the state is unchanged */
+static void test_advance_bound(void **state) {
+  (void)state;
+  gran_srd_options o = base(3, 6);
+  gran_srd *s = NULL;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+  GRAN_ASSERT_ERR(gran_srd_advance(s, (int64_t)1e13), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "argument 'steps'"));
+  assert_non_null(strstr(gran_last_error_message(), "days"));
+  gran_srd_obs ob;
+  GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
+  assert_int_equal(ob.steps, 0);
+  GRAN_ASSERT_OK(gran_srd_advance(s, 2));
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_create_refusals),   cmocka_unit_test(test_scene_refusals),
       cmocka_unit_test(test_checkpoint_values), cmocka_unit_test(test_kernels),
       cmocka_unit_test(test_nonfinite_particles), cmocka_unit_test(test_a2_scaled),
       cmocka_unit_test(test_float_storage),     cmocka_unit_test(test_subnormal),
-      cmocka_unit_test(test_threads),
+      cmocka_unit_test(test_threads),           cmocka_unit_test(test_advance_bound),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

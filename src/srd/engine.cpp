@@ -15,6 +15,7 @@
  */
 #include "srd/srd_impl.h"
 #include "srd/srd_limits.h"
+#include "core/run_bounds.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -788,6 +789,9 @@ GRAN_EXTERN int gran_srd_advance(gran_srd *s, int64_t steps) {
   GRAN_TRY {
     GRAN_CHECK_PTR_AS(s, srd);
     GRAN_CHECK(steps >= 0, GRAN_ERR_ARG, "argument 'steps' must be >= 0 (got %lld)", (long long)steps);
+    char why[256]; /* the run-length bound of every time-stepped engine (core/run_bounds.h) */
+    GRAN_CHECK(gran::gran_run_steps_ok((double)steps, (double)s->n + (double)s->ncell, why, sizeof why), GRAN_ERR_ARG,
+               "argument 'steps': %s", why);
     if (s->dev.p) return gran_srd_dev_advance(s, steps); /* device hook (owner: CUDA backend) */
     const gran_srd_options &o = s->opt;
     const bool dis = o.eps < 1.0 || o.thermostat;
