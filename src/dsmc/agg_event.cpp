@@ -291,20 +291,32 @@ void dsmc_aggev_free(gran_dsmc *s) {
   s->agg = nullptr;
 }
 
-/* the pre-drawn candidates index what they should (checkpoint reading) */
+/* The pre-drawn candidates index what they should (checkpoint reading). Every stored index is
+ * range-checked before anything is indexed with it: Bird's candidates are resolved particles
+ * (slots 0, no member lists); low-rank ones name occupied slots, unresolved positions within their
+ * member lists, resolved particles of the slot's size (the loop takes the size from the slot). */
 static int cand_check(const gran_dsmc *s) {
   const DsmcAggEv *A = static_cast<const DsmcAggEv *>(s->agg);
   GRAN_CHECK((A->cand_count == 0 || A->cand_count == kDsmcPipe) && A->cand_head >= 0 && A->cand_head < kDsmcPipe,
-             GRAN_ERR_IO, "aggregation candidate pipeline");
+             GRAN_ERR_IO, "dataset 'agg_candidates': the candidate pipeline (head " GRAN_I64_FMT ", count " GRAN_I64_FMT
+             ")", A->cand_head, A->cand_count);
   for (int q = 0; q < kDsmcPipe && A->cand_count > 0; q++) {
     const DsmcAggEv::Cand &c = A->cand[q];
+    const int64_t n = s->p.n;
     bool ok = c.resolved == 0 || c.resolved == 1;
-    if (ok && A->lowrank) ok = c.a >= 0 && c.a < A->ncap && c.b >= 0 && c.b < A->ncap;
+    if (ok && !A->lowrank) ok = c.resolved == 1 && c.a == 0 && c.b == 0;
+    if (ok && A->lowrank)
+      ok = c.a >= 0 && c.a < A->ncap && c.b >= 0 && c.b < A->ncap && A->slot_size[(size_t)c.a] > 0 &&
+           A->slot_size[(size_t)c.b] > 0;
     if (ok && !c.resolved)
       ok = c.j >= 0 && c.j < (int64_t)A->members[(size_t)c.a].size() && c.l >= 0 &&
            c.l < (int64_t)A->members[(size_t)c.b].size();
-    if (ok && c.resolved) ok = c.j >= 0 && c.j < s->p.n && c.l >= 0 && c.l < s->p.n;
-    GRAN_CHECK(ok, GRAN_ERR_IO, "aggregation candidate pairs");
+    if (ok && c.resolved) ok = c.j >= 0 && c.j < n && c.l >= 0 && c.l < n;
+    if (ok && c.resolved && A->lowrank)
+      ok = s->p.species[c.j] + 1 == A->slot_size[(size_t)c.a] && s->p.species[c.l] + 1 == A->slot_size[(size_t)c.b];
+    GRAN_CHECK(ok, GRAN_ERR_IO, "dataset 'agg_candidates': candidate pair %d (j " GRAN_I64_FMT ", l " GRAN_I64_FMT
+               ", slots " GRAN_I64_FMT " " GRAN_I64_FMT ", resolved " GRAN_I64_FMT ") out of range",
+               q, c.j, c.l, c.a, c.b, c.resolved);
   }
   return GRAN_SUCCESS;
 }
@@ -703,7 +715,11 @@ GRAN_EXTERN int gran_dsmc_create_agg(const gran_mixture *mix, const int64_t *cou
       *sim = s;
       return GRAN_SUCCESS;
     }
-    int st;
+    int st = dsmc_check_derived(s, true, true); /* the masses and diameters clusters can reach */
+    if (st != GRAN_SUCCESS) {
+      gran_dsmc_destroy(&s);
+      return st;
+    }
     try {
       st = dsmc_aggev_setup(s, agg);
     } catch (const std::bad_alloc &) {

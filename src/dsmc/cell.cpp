@@ -56,13 +56,20 @@ inline double wrap(double x, double L, double invL) {
   return x;
 }
 
+/* The cell coordinate of x: floor(x / a) clamped to [0, nc1] before the conversion to an integer
+ * (a conversion of a double outside the range of the integer is undefined; NaN goes to nc1). For
+ * x in [0, L) the same value as the conversion followed by the clamp. */
+inline int32_t cell_coord(double x, double inv_a, int32_t nc1) {
+  double q = x * inv_a;
+  q = q < (double)nc1 ? q : (double)nc1;
+  q = q > 0 ? q : 0.0;
+  return (int32_t)q;
+}
+
 /* the cell of a position in [0, L)^3 (a coordinate that rounds to nc goes to the last cell) */
 inline int64_t cell_of(const double *xj, double inv_a, int64_t nc) {
   int64_t ci[3];
-  for (int d = 0; d < 3; d++) {
-    const int64_t q = (int64_t)(xj[d] * inv_a);
-    ci[d] = q < nc ? q : nc - 1;
-  }
+  for (int d = 0; d < 3; d++) ci[d] = cell_coord(xj[d], inv_a, (int32_t)nc - 1);
   return (ci[0] * nc + ci[1]) * nc + ci[2];
 }
 
@@ -81,9 +88,7 @@ inline bool stream_block(double *__restrict x, const double *__restrict v, int32
     y = y >= L ? y - L : y;
     bad |= (int)!((y >= 0) & (y < L));
     x[i] = y;
-    int32_t c = (int32_t)(y * inv_a);
-    c = c < nc1 ? c : nc1;
-    q[i] = c > 0 ? c : 0;
+    q[i] = cell_coord(y, inv_a, nc1);
   }
   return bad == 0;
 }
@@ -98,8 +103,17 @@ static double cell_pmax_bound(const gran_dsmc *s) {
   return c->pfac * kPi * s->g2max * smax * smax * 2.0 * std::sqrt(c->vmax2);
 }
 
+/* The largest distance a particle streams in one step, sqrt(vmax2) dt, is at most
+ * kMaxStepBoxes box lengths: beyond it the positions carry no information (and the streamed
+ * coordinates leave every integer range before they are wrapped). */
+constexpr double kMaxStepBoxes = 1e6;
 static int check_dt(const gran_dsmc *s, const char *when) {
   const DsmcCell *c = s->cell;
+  const double hop = std::sqrt(c->vmax2) * c->o.dt / c->L;
+  GRAN_CHECK(std::isfinite(hop) && hop <= kMaxStepBoxes, GRAN_ERR_DOMAIN,
+             "option 'dt' = %g is too large %s: the fastest particle (speed %g, from the mixture 'mass' and 'T0') "
+             "streams %g box lengths per step (at most %g)",
+             c->o.dt, when, std::sqrt(c->vmax2), hop, kMaxStepBoxes);
   const double p = cell_pmax_bound(s);
   GRAN_CHECK(std::isfinite(p) && p <= 2.0, GRAN_ERR_DOMAIN,
              "option 'dt' = %g is too large %s: F_N (sigma g)_max dt / V_c = %g > 2, so the expected candidate pairs "
@@ -577,8 +591,7 @@ int cell_step(gran_dsmc *s) {
     if (!stream_block(x + 3 * j0, v + 3 * j0, qb, 3 * nb, dt, L, inv_a, (int32_t)nc - 1))
       for (int64_t i = 3 * j0; i < 3 * (j0 + nb); i++) { /* a particle crossed the box in one step */
         x[i] = wrap(x[i], L, invL);
-        const int64_t q = (int64_t)(x[i] * inv_a);
-        qb[i - 3 * j0] = (int32_t)(q < nc ? q : nc - 1);
+        qb[i - 3 * j0] = cell_coord(x[i], inv_a, (int32_t)nc - 1);
       }
     for (int64_t j = j0; j < j0 + nb; j++) {
       const int32_t *const qj = qb + 3 * (j - j0);

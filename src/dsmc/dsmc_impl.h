@@ -360,6 +360,15 @@ DsmcLoopFn dsmc_lowrank_loop(int paper, int disp, int counts, int rest, int trac
 DsmcLoopFn dsmc_bird_loop(int paper, int disp, int counts, int rest, int tracers);
 DsmcLoopFn dsmc_class_loop(int paper, int disp, int counts, int rest, int tracers); /* low-rank with speed classes */
 
+/* ---- derived.cpp: derived values of the inputs, checked at creation (GRAN_ERR_DOMAIN) ---- */
+/* the masses that can meet, m_lo (species k_lo) <= m_hi (species k_hi), with kinetic energy E */
+int dsmc_check_masses(double m_lo, int64_t k_lo, double m_hi, int64_t k_hi, double E, bool agg);
+/* the squares of the selector's acceptance test (bird: Bird's C_max; else low-rank) */
+int dsmc_check_acceptance(int bird, double sigma, int64_t k, double b2);
+/* both for a new engine after its velocities and bounds (agg: with aggregation; speeds: the
+ * energy and the bounds are finite, check what they imply) */
+int dsmc_check_derived(const gran_dsmc *s, bool agg, bool speeds);
+
 /* ---- cell.cpp (GRAN_SELECTOR_CELL) ---- */
 void dsmc_cell_free(gran_dsmc *s);
 /* after the velocities of a new engine: positions, cells (checks the cell options) */

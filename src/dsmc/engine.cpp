@@ -524,6 +524,12 @@ int dsmc_create_impl(const gran_mixture *mix, const int64_t *counts, const doubl
     }
     s->e_initial = e + ec;
     dsmc_refresh_bounds(s);
+    const bool agg = cell && (cell->e_agg > 0 || std::isfinite(cell->e_frag));
+    ierr = dsmc_check_derived(s, agg, false); /* the masses (derived.cpp) */
+    if (ierr != GRAN_SUCCESS) {
+      gran_dsmc_destroy(&s);
+      return ierr;
+    }
     /* finite inputs can still overflow what is derived from them (T0 = 1e308: v^2 is inf) */
     bool finite = gran_derived_finite(s->e_initial) && gran_derived_finite(s->rate) && gran_derived_finite(s->cmax);
     for (int64_t k = 0; k < M && finite; k++) finite = gran_derived_finite(s->bound2[(size_t)k]);
@@ -535,6 +541,11 @@ int dsmc_create_impl(const gran_mixture *mix, const int64_t *counts, const doubl
                         "the initial state overflows (kinetic energy %g, collision rate bound %g): the temperatures "
                         "'T0' are too large for the masses and sizes of this mixture",
                         e + ec, rate);
+    }
+    ierr = dsmc_check_derived(s, agg, true); /* the speeds (derived.cpp); event aggregation: gran_dsmc_create_agg */
+    if (ierr != GRAN_SUCCESS) {
+      gran_dsmc_destroy(&s);
+      return ierr;
     }
     if (s->opt.observe & GRAN_OBSERVE_TRAJECTORIES) dsmc_record_trajectories(s);
     if (cell) { /* GRAN_SELECTOR_CELL: positions, cells (cell.cpp) */
