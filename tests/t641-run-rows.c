@@ -207,11 +207,47 @@ static void test_messages(void **state) {
   assert_non_null(strstr(gran_last_error_message(), "argument 'srd'"));
 }
 
+/* the rows a checkpoint carries obey the same rule: a recorded non-finite value is refused on
+ * resume (a file error naming the dataset), a NaN where "no value" is allowed becomes the fill */
+static void test_checkpoint_rows(void **state) {
+  (void)state;
+  const char *out = io_path("ckrows.h5"), *ck = io_path("ckrows.ckpt"), *ed = io_path("ckrows-ed.ckpt");
+  char text[1024];
+  snprintf(text, sizeof text,
+           "[engine]\ntype = \"srd\"\ndimension = 2\ncells = 4\nn0 = 5\ndt = 0.5\nsteps = 8\neps = 0.5\nsigma = 0.1\n"
+           "[observables]\nevery = 2\n[output]\npath = \"%s\"\ncheckpoint_every = 2\n", out);
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(text, "ckrows.toml", &s));
+  gran_run_control ctl;
+  memset(&ctl, 0, sizeof ctl);
+  ctl.stop_after_checkpoints = 1; /* stops after output times 0 and 1 */
+  gran_run_result res;
+  GRAN_ASSERT_OK(gran_scene_run(s, out, ck, &ctl, &res));
+  assert_int_equal(res.finished, 0);
+  GRAN_ASSERT_OK(gran_scene_destroy(&s));
+  io_edit_copy(ck, ed, "observer/energy.e_kin", 1, NAN, 0);
+  assert_int_equal(gran_scene_resume(ed, out, NULL, &res), GRAN_ERR_IO);
+  assert_non_null(strstr(gran_last_error_message(), "energy/e_kin"));
+  assert_false(io_exists(out));
+  io_edit_copy(ck, ed, "observer/clamps.dt_max", 0, NAN, 0); /* dt_max: "no clamp" may be recorded */
+  GRAN_ASSERT_OK(gran_scene_resume(ed, out, NULL, &res));
+  assert_int_equal(res.finished, 1);
+  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  size_t n = 0;
+  double *v = io_h5_read_double(f, "clamps/dt_max", &n);
+  assert_non_null(v);
+  assert_true(n >= 1 && v[0] == FILLV);
+  free(v);
+  H5Fclose(f);
+  unlink(ed);
+}
+
 int main(void) {
   io_tmp("t641");
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_numeric_row_stops),
-      cmocka_unit_test(test_fill_value),
+      cmocka_unit_test(test_fill_value), cmocka_unit_test(test_checkpoint_rows),
       cmocka_unit_test(test_replicas_memory),
       cmocka_unit_test(test_time_bounds),
       cmocka_unit_test(test_messages),

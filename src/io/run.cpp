@@ -645,6 +645,17 @@ int read_checkpoint_observer(Run &r, const char *path, const std::string &bytes)
         std::vector<double> v;
         GRAN_CALL(gran_h5::read_double(g.id, nm.c_str(), v, nullptr, path));
         GRAN_CHECK(v.size() == total, GRAN_ERR_IO, "checkpoint '%s': '%s' has the wrong size", path, nm.c_str());
+        /* the recorded rows obey the row rule of a run (check_row): finite, or "no value" where the
+         * buffer allows it (a NaN there, from a file written before the fill value, becomes it) */
+        for (size_t e = 0; e < (size_t)(b.row * next); e++) {
+          if (std::isfinite(v[e]) && v[e] != gran_row_fill) continue;
+          if (b.fill && (std::isnan(v[e]) || v[e] == gran_row_fill)) {
+            v[e] = gran_row_fill;
+            continue;
+          }
+          return GRAN_ERROR(GRAN_ERR_IO, "checkpoint '%s': recorded row %zu of '%s/%s' holds %g (not a value a run records)",
+                            path, e / (size_t)b.row, b.group.c_str(), b.name.c_str(), v[e]);
+        }
         b.d = v;
       }
     }

@@ -83,7 +83,7 @@ inline bool srd_check_limits(const gran_srd_options &o, double t_end, srd_limit_
     double u;
     char what[160];
     bool thermal;
-  } us[6];
+  } us[8]; /* at most 7: T0, wall_T, shear_rate, the wall speed and three of accel */
   int nu = 0;
   auto add = [&](const char *key, double u, bool thermal, const char *fmt, double x) {
     Scale &s = us[nu++];
