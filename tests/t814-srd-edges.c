@@ -145,6 +145,12 @@ static void test_scene_refusals(void **state) {
        "edge.toml:6: key 'forces.gravity'"},
       {"[engine]\ntype = \"srd\"\ncells = 8\nsteps = 5\n[forces]\nbody_force = [1e300, 0, 0]\n",
        "edge.toml:6: key 'forces.body_force'"},
+      /* every velocity scale at once (thermal, walls, shear, wall speed, three of gravity and body
+       * force): the last one is the refused one (the scale table holds them all) */
+      {"[engine]\ntype = \"srd\"\ncells = 8\nsteps = 5\n[boundaries]\nwalls = {axis = \"z\", T = 1.0}\n"
+       "vibrating_wall = {amplitude = 0.1, omega = 1.0}\nlees_edwards = {shear_rate = 0.01}\n[forces]\n"
+       "gravity = [0, 0, -0.01]\nbody_force = [1e300, 0, 0]\n",
+       "key 'forces.body_force'"},
       /* free fall along a periodic axis over the run: 1e7 steps of g = 1 end at 2.5e6 boxes per step */
       {"[engine]\ntype = \"srd\"\ncells = 4\nsteps = 10000000\n[observables]\nevery = 10000000\n[forces]\n"
        "body_force = [1, 0, 0]\n",
