@@ -495,6 +495,17 @@ static void test_advance_bound(void **state) {
   assert_int_equal(ob.steps, 0);
   GRAN_ASSERT_OK(gran_srd_advance(s, 2));
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
+  /* one particle: its momentum removed, the gas has no energy; the ledger error is 0, not 0/0 */
+  o = base(3, 1);
+  o.cells[1] = 6;
+  o.cells[2] = 4;
+  o.n0 = 1.0 / 24.0;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+  GRAN_ASSERT_OK(gran_srd_advance(s, 3));
+  GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
+  assert_int_equal(ob.n, 1);
+  assert_true(ob.ledger_error == 0.0);
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
 }
 
 int main(void) {

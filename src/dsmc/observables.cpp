@@ -171,6 +171,8 @@ GRAN_EXTERN int gran_dsmc_energy(const gran_dsmc *sim, double *e_kin, double *e_
         });
       }
       *e_kin = e + c;
+      GRAN_CHECK(std::isfinite(*e_kin), GRAN_ERR_NUMERIC,
+                 "gran_dsmc_energy: the kinetic energy is %g: a velocity of the gas is no longer finite", *e_kin);
     }
     if (e_initial) *e_initial = sim->e_initial;
     if (e_dissipated) *e_dissipated = sim->e_diss + sim->e_diss_c;

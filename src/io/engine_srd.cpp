@@ -533,6 +533,15 @@ class SrdEngine : public gran_engine {
       GRAN_CHECK((int64_t)sn.count.size() == cells_ && (int64_t)sn.vel.size() == 3 * cells_ &&
                      (int64_t)sn.temp.size() == cells_,
                  GRAN_ERR_IO, "checkpoint '%s': snapshot '%s' has the wrong size", fname, nm.c_str());
+      /* what a run records there: counts whole and >= 0, velocities and temperatures finite */
+      for (double c : sn.count)
+        GRAN_CHECK(c >= 0 && c <= 4e9 && c == std::floor(c), GRAN_ERR_IO,
+                   "checkpoint '%s': field 'count' of snapshot '%s' holds %g (a particle count is whole and >= 0)", fname,
+                   nm.c_str(), c);
+      for (const std::vector<double> *f : {&sn.vel, &sn.temp})
+        for (double x : *f)
+          GRAN_CHECK(std::isfinite(x), GRAN_ERR_IO, "checkpoint '%s': field '%s' of snapshot '%s' holds %g", fname,
+                     f == &sn.vel ? "velocity" : "temperature", nm.c_str(), x);
       snaps_.push_back(std::move(sn));
     }
     return GRAN_SUCCESS;

@@ -991,7 +991,12 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     ob->e_initial = s->e_initial;
     ob->e_collisions = s->e_coll;
     ob->e_external = s->e_ext;
-    ob->ledger_error = (s->e_initial + s->e_coll + s->e_ext - E) / s->e_initial;
+    { /* relative to the initial energy; a gas created at rest (one particle, its momentum removed)
+       * has none: then relative to the energies exchanged, 0 when nothing was */
+      const double num = s->e_initial + s->e_coll + s->e_ext - E;
+      const double den = s->e_initial > 0 ? s->e_initial : std::fabs(s->e_coll) + std::fabs(s->e_ext) + std::fabs(E);
+      ob->ledger_error = den > 0 ? num / den : 0.0;
+    }
     std::vector<int64_t> cnt;
     std::vector<double> V, Q;
     std::vector<uint32_t> cell_of;
