@@ -169,23 +169,29 @@ struct StepCtx {
   bool thermo;
 };
 
-/* GRAN_ERR_NUMERIC naming the first particle whose position or velocity was not finite after the
- * streaming of step `step` (`code` from the streaming pass: i 32 + component 4 + kind, component 0..5
- * = x y z vx vy vz non-finite before the move, 6 = finite before, not after it; kind 0 NaN, 1 +inf,
- * 2 -inf) */
+/* The first particle of [lo, hi) whose position or velocity is not finite after its move, coded
+ * as i 32 + component 4 + kind (component 0..5 = x y z vx vy vz, a velocity before a position: a
+ * NaN velocity makes the position NaN too; kind 0 NaN, 1 +inf, 2 -inf); -1 when none. */
+double first_nonfinite(const double *px, const double *py, const double *pz, const double *vx, const double *vy,
+                       const double *vz, int64_t lo, int64_t hi) {
+  for (int64_t i = lo; i < hi; ++i) {
+    const double a[6] = {px[i], py[i], pz ? pz[i] : 0.0, vx[i], vy[i], vz ? vz[i] : 0.0};
+    static const int order[6] = {3, 4, 5, 0, 1, 2};
+    for (int q : order)
+      if (!std::isfinite(a[q])) return (double)(i * 32 + q * 4 + (std::isnan(a[q]) ? 0 : a[q] > 0 ? 1 : 2));
+  }
+  return -1.0;
+}
+
+/* GRAN_ERR_NUMERIC for the particle of first_nonfinite's code, found in step `step` + 1 */
 int report_nonfinite(int64_t step, double code) {
   const int64_t c = (int64_t)code, i = c / 32, comp = (c / 4) % 8, kind = c % 4;
   static const char *const names[6] = {"x", "y", "z", "vx", "vy", "vz"};
   static const char *const kinds[3] = {"nan", "inf", "-inf"};
-  if (comp < 6)
-    return GRAN_ERROR(GRAN_ERR_NUMERIC,
-                      "GSRD step %lld: particle %lld has a non-finite %s (%s) at the start of the step (written through "
-                      "gran_srd_particles, or made by the step before); the run cannot continue",
-                      (long long)step + 1, (long long)i, names[comp], kinds[kind < 3 ? kind : 0]);
   return GRAN_ERROR(GRAN_ERR_NUMERIC,
-                    "GSRD step %lld: the move of particle %lld left the range of doubles (its position or velocity is "
-                    "not finite after x += v dt); the run cannot continue",
-                    (long long)step + 1, (long long)i);
+                    "GSRD step %lld: particle %lld has a non-finite %s (%s) after its move (a value written through "
+                    "gran_srd_particles, made by the step before, or an overflow of x += v dt); the run cannot continue",
+                    (long long)step + 1, (long long)i, names[comp < 6 ? comp : 0], kinds[kind < 3 ? kind : 0]);
 }
 
 template <int DIM, bool DISSIP, bool LE, bool WALL, bool ACCEL>
@@ -301,7 +307,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       for (int64_t b = 0; b < nb; ++b) {
         FtzScope ftz;
         const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
-        double flux = 0.0, ext = 0.0, imp = 0.0, bad = -1.0; /* bad: report_nonfinite's code of the first */
+        double flux = 0.0, ext = 0.0, imp = 0.0, chk = 0.0;
         uint16_t *row = off + b * srow;
         for (int64_t k = 0; k < srow; ++k) row[k] = 0;
         uint32_t sid[SRD_BLOCK];
@@ -329,14 +335,10 @@ int do_steps(gran_srd *s, int64_t nsteps) {
           if (ACCEL || WALL || LE) {
             ext += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - e0;
           }
-          /* the per-step finiteness check: a NaN or inf stays one through the move (srd_wrap1) */
-          if (srd_nonfinite(p, v) != 0.0 && bad < 0.0) {
-            const double in[6] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0, vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-            int comp = 6, kind = 0;
-            for (int q = 0; q < 6 && comp == 6; ++q)
-              if (!std::isfinite(in[q])) comp = q, kind = std::isnan(in[q]) ? 0 : in[q] > 0 ? 1 : 2;
-            bad = (double)(i * 32 + comp * 4 + kind);
-          }
+          /* the per-step finiteness check, branch-free: the positions after the move are in the
+           * box when finite (sum <= 3e290), and a non-finite position or velocity leaves a
+           * non-finite position (x += v dt; the wrap and the walls keep it so) */
+          chk += p[0] + p[1] + p[2];
           px[i] = p[0];
           py[i] = p[1];
           vx[i] = v[0];
@@ -356,7 +358,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
         part[4 * b] = flux;
         part[4 * b + 1] = ext;
         part[4 * b + 2] = imp;
-        part[4 * b + 3] = bad;
+        part[4 * b + 3] = chk - chk != 0.0 ? first_nonfinite(px, py, pz, vx, vy, vz, lo, hi) : -1.0;
       }
       for (int64_t b = 0; b < nb; ++b) /* the first non-finite particle, in particle order */
         if (part[4 * b + 3] >= 0.0) return report_nonfinite(s->step, part[4 * b + 3]);

@@ -156,18 +156,22 @@ GRAN_HD static inline int srd_wall_reflect(const srd_geom *gm, double p[3], doub
   return 1;
 }
 
-/* x mod b in [0, b) for any finite x (b > 0); a non-finite x stays non-finite (the engine's
- * per-step check names it). x - b floor(x / b) is exact for the |x| < 2 b of ordinary steps and
- * stays inside [0, b) up to rounding (-tiny + b rounds to b: 0); far outside (|x| >> 2^53 b the
- * product b floor(x / b) is off by more than b) the exact fmod repairs it. */
-GRAN_HD static inline double srd_wrap1(double x, double b) {
-  double r = x - b * floor(x / b);
-  if (r >= 0.0 && r < b) return r;
-  if (r == b) return 0.0; /* -tiny + b rounds to b */
-  if (!(x - x == 0.0)) return x; /* inf or NaN: left for the finiteness check */
-  r = fmod(x, b);                 /* exact, |r| < b, the sign of x */
+/* The periodic wrap's repair (srd_wrap, rare): r = x - b floor(x / b) fell outside [0, b). r = b is
+ * -tiny + b rounded (0); a non-finite x stays non-finite (the engine's per-step check names it); far
+ * outside the box (|x| >> 2^53 b the product b floor(x / b) is off by more than b) the exact fmod
+ * gives x mod b. */
+GRAN_HD static inline double srd_wrap_repair(double x, double r, double b) {
+  if (r == b) return 0.0;
+  if (!(x - x == 0.0)) return x;
+  r = fmod(x, b); /* exact, |r| < b, the sign of x */
   if (r < 0.0) r += b;
   return r < b ? r : 0.0;
+}
+/* x mod b in [0, b) for any finite x (b > 0): x - b floor(x / b), exact for the |x| < 2 b of ordinary
+ * steps, repaired when rounding or a huge x puts it outside. */
+GRAN_HD static inline double srd_wrap1(double x, double b) {
+  const double r = x - b * floor(x / b);
+  return r >= 0.0 && r < b ? r : srd_wrap_repair(x, r, b);
 }
 
 /* Bin index of the scaled coordinate q = x / a: floor(q) clamped into [0, n - 1], decided in double
@@ -197,7 +201,10 @@ GRAN_HD static inline void srd_wrap(const srd_geom *gm, double p[3], double v[3]
   for (int k = 0; k < gm->dim; ++k) {
     if (k == gm->wall_axis) continue;
     const double b = gm->box[k];
-    if (p[k] >= b || p[k] < 0.0) p[k] = srd_wrap1(p[k], b);
+    if (p[k] >= b || p[k] < 0.0) {
+      const double r = p[k] - b * floor(p[k] / b);
+      p[k] = r >= 0.0 && r < b ? r : srd_wrap_repair(p[k], r, b);
+    }
   }
 }
 
