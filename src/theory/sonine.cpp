@@ -31,9 +31,7 @@
 #include <cstring>
 #include <ctime>
 
-#if defined(__AVX512F__) || defined(__AVX__) || defined(__SSE2__)
-#include <immintrin.h>
-#endif
+#include "theory/theory_simd.h"
 #include <numeric>
 
 namespace {
@@ -85,37 +83,7 @@ static inline PairOut<V> pair_terms(V w, double p, double q, V mu, V omu, V r, V
   return o;
 }
 
-/* SIMD: std::sqrt does not vectorise under -fmath-errno, so the constant-eps pass uses intrinsics */
-#if defined(__AVX512F__)
-const int VW = 8;
-typedef double vd __attribute__((vector_size(64)));
-inline vd vsqrt(vd x) { return (vd)_mm512_mask_sqrt_pd((__m512d)x, (__mmask8)-1, (__m512d)x); }
-#elif defined(__AVX__)
-const int VW = 4;
-typedef double vd __attribute__((vector_size(32)));
-inline vd vsqrt(vd x) { return (vd)_mm256_sqrt_pd((__m256d)x); }
-#elif defined(__SSE2__)
-const int VW = 2;
-typedef double vd __attribute__((vector_size(16)));
-inline vd vsqrt(vd x) { return (vd)_mm_sqrt_pd((__m128d)x); }
-#else
-const int VW = 1;
-typedef double vd;
-inline vd vsqrt(vd x) { return std::sqrt(x); }
-#endif
-inline vd vload(const double *p) {
-  vd v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void vstore(double *p, vd v) { std::memcpy(p, &v, sizeof v); }
-inline double hsum(vd v) {
-  double a[sizeof(vd) / sizeof(double)];
-  std::memcpy(a, &v, sizeof v);
-  double t = 0.0;
-  for (double x : a) t += x;
-  return t;
-}
+using namespace gran_theory_simd;
 
 void spass_general(const gran_mixture *mix, const double *T, const double *a2, SPass &P);
 
