@@ -24,15 +24,16 @@ bool positive_normal(double x) { return std::isfinite(x) && x >= DBL_MIN; }
  * the factors (1 + eps) m_j/(m_i + m_j) and the reduced mass m_i m_j/(m_i + m_j) finite and normal
  * (> DBL_MIN); the relative speed^2 a pair can reach with the energy E, 4 E (1/m_i + 1/m_j),
  * finite with kHeadroom. Each of these is monotone in m_i and m_j, so the pairs of the two
- * extremes cover all. The reduced mass in the form its users compute it: aggregation m_i m_j / (m_i +
- * m_j) (whose product can underflow), the other engines m_i (m_j / (m_i + m_j)). */
-int dsmc_check_masses(double m_lo, int64_t k_lo, double m_hi, int64_t k_hi, double E, bool agg) {
+ * extremes cover all. The reduced mass in the form its users compute it, m_i m_j / (m_i + m_j) (the
+ * aggregation rules and the dissipated energy of every selector), whose product can under- or
+ * overflow. */
+int dsmc_check_masses(double m_lo, int64_t k_lo, double m_hi, int64_t k_hi, double E) {
   const double m[2] = {m_lo, m_hi};
   const int64_t k[2] = {k_lo, k_hi};
   for (int a = 0; a < 2; a++)
     for (int b = a; b < 2; b++) {
       const double mi = m[a], mj = m[b], sum = mi + mj, inv = 1.0 / sum;
-      const double fi = 2.0 * inv * mj, fj = 2.0 * inv * mi, mu = agg ? mi * mj * inv : mi * (mj * inv);
+      const double fi = 2.0 * inv * mj, fj = 2.0 * inv * mi, mu = mi * mj * inv;
       const double g2 = kHeadroom * 4.0 * E * (1.0 / mi + 1.0 / mj);
       const char *what = !std::isfinite(sum)                              ? "m_i + m_j"
                          : !positive_normal(inv)                          ? "1/(m_i + m_j)"
@@ -86,7 +87,7 @@ int dsmc_check_derived(const gran_dsmc *s, bool agg, bool speeds) {
              "mixture 'mass' of species " GRAN_I64_FMT " = %g: the total mass of the gas overflows (%g)", k_hi, m_hi,
              mtot);
   const double E = speeds ? s->e_initial : 0.0;
-  GRAN_CALL(dsmc_check_masses(m_lo, k_lo, agg ? mtot : m_hi, k_hi, E, agg));
+  GRAN_CALL(dsmc_check_masses(m_lo, k_lo, agg ? mtot : m_hi, k_hi, E));
   if (!speeds || s->selector == GRAN_SELECTOR_CELL) return GRAN_SUCCESS; /* its bound is checked with 'dt' (cell.cpp) */
   const double sigma = agg ? smax * std::cbrt(mtot / m_lo) : smax;
   return dsmc_check_acceptance(s->selector == GRAN_SELECTOR_BIRD, sigma, k_s, b2);

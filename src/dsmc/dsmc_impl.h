@@ -362,7 +362,7 @@ DsmcLoopFn dsmc_class_loop(int paper, int disp, int counts, int rest, int tracer
 
 /* ---- derived.cpp: derived values of the inputs, checked at creation (GRAN_ERR_DOMAIN) ---- */
 /* the masses that can meet, m_lo (species k_lo) <= m_hi (species k_hi), with kinetic energy E */
-int dsmc_check_masses(double m_lo, int64_t k_lo, double m_hi, int64_t k_hi, double E, bool agg);
+int dsmc_check_masses(double m_lo, int64_t k_lo, double m_hi, int64_t k_hi, double E);
 /* the squares of the selector's acceptance test (bird: Bird's C_max; else low-rank) */
 int dsmc_check_acceptance(int bird, double sigma, int64_t k, double b2);
 /* both for a new engine after its velocities and bounds (agg: with aggregation; speeds: the
