@@ -577,6 +577,22 @@ bool all_elastic(const gran_mixture *mix) {
  * @param[out] tau0 2/xi (Eq. 21); +inf when every pair is elastic (then T0 is equipartition). May be NULL.
  * Constant or matrix restitution only (the viscoelastic model has no state with constant ratios).
  */
+namespace gran {
+/* log of the scale lam of an HCS T_k = lam exp(u_k) under the normalisation norm = value (T_1, or
+ * the number-weighted mean temperature); shared by the Maxwellian and the Sonine HCS */
+double hcs_log_scale(const gran_mixture *mix, const std::vector<double> &u, int norm, double value) {
+  const int64_t M = mix->M;
+  const double umax = *std::max_element(u.begin(), u.end());
+  if (norm == GRAN_HCS_NORM_T1) return std::log(value) - u[0];
+  double num = 0.0, den = 0.0;
+  for (int64_t k = 0; k < M; k++) {
+    num += mix->n[(size_t)k] * std::exp(u[(size_t)k] - umax);
+    den += mix->n[(size_t)k];
+  }
+  return std::log(value * den / num) - umax;
+}
+}  // namespace gran
+
 GRAN_EXTERN int gran_theory_hcs(const gran_mixture *mix, int norm, double value, double *T0, double *tau0) {
   GRAN_TRY {
     gsl_set_error_handler_off();
@@ -598,18 +614,7 @@ GRAN_EXTERN int gran_theory_hcs(const gran_mixture *mix, int norm, double value,
       GRAN_CALL(solve_u(mix, u, &ref, &cbar));
     }
     /* normalise: T_k = lam exp(u_k) */
-    const double umax = *std::max_element(u.begin(), u.end());
-    double loglam; /* T_k = exp(loglam + u_k) */
-    if (norm == GRAN_HCS_NORM_T1) {
-      loglam = std::log(value) - u[0];
-    } else {
-      double num = 0.0, den = 0.0;
-      for (int64_t k = 0; k < M; k++) {
-        num += mix->n[(size_t)k] * std::exp(u[(size_t)k] - umax);
-        den += mix->n[(size_t)k];
-      }
-      loglam = std::log(value * den / num) - umax;
-    }
+    const double loglam = hcs_log_scale(mix, u, norm, value); /* T_k = exp(loglam + u_k) */
     for (int64_t k = 0; k < M; k++) T0[k] = std::exp(loglam + u[(size_t)k]);
     for (int64_t k = 0; k < M; k++)
       GRAN_CHECK(std::isfinite(T0[k]) && T0[k] > 0.0, GRAN_ERR_NUMERIC,

@@ -800,18 +800,7 @@ GRAN_EXTERN int gran_theory_hcs_approx(const gran_mixture *mix, int approximatio
 #ifdef GRAN_HCS_DEBUG
     std::fprintf(stderr, "sonine hcs: M = %" PRId64 " passes %d\n", M, passes);
 #endif
-    const double umax = *std::max_element(u.begin(), u.end());
-    double loglam;
-    if (norm == GRAN_HCS_NORM_T1) {
-      loglam = std::log(value) - u[0];
-    } else {
-      double num = 0.0, den = 0.0;
-      for (int64_t k = 0; k < M; k++) {
-        num += mix->n[(size_t)k] * std::exp(u[(size_t)k] - umax);
-        den += mix->n[(size_t)k];
-      }
-      loglam = std::log(value * den / num) - umax;
-    }
+    const double loglam = hcs_log_scale(mix, u, norm, value);
     for (int64_t k = 0; k < M; k++) {
       T0[k] = std::exp(loglam + u[(size_t)k]);
       GRAN_CHECK(std::isfinite(T0[k]) && T0[k] > 0.0 && std::isfinite(b[(size_t)k]), GRAN_ERR_NUMERIC,

@@ -165,4 +165,7 @@ void traj_temperatures(const Traj &tr, double s, double *T);
 
 } // namespace gran
 
+namespace gran {
+double hcs_log_scale(const gran_mixture *mix, const std::vector<double> &u, int norm, double value);
+}
 #endif
