@@ -4,7 +4,8 @@
  *    the dataset and the output time, the rows before it go to OUTPUT.partial.h5 (no output file,
  *    nothing non-finite written); values that may not exist carry the _FillValue attribute;
  *  - replicas (the scene's and gran_scene_set_replicas) go through the memory check;
- *  - output times and t_end are bounded by the step counter and by t_end, naming the key;
+ *  - output times and t_end are bounded by the step counter and by t_end, naming the key; the
+ *    theory beside a DSMC run by its pair evaluations (refused above 1e13, a warning above 1e10);
  *  - messages of the cell selector, engine.type and the public entry points name the key. */
 #include "io_test_util.h"
 #include "io_tiny_scene.h"
@@ -173,6 +174,43 @@ static void test_time_bounds(void **state) {
   expect_parse(b, "key 'cell.dt'", "at most 1e+12 steps");
 }
 
+/* The theory beside a DSMC run costs passes over the M^2 species pairs: a scene of 1e6 species
+ * starting in the HCS with the theory observables on needs at least 12 passes (1.2e13 pair
+ * evaluations, hours) and is refused naming mixture.nspecies, with the estimate; 2e5 species
+ * with the theory off and equal temperatures (tau0 alone: 4e10) parse with a warning that gives
+ * the estimate; 2000 species parse without one. */
+static const char *kManySpecies =
+    "[mixture]\nnspecies = %s\nm1 = 1.0\nsigma1 = 1.0\ndensity_law = { n1 = 0.05, theta = 3.0 }\n"
+    "[restitution]\neps = 0.9\n[initial]\ntemperatures = \"%s\"\n%s\n[engine]\nvolume = 1e3\nseed = 7\n"
+    "[observables]\ntimes = [0, 1, 2]\ntheory = %s\n[output]\npath = \"x.h5\"\ncheckpoint = \"\"\n";
+
+static int64_t warnings_after_parse(const char *text, char *last, int64_t len) {
+  int64_t w0 = 0, w1 = 0;
+  GRAN_ASSERT_OK(gran_warning_count(&w0));
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(text, "t.toml", &s));
+  GRAN_ASSERT_OK(gran_scene_destroy(&s));
+  GRAN_ASSERT_OK(gran_warning_count(&w1));
+  last[0] = 0;
+  if (w1 > w0) GRAN_ASSERT_OK(gran_last_warning_copy(last, len));
+  return w1 - w0;
+}
+
+static void test_theory_work(void **state) {
+  (void)state;
+  char b[2048], w[1024];
+  snprintf(b, sizeof b, kManySpecies, "1000000", "hcs", "", "true");
+  expect_parse(b, "key 'mixture.nspecies'", "1.2e+13 pair evaluations");
+  assert_non_null(strstr(gran_last_error_message(), "theory = false"));
+  snprintf(b, sizeof b, kManySpecies, "200000", "equal", "T_mean = 1.0", "false");
+  assert_int_equal(warnings_after_parse(b, w, sizeof w), 1);
+  printf("warning: %s\n", w);
+  assert_non_null(strstr(w, "mixture.nspecies"));
+  assert_non_null(strstr(w, "4e+10 pair evaluations"));
+  snprintf(b, sizeof b, kManySpecies, "2000", "hcs", "", "true");
+  assert_int_equal(warnings_after_parse(b, w, sizeof w), 0);
+}
+
 /* ---- messages and defaults at the edges of the scene and the C API ---- */
 static void test_messages(void **state) {
   (void)state;
@@ -249,7 +287,7 @@ int main(void) {
       cmocka_unit_test(test_numeric_row_stops),
       cmocka_unit_test(test_fill_value), cmocka_unit_test(test_checkpoint_rows),
       cmocka_unit_test(test_replicas_memory),
-      cmocka_unit_test(test_time_bounds),
+      cmocka_unit_test(test_time_bounds), cmocka_unit_test(test_theory_work),
       cmocka_unit_test(test_messages),
   };
   int r = cmocka_run_group_tests(tests, NULL, NULL);

@@ -12,7 +12,8 @@
  *    the host reference device; a velocity of 1e266 runs without a signal and observe refuses the
  *    overflowing energy (GRAN_ERR_NUMERIC), never a row of inf;
  *  - class 2: the Sonine a2 at T0 = 1e-200 and 1e200 (dt scaled so that the run is the T0 = 1 run
- *    in other units) equals the T0 = 1 value to 1e-12, at t = 0 and after 10 steps;
+ *    in other units) equals the T0 = 1 value to 1e-12, at t = 0 and after 10 steps; the energy
+ *    ledger's relative error of a gas created at T0 = 1e-280 and then set to |v| = 1e16 is finite;
  *  - class 3: float storage (precision = 1, device = reference) is refused for T0 = 1e-90 and 1e77,
  *    a shear of 1e20 and gravity over the run of a scene, the message naming the key and float; a
  *    velocity beyond float written into a float run is found by the device's per-step check and the
@@ -368,6 +369,31 @@ static void test_a2_scaled(void **state) {
   GRAN_ASSERT_REL(Th, Tr, 1e-12);
 }
 
+/* class 2, the energy ledger: a gas created almost at rest (T0 = 1e-280: e_initial ~ 1e-277) whose
+ * velocities are then set to 1e16 through gran_srd_particles. The ledger error relative to
+ * e_initial alone overflowed to -inf (a resumed checkpoint with a tiny e_initial did the same); it
+ * is relative to at least DBL_EPSILON x the largest energy exchanged: finite, and of the size the
+ * ledger's miss (-E) gives, -1 / DBL_EPSILON. A gas created at rest with nothing exchanged: 0. */
+static void test_ledger_finite(void **state) {
+  (void)state;
+  gran_srd_options o = base(3, 4);
+  o.T0 = 1e-280; /* the lowest T0 gran_srd_create accepts */
+  gran_srd *s = NULL;
+  GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+  gran_srd_obs ob;
+  GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
+  assert_true(isfinite(ob.ledger_error) && fabs(ob.ledger_error) < 1e-12);
+  int64_t n;
+  double *x, *y, *z, *vx, *vy, *vz;
+  GRAN_ASSERT_OK(gran_srd_particles(s, &n, &x, &y, &z, &vx, &vy, &vz));
+  for (int64_t i = 0; i < n; ++i) vx[i] = (i % 2 ? 1e16 : -1e16);
+  GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
+  printf("ledger error after setting v = 1e16 at e_initial = %g: %g\n", ob.e_initial, ob.ledger_error);
+  assert_true(isfinite(ob.ledger_error));
+  GRAN_ASSERT_REL(ob.ledger_error, -1.0 / DBL_EPSILON, 1e-9);
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+}
+
 /* ---- class 3: float storage ------------------------------------------------------------------- */
 static void test_float_storage(void **state) {
   (void)state;
@@ -515,6 +541,7 @@ int main(void) {
       cmocka_unit_test(test_nonfinite_particles), cmocka_unit_test(test_a2_scaled),
       cmocka_unit_test(test_float_storage),     cmocka_unit_test(test_subnormal),
       cmocka_unit_test(test_threads),           cmocka_unit_test(test_advance_bound),
+      cmocka_unit_test(test_ledger_finite),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,4 +1,5 @@
-/* run_bounds.cpp - the bound on the number of steps of a run (see run_bounds.h). */
+/* run_bounds.cpp - the bounds on the number of steps of a run and on the work of the theory beside
+ * it (see run_bounds.h). */
 #include "core/run_bounds.h"
 
 #include <algorithm>
@@ -16,5 +17,19 @@ bool gran_run_steps_ok(double steps, double per_step, char *why, size_t len) {
                   steps, std::max(per_step, 1.0), upd, upd / kRunUpdatesPerSecond / 86400.0, kRunUpdatesPerSecond,
                   kRunMaxSteps, kRunMaxUpdates);
   return false;
+}
+
+int gran_theory_work_check(double passes, double nspecies, char *why, size_t len) {
+  const double pairs = passes * nspecies * nspecies;
+  const int level = pairs > kTheoryMaxPairs ? 2 : pairs > kTheoryWarnPairs ? 1 : 0;
+  if (level && why && len > 0) {
+    const double sec = pairs / kTheoryPairsPerSecond;
+    std::snprintf(why, len,
+                  "%.3g passes over %.3g^2 species pairs = %.3g pair evaluations (about %.3g %s at %.0e per second on "
+                  "one core; the theory refuses more than %.0e)",
+                  passes, nspecies, pairs, sec >= 7200 ? sec / 3600 : sec >= 120 ? sec / 60 : sec,
+                  sec >= 7200 ? "hours" : sec >= 120 ? "minutes" : "seconds", kTheoryPairsPerSecond, kTheoryMaxPairs);
+  }
+  return level;
 }
 }  // namespace gran

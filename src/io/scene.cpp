@@ -609,6 +609,37 @@ void check_memory(const gran_scene &s, double limit, Tab &top) {
   t.fail(t.has(big.key) ? big.key : std::string(big.key), why);
 }
 
+/* Parse time: the theory a DSMC scene computes beside its run, against the theory work bound of
+ * core/run_bounds.h. Passes over the M^2 species pairs, a lower bound: tau0 (1), the HCS start
+ * (8, as measured for 1e4 - 3e4 species), and the ODE trajectories of the theory observables (at
+ * least one pass per output time: T_theory, msd_theory unless the HCS closed form serves it, the
+ * first Sonine trajectory at about 11 Maxwellian passes, the TAMSD at one per lag). Above the
+ * bound the scene is refused naming mixture.nspecies; above the warning level it warns. */
+void check_theory_work(const gran_scene &s, Tab &top) {
+  const double nt = (double)s.times.size();
+  const bool aggr = s.agg.e_agg > 0 || std::isfinite(s.agg.e_frag);
+  double passes = 1.0;
+  if (s.init == SCENE_INIT_HCS) passes += 8.0;
+  if (s.obs_theory && !aggr) {
+    if (s.obs_temperatures) passes += nt;
+    const bool msd_closed = s.init == SCENE_INIT_HCS && s.model != GRAN_RESTITUTION_VISCOELASTIC;
+    if (s.obs_msd && !msd_closed) passes += nt;
+    if (s.obs_theory_sonine) passes += 11.0 * nt;
+    if (s.obs_tamsd) passes += (double)s.tamsd_lags.size();
+  }
+  char why[320];
+  const int level = gran::gran_theory_work_check(passes, (double)s.nspecies, why, sizeof why);
+  if (level == 0) return;
+  const std::string what = std::string("the kinetic theory beside this run (tau0") +
+                           (s.init == SCENE_INIT_HCS ? ", the HCS start" : "") +
+                           (s.obs_theory && !aggr ? ", the theory observables" : "") + ") needs at least " + why;
+  Tab mx = top.sub("mixture");
+  if (level == 2)
+    mx.fail("nspecies", what + "; set [observables] theory = false and give the initial temperatures (\"equal\" or a "
+                        "list) instead of \"hcs\", or use fewer species");
+  gran_warning_add("scene key '%s': %s", mx.key("nspecies").c_str(), what.c_str());
+}
+
 /* ---- GSRD scenes (`[engine] type = "srd"`) ------------------------------------------------------
  * Tables: [engine] (the gran_srd_options keys, steps or t_end, device), [boundaries]
  * (lees_edwards, walls, vibrating_wall), [forces] (gravity, body_force), [observables], [output].
@@ -1486,6 +1517,7 @@ void parse_scene(const toml::value &root, gran_scene &s) {
   /* ---- [output] ---- */
   parse_output_table(top, F, s);
   check_memory(s, mem_limit, top);
+  check_theory_work(s, top);
 
   top.finish();
 }

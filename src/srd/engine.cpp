@@ -993,10 +993,14 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     ob->e_initial = s->e_initial;
     ob->e_collisions = s->e_coll;
     ob->e_external = s->e_ext;
-    { /* relative to the initial energy; a gas created at rest (one particle, its momentum removed)
-       * has none: then relative to the energies exchanged, 0 when nothing was */
+    { /* relative to the initial energy, but never to less than the rounding of the energies
+       * exchanged (a tiny e_initial beside large exchanges would turn rounding into an overflow);
+       * a gas created at rest (one particle, its momentum removed) has none: then relative to
+       * the largest energy exchanged, 0 when nothing was. The scale is a maximum (a sum of
+       * finite energies may overflow), so the ratio is finite (at most ~3 / DBL_EPSILON). */
       const double num = s->e_initial + s->e_coll + s->e_ext - E;
-      const double den = s->e_initial > 0 ? s->e_initial : std::fabs(s->e_coll) + std::fabs(s->e_ext) + std::fabs(E);
+      const double scale = std::max(std::max(std::fabs(s->e_coll), std::fabs(s->e_ext)), std::fabs(E));
+      const double den = s->e_initial > 0 ? std::max(s->e_initial, DBL_EPSILON * scale) : scale;
       ob->ledger_error = den > 0 ? num / den : 0.0;
     }
     std::vector<int64_t> cnt;
