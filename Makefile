@@ -348,6 +348,15 @@ docs: $(CLI)
 	  $(DOCS_PYTHON) -m sphinx -W --keep-going -q -b html $(DOCS_OUT)/src $(DOCS_OUT)/html
 	@echo "docs: $(DOCS_OUT)/html/index.html"
 
+# make install copies the HTML manual to $(prefix)/share/granary/doc/html when `make docs` has built it.
+.PHONY: install-docs
+install: install-docs
+install-docs:
+	@if [ -f $(DOCS_OUT)/html/index.html ]; then install -d $(DESTDIR)$(prefix)/share/granary/doc/html && \
+	  cp -R $(DOCS_OUT)/html/. $(DESTDIR)$(prefix)/share/granary/doc/html/ && \
+	  echo "install: the manual in $(DESTDIR)$(prefix)/share/granary/doc/html"; \
+	else echo "install: no HTML manual in $(DOCS_OUT)/html (make docs builds it); not installed"; fi
+
 # ---- figures ----------------------------------------------------------------------------------
 # `make figures` regenerates seed 000 Figs. 1-8 and Table I as PNG in build/figures/ (QUICK=1: the
 # reduced scenes of scenes/quick/, a few minutes). Plotting needs Debian's python3-matplotlib and
