@@ -5,6 +5,7 @@
 #   make install prefix=... DESTDIR=...                   make deps       install Debian packages
 #   make fuzz    libFuzzer harnesses (FUZZ_SECONDS=60)    make doc-numbers  regenerate docs/numbers.md
 #   make info    show the configuration                   make clean      remove build folders
+#   make docs    the HTML manual in build/docs/html
 #   make help    this text                                make figures    seed figures as PNG (QUICK=1)
 # Override OPT (default -O3 -march=native: tuned for the building CPU), NVCC (empty disables CUDA),
 # CUDA_ARCH / CUDA_PTX (default: the visible GPU's SM, else PTX compute_80 only; all four GPUs:
@@ -320,6 +321,41 @@ fuzz:
 # The measured numbers README and the scene comments quote: docs/numbers.md, from one command.
 doc-numbers: all
 	@GRAN_CLI=$(CLI) sh bench/doc-numbers.sh docs/numbers.md
+
+# ---- docs -------------------------------------------------------------------------------------
+# `make docs` builds the HTML manual in $(BUILD)/docs/html from docs/ (Sphinx with MyST Markdown)
+# and include/granary.h (Doxygen XML read by Breathe, through docs/tools/header_filter.py); every
+# warning is an error (-W). The scene-key page is generated into the build copy of docs/ from
+# `granary keys --format markdown` (docs/tools/scene-keys.sh), the Fortran procedure list from
+# bindings/granary.f90 (docs/tools/fortran_ref.py). Missing Debian packages
+# (DOCS_DEB_PKGS) are installed as `make deps` does. Debian's /usr/bin/python3 runs Sphinx.
+DOCS_DEB_PKGS := python3-sphinx python3-myst-parser python3-breathe doxygen
+DOCS_PYTHON   ?= /usr/bin/python3
+DOCS_OUT      := $(BUILD)/docs
+DOCS_OK        = $(DOCS_PYTHON) -c 'import sphinx, myst_parser, breathe' >/dev/null 2>&1 && command -v doxygen >/dev/null 2>&1
+
+.PHONY: docs
+docs: $(CLI)
+	@if ! ( $(DOCS_OK) ); then $(call apt_install,$(DOCS_DEB_PKGS),docs,exit 1); fi
+	@( $(DOCS_OK) ) || { echo "docs: $(DOCS_PYTHON) cannot import sphinx, myst_parser, breathe or doxygen is missing ($(DOCS_DEB_PKGS))" >&2; exit 1; }
+	@rm -rf $(DOCS_OUT)/src $(DOCS_OUT)/xml && mkdir -p $(DOCS_OUT)
+	@cp -R docs $(DOCS_OUT)/src
+	@mkdir -p $(DOCS_OUT)/src/_examples && cp bindings/examples/example.c bindings/examples/example.f90 $(DOCS_OUT)/src/_examples/
+	@sh docs/tools/scene-keys.sh $(CLI) > $(DOCS_OUT)/src/reference/scene-keys.md
+	@$(DOCS_PYTHON) docs/tools/fortran_ref.py $(FMOD_SRC) > $(DOCS_OUT)/src/reference/fortran-procedures.md
+	@( cat docs/Doxyfile; echo "OUTPUT_DIRECTORY = $(DOCS_OUT)" ) | doxygen -
+	@GRAN_SOURCE_DIR=$(CURDIR) GRAN_DOXYGEN_XML=$(CURDIR)/$(DOCS_OUT)/xml \
+	  $(DOCS_PYTHON) -m sphinx -W --keep-going -q -b html $(DOCS_OUT)/src $(DOCS_OUT)/html
+	@echo "docs: $(DOCS_OUT)/html/index.html"
+
+# make install copies the HTML manual to $(prefix)/share/granary/doc/html when `make docs` has built it.
+.PHONY: install-docs
+install: install-docs
+install-docs:
+	@if [ -f $(DOCS_OUT)/html/index.html ]; then install -d $(DESTDIR)$(prefix)/share/granary/doc/html && \
+	  cp -R $(DOCS_OUT)/html/. $(DESTDIR)$(prefix)/share/granary/doc/html/ && \
+	  echo "install: the manual in $(DESTDIR)$(prefix)/share/granary/doc/html"; \
+	else echo "install: no HTML manual in $(DOCS_OUT)/html (make docs builds it); not installed"; fi
 
 # ---- figures ----------------------------------------------------------------------------------
 # `make figures` regenerates seed 000 Figs. 1-8 and Table I as PNG in build/figures/ (QUICK=1: the

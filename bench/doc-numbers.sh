@@ -31,7 +31,7 @@ for sc in ${GRAN_NUMBER_SCENES:-default table1 fig6 fig5 fig3}; do
 done
 {
   echo
-  echo "Table I (seed 000) prints a total kinetic energy of 1.233e5 at t = 100: a misprinted exponent."
+  echo "Table I (Bodrova & Osinsky 2024) prints a total kinetic energy of 1.233e5 at t = 100: a misprinted exponent."
   echo "The authors' code prints sum m v^2 = 2.468e4 at N_1 = 1e6; granary's E_kin = (1/2) sum m v^2"
   echo "is half of that, 1.234e4 (rows \`table1\` and \`fig6\` above)."
 } >>"$out.tmp"

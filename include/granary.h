@@ -180,7 +180,7 @@ GRAN_EXTERN int gran_particles_memory(const gran_particles *p, int64_t *bytes);
 GRAN_EXTERN int gran_abi_query(const char *name, int64_t *value);
 
 /* ---- Kinetic theory (src/theory) ------------------------------------------------------------
- * Kinetic theory of polydisperse granular gases (seed 000 Sec. II, App. A; seed 002).
+ * Kinetic theory of polydisperse granular gases (Bodrova & Osinsky Sec. II, App. A; the DSMC outline).
  * Species are 0-based in C (species "k" of the paper is index k-1). Arrays of per-species values
  * have length M; time series are row-major [time][species]; pair matrices are row-major M*M
  * (symmetric: checked). Tolerances rtol lie in [1e-14, 0.1]. Mixtures need M >= 1 and at least one
@@ -191,10 +191,10 @@ typedef struct gran_mixture gran_mixture; /* opaque */
 enum gran_restitution_model {
   GRAN_RESTITUTION_CONSTANT = 0,    /* one eps for every pair */
   GRAN_RESTITUTION_MATRIX = 1,      /* eps_ij per pair */
-  GRAN_RESTITUTION_VISCOELASTIC = 2 /* eps(v_n) with beta_ij per pair (PHYSICS-NOTES Sec. 2) */
+  GRAN_RESTITUTION_VISCOELASTIC = 2 /* eps(v_n), beta_ij per pair (docs/physics.md, Viscoelastic restitution) */
 };
 enum gran_hcs_norm {
-  GRAN_HCS_NORM_MEAN = 0, /* number-weighted mean temperature <T(0)> = value (seed 000 Eq. 25) */
+  GRAN_HCS_NORM_MEAN = 0, /* number-weighted mean temperature <T(0)> = value (Bodrova & Osinsky Eq. 25) */
   GRAN_HCS_NORM_T1 = 1    /* T of the first species = value */
 };
 
@@ -293,7 +293,7 @@ GRAN_EXTERN int gran_theory_tracer_tau_v_hat(const gran_mixture *mix, int64_t tr
                                              double *tau_v_hat);
 /* Seed 002: mean relative speeds <|g_ij|> = sqrt(8/pi (T_i/m_i + T_j/m_j)) (Eq. 60), M*M. */
 GRAN_EXTERN int gran_theory_mean_relative_speed(const gran_mixture *mix, const double *T, double *g);
-/* Collisions per unit volume and time between species i and j (seed 002 Eq. 57, cross-section
+/* Collisions per unit volume and time between species i and j (the DSMC outline Eq. 57, cross-section
  * pi sigma_ij^2 g2_ij): rates[i*M+j] = n_i n_j pi sigma_ij^2 g2_ij <|g_ij|> / (1 + delta_ij). Symmetric;
  * each unordered pair once (the convention of gran_dsmc_collision_counts): total = sum over i <= j. */
 GRAN_EXTERN int gran_theory_collision_rates(const gran_mixture *mix, const double *T, double *rates);
@@ -321,7 +321,7 @@ GRAN_EXTERN int gran_theory_smoluchowski_constant(int64_t kmax, double K, const 
                                                   const double *t, double rtol, double *n, double *overflow);
 
 /* ---- DSMC engines (src/dsmc) -----------------------------------------------------------------
- * Event-driven DSMC of the homogeneous cooling state (seed 000 Sec. III) with two pair selectors
+ * Event-driven DSMC of the homogeneous cooling state (Bodrova & Osinsky Sec. III) with two pair selectors
  * in one engine: the low-rank selector (rank-3 bound: segment trees over the speed-dependent
  * factors u^(r), alias tables over the constant factors v^(r)) and Bird's selector (one global
  * bound C_max, Eq. 49). Effects and observables that are off cost nothing.
@@ -336,7 +336,7 @@ enum gran_selector {
   GRAN_SELECTOR_BIRD = 1,         /* one global bound C_max (Eq. 49), pairs uniform among all N */
   GRAN_SELECTOR_LOWRANK_PAPER = 2,
   GRAN_SELECTOR_BIRD_PAPER = 3,
-  GRAN_SELECTOR_CELL = 4          /* time-step/cell DSMC of seed 002: positions, cells, dt (gran_dsmc_create_cell) */
+  GRAN_SELECTOR_CELL = 4          /* time-step/cell DSMC (the DSMC outline): positions, cells, dt (gran_dsmc_create_cell) */
 };
 enum gran_dsmc_observe {
   GRAN_OBSERVE_DISPLACEMENT = 1,     /* per-particle displacements (MSD); else not allocated */
@@ -392,7 +392,7 @@ GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt);
  * volume <= 0: V = sum of N_k over species with n_k > 0 / sum n_k); T0: M initial temperatures
  * (NULL: the HCS of the mixture with <T(0)> = 1; T_k = 1 for viscoelastic restitution, which has
  * no HCS). Maxwellian start, zero momentum of the gas. The mixture is copied (it may be destroyed
- * afterwards). A species with n_k = 0 and counts[k] > 0 is a tracer (seed 000 Sec. II F): it
+ * afterwards). A species with n_k = 0 and counts[k] > 0 is a tracer (Bodrova & Osinsky Sec. II F): it
  * collides with the gas at the physical rate, only the tracer's velocity changes, and tracers
  * never collide with each other. */
 GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts, const double *T0,
@@ -452,7 +452,7 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
  * each velocity component of a particle of mass m gets a Gaussian kick of variance
  * heat_rate dt / m, minus the mass-weighted mean kick (momentum conserved). */
 enum gran_cell_placement {
-  GRAN_PLACE_RANDOM = 0,   /* merged clusters and fragments at random positions in the box (seed 002) */
+  GRAN_PLACE_RANDOM = 0,   /* merged clusters and fragments at random positions in the box (the DSMC outline) */
   GRAN_PLACE_COLLISION = 1 /* at the pair's centre of mass */
 };
 typedef struct gran_dsmc_cell_options {
@@ -519,11 +519,11 @@ GRAN_EXTERN int gran_dsmc_size_distribution(const gran_dsmc *sim, int64_t cap, i
  * selectors: species are cluster sizes (species k-1 of the mixture = the k-mer; sizes beyond the
  * mixture's appear on the fly), exact rates by rejection, particles unordered. gran_dsmc_create_agg
  * with e_agg = 0 and e_frag = INFINITY is gran_dsmc_create (no aggregation, no cost). The fragment
- * law (every selector): GRAN_FRAG_MONOMERS, the (k+j)-mer shatters into k+j monomers (seed 002
+ * law (every selector): GRAN_FRAG_MONOMERS, the (k+j)-mer shatters into k+j monomers (the DSMC outline
  * Eqs. 13-14); GRAN_FRAG_BINARY, into two pieces of sizes a and k+j-a, a uniform in 1..k+j-1; in
  * both the momentum is exact and the pieces share eps_f^2 mu g^2/2 in the centre-of-mass frame. */
 enum gran_frag_law {
-  GRAN_FRAG_MONOMERS = 0, /* into monomers (seed 002) */
+  GRAN_FRAG_MONOMERS = 0, /* into monomers (the DSMC outline) */
   GRAN_FRAG_BINARY = 1    /* into two pieces of a uniform size */
 };
 typedef struct gran_dsmc_agg_options {
@@ -675,7 +675,7 @@ GRAN_EXTERN int gran_scene_replicas(const gran_scene *scene, int64_t *replicas, 
 GRAN_EXTERN int gran_set_threads(int32_t nthreads);
 GRAN_EXTERN int gran_get_threads(int32_t *nthreads);
 /* ---------------------------------------------------------------------------------------------
- * GSRD: granular stochastic rotation dynamics (seed 004), CPU engine (src/srd/).
+ * GSRD: granular stochastic rotation dynamics (Zantop), CPU engine (src/srd/).
  * Units: particle mass m = 1, k_B = 1. Point particles in a box of cells[0] x cells[1] (x cells[2])
  * cells of size a; periodic except on wall_axis; Lees-Edwards shear (flow x, gradient y) when
  * shear_rate != 0. Every effect is off unless its option is set, and then costs nothing.

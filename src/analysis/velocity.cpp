@@ -18,7 +18,7 @@ int check_velocities(int64_t n, const double *v) {
 
 /** @brief Sonine coefficient a2 = (3/5) <E^2> / <E>^2 - 1, E_i = m_i |v_i - u|^2, averages over
  *  particles, u = sum m_i v_i / sum m_i (the mean flow). With mass == NULL (or equal masses) this
- *  is (3/5)<c^4>/<c^2>^2 - 1 of PHYSICS-NOTES Sec. 3; with masses a mixture whose species are
+ *  is (3/5)<c^4>/<c^2>^2 - 1 (docs/physics.md, "Oracles for tests"); with masses a mixture whose species are
  *  Maxwellian at one temperature has a2 = 0 (m c^2 / T is chi-square(3) for every species).
  *  @param[in] n >= 1  @param[in] v 3n velocities  @param[in] mass n masses > 0, or NULL
  *  @param[out] a2  @return GRAN_ERR_DOMAIN when every velocity equals the mean flow */

@@ -158,7 +158,7 @@ void summary(const std::string &path) {
     if (rows.empty() || rows.back() != r) rows.push_back(r);
   }
   const int64_t Mshow = M > 6 ? 6 : M;
-  /* footnotes where the Maxwellian theory is known to be off (PHYSICS-NOTES; seed 000) */
+  /* footnotes where the Maxwellian theory is known to be off (docs/physics.md; Bodrova & Osinsky) */
   const bool mixture = (int64_t)mass.size() == M && M > 1;
   double mmin = INFINITY, ntot = 0;
   for (double m : mass) mmin = std::min(mmin, m);
@@ -166,7 +166,7 @@ void summary(const std::string &path) {
   auto note = [&](const std::string &label, int64_t k) -> const char * {
     if (!mixture) return "";
     const double mk = mass[(size_t)k], nk = dens[(size_t)k];
-    /* heavy and dilute (tracer limit): seed 000 Sec. II F, Eq. 35 */
+    /* heavy and dilute (tracer limit): Bodrova & Osinsky Sec. II F, Eq. 35 */
     if (mk >= 10.0 * mmin && nk <= 0.05 * ntot) return "c";
     /* light among heavy: the species at least 10x heavier outnumber it */
     double nheavy = 0;

@@ -1,5 +1,5 @@
-/* agg.cpp - aggregation and fragmentation (seed 002 steps 10a-10d with the corrections of
- * PHYSICS-NOTES), shared by every selector: species are cluster sizes (species k-1 = k-mer, mass
+/* agg.cpp - aggregation and fragmentation (the DSMC outline steps 10a-10d with the corrections of
+ * docs/physics.md), shared by every selector: species are cluster sizes (species k-1 = k-mer, mass
  * k m_1, diameter sigma_1 k^(1/3)), the size tables grow on demand (nothing M x M), particles are
  * unordered. The collision rules are in agg_impl.h (used by cell.cpp and agg_event.cpp); here: the
  * checks at creation, the cell selector's bookkeeping at the end of a step, the observables and

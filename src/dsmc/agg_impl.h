@@ -1,7 +1,7 @@
 /* agg_impl.h - aggregation and fragmentation shared by every DSMC selector (issue 10): the
  * cluster-size bookkeeping (DsmcAgg: the cell selector's DsmcCell and the event selectors'
  * DsmcAggEv both extend it), the random words of the engine's buffered streams, and the collision
- * rules (seed 002 step 10 as corrected in PHYSICS-NOTES):
+ * rules (the DSMC outline step 10 as corrected in docs/physics.md):
  *   - merge (mu g^2/2 < e_agg): one (k+j)-mer with the centre-of-mass velocity;
  *   - shatter (mu g_n^2/2 > e_frag): pieces by the fragment law (monomers, or two pieces of a
  *     uniform size), random directions, the last piece closing the momentum (Eq. 14), one common

@@ -1,4 +1,4 @@
-/* bird.cpp - Bird's selector's instantiations of the hot loop (seed 000 Eqs. 46-52, event form). */
+/* bird.cpp - Bird's selector's instantiations of the hot loop (Bodrova & Osinsky Eqs. 46-52, event form). */
 #include "dsmc_loop.h"
 
 namespace gran {

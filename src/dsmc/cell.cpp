@@ -1,4 +1,4 @@
-/* cell.cpp - the time-step/cell selector of the DSMC engine (GRAN_SELECTOR_CELL, seed 002 steps
+/* cell.cpp - the time-step/cell selector of the DSMC engine (GRAN_SELECTOR_CELL, the DSMC outline steps
  * 1-13): positions in a cubic periodic box of nc^3 cells; every step dt
  *   1. stream r += v dt (wrapped into [0, L)), bin the particles into cells (stable counting
  *      sort), and find per cell the largest speed and diameter;
@@ -888,7 +888,7 @@ GRAN_EXTERN int gran_dsmc_cell_options_default(gran_dsmc_cell_options *cell) {
   return GRAN_SUCCESS;
 }
 
-/** @brief New engine of the time-step/cell selector (seed 002).
+/** @brief New engine of the time-step/cell selector (the DSMC outline).
  *  @param[in] opt engine options (selector is taken as GRAN_SELECTOR_CELL; volume: the box volume)
  *  @param[in] cell cells, dt, F_N and the effects  @param[out] sim the new engine */
 GRAN_EXTERN int gran_dsmc_create_cell(const gran_mixture *mix, const int64_t *counts, const double *T0,

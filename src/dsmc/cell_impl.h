@@ -1,4 +1,4 @@
-/* cell_impl.h - private state of the time-step/cell selector (GRAN_SELECTOR_CELL, seed 002):
+/* cell_impl.h - private state of the time-step/cell selector (GRAN_SELECTOR_CELL, the DSMC outline):
  * positions in a cubic periodic box, cells, the fractional candidate numbers carried between
  * steps, and (agg.cpp) the cluster-size bookkeeping of aggregation and fragmentation. Only an
  * engine of this selector allocates any of it (gran_dsmc::cell is NULL otherwise). */

@@ -5,7 +5,7 @@
  * species k occupies slots [offset[k], offset[k+1]) of the gran_particles arrays and never moves,
  * so a particle's index is its identity (tracers, checkpoints).
  *
- * Rates (PHYSICS-NOTES Sec. 1): the physical rate of an unordered pair {j, l} is
+ * Rates (docs/physics.md, "Corrections to the sources"): the physical rate of an unordered pair {j, l} is
  * g2_jl pi sigma_jl^2 |g| / V. Both selectors propose pairs at a rate that bounds it and accept
  * with the ratio; the "paper" variants draw e uniformly and accept |g.e| (Eq. 40 / 48), the
  * default variants accept |g| against a bound half as large and then draw e from its |g.e|-weighted
@@ -202,7 +202,7 @@ struct gran_dsmc {
   double g2max = 1;              /* rates are scaled by the largest contact value */
   std::vector<gran::DsmcPair> pair; /* M*M for the table modes (empty: scalar / formula) */
   double visco_sqrt_beta0 = -1;  /* viscoelastic with one beta and no table: sqrt(beta) */
-  /* Tracers (seed 000 Sec. II F): species with n_k = 0 in the mixture but N_k > 0 particles.
+  /* Tracers (Bodrova & Osinsky Sec. II F): species with n_k = 0 in the mixture but N_k > 0 particles.
    * They collide with the gas (n_k > 0) at the physical rate, only the tracer's velocity changes,
    * and tracer-tracer candidates are rejected. Derived from mix and counts at creation (so a
    * checkpoint reader derives it from the mixture it is given; the file stores it for a check). */

@@ -3,13 +3,13 @@
  * hand out function pointers; gran_dsmc_advance picks one pointer per call (dispatch outside the
  * loop). An effect whose template flag is off leaves no instruction and touches no memory here.
  *
- * One trial (seed 000 Sec. III, steps 1-5):
+ * One trial (Bodrova & Osinsky Sec. III, steps 1-5):
  *   take the oldest pre-drawn candidate pair (j, l) of species (i, k) and draw a new one in its
  *   place (prefetching its velocities); reject j == l; accept with w |g| / B (default) or
  *   w |g.e| / B with e uniform (paper variant), where B bounds w |g|; collide (Eq. 41), update
  *   the displacements lazily (Eq. 45), the ledger, the counters and the bounds; draw the time of
  *   the next trial, t += Exp(1) / Lambda (Eq. 38 / 50).
- * With tracers (kTracer: a species with n_k = 0 and particles, seed 000 Sec. II F) a tracer-tracer
+ * With tracers (kTracer: a species with n_k = 0 and particles, Bodrova & Osinsky Sec. II F) a tracer-tracer
  * candidate is rejected before the acceptance test (its rate is 0), and a tracer-gas collision
  * changes only the tracer's velocity (and displacement); the ledger books minus the tracer's
  * kinetic-energy change as dissipated (energy exchanged with the infinite bath), so

@@ -1,4 +1,4 @@
-/* engine.cpp - DSMC engine of the homogeneous cooling state (seed 000 Sec. III): creation, the
+/* engine.cpp - DSMC engine of the homogeneous cooling state (Bodrova & Osinsky Sec. III): creation, the
  * speed bounds and selector state (trees / C_max), the advance driver. The hot loop is in
  * dsmc_loop.h; observables in observables.cpp; checkpoints in checkpoint.cpp. */
 #include "dsmc_impl.h"
@@ -440,7 +440,7 @@ GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt) {
 /** @brief New engine: N_k particles of each species (counts, or round(n_k V)), Maxwellian
  *  velocities at T0[k] (NULL: the HCS of mix with <T(0)> = 1; T_k = 1 for viscoelastic
  *  restitution, which has no HCS), zero momentum of the gas. A species with n_k = 0 and
- *  particles (explicit counts) is a tracer (seed 000 Sec. II F).
+ *  particles (explicit counts) is a tracer (Bodrova & Osinsky Sec. II F).
  *  @param[in] mix copied; may be destroyed afterwards  @param[out] sim the new engine */
 GRAN_EXTERN int gran_dsmc_create(const gran_mixture *mix, const int64_t *counts, const double *T0,
                                  const gran_dsmc_options *opt, gran_dsmc **sim) {
@@ -472,7 +472,7 @@ int dsmc_create_impl(const gran_mixture *mix, const int64_t *counts, const doubl
             ierr = GRAN_ERROR(GRAN_ERR_ARG, "argument 'T0[" GRAN_I64_FMT "]' = %g must be finite and >= 0", k, T0[k]);
         if (ierr == GRAN_SUCCESS) T.assign(T0, T0 + M);
       } else if (mix->model == GRAN_RESTITUTION_VISCOELASTIC) {
-        T.assign((size_t)M, 1.0); /* no HCS with constant ratios: equipartition (seed 000 App. A) */
+        T.assign((size_t)M, 1.0); /* no HCS with constant ratios: equipartition (Bodrova & Osinsky App. A) */
       } else {
         double tau0;
         ierr = gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T.data(), &tau0);

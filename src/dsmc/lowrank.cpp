@@ -1,4 +1,4 @@
-/* lowrank.cpp - the low-rank selector's instantiations of the hot loop (seed 000 Eqs. 36-44). */
+/* lowrank.cpp - the low-rank selector's instantiations of the hot loop (Bodrova & Osinsky Eqs. 36-44). */
 #include "dsmc_loop.h"
 
 namespace gran {

@@ -5,7 +5,7 @@
  * cuda/ calls the same functions from kernels. Plain C structs only (PODs that a kernel can take by
  * value).
  *
- * Model (seed 004): streaming x += v dt (Eq. 2.2, plus a constant acceleration g: x += v dt + g
+ * Model (Zantop): streaming x += v dt (Eq. 2.2, plus a constant acceleration g: x += v dt + g
  * dt^2/2, v += g dt); collision on a grid shifted by a random vector; per cell the number n, mean
  * velocity V and temperature theta (Eqs. 1.34-1.36, theta with 1/(d n)); thermal velocities are
  * rotated by +-alpha (2-D) or by alpha about a random axis (3-D) and their perpendicular part is

@@ -1,5 +1,5 @@
 /* aggregation.cpp - temperature-dependent Smoluchowski kinetics of aggregating and fragmenting
- * granular gases (seed 002, aggregation part; PHYSICS-NOTES "Aggregation/fragmentation sampling").
+ * granular gases (the DSMC outline, aggregation part; docs/physics.md, "Oracles for tests").
  *
  * State: number density n_k and thermal energy density e_k = (3/2) n_k T_k of every size k = 1..M
  * (species k of the mixture is the k-mer: m_k = k m_1), plus an overflow reservoir (number, mass in
@@ -18,7 +18,7 @@
  * of particle i in an event is (m_i/2)[3 Vres + (c + mu/m_i)^2 g^2]; a merged cluster carries
  * (M/2)[3 Vres + c^2 g^2]; fragments carry that plus eps_f^2 mu g^2/2 (Eq. 10); a bounce changes
  * E_i by -2 E_n [(1 + eps) c + (1 - eps^2) mu/(2 m_i)] on average over V (Eq. 66).
- * Rates: collisions per volume n_i n_j pi sigma_ij^2 g2 <|g_ij|> / (1 + delta_ij) (seed 002 Eq. 57).
+ * Rates: collisions per volume n_i n_j pi sigma_ij^2 g2 <|g_ij|> / (1 + delta_ij) (the DSMC outline Eq. 57).
  * Integrated with GSL odeiv2 (rk8pd); every pair term moves mass from i, j to i + j (or to i + j
  * monomers) in one place, so sum k n_k + overflow mass is a linear invariant of the right-hand side
  * and Runge-Kutta keeps it to rounding. Sizes with n_k <= 1e-40 n_0 are skipped (pairwise, so the

@@ -1,13 +1,15 @@
-/* collisions.cpp - collision statistics of seed 002 (Eqs. 57-63) for comparison with the DSMC
- * engines' per-pair collision counters, the reduced times of seed 000 Eq. 6, and the tracer-limit
- * formulas of seed 000 Sec. II F (Eqs. 33-35).
+/* collisions.cpp - collision statistics of the DSMC outline (Eqs. 57-63) for comparison with the DSMC
+ * engines' per-pair collision counters, the reduced times of Bodrova & Osinsky Eq. 6, and the tracer-limit
+ * formulas of Bodrova & Osinsky Sec. II F (Eqs. 33-35).
  *
  *  <|g_ij|> = sqrt(8/pi (T_i/m_i + T_j/m_j))                                   (Eq. 60)
  *  rate_ij  = n_i n_j pi sigma_ij^2 g2_ij <|g_ij|> / (1 + delta_ij)            (Eq. 57 per unit V, dt)
- * with the cross-section pi (R_i + R_j)^2 = pi sigma_ij^2 (PHYSICS-NOTES Sec. 1 corrects Eq. 54) and
+ * with the cross-section pi (R_i + R_j)^2 = pi sigma_ij^2 (Eq. 54 corrected: docs/physics.md,
+ * "Corrections to the sources") and
  * each unordered pair counted once (a like pair i-i once, hence 1/2): the total is the sum over
  * i <= j; the collision frequency per particle of species k is sum_j (1 + delta_kj) rate_kj / n_k,
- * for one species 2 rate/n = 4 sqrt(pi) n sigma^2 g2 sqrt(T/m) (PHYSICS-NOTES Sec. 3, seed 002 Eq. 35).
+ * for one species 2 rate/n = 4 sqrt(pi) n sigma^2 g2 sqrt(T/m) (the DSMC outline Eq. 35;
+ * docs/physics.md, "Oracles for tests").
  * Seed 002 Eqs. 58 and 61 as printed are half of this total: Eq. 57 already halves the sum over
  * ordered pairs and Eq. 58 halves it again (for one species they contradict Eq. 35).
  *  counts_ij(t) = V int_0^t rate_ij(T(t')) dt'  along the cooling from T0 (ode.cpp dense output,
@@ -41,7 +43,7 @@ void rates_at(const gran_mixture *mix, const double *T, double *rates) {
 } // namespace
 
 /**
- * @brief Mean relative speeds <|g_ij|> (seed 002 Eq. 60) for Maxwellian species at temperatures T.
+ * @brief Mean relative speeds <|g_ij|> (the DSMC outline Eq. 60) for Maxwellian species at temperatures T.
  * @param[out] g M*M, symmetric
  */
 GRAN_EXTERN int gran_theory_mean_relative_speed(const gran_mixture *mix, const double *T, double *g) {
@@ -60,7 +62,7 @@ GRAN_EXTERN int gran_theory_mean_relative_speed(const gran_mixture *mix, const d
 }
 
 /**
- * @brief Collisions per unit volume and time between species i and j (seed 002 Eq. 57).
+ * @brief Collisions per unit volume and time between species i and j (the DSMC outline Eq. 57).
  * @param[out] rates M*M, symmetric, each unordered pair once (diagonal: like pairs, factor 1/2)
  */
 GRAN_EXTERN int gran_theory_collision_rates(const gran_mixture *mix, const double *T, double *rates) {
@@ -140,7 +142,7 @@ GRAN_EXTERN int gran_theory_collision_counts(const gran_mixture *mix, const doub
 }
 
 /**
- * @brief Reduced times tau_k(t) = int_0^t sqrt(T_k/T_k(0)) dt' / tau_c(0) (seed 000 Eq. 6, 7).
+ * @brief Reduced times tau_k(t) = int_0^t sqrt(T_k/T_k(0)) dt' / tau_c(0) (Bodrova & Osinsky Eq. 6, 7).
  * @param[out] tau ntimes*M. In the HCS this is Eq. 18: tau0/tau_c(0) log(1 + t/tau0) for every k.
  */
 GRAN_EXTERN int gran_theory_reduced_time(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t,

@@ -1,4 +1,4 @@
-/* cooling.cpp - cooling rates xi_k (seed 000 Eq. 14-15, viscoelastic A7), inverse velocity
+/* cooling.cpp - cooling rates xi_k (Bodrova & Osinsky Eq. 14-15, viscoelastic A7), inverse velocity
  * correlation times (Eq. 10-11, A6), diffusion coefficients (Eq. 8), collision time (Eq. 7).
  *
  * Pair terms are written without cancellation (eps -> 1, T_i -> T_k):
@@ -310,7 +310,7 @@ int inv_tau_v_one(const gran_mixture *mix, const double *T, int64_t k, double *o
 using namespace gran;
 
 /**
- * @brief Cooling rates xi_k = sum_i xi_ki (seed 000 Eq. 14-15; A7 for the viscoelastic model).
+ * @brief Cooling rates xi_k = sum_i xi_ki (Bodrova & Osinsky Eq. 14-15; A7 for the viscoelastic model).
  * @param[in] T M temperatures > 0
  * @param[out] xi M cooling rates (dT_k/dt = -xi_k T_k)
  */

@@ -1,4 +1,4 @@
-/* hcs.cpp - homogeneous cooling state of a mixture (seed 000 Eq. 16-21, 25): temperatures with
+/* hcs.cpp - homogeneous cooling state of a mixture (Bodrova & Osinsky Eq. 16-21, 25): temperatures with
  * equal cooling rates xi_k = c, normalised by the number-weighted mean (Eq. 25) or by T_1, and
  * tau0 = 2/c (Eq. 21).
  *

@@ -1,4 +1,4 @@
-/* mixture.cpp - the mixture of the kinetic theory: species, restitution model, g2 (seed 000 Sec. II).
+/* mixture.cpp - the mixture of the kinetic theory: species, restitution model, g2 (Bodrova & Osinsky Sec. II).
  * Pair matrices are stored only when a matrix is given; otherwise pair values come from scalars. */
 #include "theory/theory_impl.h"
 
@@ -234,7 +234,7 @@ GRAN_EXTERN int gran_mixture_set_viscoelastic_matrix(gran_mixture *mix, const do
 /**
  * @brief Viscoelastic restitution of one material: beta_ij = (3/2) A (rho/m_eff)^(2/5),
  * rho = 2 Y sqrt(R_eff)/(3 (1 - nu^2)), R_eff = sigma_i sigma_j/(2 (sigma_i + sigma_j)) (radius R = sigma/2).
- * @param[in] A dissipative constant >= 0 (seed 000 Eq. A2); Y Young's modulus > 0; nu Poisson ratio in (-1, 0.5]
+ * @param[in] A dissipative constant >= 0 (Bodrova & Osinsky Eq. A2); Y Young's modulus > 0; nu Poisson ratio in (-1, 0.5]
  */
 GRAN_EXTERN int gran_mixture_set_viscoelastic_material(gran_mixture *mix, double A, double Y, double nu) {
   GRAN_TRY {

@@ -1,4 +1,4 @@
-/* msd.cpp - mean-squared displacements (seed 000 Sec. II A, C, F):
+/* msd.cpp - mean-squared displacements (Bodrova & Osinsky Sec. II A, C, F):
  *  - HCS closed form Eq. 22, written as MSD_k = 6 D_k tau_v,k g(beta_k log(1 + t/tau0)) with
  *    g(y) = y - 1 + e^-y (no cancellation for t << tau_v, none for huge beta); elastic limit
  *    (tau0 = inf): y = t/tau_v. Total MSD Eq. 3 (number-weighted, tracers excluded).

@@ -1,4 +1,4 @@
-/* ode.cpp - partial temperatures T_k(t) from any start (seed 000 Eq. 13) with GSL odeiv2.
+/* ode.cpp - partial temperatures T_k(t) from any start (Bodrova & Osinsky Eq. 13) with GSL odeiv2.
  *
  * Variables: s = log(1 + t/ts), z_k = log(T_k/T0_k) + 2 s: dz_k/ds = 2 - xi_k(T) ts e^s. Haff's law
  * gives T ~ t^-2, so z tends to a constant for t >> tau0: the state stays O(1) and the step size in

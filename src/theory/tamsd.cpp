@@ -1,4 +1,4 @@
-/* tamsd.cpp - time-averaged MSD in the HCS (seed 000 Sec. II E, Eqs. 26-28).
+/* tamsd.cpp - time-averaged MSD in the HCS (Bodrova & Osinsky Sec. II E, Eqs. 26-28).
  *
  * The mean squared increment over [t', t' + D] in the HCS (Eq. 4 started at t') is
  *   I(t', D) = 6 D_k tau_v,k g(beta_k l),  l = log(1 + D/(tau0 + t')),  g(y) = y - 1 + e^-y,

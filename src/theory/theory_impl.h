@@ -75,7 +75,7 @@ int check_rtol(double rtol, const char *name);
  * For a pair with z = sqrt(beta) (2 v^2)^(1/20), v^2 = T_k/m_k + T_i/m_i, the collision-weighted
  * averages over the Maxwellian normal relative speed (weight s e^-s ds, x = z s^(1/20)):
  *   q1 = <(1 + eps)/2> - 1 = sum_n h_n B_n,   q2 = <((1 + eps)/2)^2> - 1 = (1/2) sum_n A_n B_n
- * with B_n = (1/2) z^n Gamma(2 + n/20) (seed 000 App. A). Series for z <= 0.35 (exact for the
+ * with B_n = (1/2) z^n Gamma(2 + n/20) (Bodrova & Osinsky App. A). Series for z <= 0.35 (exact for the
  * polynomial branch of eps), GSL quadrature of the real eps(x) beyond. */
 int visco_averages(double z, double *q1, double *q2);
 double visco_eps(double x); /* no argument checks; x >= 0 finite */

@@ -1,9 +1,9 @@
-/* viscoelastic.cpp - velocity-dependent restitution of viscoelastic spheres (seed 000 App. A,
- * PHYSICS-NOTES Sec. 2): eps(x) = 1 + sum_{k=1..20} h_k x^k, x = sqrt(beta) |v_n|^(1/10), for
+/* viscoelastic.cpp - velocity-dependent restitution of viscoelastic spheres (Bodrova & Osinsky App. A,
+ * docs/physics.md, "Viscoelastic restitution"): eps(x) = 1 + sum_{k=1..20} h_k x^k, x = sqrt(beta) |v_n|^(1/10), for
  * x <= X_SWITCH and the [3/6] Pade approximant of Mueller & Poeschel (2011) beyond. X_SWITCH is
  * the point where the two forms cross (their difference changes sign there), so eps(x) is
  * continuous to rounding (|jump| < 1e-15) without blending. Accuracy against the exact
- * collision (PHYSICS-NOTES values): 4e-16 at x = 0.1, 5e-13 at 0.3 (series); 8.6e-7 at 0.5,
+ * collision (docs/physics.md values): 4e-16 at x = 0.1, 5e-13 at 0.3 (series); 8.6e-7 at 0.5,
  * 3.2e-5 at 0.8, 1.0e-4 at 1.0, 4.0e-4 at 1.5, 6.1e-4 at 2.0 (Pade). */
 #include "theory/theory_impl.h"
 
