@@ -252,10 +252,10 @@ class SrdEngine : public gran_engine {
     return GRAN_SUCCESS;
   }
 
-  /* one engine of this scene: gran_scene_srd_bytes_ (the estimate the scene check uses too) */
+  /* one engine of this scene: the memory model the scene check uses too (src/srd/memory.cpp) */
   int memory(int64_t *bytes) override {
-    gran_srd_bytes parts;
-    const double b = gran_scene_srd_bytes_(*s_, &parts);
+    std::vector<gran_mem_part> parts;
+    const double b = gran_srd_memory_(*s_, parts);
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
     return GRAN_SUCCESS;
   }
