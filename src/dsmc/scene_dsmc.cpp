@@ -179,20 +179,26 @@ void check_cell_run(Tab &top, Tab &en, const gran_scene &s) {
                         Tab::num_str(c.dt));
 }
 
-}  // namespace
+/* What the tables of one DSMC scene share while they are read. */
+struct Ctx {
+  Tab &top;
+  gran_scene &s;
+  double mem_limit;
+  int64_t M = -1;      /* species */
+  std::string M_from;  /* the key that gave M (named when an array disagrees) */
+};
 
-/* The DSMC tables: [mixture], [restitution], [initial], [engine], [cell], [aggregation],
- * [observables] (the core reads the title, [output] and the memory check). */
-void gran_dsmc_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
-  Tab &top = *doc.top;
-  const double mem_limit = doc.mem_limit;
-
+/* [mixture]: the species (required) */
+void parse_mixture(Ctx &c) {
+  Tab &top = c.top;
+  gran_scene &s = c.s;
+  const double mem_limit = c.mem_limit;
   /* ---- [mixture] ---- */
   if (!top.has("mixture")) top.fail_missing("mixture", "the [mixture] table is required");
   Tab mx = top.sub("mixture");
   mx.set_known();
-  int64_t M = -1;
-  std::string M_from;
+  int64_t &M = c.M;
+  std::string &M_from = c.M_from;
   if (mx.has("nspecies")) {
     M = mx.count("nspecies");
     require(M >= 1, mx, "nspecies", "must be >= 1, got " + std::to_string(M));
@@ -265,7 +271,14 @@ void gran_dsmc_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
   s.mass = mass;
   s.sigma = sigma;
   s.density = density;
+}
 
+/* [restitution]: the model (absent: eps = 1) */
+void parse_restitution(Ctx &c) {
+  Tab &top = c.top;
+  gran_scene &s = c.s;
+  const int64_t M = c.M;
+  const std::vector<double> &mass = s.mass, &sigma = s.sigma;
   /* ---- [restitution] ---- */
   if (top.has("restitution")) {
     Tab rs = top.sub("restitution");
@@ -321,7 +334,15 @@ void gran_dsmc_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
     }
     rs.finish();
   }
+}
 
+/* [initial]: the initial temperatures (absent: the HCS with <T> = 1) */
+void parse_initial(Ctx &c) {
+  Tab &top = c.top;
+  gran_scene &s = c.s;
+  const int64_t M = c.M;
+  const std::string &M_from = c.M_from;
+  const std::vector<double> &mass = s.mass;
   /* ---- [initial] ---- */
   if (top.has("initial")) {
     Tab in = top.sub("initial");
@@ -372,7 +393,14 @@ void gran_dsmc_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
     top.fail_missing("initial", "viscoelastic restitution has no homogeneous cooling state: give [initial] "
                                 "temperatures = \"equal\" or a list");
   }
+}
 
+/* [engine]: the selector, the particle numbers, the end time (the shared keys: the core) */
+void parse_engine(Ctx &c) {
+  Tab &top = c.top;
+  gran_scene &s = c.s;
+  const int64_t M = c.M;
+  const std::string &M_from = c.M_from;
   /* ---- [engine] ---- */
   if (!top.has("engine")) top.fail_missing("engine", "the [engine] table is required");
   Tab en = top.sub("engine");
@@ -420,10 +448,14 @@ void gran_dsmc_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
     if (sc.is_boolean()) s.speed_classes = sc.as_boolean() ? GRAN_SPEED_CLASSES_ON : GRAN_SPEED_CLASSES_OFF;
     else if (!sc.is_string() || sc.as_string().str != "auto") en.fail("speed_classes", "expected true, false or \"auto\"");
   }
-  bool have_tend = en.has("t_end");
-  if (have_tend) s.t_end = en.number("t_end");
+  if (en.has("t_end")) s.t_end = en.number("t_end");
   en.finish();
+}
 
+/* [cell] (the time-step/cell selector) and [aggregation] */
+void parse_cell_aggregation(Ctx &c) {
+  Tab &top = c.top;
+  gran_scene &s = c.s;
   /* ---- [cell]: the time-step/cell selector (src/dsmc/cell.cpp) ---- */
   /* e_agg, e_frag, eps_f of [cell] or [aggregation] (absent: the defaults) */
   auto agg_keys = [](Tab &t, double *e_agg, double *e_frag, double *eps_f) {
@@ -492,7 +524,15 @@ void gran_dsmc_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
     s.agg.eps_f = s.cell.eps_f;
     s.agg.frag_law = s.cell.frag_law;
   }
+}
 
+/* [observables]: output times and what is recorded */
+void parse_observables(Ctx &c) {
+  Tab &top = c.top;
+  gran_scene &s = c.s;
+  const int64_t M = c.M;
+  Tab en = top.sub("engine");
+  const bool have_tend = en.has("t_end");
   /* ---- [observables] ---- */
   Tab ob = top.sub_or_empty("observables");
   ob.set_known();
@@ -593,6 +633,21 @@ void gran_dsmc_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
     ta.finish();
   }
   ob.finish();
+}
+
+}  // namespace
+
+/* The DSMC tables: [mixture], [restitution], [initial], [engine], [cell], [aggregation],
+ * [observables] (the core reads the title, the shared [engine] keys, [output] and the memory
+ * check), in this order: each table's checks may use the tables before it. */
+void gran_dsmc_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
+  Ctx c{*doc.top, s, doc.mem_limit, -1, ""};
+  parse_mixture(c);
+  parse_restitution(c);
+  parse_initial(c);
+  parse_engine(c);
+  parse_cell_aggregation(c);
+  parse_observables(c);
 }
 
 

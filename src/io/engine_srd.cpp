@@ -1,5 +1,5 @@
 /* engine_srd.cpp - the GSRD engine (src/srd) behind the run driver's engine interface (engine.h):
- * `[engine] type = "srd"` scenes (parsed by parse_scene_srd in scene.cpp into gran_scene::srd).
+ * `[engine] type = "srd"` scenes (parsed by src/srd/scene_srd.cpp into gran_scene::srd).
  *
  * Time: the engine advances in whole steps; the scene's output times are already on the step
  * grid (times[i] = out_steps[i] dt). Observables at each output time come from gran_srd_observe

@@ -152,19 +152,33 @@ void gran_srd_scene_before_(Tab &top) {
                                  "sets its gas in [engine] (dimension, cells, n0, T0, eps, sigma)");
 }
 
-/* The GSRD tables: [engine], [boundaries], [forces], [observables] (the core reads the title,
- * [output] and the memory check). Every check names the key and its line; what gran_srd_create
- * would refuse is refused here. */
-void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
-  Tab &top = *doc.top;
-  const std::string &F = s.name;
-  gran_srd_options &o = s.srd.opt;
-  gran_srd_options_default(&o);
-  s.nspecies = 0;
-  s.obs_temperatures = s.obs_msd = s.obs_energy = s.obs_theory = 0;
+namespace {
 
+/* What the tables of one GSRD scene share while they are read; the tables of [boundaries] and
+ * [forces] are kept for the derived-value check at the end (it names their keys). */
+struct Ctx {
+  Ctx(Tab &top_, gran_scene &s_)
+      : top(top_), s(s_), en(nullptr, "engine", s_.name, top_.schema()),
+        le_t(nullptr, "boundaries.lees_edwards", s_.name, top_.schema()),
+        wl_t(nullptr, "boundaries.walls", s_.name, top_.schema()),
+        vb_t(nullptr, "boundaries.vibrating_wall", s_.name, top_.schema()),
+        fo_t(nullptr, "forces", s_.name, top_.schema()) {}
+  Tab &top;
+  gran_scene &s;
+  Tab en, le_t, wl_t, vb_t, fo_t;
+  double N = 0;                  /* particles */
+  int64_t steps = -1;            /* steps of the run (-1: from the output times) */
+  double gforce = 0, bforce = 0; /* |gravity|, |body_force| */
+};
+
+/* [engine]: the gas, the box, the step, the length of the run (the shared keys: the core) */
+void parse_engine(Ctx &c) {
+  Tab &top = c.top;
+  gran_scene &s = c.s;
+  gran_srd_options &o = c.s.srd.opt;
   /* ---- [engine] ---- */
-  Tab en = top.sub("engine");
+  c.en = top.sub("engine");
+  Tab &en = c.en;
   en.set_known();
   gran_scene_engine_common_(en, s); /* type, seed, replicas, keep_replicas, max_memory_gb */
   const int64_t dim = en.integer("dimension");
@@ -215,7 +229,7 @@ void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
   if (en.has("n0") && en.has("particles_per_cell")) en.fail("particles_per_cell", "give either 'n0' or 'particles_per_cell', not both");
   const char *nk = en.has("particles_per_cell") ? "particles_per_cell" : "n0";
   o.n0 = en.real(nk);
-  const double N = std::floor(o.n0 * ncell + 0.5);
+  const double N = c.N = std::floor(o.n0 * ncell + 0.5);
   require(N >= 1 && N < 4e9, en, nk, "gives " + Tab::num_str(N) + " particles (need 1 .. 4e9)");
   o.dt = en.real("dt");
   o.alpha_deg = en.real("alpha");
@@ -248,7 +262,7 @@ void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
     en.fail("precision", "expected \"double\" or \"float\" (particle storage on a device), got \"" + prec + "\"");
   o.precision = prec == "float" ? 1 : 0;
   if (en.has("steps") && en.has("t_end")) en.fail("t_end", "give either 'steps' or 't_end', not both");
-  int64_t steps = -1;
+  int64_t &steps = c.steps;
   if (en.has("steps")) {
     steps = en.count_value("steps");
   } else if (en.has("t_end")) {
@@ -261,11 +275,16 @@ void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
     require_run_steps(en, en.has("steps") ? "steps" : "t_end", (double)steps, N,
                       std::to_string(steps) + " steps of " + Tab::num_str(N) + " particles");
   en.finish();
+}
 
+/* [boundaries]: Lees-Edwards shear, walls, a vibrating wall */
+void parse_boundaries(Ctx &c) {
+  Tab &top = c.top;
+  gran_srd_options &o = c.s.srd.opt;
+  Tab &le_t = c.le_t;
+  Tab &wl_t = c.wl_t;
+  Tab &vb_t = c.vb_t;
   /* ---- [boundaries] ---- (the tables are kept for the derived-value check at the end) */
-  const gran_scene_schema *sc = top.schema();
-  Tab le_t(nullptr, "boundaries.lees_edwards", F, sc), wl_t(nullptr, "boundaries.walls", F, sc),
-      vb_t(nullptr, "boundaries.vibrating_wall", F, sc), fo_t(nullptr, "forces", F, sc);
   if (top.has("boundaries")) {
     Tab bd = top.sub("boundaries");
     bd.set_known();
@@ -306,9 +325,16 @@ void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
     }
     bd.finish();
   }
+}
 
+/* [forces]: uniform accelerations */
+void parse_forces(Ctx &c) {
+  Tab &top = c.top;
+  gran_srd_options &o = c.s.srd.opt;
+  Tab &fo_t = c.fo_t;
+  double &gforce = c.gforce;
+  double &bforce = c.bforce;
   /* ---- [forces] ---- */
-  double gforce = 0, bforce = 0; /* |gravity|, |body_force| */
   if (top.has("forces")) {
     Tab fo = top.sub("forces");
     fo_t = fo;
@@ -321,7 +347,16 @@ void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
     bforce = std::hypot(std::hypot(f[0], f[1]), f[2]);
     fo.finish();
   }
+}
 
+/* [observables]: output steps, what is recorded, snapshots */
+void parse_observables(Ctx &c) {
+  Tab &top = c.top;
+  gran_scene &s = c.s;
+  gran_srd_options &o = c.s.srd.opt;
+  Tab &en = c.en;
+  int64_t &steps = c.steps;
+  const double N = c.N;
   /* ---- [observables] ---- */
   Tab ob = top.sub_or_empty("observables");
   if (ob.has("theory_sonine"))
@@ -415,7 +450,19 @@ void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
   for (int64_t i = 0; i < nt; i++) s.times[(size_t)i] = (double)os[(size_t)i] * o.dt;
   s.t_start = 0.0;
   s.t_end = (double)steps * o.dt;
+}
 
+/* What the run derives from its inputs, named by the scene key */
+void check_limits(Ctx &c) {
+  gran_scene &s = c.s;
+  gran_srd_options &o = c.s.srd.opt;
+  Tab &en = c.en;
+  Tab &le_t = c.le_t;
+  Tab &wl_t = c.wl_t;
+  Tab &vb_t = c.vb_t;
+  Tab &fo_t = c.fo_t;
+  double &gforce = c.gforce;
+  double &bforce = c.bforce;
   /* ---- what the run derives from its inputs (src/srd/srd_limits.h, the bounds gran_srd_create
    * checks too, here with the run's length): named by the scene key ---- */
   {
@@ -431,6 +478,22 @@ void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
       en.fail(k, lf.why); /* T0, dt, sigma */
     }
   }
+}
 
+}  // namespace
+
+/* The GSRD tables: [engine], [boundaries], [forces], [observables] (the core reads the title, the
+ * shared [engine] keys, [output] and the memory check). Every check names the key and its line;
+ * what gran_srd_create would refuse is refused here. */
+void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s) {
+  gran_srd_options_default(&s.srd.opt);
+  s.nspecies = 0;
+  s.obs_temperatures = s.obs_msd = s.obs_energy = s.obs_theory = 0;
+  Ctx c(*doc.top, s);
+  parse_engine(c);
+  parse_boundaries(c);
+  parse_forces(c);
+  parse_observables(c);
+  check_limits(c);
 }
 
