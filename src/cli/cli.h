@@ -21,5 +21,6 @@ void cli_mpi_stats(long long *steps, long long *bytes); /* gathers, and bytes ra
 int cli_info(int argc, char **argv);
 int cli_run(int argc, char **argv);
 int cli_theory(int argc, char **argv);
+int cli_keys(int argc, char **argv); /* keys.cpp */
 
 #endif

@@ -25,6 +25,8 @@ static void usage(FILE *f) {
                "                       simulate a scene, write HDF5 (granary run --help for all options)\n"
                "  theory SCENE [--times t1,...] [--lags l1,...] [--json]\n"
                "                       kinetic theory of the scene's mixture\n"
+               "  keys [ENGINE] [--format text|markdown]\n"
+               "                       the scene keys of each engine (type, default, bounds, unit, C field)\n"
                "  info [--gpu-count]   version, build configuration, CUDA backend, visible GPUs\n"
                "  --help               this text (COMMAND --help: its options)\n"
                "  --version            the library version\n"
@@ -69,6 +71,7 @@ static int dispatch(int argc, char **argv) {
   if (!std::strcmp(cmd, "info")) return cli_info(argc - 1, argv + 1);
   if (!std::strcmp(cmd, "run")) return cli_run(argc - 1, argv + 1);
   if (!std::strcmp(cmd, "theory")) return cli_theory(argc - 1, argv + 1);
+  if (!std::strcmp(cmd, "keys")) return cli_keys(argc - 1, argv + 1);
   std::fprintf(stderr, "granary: unknown command '%s' (see granary --help)\n", cmd);
   return 2;
 }

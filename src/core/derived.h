@@ -5,7 +5,7 @@
  * Rule: a derived value must be finite and lie within [lo, hi]; otherwise the input it comes from
  * is refused, naming its scene key or C option. The caller states the range and the key; this
  * header decides and words the reason. Users: the GSRD limits (src/srd/srd_limits.h: gran_srd_create
- * and the GSRD scene parser), the DSMC scene parser (src/io/scene.cpp: speeds and energies of the
+ * and the GSRD scene parser), the DSMC scene parser (src/dsmc/scene_dsmc.cpp: speeds and energies of the
  * initial temperatures) and gran_dsmc_create (src/dsmc/engine.cpp: the initial state). */
 #ifndef GRAN_CORE_DERIVED_H
 #define GRAN_CORE_DERIVED_H

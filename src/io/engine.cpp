@@ -1,5 +1,6 @@
-/* engine.cpp - the engine table (keyed by the scene's `[engine] type`) and the row buffers the
- * engines record into. See engine.h for how a new engine plugs in. */
+/* engine.cpp - the engine table (keyed by the scene's `[engine] type`: factory, scene schema and
+ * parser, memory model) and the row buffers the engines record into. See engine.h for how a new
+ * engine plugs in. */
 #include <hdf5.h>
 
 #include <cstring>
@@ -8,18 +9,32 @@
 
 namespace {
 
-struct Entry {
-  const char *type;
-  gran_engine_factory create;
-};
-
-/* One line per engine. */
-const Entry kEngines[] = {
-    {"dsmc", gran_engine_dsmc_create_},
-    {"srd", gran_engine_srd_create_}, /* GSRD (src/srd), engine_srd.cpp */
+/* One line per engine: its factory (the adapter in src/io/engine_<type>.cpp), its scene schema and
+ * parser (src/<engine>/scene_<engine>.cpp), its memory model (src/<engine>/memory.cpp). The first
+ * is the engine of a scene without `[engine] type`. */
+const gran_engine_entry kEngines[] = {
+    {"dsmc", "DSMC (src/dsmc)", gran_engine_dsmc_create_, gran_dsmc_scene_keys_, gran_dsmc_scene_nkeys_, nullptr,
+     gran_dsmc_scene_parse_, gran_dsmc_memory_},
+    {"srd", "GSRD (src/srd)", gran_engine_srd_create_, gran_srd_scene_keys_, gran_srd_scene_nkeys_,
+     gran_srd_scene_before_, gran_srd_scene_parse_, gran_srd_memory_},
 };
 
 }  // namespace
+
+const gran_engine_entry *gran_engine_entries_(size_t *n) {
+  *n = sizeof kEngines / sizeof kEngines[0];
+  return kEngines;
+}
+
+const gran_engine_entry *gran_engine_find_(const std::string &type) {
+  for (const gran_engine_entry &e : kEngines)
+    if (type == e.type) return &e;
+  return nullptr;
+}
+
+double gran_row_bytes_(double nbuf, double elems, double nt) {
+  return 8.0 * elems * nt + nbuf * (1.5 * (double)sizeof(gran_row_buf) + 2.0 * gran_alloc_bytes);
+}
 
 void gran_row_buf_add(std::vector<gran_row_buf> &bufs, const char *group, const char *name, int is_int,
                       std::vector<int64_t> row_dims, const char *units, const char *description) {
@@ -50,7 +65,7 @@ gran_row_buf *gran_row_buf_find(std::vector<gran_row_buf> &bufs, const char *gro
 int gran_engine_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out) {
   const std::string &type = s->engine_type;
   std::string known;
-  for (const Entry &e : kEngines) {
+  for (const gran_engine_entry &e : kEngines) {
     if (type == e.type) return e.create(s, out);
     known += known.empty() ? "" : ", ";
     known += std::string("\"") + e.type + "\"";

@@ -4,7 +4,9 @@
  *   1. Write src/<engine>/... as usual (its own public gran_<engine>_* API), then one adapter file
  *      src/io/engine_<type>.cpp with a class derived from gran_engine (below) and a factory
  *        int gran_engine_<type>_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
- *   2. Add one line {"<type>", gran_engine_<type>_create_} to the table in src/io/engine.cpp.
+ *      and src/<engine>/scene_<engine>.cpp (its scene keys as data and the parser of its tables,
+ *      docs/developers/schema.md) and src/<engine>/memory.cpp (its memory model).
+ *   2. Add one line to the table in src/io/engine.cpp (gran_engine_entry, below).
  *      The table is keyed by the scene's `[engine] type` (gran_scene::engine_type, default "dsmc").
  *   3. That is all: the driver writes the output file (root attributes, /time, one group per row
  *      buffer, units/description attributes), checkpoints (engine state in a group the driver
@@ -88,7 +90,7 @@ class gran_engine {
   /* Declare the row buffers of the observables the scene asks for (gran_row_buf_add). */
   virtual int declare(std::vector<gran_row_buf> &bufs) = 0;
   /* Estimated peak bytes of one replica of this scene: the engine with its fixed costs and its
-   * recorded rows (the scene's model, gran_scene_dsmc_bytes_ / gran_scene_srd_bytes_; before
+   * recorded rows (the engine's memory model, gran_engine_entry.memory; before
    * start: the driver refuses a run whose replicas would not fit in the memory available). */
   virtual int memory(int64_t *bytes) = 0;
   /* Build the initial state (a fresh run) from `seed`: the scene's seed for replica 0 (so one
@@ -133,6 +135,51 @@ typedef int (*gran_engine_factory)(const gran_scene *s, std::unique_ptr<gran_eng
 
 /* The engine of the scene's `[engine] type`; named error for an unknown type. */
 int gran_engine_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
+
+/* ---- the engine table (engine.cpp): one entry per engine ----
+ * Besides the factory an entry holds the engine's scene schema (its keys, declared once as data in
+ * src/<engine>/scene_<engine>.cpp), the parser of its tables and its memory model
+ * (src/<engine>/memory.cpp). The core scene parser (scene.cpp) picks the entry by `[engine] type`
+ * (absent: the first, "dsmc"), checks every table's keys against the schema, reads the common
+ * keys and [output], and calls `parse` for the rest; `granary keys` prints the schemas. */
+namespace gran_scene_io {
+class Tab;
+}
+struct gran_scene_doc;
+struct gran_scene_key;
+struct gran_engine_entry {
+  const char *type;              /* `[engine] type` */
+  const char *name;              /* for people: "DSMC (src/dsmc)" */
+  gran_engine_factory create;
+  const gran_scene_key *keys;    /* the engine's scene keys */
+  size_t nkeys;
+  /* called before the top-level keys are checked (NULL: none); GSRD names the DSMC tables */
+  void (*before)(gran_scene_io::Tab &top);
+  /* the engine's tables into the scene; the [engine] table is read here too (with
+   * gran_scene_engine_common_ for the shared keys) */
+  void (*parse)(const gran_scene_doc &doc, gran_scene &s);
+  gran_engine_memory_fn memory;  /* the memory model (io_impl.h) */
+};
+/* The table (*n entries), and the entry of `type` (NULL when there is none). */
+const gran_engine_entry *gran_engine_entries_(size_t *n);
+const gran_engine_entry *gran_engine_find_(const std::string &type);
+
+/* Bytes of the row buffers of one replica: nbuf buffers of elems doubles a row over nt output
+ * times; each buffer's descriptor (gran_row_buf; 1.5 of them: the vector grows by doubling) and
+ * two allocations (its description and its rows). Measured (RSS, VmHWM): 2-D GSRD replicas of 4
+ * particles with 21 output times take 9.0 kB each (1000 and 10000 replicas); this model gives 9.9. */
+double gran_row_bytes_(double nbuf, double elems, double nt);
+/* heap overhead of one allocation (glibc: 16 B header, 16 B rounding on average) */
+constexpr double gran_alloc_bytes = 32.0;
+
+/* src/dsmc/scene_dsmc.cpp, src/srd/scene_srd.cpp: the engines' schemas and parsers */
+extern const gran_scene_key gran_dsmc_scene_keys_[];
+extern const size_t gran_dsmc_scene_nkeys_;
+void gran_dsmc_scene_parse_(const gran_scene_doc &doc, gran_scene &s);
+extern const gran_scene_key gran_srd_scene_keys_[];
+extern const size_t gran_srd_scene_nkeys_;
+void gran_srd_scene_before_(gran_scene_io::Tab &top);
+void gran_srd_scene_parse_(const gran_scene_doc &doc, gran_scene &s);
 
 /* engine_dsmc.cpp */
 int gran_engine_dsmc_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);

@@ -91,10 +91,10 @@ class DsmcEngine : public gran_engine {
     return gran_dsmc_create_agg(mix_, s_->counts_kind == 0 ? s_->counts.data() : nullptr, T0.data(), &opt, &s_->agg,
                                 &sim_);
   }
-  /* one engine of this scene: gran_scene_dsmc_bytes_ (the estimate the scene check uses too) */
+  /* one engine of this scene: the memory model the scene check uses too (src/dsmc/memory.cpp) */
   int memory(int64_t *bytes) override {
-    gran_dsmc_bytes parts;
-    const double b = gran_scene_dsmc_bytes_(*s_, &parts);
+    std::vector<gran_mem_part> parts;
+    const double b = gran_dsmc_memory_(*s_, parts);
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
     return GRAN_SUCCESS;
   }

@@ -1,5 +1,5 @@
 /* engine_srd.cpp - the GSRD engine (src/srd) behind the run driver's engine interface (engine.h):
- * `[engine] type = "srd"` scenes (parsed by parse_scene_srd in scene.cpp into gran_scene::srd).
+ * `[engine] type = "srd"` scenes (parsed by src/srd/scene_srd.cpp into gran_scene::srd).
  *
  * Time: the engine advances in whole steps; the scene's output times are already on the step
  * grid (times[i] = out_steps[i] dt). Observables at each output time come from gran_srd_observe
@@ -252,10 +252,10 @@ class SrdEngine : public gran_engine {
     return GRAN_SUCCESS;
   }
 
-  /* one engine of this scene: gran_scene_srd_bytes_ (the estimate the scene check uses too) */
+  /* one engine of this scene: the memory model the scene check uses too (src/srd/memory.cpp) */
   int memory(int64_t *bytes) override {
-    gran_srd_bytes parts;
-    const double b = gran_scene_srd_bytes_(*s_, &parts);
+    std::vector<gran_mem_part> parts;
+    const double b = gran_srd_memory_(*s_, parts);
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
     return GRAN_SUCCESS;
   }

@@ -83,7 +83,7 @@ struct gran_scene {
   int64_t checkpoint_every = 0;
   int keep_checkpoint = 0;
 
-  /* ---- GSRD scenes (`[engine] type = "srd"`; parsed by parse_scene_srd in scene.cpp, run by
+  /* ---- GSRD scenes (`[engine] type = "srd"`; parsed by src/srd/scene_srd.cpp, run by
    * src/io/engine_srd.cpp). The DSMC fields above keep their defaults in such a scene. ---- */
   struct srd_part {
     gran_srd_options opt = {};       /* every engine key, as gran_srd_create takes it */
@@ -97,34 +97,72 @@ struct gran_scene {
   } srd;
 };
 
+/* One scene key, declared once by the engine that reads it (or by the core for the keys every
+ * engine shares). `granary keys` prints these; the parser takes the known keys of each table, the
+ * defaults and (where `why` is given) the bounds from here. */
+struct gran_scene_key {
+  const char *table;   /* dotted table path ("engine", "boundaries.walls"); "" for the top level */
+  const char *name;    /* key */
+  const char *type;    /* TOML type(s) as documented: "float", "integer", "boolean", "string", "table", ... */
+  const char *def;     /* default as written in a scene ("1.0", "\"cpu\"", "true"); other text (or "") when
+                        * it is derived or the key is required: the parser then gives it itself */
+  const char *bounds;  /* bounds as text; when `why` is set, one of "> a", ">= a", "< a", "<= a", "[a, b]",
+                        * "(a, b]", "[a, b)", "(a, b)" or "a..b" (integers), checked by the reader */
+  const char *unit;    /* unit of the value ("" : none) */
+  const char *meaning; /* one line */
+  const char *field;   /* the C field it fills */
+  const char *why;     /* message when the bounds fail ("{}": the value); "": checked by the engine's code */
+};
+
+/* The keys one scene may hold: the core's shared keys and the engine's own. */
+struct gran_scene_schema {
+  const gran_scene_key *common;
+  size_t ncommon;
+  const gran_scene_key *keys;
+  size_t nkeys;
+};
+
+/* The keys the core declares (title, the tables every engine has, the common [engine] keys,
+ * [output]); *n of them. */
+const gran_scene_key *gran_scene_common_keys_(size_t *n);
+
+/* Problems of a schema ("" : none): a `why` without checkable bounds, an empty name or meaning
+ * (scene.cpp; `granary keys` and its test refuse such a schema). */
+std::string gran_scene_schema_problems_(const gran_scene_key *keys, size_t n);
+/* `b` holds a checkable bound (see gran_scene_key.bounds); *ok: whether v satisfies it */
+bool gran_scene_bounds_(const char *b, double v, bool *ok);
+
 /* scene.cpp */
 int gran_scene_parse_text_(const std::string &text, const std::string &name, gran_scene **scene);
 /* Initial temperatures of the scene (HCS solved with the theory module when asked) and tau0. */
 int gran_scene_T0_(const gran_scene *s, const gran_mixture *mix, double *T0, double *tau0);
-/* Memory of one DSMC engine of this scene, in bytes, by part (the scene check at load time and the
- * DSMC adapter's gran_engine::memory both use it): particles (28 B of state, +32 B of displacement
- * with msd or tamsd, +24 B for the selector's trees and speed classes, +36 B of positions and cell
- * lists and 48 B per cell for the cell selector), species arrays and trees, M x M tables where the
- * scene asks for them, TAMSD trajectories. Returns the sum. */
-struct gran_dsmc_bytes {
-  double particles, species, pairs, trajectories;
-  double fixed; /* the engine's structs, its allocations' overhead, the adapter and its mixture */
-  double rows;  /* the recorded rows of every output time and their buffers (one replica's) */
+/* The memory model of an engine (src/<engine>/memory.cpp), by part: what it is, the scene key that
+ * sets it (named when the run does not fit), and its bytes. The engine adapter's
+ * gran_engine::memory is the sum of `engine`; the scene check (load time, and again when the
+ * replicas change) is the sum of replicas x `peak` + `once`. */
+struct gran_mem_part {
+  const char *what, *table, *key;
+  double engine; /* one replica's engine and its recorded rows */
+  double peak;   /* one replica at the run's peak (the engine, plus a checkpoint image or a copy) */
+  double once;   /* once per run, whatever the replicas */
 };
-double gran_scene_dsmc_bytes_(const gran_scene &s, gran_dsmc_bytes *b);
-/* Memory of one GSRD CPU engine of this scene (src/srd/srd_impl.h), by part: particles (48 B of
- * state, 2 B of slab list, +12 B while the cells are sorted every sort_every steps), cells of the
- * binning grid (24 B reference velocity + 32 B RNG + 8 B of sort offsets) plus each thread's slab
- * work space (64 B per cell and 4 B per particle of one slab of SRD_SLAB_CELLS cells), and the
- * field snapshots of replica 0 (5 doubles per cell each). Returns the sum. */
-struct gran_srd_bytes {
-  double particles, cells, snapshots;
-  double fixed; /* struct gran_srd, its allocations' overhead, the adapter */
-  double rows;  /* the recorded rows of every output time and their buffers (one replica's) */
-};
-double gran_scene_srd_bytes_(const gran_scene &s, gran_srd_bytes *b);
+/* Fills parts (cleared first); returns the sum of `engine` (one replica). */
+typedef double (*gran_engine_memory_fn)(const gran_scene &s, std::vector<gran_mem_part> &parts);
+/* src/dsmc/memory.cpp: particles (28 B of state, +32 B of displacement with msd or tamsd, +24 B
+ * for the selector's trees and speed classes, +36 B of positions and cell lists and 48 B per cell
+ * for the cell selector; twice while a checkpoint image is assembled), species arrays and trees,
+ * M x M tables where the scene asks for them, TAMSD trajectories (twice while the TAMSD is
+ * computed), the structs, the recorded rows, once per run the dense theory Jacobian (M <= 2048). */
+double gran_dsmc_memory_(const gran_scene &s, std::vector<gran_mem_part> &parts);
+/* src/srd/memory.cpp: one GSRD CPU engine (src/srd/srd_impl.h): particles (48 B of state, 2 B of
+ * slab list, +12 B while the cells are sorted every sort_every steps; their state once more while
+ * a checkpoint image is assembled), cells of the binning grid (24 B reference velocity + 32 B RNG
+ * + 8 B of sort offsets) plus each thread's slab work space (64 B per cell and 4 B per particle of
+ * one slab of SRD_SLAB_CELLS cells), the field snapshots of replica 0 (5 doubles per cell each),
+ * the structs, the recorded rows. */
+double gran_srd_memory_(const gran_scene &s, std::vector<gran_mem_part> &parts);
 /* The memory check of a parsed scene after an override of what it runs (replicas): the scene's
- * engine estimate (gran_scene_dsmc_bytes_ / gran_scene_srd_bytes_) for every replica against
+ * engine's memory model (gran_engine_entry.memory) for every replica against
  * [engine] max_memory_gb, else MemAvailable; GRAN_ERR_NOMEM naming `key` (the override) when it
  * does not fit. */
 int gran_scene_check_memory_(const gran_scene *s, const char *key);

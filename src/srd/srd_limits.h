@@ -1,7 +1,7 @@
 /* srd_limits.h - the bounds on what a GSRD run derives from its inputs,
  * written once: gran_srd_create and gran_srd_checkpoint_read check them (check_options, engine.cpp),
  * the scene parser checks them with the scene's run length and names the scene key
- * (parse_scene_srd, src/io/scene.cpp). Each bound is the rule of src/core/derived.h: a derived value
+ * (src/srd/scene_srd.cpp). Each bound is the rule of src/core/derived.h: a derived value
  * must be finite and within its range, else the input is refused by name. README, "GSRD: bounds".
  *
  * Velocity scales u of a run (each only when its effect is on):
