@@ -27,6 +27,7 @@ Default rules for a parameter (C -> Fortran dummy argument):
   T x[N]                   the same with x(N)
   const S *x  / S *x       type(S), intent(in) :: x / intent(inout) :: x (S a plain struct)
   [const] H *h             type(c_ptr), value :: h               (H an opaque handle)
+  F f                      type(c_funptr), value :: f            (F a function-pointer typedef)
   H **h, [const] T **p     type(c_ptr), intent(out) :: h; intent(inout) in *_destroy
   const char *s / char *s  character(kind=c_char), intent(in) :: s(*) / intent(out) :: s(*)
   void *p                  type(c_ptr), value :: p
@@ -183,9 +184,7 @@ def parse_header(text):
     code = strip_comments(text)
     # preprocessor lines (with their continuations) out
     code = re.sub(r'^[ \t]*#(?:[^\n]*\\\n)*[^\n]*', '', code, flags=re.M)
-    code = code.replace('extern "C"', '')
     structs, opaque, funptrs, funcs = [], set(), set(), []
-    struct_names = set()
     for stmt in split_statements(code):
         s = ' '.join(stmt.split())
         if not s:
@@ -207,7 +206,6 @@ def parse_header(text):
             if m.group(1) != m.group(3):
                 raise GenError('%s: typedef struct %s ... %s: names differ' % (HEADER, m.group(1), m.group(3)))
             structs.append((m.group(1), parse_fields(m.group(1), m.group(2))))
-            struct_names.add(m.group(1))
             continue
         m = re.match(r'typedef struct (\w+) (\w+)$', s)
         if m:
@@ -318,11 +316,13 @@ def field_decl(struct, f, structs, funptrs):
     return t, ('0.0_c_double' if t == 'real(c_double)' else '0')
 
 
-def param_decl(func, p, ann, structs, opaque):
+def param_decl(func, p, ann, structs, opaque, funptrs):
     """(Fortran type and attributes, dimension suffix) of a parameter."""
     kind = ann.get(p['name'])
     where = '%s(%s)' % (func, p['name'])
     t, ptr, const = p['type'], p['ptr'], p['const']
+    if t in funptrs and ptr == 0 and p['len'] is None and kind is None:
+        return 'type(c_funptr), value', ''
     if kind in ('null', 'ptr'):
         if ptr == 0 and p['len'] is None:
             raise GenError('%s: %s is not a pointer (annotation %s)' % (HEADER, where, kind))
@@ -435,7 +435,7 @@ def gen_raw(consts, structs, opaque, funptrs, funcs, ann):
         else:
             raise GenError('%s: %s returns "%s" (int or const char * only)' % (HEADER, fname, ret))
         fn = fortran_names(pnames, [rname, 'c_' + fname])
-        decls = [param_decl(fname, p, a, struct_map, opaque) for p in params]
+        decls = [param_decl(fname, p, a, struct_map, opaque, funptrs) for p in params]
         imports = set()
         for t, _ in decls + [(rtype, '')]:
             imports.update(re.findall(r'\b(c_\w+)\b', t))
