@@ -19,8 +19,8 @@ program t901_layout_f
   type(gran_dsmc_cell_options) :: cell_opt ! cell selector
   type(gran_dsmc_cluster_stats) :: cluster_st
   type(gran_dsmc_agg_options) :: agg_opt ! aggregation in the event selectors
-  type(gran_dsmc_options) :: dsmc_opt ! DSMC (speed classes, issue 11)
-  type(gran_dsmc_stats) :: dsmc_st    ! DSMC (speed classes, issue 11)
+  type(gran_dsmc_options) :: dsmc_opt ! DSMC (speed classes)
+  type(gran_dsmc_stats) :: dsmc_st    ! DSMC (speed classes)
   integer(c_int64_t) :: value
   integer :: ierr
 
@@ -43,8 +43,8 @@ program t901_layout_f
   call check('GRAN_SPEED_CLASSES_OFF', int(GRAN_SPEED_CLASSES_OFF, c_size_t))
   call check('GRAN_SPEED_CLASSES_ON', int(GRAN_SPEED_CLASSES_ON, c_size_t))
   call check('GRAN_SPEED_CLASSES_AUTO', int(GRAN_SPEED_CLASSES_AUTO, c_size_t))
-  call check('sizeof(gran_dsmc_options)', c_sizeof(dsmc_opt)) ! DSMC (speed classes, issue 11)
-  call check('sizeof(gran_dsmc_stats)', c_sizeof(dsmc_st))    ! DSMC (speed classes, issue 11)
+  call check('sizeof(gran_dsmc_options)', c_sizeof(dsmc_opt)) ! DSMC (speed classes)
+  call check('sizeof(gran_dsmc_stats)', c_sizeof(dsmc_st))    ! DSMC (speed classes)
 
   call check('GRAN_VERSION_MAJOR', int(GRAN_VERSION_MAJOR, c_size_t))
   call check('GRAN_VERSION_MINOR', int(GRAN_VERSION_MINOR, c_size_t))

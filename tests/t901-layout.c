@@ -92,7 +92,7 @@ static void test_constants(void **state) {
   EXPECT_CONST(GRAN_PLACE_COLLISION);
   EXPECT_CONST(GRAN_FRAG_MONOMERS); /* aggregation: fragment laws */
   EXPECT_CONST(GRAN_FRAG_BINARY);
-  EXPECT_CONST(GRAN_SPEED_CLASSES_OFF); /* speed classes (issue 11) */
+  EXPECT_CONST(GRAN_SPEED_CLASSES_OFF); /* speed classes */
   EXPECT_CONST(GRAN_SPEED_CLASSES_ON);
   EXPECT_CONST(GRAN_SPEED_CLASSES_AUTO);
 }
