@@ -8,7 +8,7 @@
 
 The model is FFTW's api/genf03.pl: the C declarations are parsed, a type table maps each C type to
 its Fortran kind, and a few annotations (the table ANNOTATIONS below) say what a pointer parameter
-is where the default rule does not. Four files come out of one parse:
+is where the default rule does not. Three files come out of one parse:
 
   bindings/granary_raw.inc   included by bindings/granary.f90 (module granary): every integer
                              constant (enums, error codes, version), every plain struct as a
@@ -46,7 +46,6 @@ library's *_default fills it) are in FIELD_INIT; a component not named there sta
 import os
 import re
 import sys
-import textwrap
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 HEADER = 'include/granary.h'
