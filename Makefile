@@ -11,7 +11,9 @@
 # CUDA_ARCH / CUDA_PTX (default: the visible GPU's SM, else PTX compute_80 only; all four GPUs:
 # CUDA_ARCH="80 90 100 120"), BUILD (build folder), T (test patterns: T='t2* t52*').
 # Builds and tests run on every core unless -jN is given (make -j1: one at a time); ccache is used
-# for CC/CXX when it is installed.
+# for CC/CXX when it is installed. The Fortran raw layer, the gran_abi_query table and t901's list
+# are generated from include/granary.h: after changing the header run python3 bindings/gen_raw.py
+# (make fails while they are stale).
 # HELP_END
 
 # Parallel by default: -j<cores> unless the command line gives -j (GNU make 4.3 lets a command-line
@@ -133,6 +135,12 @@ LIB_OBJ  := $(LIB_SRC:%.cpp=$(BUILD)/obj/%.o) $(patsubst %,$(BUILD)/obj/%.o,$(ba
 CLI_OBJ  := $(CLI_SRC:%.cpp=$(BUILD)/obj/%.o)
 FMOD_SRC := bindings/granary.f90
 FMOD_OBJ := $(BUILD)/obj/bindings/granary.o
+# The raw layer of the Fortran module (constants, bind(C) types, interfaces), the gran_abi_query
+# table and t901-layout-f's list, generated from include/granary.h by bindings/gen_raw.py.
+GEN_RAW     := bindings/gen_raw.py
+GEN_RAW_OUT := bindings/granary_raw.inc src/core/abi_table.inc tests/t901-layout-f.inc
+# the module the Fortran tests share (expect, require, test_finish)
+FTEST_OBJ := $(BUILD)/obj/tests/granary_test_f.o
 
 LIB_A    := $(BUILD)/libgranary.a
 # Shared library: SONAME libgranary.so.MAJOR, file libgranary.so.MAJOR.MINOR.PATCH, and the links
@@ -159,10 +167,11 @@ BENCH_BIN:= $(BENCH_C:bench/%.c=$(BUILD)/bench/%)
 GPU_TEST_C := $(sort $(wildcard tests/gpu/t*.c))
 GPU_TEST_BIN := $(GPU_TEST_C:tests/gpu/%.c=$(BUILD)/tests/gpu/%)
 
-.PHONY: all lib run test test-asan test-gpu bench-gpu bench install deps info clean help check-header fuzz doc-numbers
+.PHONY: all lib run test test-asan test-gpu bench-gpu bench install deps info clean help check-header fuzz doc-numbers \
+        check-generated
 .DEFAULT_GOAL := all
 
-all: $(LIB_A) $(LIB_SO) $(LIBF_A) $(CLI) check-header
+all: $(LIB_A) $(LIB_SO) $(LIBF_A) $(CLI) check-header check-generated
 
 # ---- compile ----------------------------------------------------------------------------------
 $(BUILD)/obj/%.o: %.cpp $(CONFIG)
@@ -176,7 +185,7 @@ $(BUILD)/obj/cuda/%.o: cuda/%.cu $(CONFIG) $(CUDA_STAMP) include/granary.h src/g
 	@mkdir -p $(@D)
 	$(NVCC) $(CPPFLAGS) $(NVCCFLAGS) -c $< -o $@
 
-$(FMOD_OBJ): $(FMOD_SRC) $(CONFIG)
+$(FMOD_OBJ): $(FMOD_SRC) bindings/granary_raw.inc $(CONFIG)
 	@mkdir -p $(@D) $(BUILD)/mod
 	$(FC) $(FFLAGS) -c $< -o $@
 
@@ -204,14 +213,30 @@ $(BUILD)/check/header-c99.o: include/granary.h $(CONFIG)
 	@mkdir -p $(@D)
 	$(CC) -std=c99 -pedantic-errors $(WARN) -Iinclude -x c -c $< -o $@
 
+# The generated files must be what bindings/gen_raw.py makes of the current header (checked when
+# the header, the script or a generated file changes; skipped with a note without python3).
+check-generated: $(BUILD)/stamp/generated-current
+$(BUILD)/stamp/generated-current: include/granary.h $(GEN_RAW) $(GEN_RAW_OUT) bindings/granary.f90
+	@mkdir -p $(@D)
+	@if command -v python3 >/dev/null 2>&1; then \
+	  python3 $(GEN_RAW) --check || { echo "make: the generated files are stale; run: python3 $(GEN_RAW)" >&2; exit 1; }; \
+	else echo "note: python3 not found; not checking that $(GEN_RAW_OUT) are current"; fi
+	@touch $@
+
 # ---- tests ------------------------------------------------------------------------------------
 $(BUILD)/tests/%: tests/%.c tests/granary_test.h $(LIB_A)
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(PKG_CFLAGS) -Itests -Icuda $(CFLAGS) -o $@ $< $(LIB_A) $(CMOCKA_LIBS) $(LDLIBS)
 
-$(BUILD)/tests/%-f: tests/%-f.f90 $(LIBF_A) $(LIB_A)
+$(FTEST_OBJ): tests/granary_test_f.f90 $(CONFIG)
+	@mkdir -p $(@D) $(BUILD)/mod
+	$(FC) $(FFLAGS) -c $< -o $@
+
+$(BUILD)/tests/%-f: tests/%-f.f90 $(FTEST_OBJ) $(LIBF_A) $(LIB_A)
 	@mkdir -p $(@D)
-	$(FC) $(FFLAGS) -o $@ $< $(LIBF_A) $(LIB_A) $(LDLIBS)
+	$(FC) $(FFLAGS) -o $@ $< $(FTEST_OBJ) $(LIBF_A) $(LIB_A) $(LDLIBS)
+
+$(BUILD)/tests/t901-layout-f: tests/t901-layout-f.inc
 
 $(BUILD)/tests/example-c-%: bindings/examples/%.c $(LIB_A)
 	@mkdir -p $(@D)
@@ -230,7 +255,7 @@ $(BUILD)/tests/gpu/%: tests/gpu/%.c tests/granary_test.h $(LIB_A)
 TEST_SH  := $(sort $(wildcard $(patsubst %,tests/%.sh,$(T))))
 
 # The runner runs as many tests at once as make runs jobs (-jN; default and plain -j: the cores).
-test: $(TEST_BIN) $(CLI) check-header $(LIB_SO) $(LIBF_A)
+test: $(TEST_BIN) $(CLI) check-header check-generated $(LIB_SO) $(LIBF_A)
 	@GRAN_TEST_JOBS=$(or $(patsubst -j%,%,$(filter -j%,$(MAKEFLAGS))),$(NPROC)) GRAN_SOURCE_DIR=$(CURDIR) GRAN_BUILD=$(BUILD) GRAN_SAN="$(SAN)" GRAN_OPT="$(OPT)" GRAN_NVCC="$(NVCC)" \
 	  GRAN_CLI=$(CURDIR)/$(CLI) sh tests/run-tests.sh $(TEST_BIN) $(TEST_SH)
 

@@ -174,9 +174,10 @@ GRAN_EXTERN int gran_particles_swap_remove(gran_particles *p, int64_t i);
 /* bytes held by the arrays: capacity * (28, +32 displacement, +24 position, +8 mass) */
 GRAN_EXTERN int gran_particles_memory(const gran_particles *p, int64_t *bytes);
 
-/* ABI self-description for bindings: "sizeof(gran_rng)" etc. for every struct of this header and
- * the value of every enum constant and version macro by its name ("GRAN_ERR_ARG",
- * "GRAN_SELECTOR_BIRD", "GRAN_VERSION_MAJOR", ...). Unknown name: GRAN_ERR_ARG. */
+/* ABI self-description for bindings: "sizeof(gran_rng)" for every struct of this header,
+ * "offsetof(gran_rng, s)" for every field of each, and the value of every enum constant and version
+ * macro by its name ("GRAN_ERR_ARG", "GRAN_SELECTOR_BIRD", "GRAN_VERSION_MAJOR", ...). Unknown name:
+ * GRAN_ERR_ARG. */
 GRAN_EXTERN int gran_abi_query(const char *name, int64_t *value);
 
 /* ---- Kinetic theory (src/theory) ------------------------------------------------------------

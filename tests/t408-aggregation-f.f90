@@ -5,20 +5,21 @@
 program t408_aggregation_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   type(c_ptr) :: mix
   real(c_double) :: fs, ff, q, n0(60), n(60, 2), ov(3, 2), t(2), tau, dens(3), t0(3), nn(3, 2), tt(3, 2), tm(3, 2)
   real(c_double) :: mass
-  integer :: ierr, k, nfail = 0
+  integer :: ierr, k
 
   call gran_theory_agg_fractions(1.0_c_double, 1.0_c_double, 2.0_c_double, 2.0_c_double, 1.0_c_double, &
                                  3.0_c_double, fs, ff)
   q = 0.5_c_double
-  call check('stick fraction 1 - (1+q) e^-q', abs(fs - (1 - (1 + q) * exp(-q))) < 1e-14_c_double)
-  call check('shatter fraction e^-w', abs(ff - exp(-1.5_c_double)) < 1e-14_c_double)
+  call expect(abs(fs - (1 - (1 + q) * exp(-q))) < 1e-14_c_double, 'stick fraction 1 - (1+q) e^-q')
+  call expect(abs(ff - exp(-1.5_c_double)) < 1e-14_c_double, 'shatter fraction e^-w')
   call gran_theory_agg_fractions(-1.0_c_double, 1.0_c_double, 2.0_c_double, 2.0_c_double, 1.0_c_double, &
                                  3.0_c_double, fs, ff, ierr)
-  call check('negative mass -> GRAN_ERR_ARG', ierr == GRAN_ERR_ARG)
+  call expect(ierr == GRAN_ERR_ARG, 'negative mass -> GRAN_ERR_ARG')
 
   n0 = 0
   n0(1) = 1
@@ -26,9 +27,9 @@ program t408_aggregation_f
   call gran_theory_smoluchowski_constant(1.0_c_double, n0, t, 1e-11_c_double, n, ov)
   do k = 1, 2
     tau = t(k) / 2
-    call check('constant kernel n_5 (1e-7)', abs(n(5, k) / (tau**4 / (1 + tau)**6) - 1) < 1e-7_c_double)
+    call expect(abs(n(5, k) / (tau**4 / (1 + tau)**6) - 1) < 1e-7_c_double, 'constant kernel n_5 (1e-7)')
     mass = sum([(real(k, c_double), k = 1, 60)] * n(:, k)) + ov(2, k)
-    call check('constant kernel mass closes (1e-12)', abs(mass - 1) < 1e-12_c_double)
+    call expect(abs(mass - 1) < 1e-12_c_double, 'constant kernel mass closes (1e-12)')
   end do
 
   dens = [0.1_c_double, 0.03_c_double, 0.01_c_double]
@@ -37,30 +38,15 @@ program t408_aggregation_f
   t0 = [1.0_c_double, 3.0_c_double, 0.5_c_double]
   call gran_theory_aggregation(mix, t0, 0.0_c_double, huge(1.0_c_double), 0.5_c_double, t, 1e-10_c_double, nn, tt)
   call gran_theory_temperatures(mix, t0, t, 1e-10_c_double, tm)
-  call check('E_agg = 0, E_frag = huge: mixture temperatures (1e-7)', maxval(abs(tt / tm - 1)) < 1e-7_c_double)
+  call expect(maxval(abs(tt / tm - 1)) < 1e-7_c_double, 'E_agg = 0, E_frag = huge: mixture temperatures (1e-7)')
   call gran_theory_aggregation(mix, t0, 2.0_c_double, 3.0_c_double, 0.5_c_double, t, 1e-9_c_double, nn, tt, ov)
   do k = 1, 2
     mass = nn(1, k) + 2 * nn(2, k) + 3 * nn(3, k) + ov(2, k)
-    call check('ballistic aggregation mass closes (1e-12)', abs(mass / 0.19_c_double - 1) < 1e-12_c_double)
+    call expect(abs(mass / 0.19_c_double - 1) < 1e-12_c_double, 'ballistic aggregation mass closes (1e-12)')
   end do
   call gran_theory_aggregation(mix, t0, 2.0_c_double, 3.0_c_double, 1.5_c_double, t, 1e-9_c_double, nn, ierr=ierr)
-  call check('eps_f = 1.5 -> GRAN_ERR_ARG', ierr == GRAN_ERR_ARG)
+  call expect(ierr == GRAN_ERR_ARG, 'eps_f = 1.5 -> GRAN_ERR_ARG')
   call gran_mixture_destroy(mix)
 
-  if (nfail > 0) error stop 1
-  print '(a)', 't408-aggregation-f: all checks passed'
-
-contains
-
-  subroutine check(what, ok)
-    character(len=*), intent(in) :: what
-    logical, intent(in) :: ok
-    if (ok) then
-      print '(a, a)', '  ok    ', what
-    else
-      print '(a, a)', '  FAIL  ', what
-      nfail = nfail + 1
-    end if
-  end subroutine check
-
+  call test_finish('t408-aggregation-f')
 end program t408_aggregation_f

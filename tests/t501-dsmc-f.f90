@@ -6,6 +6,7 @@
 program t501_dsmc_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   type(c_ptr) :: mix, sim, sim2
   type(gran_dsmc_options) :: opt
@@ -16,10 +17,9 @@ program t501_dsmc_f
   real(c_double), allocatable :: vs1(:, :), vs2(:, :), vbad(:, :)
   integer(c_int32_t), pointer :: tsp(:)
   integer(c_int64_t) :: counts(2), offs(3), cc(2, 2), value, nbad(2)
-  integer :: ierr, failures
+  integer :: ierr
   character(len=*), parameter :: ckpt = '/tmp/granary-t501-f.h5'
 
-  failures = 0
 
   ! ABI: struct sizes and enum values as the C library sees them
   call gran_abi_query('sizeof(gran_dsmc_options)', value)
@@ -139,21 +139,5 @@ program t501_dsmc_f
   call expect(.not. c_associated(sim), 'destroy nulls the handle')
   call gran_mixture_destroy(mix)
 
-  if (failures > 0) then
-    write(*, '(a, i0, a)') 't501-dsmc-f: ', failures, ' check(s) failed'
-    error stop 1
-  end if
-  write(*, '(a)') 't501-dsmc-f: all checks passed'
-
-contains
-
-  subroutine expect(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      write(*, '(a)') 'FAILED: ' // what
-      failures = failures + 1
-    end if
-  end subroutine expect
-
+  call test_finish('t501-dsmc-f')
 end program t501_dsmc_f

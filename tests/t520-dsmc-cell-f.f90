@@ -6,6 +6,7 @@
 program t520_dsmc_cell_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   type(c_ptr) :: mix, sim, scene
   type(gran_dsmc_options) :: opt
@@ -18,7 +19,7 @@ program t520_dsmc_cell_f
   integer(c_int64_t), allocatable :: sz(:), cn(:)
   real(c_double), allocatable :: tk(:)
   type(gran_dsmc_cluster_stats) :: cst
-  integer :: ierr, failures
+  integer :: ierr
   real(c_double), parameter :: pi = 3.14159265358979323846_c_double, n = 0.01_c_double
   character(len=*), parameter :: text = &
     '[mixture]' // new_line('a') // 'nspecies = 1' // new_line('a') // 'density = [0.01]' // new_line('a') // &
@@ -27,7 +28,6 @@ program t520_dsmc_cell_f
     't_end = 1.0' // new_line('a') // '[cell]' // new_line('a') // 'cells = 2' // new_line('a') // &
     'dt = 0.25' // new_line('a') // 'e_agg = 0.5' // new_line('a')
 
-  failures = 0
   call gran_abi_query('sizeof(gran_dsmc_cell_options)', value)
   call expect(value == c_sizeof(cell), 'sizeof(gran_dsmc_cell_options)')
   call gran_abi_query('GRAN_SELECTOR_CELL', value)
@@ -97,21 +97,5 @@ program t520_dsmc_cell_f
   call expect(ierr == GRAN_ERR_ARG, 'info of a NULL engine refused')
   call gran_mixture_destroy(mix)
 
-  if (failures > 0) then
-    print '(i0, a)', failures, ' checks failed'
-    error stop 1
-  end if
-  print '(a)', 't520-dsmc-cell-f: all checks passed'
-
-contains
-
-  subroutine expect(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      print '(a)', 'FAILED: ' // what
-      failures = failures + 1
-    end if
-  end subroutine expect
-
+  call test_finish('t520-dsmc-cell-f')
 end program t520_dsmc_cell_f

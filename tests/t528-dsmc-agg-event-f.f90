@@ -7,6 +7,7 @@
 program t528_dsmc_agg_event_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   type(c_ptr) :: mix, sim, scene
   type(gran_dsmc_options) :: opt
@@ -15,7 +16,7 @@ program t528_dsmc_agg_event_f
   type(gran_dsmc_stats) :: st
   real(c_double) :: ek, e0, ed, nth(3, 2), ov(3, 2)
   integer(c_int64_t) :: value
-  integer :: ierr, failures, q
+  integer :: ierr, q
   integer(c_int32_t), parameter :: sel(2) = [GRAN_SELECTOR_LOWRANK, GRAN_SELECTOR_BIRD]
   real(c_double), parameter :: n = 0.01_c_double
   character(len=*), parameter :: text = &
@@ -25,7 +26,6 @@ program t528_dsmc_agg_event_f
     't_end = 1.0' // new_line('a') // '[aggregation]' // new_line('a') // 'e_agg = 0.5' // new_line('a') // &
     'frag_law = "binary"' // new_line('a')
 
-  failures = 0
   call gran_abi_query('sizeof(gran_dsmc_agg_options)', value)
   call expect(value == c_sizeof(agg), 'sizeof(gran_dsmc_agg_options)')
   call gran_dsmc_agg_options_default(agg)
@@ -87,21 +87,5 @@ program t528_dsmc_agg_event_f
               agg2%e_frag > huge(1.0_c_double), 'scene [aggregation] options')
   call gran_scene_destroy(scene)
 
-  if (failures > 0) then
-    print '(i0, a)', failures, ' checks failed'
-    error stop 1
-  end if
-  print '(a)', 't528-dsmc-agg-event-f: all checks passed'
-
-contains
-
-  subroutine expect(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      print '(a)', 'FAILED: ' // what
-      failures = failures + 1
-    end if
-  end subroutine expect
-
+  call test_finish('t528-dsmc-agg-event-f')
 end program t528_dsmc_agg_event_f

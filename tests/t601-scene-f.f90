@@ -24,6 +24,7 @@ program t601_scene_f
   use, intrinsic :: iso_c_binding
   use granary
   use t601_progress
+  use granary_test_f
   implicit none
   type(c_ptr) :: scene, mix, sim
   integer :: ierr, m, nt, nl, have
@@ -32,7 +33,7 @@ program t601_scene_f
   character(len=:), allocatable :: text, path, msg
   character(len=64) :: tag
   character(len=1), parameter :: nl_ = achar(10)
-  character(len=256) :: outp, ckp
+  character(len=256) :: outp, ckp, line
   type(gran_run_control) :: ctl
   type(gran_run_result) :: res
   real :: r
@@ -65,51 +66,48 @@ program t601_scene_f
          '[output]' // nl_ // 'path = "' // trim(outp) // '"' // nl_ // 'checkpoint_every = 2' // nl_
   call gran_scene_parse(text, 'f.toml', scene)
   call gran_scene_sizes(scene, m, nt, nl, t0, t1)
-  if (m /= 2 .or. nt /= 4 .or. nl /= 2 .or. t0 /= 0.0d0 .or. t1 /= 4.0d0) then
-    write(*, *) 'sizes', m, nt, nl, t0, t1
-    error stop 1
-  end if
+  write(line, *) m, nt, nl, t0, t1
+  call require(m == 2 .and. nt == 4 .and. nl == 2 .and. t0 == 0.0d0 .and. t1 == 4.0d0, &
+               'sizes: 2 species, 4 times, 2 lags, t from 0 to 4:' // trim(line))
   call gran_scene_times(scene, times)
-  if (any(times /= [0.5d0, 1.0d0, 2.0d0, 4.0d0])) error stop 1
+  call require(all(times == [0.5d0, 1.0d0, 2.0d0, 4.0d0]), 'output times')
   call gran_scene_lags(scene, lags)
-  if (any(lags /= [0.25d0, 1.0d0])) error stop 1
+  call require(all(lags == [0.25d0, 1.0d0]), 'TAMSD lags')
   call gran_scene_text(scene, msg)
-  if (msg /= text) error stop 1
+  call require(msg == text, 'the scene text')
   call gran_scene_output_path(scene, path)
-  if (path /= trim(outp)) error stop 1
+  call require(path == trim(outp), 'the output path')
 
   call gran_scene_mixture(scene, mix)
   call gran_scene_initial_temperatures(scene, mix, T, tau0)
-  if (any(T /= [1.0d0, 1.5d0])) error stop 1
+  call require(all(T == [1.0d0, 1.5d0]), 'initial temperatures')
   block
     ! the engine options land in C memory laid out as gran_dsmc_options; only counts are read here
     integer(c_int64_t), target :: optbuf(16)
     call gran_scene_dsmc_options(scene, c_loc(optbuf), counts, have)
   end block
-  if (have /= 1 .or. any(counts /= [500_c_int64_t, 250_c_int64_t])) error stop 1
+  call require(have == 1 .and. all(counts == [500_c_int64_t, 250_c_int64_t]), 'engine options: the counts')
   call gran_scene_dsmc(scene, mix, sim)
-  if (.not. c_associated(sim)) error stop 1
+  call require(c_associated(sim), 'gran_scene_dsmc makes an engine')
   ierr = c_dsmc_destroy(sim)
-  if (ierr /= 0) error stop 1
+  call require(ierr == 0, 'engine destroyed')
   ierr = c_mixture_destroy(mix)
-  if (ierr /= 0) error stop 1
+  call require(ierr == 0, 'mixture destroyed')
 
   ! run with a progress callback, stop after the first checkpoint, then resume
   ctl%progress = c_funloc(on_progress)
   ctl%stop_after_checkpoints = 1
   call gran_scene_run(scene, checkpoint=trim(ckp), ctl=ctl, result=res)
-  if (res%finished /= 0 .or. res%checkpoints /= 1 .or. ncalls /= 2) then
-    write(*, *) 'stopped run', res%finished, res%checkpoints, ncalls
-    error stop 1
-  end if
+  write(line, *) res%finished, res%checkpoints, ncalls
+  call require(res%finished == 0 .and. res%checkpoints == 1 .and. ncalls == 2, &
+               'stopped run: not finished, 1 checkpoint, 2 progress calls:' // trim(line))
   ctl%stop_after_checkpoints = 0
   call gran_scene_resume(trim(ckp), ctl=ctl, result=res)
-  if (res%finished /= 1 .or. ncalls /= 4 .or. res%time /= 4.0d0) then
-    write(*, *) 'resumed run', res%finished, ncalls, res%time
-    error stop 1
-  end if
+  write(line, *) res%finished, ncalls, res%time
+  call require(res%finished == 1 .and. ncalls == 4 .and. res%time == 4.0d0, &
+               'resumed run: finished, 4 progress calls, t = 4:' // trim(line))
   open(unit=10, file=trim(outp), status='old', iostat=ierr)
-  if (ierr /= 0) error stop 1
+  call require(ierr == 0, 'the output file exists')
   close(10, status='delete')
 
   call gran_scene_destroy(scene)
@@ -117,23 +115,21 @@ program t601_scene_f
   ! exact error codes
   call gran_scene_parse('[mixture]' // nl_ // 'density = [0.1]' // nl_ // '[engine]' // nl_ // &
                         'counts = [10]' // nl_ // 't_end = -1.0' // nl_, 'bad.toml', scene, ierr)
-  if (ierr /= GRAN_ERR_PARSE) error stop 1
+  call require(ierr == GRAN_ERR_PARSE, 't_end = -1: GRAN_ERR_PARSE')
   msg = gran_last_error_message()
-  if (index(msg, 'engine.t_end') == 0 .or. index(msg, 'bad.toml:5') == 0) then
-    write(*, *) msg
-    error stop 1
-  end if
+  call require(index(msg, 'engine.t_end') > 0 .and. index(msg, 'bad.toml:5') > 0, &
+               'the message names the key and its line: ' // msg)
   call gran_scene_load('/nonexistent/x.toml', scene, ierr)
-  if (ierr /= GRAN_ERR_IO) error stop 1
+  call require(ierr == GRAN_ERR_IO, 'missing scene file: GRAN_ERR_IO')
   call gran_scene_resume('/nonexistent/x.ckpt', ierr=ierr)
-  if (ierr /= GRAN_ERR_IO) error stop 1
+  call require(ierr == GRAN_ERR_IO, 'missing checkpoint: GRAN_ERR_IO')
   call gran_scene_destroy(scene)
   call gran_scene_parse(text, 'f.toml', scene)
   call gran_scene_run(scene, output='/dev/null/o.h5', checkpoint='', ierr=ierr)
-  if (ierr /= GRAN_ERR_IO) error stop 1
+  call require(ierr == GRAN_ERR_IO, 'unwritable output: GRAN_ERR_IO')
   call gran_scene_destroy(scene)
-  if (c_associated(scene)) error stop 1
+  call require(.not. c_associated(scene), 'destroy nulls the handle')
   call gran_scene_destroy(scene) ! safe twice
   deallocate(text, path, msg)
-  write(*, '(a)') 't601-scene-f: ok'
+  call test_finish('t601-scene-f')
 end program t601_scene_f

@@ -5,6 +5,7 @@
 program t607_replicas_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   type(c_ptr) :: scene
   integer :: ierr, r, nth
@@ -30,32 +31,32 @@ program t607_replicas_f
          '[output]' // nl_ // 'path = "' // trim(outp) // '"' // nl_ // 'checkpoint_every = 2' // nl_
   call gran_scene_parse(text, 'f.toml', scene)
   call gran_scene_replicas(scene, r, keep)
-  if (r /= 2 .or. keep) error stop 1
+  call require(r == 2 .and. .not. keep, 'the scene has 2 replicas, not kept')
   call gran_scene_set_replicas(scene, 3, .true.)
   call gran_scene_replicas(scene, r, keep)
-  if (r /= 3 .or. .not. keep) error stop 1
+  call require(r == 3 .and. keep, 'set_replicas: 3 replicas, kept')
   call gran_set_threads(2)
   call gran_get_threads(nth)
-  if (nth /= 2) error stop 1
+  call require(nth == 2, 'set_threads(2) reads back 2')
 
   ctl%stop_after_checkpoints = 1
   call gran_scene_run(scene, checkpoint=trim(ckp), ctl=ctl, result=res)
-  if (res%finished /= 0) error stop 1
+  call require(res%finished == 0, 'the run stops after its first checkpoint')
   call gran_set_threads(1)
   call gran_scene_resume(trim(ckp), result=res)
-  if (res%finished /= 1 .or. res%time /= 4.0d0) error stop 1
+  call require(res%finished == 1 .and. res%time == 4.0d0, 'the resumed run (1 thread) finishes at t_end')
   open(unit=10, file=trim(outp), status='old', iostat=ierr)
-  if (ierr /= 0) error stop 1
+  call require(ierr == 0, 'the output file exists')
   close(10, status='delete')
 
   ! exact error codes
   call gran_scene_set_replicas(scene, 0, .false., ierr)
-  if (ierr /= GRAN_ERR_ARG) error stop 1
-  if (index(gran_last_error_message(), 'replicas') == 0) error stop 1
+  call require(ierr == GRAN_ERR_ARG, '0 replicas: GRAN_ERR_ARG')
+  call require(index(gran_last_error_message(), 'replicas') > 0, 'the message names replicas')
   call gran_set_threads(-3, ierr)
-  if (ierr /= GRAN_ERR_ARG) error stop 1
+  call require(ierr == GRAN_ERR_ARG, '-3 threads: GRAN_ERR_ARG')
   call gran_set_threads(0)
   call gran_scene_destroy(scene)
   deallocate(text)
-  write(*, '(a)') 't607-replicas-f: ok'
+  call test_finish('t607-replicas-f')
 end program t607_replicas_f

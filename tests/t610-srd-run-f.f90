@@ -7,6 +7,7 @@
 program t610_srd_run_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   type(c_ptr) :: srd, scene
   type(gran_srd_options) :: opt
@@ -14,12 +15,11 @@ program t610_srd_run_f
   real(c_double), allocatable :: cnt(:), vel(:, :), th(:), short(:)
   real(c_double) :: p(3), e2, t0, t1, times(5)
   integer(c_int64_t) :: nc
-  integer :: ierr, failures, m, nt, nl, c
+  integer :: ierr, m, nt, nl, c
   character(len=*), parameter :: out = '/tmp/granary-t610-f.h5'
   character(len=1), parameter :: nl_ = achar(10)
   character(len=:), allocatable :: msg
 
-  failures = 0
   call gran_srd_options_default(opt)
   opt%cells = [5, 4, 3]
   opt%n0 = 6.0_c_double
@@ -70,15 +70,5 @@ program t610_srd_run_f
   call expect(index(msg, "bad.toml:4: key 'engine.alpha'") > 0, 'bad scene: alpha named with its line')
 
   deallocate(msg)
-  if (failures > 0) error stop 1
-  write(*, '(a)') 't610-srd-run-f: all checks passed'
-contains
-  subroutine expect(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      write(*, '(a)') 'FAIL: ' // what
-      failures = failures + 1
-    end if
-  end subroutine expect
+  call test_finish('t610-srd-run-f')
 end program t610_srd_run_f

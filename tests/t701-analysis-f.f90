@@ -4,6 +4,7 @@
 program t701_analysis_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   integer, parameter :: nt = 300, ntraj = 4
   real(c_double) :: xyz(3, nt, ntraj), a(nt), b(nt), step(3), a2, hist(20), axes(3, 6), vel(3, 2)
@@ -16,9 +17,9 @@ program t701_analysis_f
     xyz(:, i, 1) = [1d0, 2d0, 3d0] + [0.5d0, -1d0, 2d0] * (i - 1) * 0.1d0
   end do
   call gran_tamsd(xyz(:, :, 1:1), a)
-  call expect(a(1) == 0d0, 'lag 0 is 0')
-  call expect(all([(abs(a(l + 1) - 5.25d0 * (l * 0.1d0)**2) <= 1d-10 * 5.25d0 * (l * 0.1d0)**2, l = 1, nt - 1)]), &
-              'ballistic TAMSD = |v|^2 (L dt)^2 to 1e-10')
+  call require(a(1) == 0d0, 'lag 0 is 0')
+  call require(all([(abs(a(l + 1) - 5.25d0 * (l * 0.1d0)**2) <= 1d-10 * 5.25d0 * (l * 0.1d0)**2, l = 1, nt - 1)]), &
+               'ballistic TAMSD = |v|^2 (L dt)^2 to 1e-10')
 
   ! random walks: FFT plan (executed twice) equals the direct sum to 1e-10 relative
   call gran_rng_seed(g, 7_c_int64_t)
@@ -33,12 +34,12 @@ program t701_analysis_f
   call gran_tamsd_plan_execute(plan, xyz, a)
   call gran_tamsd_plan_execute(plan, xyz, a)
   call gran_tamsd_direct(xyz, b)
-  call expect(all(abs(a(2:) - b(2:)) <= 1d-10 * b(2:)), 'FFT TAMSD equals the direct sum')
+  call require(all(abs(a(2:) - b(2:)) <= 1d-10 * b(2:)), 'FFT TAMSD equals the direct sum')
   print '(a, es10.3)', 'largest relative difference: ', maxval(abs(a(2:) - b(2:)) / b(2:))
   call gran_tamsd_plan_execute(plan, xyz(:, 1:nt - 1, :), a, ierr)
-  call expect(ierr == GRAN_ERR_ARG, 'positions of another length than the plan give GRAN_ERR_ARG')
+  call require(ierr == GRAN_ERR_ARG, 'positions of another length than the plan give GRAN_ERR_ARG')
   call gran_tamsd_plan_destroy(plan)
-  call expect(.not. c_associated(plan%ptr), 'destroy nulls the handle')
+  call require(.not. c_associated(plan%ptr), 'destroy nulls the handle')
   call gran_tamsd_plan_destroy(plan)
 
   ! Sonine a2: the six axis directions have one speed: a2 = 3/5 - 1
@@ -48,38 +49,25 @@ program t701_analysis_f
     axes(i, 2 * i) = -1
   end do
   call gran_sonine_a2(axes, a2)
-  call expect(abs(a2 + 0.4d0) < 1d-15, 'a2 = -0.4 for one speed')
+  call require(abs(a2 + 0.4d0) < 1d-15, 'a2 = -0.4 for one speed')
   ! masses 1 and 4, v1 = (2, 0, 0), v2 = (0, -1, 0): mass-weighted flow u = (2/5, -4/5, 0),
   ! c1 = (8/5, 4/5, 0), c2 = (-2/5, -1/5, 0), E1 = 3.2, E2 = 4 * 0.2 = 0.8,
   ! a2 = (3/5) ((3.2^2 + 0.8^2)/2) / 2^2 - 1 = -0.184
   vel(:, 1) = [2d0, 0d0, 0d0]
   vel(:, 2) = [0d0, -1d0, 0d0]
   call gran_sonine_a2(vel, a2, mass=[1d0, 4d0])
-  call expect(abs(a2 + 0.184d0) < 1d-14, 'a2 with masses (hand computed -0.184)')
+  call require(abs(a2 + 0.184d0) < 1d-14, 'a2 with masses (hand computed -0.184)')
   call gran_sonine_a2(vel, a2, mass=[1d0], ierr=ierr)
-  call expect(ierr == GRAN_ERR_ARG, 'mass of the wrong size gives GRAN_ERR_ARG')
+  call require(ierr == GRAN_ERR_ARG, 'mass of the wrong size gives GRAN_ERR_ARG')
   call gran_sonine_a2(reshape([1d0, 1d0, 1d0, 1d0, 1d0, 1d0], [3, 2]), a2, ierr=ierr)
-  call expect(ierr == GRAN_ERR_DOMAIN, 'no spread gives GRAN_ERR_DOMAIN')
+  call require(ierr == GRAN_ERR_DOMAIN, 'no spread gives GRAN_ERR_DOMAIN')
 
   ! histogram: sum hist dc + beyond / n = 1
   call gran_speed_histogram(reshape(xyz, [3, nt * ntraj]), 30d0, 2d0, hist, nb)
-  call expect(abs(sum(hist) * 0.1d0 + real(nb, c_double) / (nt * ntraj) - 1) < 1d-12, 'histogram normalisation')
+  call require(abs(sum(hist) * 0.1d0 + real(nb, c_double) / (nt * ntraj) - 1) < 1d-12, 'histogram normalisation')
   call gran_speed_histogram(axes(1:2, :), 1d0, 2d0, hist, nb, ierr)
-  call expect(ierr == GRAN_ERR_ARG, 'v(2, n) gives GRAN_ERR_ARG')
+  call require(ierr == GRAN_ERR_ARG, 'v(2, n) gives GRAN_ERR_ARG')
   call gran_speed_histogram(axes, -1d0, 2d0, hist, nb, ierr)
-  call expect(ierr == GRAN_ERR_ARG, 'negative scale gives GRAN_ERR_ARG')
-  print '(a)', 't701-analysis-f: all checks passed'
-
-contains
-
-  subroutine expect(cond, what)
-    logical, intent(in) :: cond
-    character(len=*), intent(in) :: what
-    if (.not. cond) then
-      print '(a)', 'FAILED: ' // what
-      error stop 1
-    end if
-    print '(a)', 'ok: ' // what
-  end subroutine expect
-
+  call require(ierr == GRAN_ERR_ARG, 'negative scale gives GRAN_ERR_ARG')
+  call test_finish('t701-analysis-f')
 end program t701_analysis_f

@@ -7,6 +7,7 @@
 program t803_srd_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   type(c_ptr) :: srd, srd2
   type(gran_srd_options) :: opt
@@ -16,10 +17,9 @@ program t803_srd_f
   real(c_double) :: p0(3), k(4), s(4)
   integer(c_int64_t) :: cnt(4), value, pc(6)
   real(c_double) :: pm(6)
-  integer :: ierr, failures
+  integer :: ierr
   character(len=*), parameter :: ckpt = '/tmp/granary-t803-f.ckp'
 
-  failures = 0
   call gran_abi_query('sizeof(gran_srd_options)', value)
   call expect(value == c_sizeof(opt), 'sizeof(gran_srd_options)')
   call gran_abi_query('sizeof(gran_srd_obs)', value)
@@ -75,21 +75,5 @@ program t803_srd_f
   call gran_srd_checkpoint_read('/nonexistent/x.ckp', srd, ierr)
   call expect(ierr == GRAN_ERR_IO, 'missing checkpoint')
 
-  if (failures > 0) then
-    write(*, '(a, i0, a)') 't803-srd-f: ', failures, ' check(s) failed'
-    stop 1
-  end if
-  write(*, '(a)') 't803-srd-f: all checks passed'
-
-contains
-
-  subroutine expect(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      write(*, '(a)') 'FAILED: ' // what
-      failures = failures + 1
-    end if
-  end subroutine expect
-
+  call test_finish('t803-srd-f')
 end program t803_srd_f

@@ -6,15 +6,15 @@
 program t890_srd_device_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   type(c_ptr) :: cpu, ref
   type(gran_srd_options) :: opt
   type(gran_srd_obs) :: oc, orf
   real(c_double), pointer :: x(:), y(:), z(:), vx(:), vy(:), vz(:)
   real(c_double), pointer :: x2(:), y2(:), z2(:), vx2(:), vy2(:), vz2(:)
-  integer :: ierr, failures, dev, ngpu, compiled
+  integer :: ierr, dev, ngpu, compiled
 
-  failures = 0
   call gran_srd_options_default(opt)
   call expect(opt%device == GRAN_SRD_DEVICE_CPU .and. opt%precision == 0, 'default device: the CPU engine')
   opt%cells = 6
@@ -69,23 +69,5 @@ program t890_srd_device_f
   call expect(ierr == GRAN_ERR_ARG .and. .not. c_associated(ref), 'create with device 5: GRAN_ERR_ARG')
   call gran_srd_destroy(cpu)
 
-  if (failures > 0) then
-    print '(i0, a)', failures, ' checks failed'
-    error stop 1
-  end if
-  print '(a)', 't890-srd-device-f: all checks passed'
-
-contains
-
-  subroutine expect(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (ok) then
-      print '(a)', 'ok: ' // what
-    else
-      print '(a)', 'FAILED: ' // what
-      failures = failures + 1
-    end if
-  end subroutine expect
-
+  call test_finish('t890-srd-device-f')
 end program t890_srd_device_f

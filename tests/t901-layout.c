@@ -1,6 +1,9 @@
 /* t901-layout.c - gran_abi_query against what a C compiler sees in granary.h (the library is C++):
- * every struct size and every enum constant, unknown names and NULL arguments. The Fortran side is
- * t901-layout-f.f90. */
+ * every struct size, every field offset and every enum constant, unknown names and NULL arguments.
+ * The list of names is src/core/abi_table.inc (generated from the header by bindings/gen_raw.py);
+ * the Fortran side is t901-layout-f.f90. */
+#include <stddef.h>
+
 #include "granary_test.h"
 
 static void check_abi(const char *name, int64_t expected) {
@@ -36,6 +39,26 @@ static void test_struct_sizes(void **state) {
   assert_int_equal(sizeof(gran_particles), 72);
 }
 
+/* every name of the generated table, as a C compiler sees the header */
+static void test_generated_table(void **state) {
+  (void)state;
+  int64_t n = 0;
+#define GRAN_ABI_SIZE(type) (check_abi("sizeof(" #type ")", (int64_t)sizeof(type)), n++);
+#define GRAN_ABI_OFFSET(type, field) (check_abi("offsetof(" #type ", " #field ")", (int64_t)offsetof(type, field)), n++);
+#define GRAN_ABI_CONST(name) (check_abi(#name, (int64_t)(name)), n++);
+#include "core/abi_table.inc"
+#undef GRAN_ABI_SIZE
+#undef GRAN_ABI_OFFSET
+#undef GRAN_ABI_CONST
+  assert_true(n > 150); /* the table is the whole header, not a part of it */
+  /* spot checks of the offsets against the layout documented in the header */
+  check_abi("offsetof(gran_rng, s)", 0);
+  check_abi("offsetof(gran_particles, v)", 24);
+  check_abi("offsetof(gran_dsmc_options, seed)", 8);
+  check_abi("offsetof(gran_srd_options, cells)", 16);
+  check_abi("offsetof(gran_run_control, progress)", 8);
+}
+
 static void test_constants(void **state) {
   (void)state;
 #define EXPECT_ERROR(name, value, msg) EXPECT_CONST(name);
@@ -69,7 +92,7 @@ static void test_constants(void **state) {
   EXPECT_CONST(GRAN_PLACE_COLLISION);
   EXPECT_CONST(GRAN_FRAG_MONOMERS); /* aggregation: fragment laws */
   EXPECT_CONST(GRAN_FRAG_BINARY);
-  EXPECT_CONST(GRAN_SPEED_CLASSES_OFF); /* speed classes (issue 11) */
+  EXPECT_CONST(GRAN_SPEED_CLASSES_OFF); /* speed classes */
   EXPECT_CONST(GRAN_SPEED_CLASSES_ON);
   EXPECT_CONST(GRAN_SPEED_CLASSES_AUTO);
 }
@@ -81,6 +104,9 @@ static void test_errors(void **state) {
   assert_non_null(strstr(gran_last_error_message(), "GRAN_ERR_NOTHING"));
   assert_int_equal(v, 7); /* untouched */
   GRAN_ASSERT_ERR(gran_abi_query("gran_rng", &v), GRAN_ERR_ARG); /* exact spelling only */
+  GRAN_ASSERT_ERR(gran_abi_query("offsetof(gran_rng,s)", &v), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_abi_query("offsetof(gran_rng, nothing)", &v), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "offsetof(gran_rng, nothing)"));
   GRAN_ASSERT_ERR(gran_abi_query(NULL, &v), GRAN_ERR_ARG);
   GRAN_ASSERT_ERR(gran_abi_query("GRAN_ERR_ARG", NULL), GRAN_ERR_ARG);
 }
@@ -88,6 +114,7 @@ static void test_errors(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_struct_sizes),
+      cmocka_unit_test(test_generated_table),
       cmocka_unit_test(test_constants),
       cmocka_unit_test(test_errors),
   };
