@@ -119,6 +119,16 @@ void collision_scale(const gran_mixture *mix, const double *T, double *nu);
  * pair passes used. */
 int hcs_solve_scaled(const gran_mixture *mix, const double *scale, std::vector<double> &u, int64_t *ref_out,
                      double tol, int max_steps, int *passes);
+/* The same with the first pass given: the unscaled outputs of cooling_pass (xi, d, l, nu, length M)
+ * at T = exp(u - u[ref]), e.g. accumulated by another pass over the pairs at that T. */
+struct HcsPass {
+  const double *xi, *d, *l, *nu;
+};
+int hcs_solve_scaled(const gran_mixture *mix, const double *scale, const HcsPass *first, std::vector<double> &u,
+                     int64_t *ref_out, double tol, int max_steps, int *passes);
+/* Maxwellian HCS u = log T (u[ref] = 0, ref the densest species) to the residual tol (a start for
+ * another solve; gran_theory_hcs solves to 1e-13); passes as above (may be NULL). */
+int hcs_solve_start(const gran_mixture *mix, std::vector<double> &u, double tol, int *passes);
 
 /* ---- HCS states (msd.cpp) ---------------------------------------------------------------------
  * Checks that (T0, tau0) is a homogeneous cooling state (|xi_k tau0/2 - 1| <= 1e-3; tau0 = inf:
