@@ -102,6 +102,7 @@ module granary
   public :: gran_theory_hcs, gran_theory_temperatures, gran_theory_msd_hcs, gran_theory_msd
   public :: gran_theory_hcs_approx, gran_theory_sonine_rates, gran_theory_temperatures_approx
   public :: gran_theory_diffusion_approx, gran_theory_msd_hcs_approx, gran_theory_msd_approx
+  public :: gran_theory_tamsd_approx
   public :: gran_theory_tamsd, gran_theory_tamsd_sampled, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
   public :: gran_theory_tracer_gamma_approx, gran_theory_tracer_tau_v_hat
   public :: gran_theory_mean_relative_speed, gran_theory_collision_rates, gran_theory_collision_counts
@@ -643,6 +644,19 @@ module granary
       type(c_ptr), value :: msd_total
       integer(c_int) :: ierr
     end function c_gran_theory_msd_hcs_approx
+    function c_gran_theory_tamsd_approx(mix, approx, t0, a2, tau0, t_meas, nlag, lag, rtol, tamsd) &
+        bind(C, name='gran_theory_tamsd_approx') result(ierr)
+      import :: c_int, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: mix
+      integer(c_int), value :: approx
+      real(c_double), intent(in) :: t0(*), a2(*)
+      real(c_double), value :: tau0, t_meas
+      integer(c_int64_t), value :: nlag
+      real(c_double), intent(in) :: lag(*)
+      real(c_double), value :: rtol
+      real(c_double), intent(out) :: tamsd(*)
+      integer(c_int) :: ierr
+    end function c_gran_theory_tamsd_approx
     function c_gran_theory_sonine_rates(mix, temp, a2, zeta, da2dt) bind(C, name='gran_theory_sonine_rates') &
         result(ierr)
       import :: c_int, c_double, c_ptr
@@ -2289,6 +2303,26 @@ contains
     end if
     call gran_check(c_gran_theory_tamsd(mix, t0, tau0, t_meas, size(lag, kind=c_int64_t), lag, rtol, tamsd), ierr)
   end subroutine gran_theory_tamsd
+
+  !> The TAMSD in the HCS (t0(M), a2(M), tau0 of gran_theory_hcs_approx) in either approximation:
+  !> tamsd(M, size(lag)).
+  subroutine gran_theory_tamsd_approx(mix, approx, t0, a2, tau0, t_meas, lag, rtol, tamsd, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: approx
+    real(c_double), intent(in) :: t0(:), a2(:), tau0, t_meas, lag(:), rtol
+    real(c_double), intent(out) :: tamsd(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_tamsd_approx: size(t0) < M', ierr)) return
+    if (gran_theory_short(size(a2), m, 'gran_theory_tamsd_approx: size(a2) < M', ierr)) return
+    if (m > 0 .and. (size(tamsd, 1, kind=c_int64_t) /= m .or. size(tamsd, 2) /= size(lag))) then
+      call gran_theory_shape_error('gran_theory_tamsd_approx: tamsd must be (M, size(lag))', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_tamsd_approx(mix, int(approx, c_int), t0, a2, tau0, t_meas, &
+                                               size(lag, kind=c_int64_t), lag, rtol, tamsd), ierr)
+  end subroutine gran_theory_tamsd_approx
 
   !> The TAMSD on the sample grid j*dt, j = 0..nsamples-1 (lags in samples): tamsd(M, size(lag)).
   subroutine gran_theory_tamsd_sampled(mix, t0, tau0, dt, nsamples, lag, rtol, tamsd, ierr)

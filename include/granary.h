@@ -267,6 +267,11 @@ GRAN_EXTERN int gran_theory_diffusion_approx(const gran_mixture *mix, int approx
 GRAN_EXTERN int gran_theory_msd_hcs_approx(const gran_mixture *mix, int approximation, const double *T0,
                                            const double *a2, double tau0, int64_t ntimes, const double *t, double *msd,
                                            double *msd_total);
+/* TAMSD in the HCS (Eq. 27; tamsd nlag*M) in either approximation (T0, a2, tau0 as for
+ * gran_theory_msd_hcs_approx). Maxwellian: gran_theory_tamsd. */
+GRAN_EXTERN int gran_theory_tamsd_approx(const gran_mixture *mix, int approximation, const double *T0,
+                                         const double *a2, double tau0, double t_meas, int64_t nlag,
+                                         const double *lag, double rtol, double *tamsd);
 /* MSD by Eq. 4 from any start T0 (constant or matrix restitution for GRAN_THEORY_SONINE): the
  * Maxwellian temperatures T_k(t) with the two-moment correlation at T(t1) in the Sonine
  * approximation. Maxwellian: gran_theory_msd. */

@@ -2,7 +2,7 @@
  * coefficients and MSD (src/theory/sonine_diffusion.cpp): the elastic hard-sphere value
  * D2/D1 = 59/58, a light tracer in a heavy elastic gas (sympy value), a tracer identical to the
  * gas equals the gas, the inelastic D2/D1 of one species, the HCS closed form against Eq. 4 in the
- * Sonine approximation, the Maxwellian level unchanged, the Fig. 3 set-up below the Maxwellian
+ * Sonine approximation, the TAMSD's limits, the Maxwellian level unchanged, the Fig. 3 set-up below the Maxwellian
  * level as granary's DSMC (docs/physics-sonine.md Sec. 5), and bad input refused. */
 #include "granary_test.h"
 
@@ -68,6 +68,22 @@ static void test_msd(void **state) {
   GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_MEAN, 1.0, TS, a2, &taus));
   GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, TS, a2, taus, 3, t, c, NULL));
   for (int j = 0; j < 9; j++) assert_true(isfinite(c[j]) && c[j] > 0 && c[j] < a[j]);
+  /* TAMSD with the two modes: lag -> t_meas gives the MSD; small lags the ballistic MSD; between,
+   * below the Maxwellian TAMSD (as the MSD); Maxwellian level = gran_theory_tamsd */
+  {
+    GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, T0, NULL, tau0, 3, t, c, NULL));
+    const double lags[3] = {1e-3, 10, 1000 * (1 - 1e-10)};
+    double ts[9], tm[9], tm2[9];
+    GRAN_ASSERT_OK(gran_theory_tamsd_approx(mix, GRAN_THEORY_SONINE, T0, NULL, tau0, 1000, 3, lags, 1e-10, ts));
+    GRAN_ASSERT_OK(gran_theory_tamsd(mix, T0, tau0, 1000, 3, lags, 1e-10, tm));
+    GRAN_ASSERT_OK(gran_theory_tamsd_approx(mix, GRAN_THEORY_MAXWELLIAN, T0, NULL, tau0, 1000, 3, lags, 1e-10, tm2));
+    for (int j = 0; j < 9; j++) assert_true(tm[j] == tm2[j]);
+    for (int k = 0; k < 3; k++) {
+      GRAN_ASSERT_REL(ts[6 + k], c[6 + k], 1e-7);  /* lag = t_meas */
+      GRAN_ASSERT_REL(ts[k], tm[k], 1e-3);         /* ballistic: 3 T/m lag^2 in both */
+      assert_true(ts[3 + k] < tm[3 + k] && ts[3 + k] > 0.8 * tm[3 + k]);
+    }
+  }
   /* bad input */
   assert_int_equal(gran_theory_msd_hcs_approx(mix, 5, T0, NULL, tau0, 3, t, c, NULL), GRAN_ERR_ARG);
   assert_non_null(strstr(gran_last_error_message(), "approximation"));

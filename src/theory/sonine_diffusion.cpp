@@ -23,6 +23,7 @@
 #include "theory/theory_impl.h"
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_integration.h>
 
 #include <cmath>
 #include <complex>
@@ -94,6 +95,58 @@ int sonine_modes(const gran_mixture *mix, const double *T, int64_t k, double zet
 
 using namespace gran;
 
+namespace {
+
+/* The HCS state of the Sonine approximation shared by the MSD and TAMSD calls: argument checks,
+ * zeta_k tau0/2 = 1 (tau0 = inf: elastic at equipartition) and the two modes of every species. */
+int sonine_hcs_modes(const gran_mixture *mix, const double *T0, const double *a2, double tau0, std::vector<cd> &lam,
+                     std::vector<cd> &c) {
+  GRAN_CALL(check_hcs_args(mix, T0, tau0));
+  const int64_t M = mix->M;
+  std::vector<double> b((size_t)M, 0.0), zeta((size_t)M);
+  if (a2) {
+    for (int64_t k = 0; k < M; k++)
+      GRAN_CHECK(std::isfinite(a2[k]) && std::fabs(a2[k]) < 1.0, GRAN_ERR_ARG,
+                 "argument 'a2'[%" PRId64 "] = %g: the first Sonine approximation needs |a2| < 1", k, a2[k]);
+    b.assign(a2, a2 + M);
+  }
+  GRAN_CALL(gran_theory_sonine_rates(mix, T0, b.data(), zeta.data(), nullptr));
+  lam.assign((size_t)(2 * M), 0.0);
+  c.assign((size_t)(2 * M), 0.0);
+  for (int64_t k = 0; k < M; k++) {
+    if (std::isinf(tau0)) {
+      GRAN_CALL(sonine_modes(mix, T0, k, 0.0, b[(size_t)k], &lam[(size_t)(2 * k)], &c[(size_t)(2 * k)]));
+      GRAN_CHECK(std::fabs(zeta[(size_t)k]) <= 1e-3 * std::abs(lam[(size_t)(2 * k)]), GRAN_ERR_DOMAIN,
+                 "tau0 = inf needs an elastic mixture at equipartition, but species %" PRId64
+                 " has zeta tau_v = %g (use gran_theory_hcs_approx)",
+                 k, zeta[(size_t)k] / std::abs(lam[(size_t)(2 * k)]));
+    } else {
+      GRAN_CHECK(std::fabs(0.5 * zeta[(size_t)k] * tau0 - 1.0) <= 1e-3, GRAN_ERR_DOMAIN,
+                 "T0, a2, tau0 are not a homogeneous cooling state of the Sonine rates: species %" PRId64
+                 " has zeta tau0/2 = %.6g (tolerance 1e-3; use gran_theory_hcs_approx)",
+                 k, 0.5 * zeta[(size_t)k] * tau0);
+      GRAN_CALL(sonine_modes(mix, T0, k, zeta[(size_t)k], b[(size_t)k], &lam[(size_t)(2 * k)], &c[(size_t)(2 * k)]));
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
+/* Re sum_j c_j g(lam_j tau0 log1p(a e^-v))/lam_j^2 e^v: the TAMSD integrand of tamsd.cpp with the
+ * two modes (a = lag/tau0) */
+struct TP2 {
+  const cd *lam, *c;
+  double tau0, a;
+};
+double tamsd2_integrand(double v, void *p) {
+  const TP2 *q = static_cast<const TP2 *>(p);
+  const double l = q->tau0 * std::log1p(q->a * std::exp(-v));
+  cd sum = 0.0;
+  for (int j = 0; j < 2; j++) sum += q->c[j] * g_cplx(q->lam[j] * l) / (q->lam[j] * q->lam[j]);
+  return sum.real() * std::exp(v);
+}
+
+} // namespace
+
 /**
  * @brief MSD in the HCS in the Maxwellian (Eq. 22, gran_theory_msd_hcs) or the Sonine approximation:
  * the HCS of the first Sonine approximation (T0, a2, tau0 from gran_theory_hcs_approx) and the
@@ -112,37 +165,14 @@ GRAN_EXTERN int gran_theory_msd_hcs_approx(const gran_mixture *mix, int approxim
                approximation);
     if (approximation == GRAN_THEORY_MAXWELLIAN)
       return gran_theory_msd_hcs(mix, T0, tau0, ntimes, t, msd, msd_total);
-    GRAN_CALL(check_hcs_args(mix, T0, tau0));
     const int64_t M = mix->M;
-    std::vector<double> b((size_t)M, 0.0), zeta((size_t)M);
-    if (a2) {
-      for (int64_t k = 0; k < M; k++)
-        GRAN_CHECK(std::isfinite(a2[k]) && std::fabs(a2[k]) < 1.0, GRAN_ERR_ARG,
-                   "argument 'a2'[%" PRId64 "] = %g: the first Sonine approximation needs |a2| < 1", k, a2[k]);
-      b.assign(a2, a2 + M);
-    }
     GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);
     if (ntimes > 0) {
       GRAN_CALL(check_times(t, ntimes, "t"));
       GRAN_CHECK_PTR(msd);
     }
-    GRAN_CALL(gran_theory_sonine_rates(mix, T0, b.data(), zeta.data(), nullptr));
-    std::vector<cd> lam((size_t)(2 * M)), c((size_t)(2 * M));
-    for (int64_t k = 0; k < M; k++) {
-      if (std::isinf(tau0)) {
-        GRAN_CALL(sonine_modes(mix, T0, k, 0.0, b[(size_t)k], &lam[(size_t)(2 * k)], &c[(size_t)(2 * k)]));
-        GRAN_CHECK(std::fabs(zeta[(size_t)k]) <= 1e-3 * std::abs(lam[(size_t)(2 * k)]), GRAN_ERR_DOMAIN,
-                   "tau0 = inf needs an elastic mixture at equipartition, but species %" PRId64
-                   " has zeta tau_v = %g (use gran_theory_hcs_approx)",
-                   k, zeta[(size_t)k] / std::abs(lam[(size_t)(2 * k)]));
-      } else {
-        GRAN_CHECK(std::fabs(0.5 * zeta[(size_t)k] * tau0 - 1.0) <= 1e-3, GRAN_ERR_DOMAIN,
-                   "T0, a2, tau0 are not a homogeneous cooling state of the Sonine rates: species %" PRId64
-                   " has zeta tau0/2 = %.6g (tolerance 1e-3; use gran_theory_hcs_approx)",
-                   k, 0.5 * zeta[(size_t)k] * tau0);
-        GRAN_CALL(sonine_modes(mix, T0, k, zeta[(size_t)k], b[(size_t)k], &lam[(size_t)(2 * k)], &c[(size_t)(2 * k)]));
-      }
-    }
+    std::vector<cd> lam, c;
+    GRAN_CALL(sonine_hcs_modes(mix, T0, a2, tau0, lam, c));
     for (int64_t j = 0; j < ntimes; j++)
       for (int64_t k = 0; k < M; k++) {
         cd sum = 0.0;
@@ -205,6 +235,84 @@ GRAN_EXTERN int gran_theory_diffusion_approx(const gran_mixture *mix, int approx
       D[k] = T[k] / mix->m[(size_t)k] * (c[0] / lam[0] + c[1] / lam[1]).real();
     }
     return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/**
+ * @brief TAMSD in the HCS (Eq. 26-27) in either approximation: Maxwellian = gran_theory_tamsd;
+ * Sonine: T0, a2, tau0 of gran_theory_hcs_approx and the two-moment velocity correlation,
+ *   TAMSD_k = 6 (T_k/m_k) tau0/(t - D) int_0^V Re sum_j c_j g(lam_j tau0 log1p((D/tau0) e^-v))/lam_j^2 e^v dv
+ * (GSL QAG, V = log1p((t - D)/tau0)); D = t gives MSD(t); tau0 = inf: MSD(D).
+ * @param[out] tamsd nlag*M, row-major [lag][species]
+ */
+GRAN_EXTERN int gran_theory_tamsd_approx(const gran_mixture *mix, int approximation, const double *T0,
+                                         const double *a2, double tau0, double t_meas, int64_t nlag,
+                                         const double *lag, double rtol, double *tamsd) {
+  GRAN_TRY {
+    gsl_set_error_handler_off();
+    GRAN_CALL(check_mixture(mix, "mix"));
+    GRAN_CHECK(approximation == GRAN_THEORY_MAXWELLIAN || approximation == GRAN_THEORY_SONINE, GRAN_ERR_ARG,
+               "argument 'approximation' = %d is not a gran_theory_approximation (0 Maxwellian, 1 Sonine)",
+               approximation);
+    if (approximation == GRAN_THEORY_MAXWELLIAN)
+      return gran_theory_tamsd(mix, T0, tau0, t_meas, nlag, lag, rtol, tamsd);
+    GRAN_CHECK(std::isfinite(t_meas) && t_meas > 0.0, GRAN_ERR_ARG, "argument 't_meas' = %g must be finite and > 0",
+               t_meas);
+    GRAN_CHECK(nlag >= 0, GRAN_ERR_ARG, "argument 'nlag' = %" PRId64 " is negative", nlag);
+    GRAN_CALL(check_rtol(rtol, "rtol"));
+    if (nlag > 0) {
+      GRAN_CALL(check_times(lag, nlag, "lag"));
+      for (int64_t j = 0; j < nlag; j++)
+        GRAN_CHECK(lag[j] <= t_meas, GRAN_ERR_ARG, "argument 'lag[%" PRId64 "]' = %g exceeds t_meas = %g", j, lag[j],
+                   t_meas);
+      GRAN_CHECK_PTR(tamsd);
+    }
+    std::vector<cd> lam, c;
+    GRAN_CALL(sonine_hcs_modes(mix, T0, a2, tau0, lam, c));
+    const int64_t M = mix->M;
+    gsl_integration_workspace *w = gsl_integration_workspace_alloc(1000);
+    GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
+    int ret = GRAN_SUCCESS;
+    for (int64_t j = 0; j < nlag && ret == GRAN_SUCCESS; j++) {
+      const double dl = lag[j], rest = t_meas - dl;
+      for (int64_t k = 0; k < M && ret == GRAN_SUCCESS; k++) {
+        const cd *L = &lam[(size_t)(2 * k)], *C = &c[(size_t)(2 * k)];
+        const double pref = 6.0 * T0[k] / mix->m[(size_t)k];
+        auto msd_of = [&](double red) { /* 6 (T/m) Re sum c g(lam red)/lam^2 */
+          cd sum = 0.0;
+          for (int q = 0; q < 2; q++) sum += C[q] * g_cplx(L[q] * red) / (L[q] * L[q]);
+          return pref * sum.real();
+        };
+        double val = 0.0;
+        if (dl == 0.0) {
+          val = 0.0;
+        } else if (std::isinf(tau0)) {
+          val = msd_of(dl);
+        } else {
+          const double V = std::log1p(rest / tau0);
+          if (rest <= 0.0 || V <= 0.0) {
+            val = msd_of(tau0 * std::log1p(dl / tau0)); /* lag = t_meas: MSD(t_meas) */
+          } else {
+            TP2 P{L, C, tau0, dl / tau0};
+            gsl_function F{tamsd2_integrand, &P};
+            double r = 0.0, err = 0.0;
+            int st = gsl_integration_qag(&F, 0.0, V, 0.0, std::max(rtol, 2e-14), w->limit, GSL_INTEG_GAUSS21, w, &r,
+                                         &err);
+            if (st == GSL_EROUND) st = GSL_SUCCESS;
+            if (st != GSL_SUCCESS)
+              ret = GRAN_ERROR(GRAN_ERR_NOCONV, "Sonine TAMSD quadrature (species %" PRId64 ", lag %g) failed: %s", k,
+                               dl, gsl_strerror(st));
+            val = 6.0 * T0[k] / mix->m[(size_t)k] * tau0 * r / rest;
+          }
+        }
+        if (ret == GRAN_SUCCESS && !std::isfinite(val))
+          ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine TAMSD of species %" PRId64 " at lag %g is not finite", k, dl);
+        if (ret == GRAN_SUCCESS) tamsd[j * M + k] = val;
+      }
+    }
+    gsl_integration_workspace_free(w);
+    return ret;
   }
   GRAN_CATCH
 }
