@@ -137,7 +137,7 @@ void spass_fast_t(const gran_mixture *mix, const double *T_, const double *a2_, 
       zd[k] += o.czo + o.czp;
       nu[k] += w * R(0.5) * s;
     }
-    VV vz0 = {}, vz1 = {}, vph = {}, VVg = {}, vof = {}, vnu = {}, vzd = {}, VVd = {};
+    VV vz0 = {}, vz1 = {}, vph = {}, vdg = {}, vof = {}, vnu = {}, vzd = {}, vdd = {};
     int64_t i = 0;
     for (; i + VWT <= k; i += VWT) {
       const VV mi = ld(m + i), Ti = ld(T + i), ai = ld(av.data() + i), iTi = ld(iT.data() + i),
@@ -151,10 +151,10 @@ void spass_fast_t(const gran_mixture *mix, const double *T_, const double *a2_, 
         const VV w = w0 * ni;
         const PairOut<VV> o = pair_terms<VV>(w, p, q, mu, omu, Ti * iTk, (Tkv - Ti) * iTk, akv, ai, iakv, s, is);
         vz0 += o.zm;
-        VVd += o.dm;
+        vdd += o.dm;
         vz1 += o.czo * a2k + o.czp * a2i;
         vph += o.pm + o.cpo * a2k + o.cpp * a2i;
-        VVg += o.cpo;
+        vdg += o.cpo;
         vof += o.cpp;
         vzd += o.czo;
         vnu += w * mu * s;
@@ -172,8 +172,8 @@ void spass_fast_t(const gran_mixture *mix, const double *T_, const double *a2_, 
         vstore(nu + i, ld(nu + i) + w * omu * s);
       }
     }
-    R sz0 = hsum(vz0), sz1 = hsum(vz1), sph = hsum(vph), sdg = hsum(VVg), sof = hsum(vof), snu = hsum(vnu),
-           szd = hsum(vzd), sdd = hsum(VVd);
+    R sz0 = hsum(vz0), sz1 = hsum(vz1), sph = hsum(vph), sdg = hsum(vdg), sof = hsum(vof), snu = hsum(vnu),
+           szd = hsum(vzd), sdd = hsum(vdd);
     for (; i < k; i++) {
       const R mi = m[i], Ti = T[i], ai = av[(size_t)i], sgm = R(0.5) * (sk + sg[i]), w0 = W * sgm * sgm;
       const R inv = R(1.0) / (mi + mk), mu = mi * inv, omu = mk * inv, s = std::sqrt(ak + ai), is = R(1.0) / s;
