@@ -59,6 +59,8 @@ module granary
   public :: gran_theory_hcs, gran_theory_temperatures, gran_theory_msd_hcs, gran_theory_msd
   ! GRAN_THEORY_MAXWELLIAN (reference) or GRAN_THEORY_SONINE (first Sonine level, docs/physics-sonine.md)
   public :: gran_theory_hcs_approx, gran_theory_sonine_rates, gran_theory_temperatures_approx
+  public :: gran_theory_diffusion_approx, gran_theory_msd_hcs_approx, gran_theory_msd_approx
+  public :: gran_theory_tamsd_approx
   public :: gran_theory_tamsd, gran_theory_tamsd_sampled, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
   public :: gran_theory_tracer_gamma_approx, gran_theory_tracer_tau_v_hat
   public :: gran_theory_mean_relative_speed, gran_theory_collision_rates, gran_theory_collision_counts
@@ -855,6 +857,53 @@ contains
     if (present(tau0)) tau0 = tau
   end subroutine gran_theory_hcs_approx
 
+  !> Diffusion coefficients d(M) at temp(M), a2(M), zeta(M) (cooling rates) in either approximation
+  !> (Sonine: the two-moment velocity correlation).
+  subroutine gran_theory_diffusion_approx(mix, approx, temp, a2, zeta, d, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: approx
+    real(c_double), intent(in) :: temp(:), a2(:), zeta(:)
+    real(c_double), intent(out) :: d(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(temp), m, 'gran_theory_diffusion_approx: size(temp) < M', ierr)) return
+    if (gran_theory_short(size(a2), m, 'gran_theory_diffusion_approx: size(a2) < M', ierr)) return
+    if (gran_theory_short(size(zeta), m, 'gran_theory_diffusion_approx: size(zeta) < M', ierr)) return
+    if (gran_theory_short(size(d), m, 'gran_theory_diffusion_approx: size(d) < M', ierr)) return
+    call gran_check(c_gran_theory_diffusion_approx(mix, int(approx, c_int), temp, a2, zeta, d), ierr)
+  end subroutine gran_theory_diffusion_approx
+
+  !> MSD in the HCS (t0(M), a2(M), tau0 of gran_theory_hcs_approx) in either approximation:
+  !> msd(M, size(t)), msd_total(size(t)) optional.
+  subroutine gran_theory_msd_hcs_approx(mix, approx, t0, a2, tau0, t, msd, msd_total, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: approx
+    real(c_double), intent(in) :: t0(:), a2(:), tau0, t(:)
+    real(c_double), intent(out) :: msd(:, :)
+    real(c_double), intent(out), target, contiguous, optional :: msd_total(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    type(c_ptr) :: pt
+    m = gran_theory_m(mix)
+    pt = c_null_ptr
+    if (gran_theory_short(size(t0), m, 'gran_theory_msd_hcs_approx: size(t0) < M', ierr)) return
+    if (gran_theory_short(size(a2), m, 'gran_theory_msd_hcs_approx: size(a2) < M', ierr)) return
+    if (m > 0 .and. (size(msd, 1, kind=c_int64_t) /= m .or. size(msd, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_msd_hcs_approx: msd must be (M, size(t))', ierr)
+      return
+    end if
+    if (present(msd_total)) then
+      if (size(msd_total) /= size(t)) then
+        call gran_theory_shape_error('gran_theory_msd_hcs_approx: size(msd_total) /= size(t)', ierr)
+        return
+      end if
+      if (size(msd_total) > 0) pt = c_loc(msd_total(1))
+    end if
+    call gran_check(c_gran_theory_msd_hcs_approx(mix, int(approx, c_int), t0, a2, tau0, size(t, kind=c_int64_t), t, &
+                                                 msd, pt), ierr)
+  end subroutine gran_theory_msd_hcs_approx
+
   !> First Sonine rates at (temp(M), a2(M)): zeta(M) and da2dt(M).
   subroutine gran_theory_sonine_rates(mix, temp, a2, zeta, da2dt, ierr)
     type(c_ptr), intent(in) :: mix
@@ -959,6 +1008,33 @@ contains
     call gran_check(c_gran_theory_msd(mix, t0, size(t, kind=c_int64_t), t, rtol, msd, pt), ierr)
   end subroutine gran_theory_msd
 
+  !> Eq. 4 from any start t0(M) in either approximation (Sonine: the two-moment correlation).
+  subroutine gran_theory_msd_approx(mix, approx, t0, t, rtol, msd, msd_total, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: approx
+    real(c_double), intent(in) :: t0(:), t(:), rtol
+    real(c_double), intent(out) :: msd(:, :)
+    real(c_double), intent(out), target, contiguous, optional :: msd_total(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    type(c_ptr) :: pt
+    m = gran_theory_m(mix)
+    pt = c_null_ptr
+    if (gran_theory_short(size(t0), m, 'gran_theory_msd_approx: size(t0) < M', ierr)) return
+    if (m > 0 .and. (size(msd, 1, kind=c_int64_t) /= m .or. size(msd, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_msd_approx: msd must be (M, size(t))', ierr)
+      return
+    end if
+    if (present(msd_total)) then
+      if (size(msd_total) /= size(t)) then
+        call gran_theory_shape_error('gran_theory_msd_approx: size(msd_total) /= size(t)', ierr)
+        return
+      end if
+      if (size(msd_total) > 0) pt = c_loc(msd_total(1))
+    end if
+    call gran_check(c_gran_theory_msd_approx(mix, int(approx, c_int), t0, size(t, kind=c_int64_t), t, rtol, msd, pt), ierr)
+  end subroutine gran_theory_msd_approx
+
   !> Eq. 27: tamsd(M, size(lag)) over the measurement time t_meas.
   subroutine gran_theory_tamsd(mix, t0, tau0, t_meas, lag, rtol, tamsd, ierr)
     type(c_ptr), intent(in) :: mix
@@ -974,6 +1050,26 @@ contains
     end if
     call gran_check(c_gran_theory_tamsd(mix, t0, tau0, t_meas, size(lag, kind=c_int64_t), lag, rtol, tamsd), ierr)
   end subroutine gran_theory_tamsd
+
+  !> The TAMSD in the HCS (t0(M), a2(M), tau0 of gran_theory_hcs_approx) in either approximation:
+  !> tamsd(M, size(lag)).
+  subroutine gran_theory_tamsd_approx(mix, approx, t0, a2, tau0, t_meas, lag, rtol, tamsd, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: approx
+    real(c_double), intent(in) :: t0(:), a2(:), tau0, t_meas, lag(:), rtol
+    real(c_double), intent(out) :: tamsd(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_tamsd_approx: size(t0) < M', ierr)) return
+    if (gran_theory_short(size(a2), m, 'gran_theory_tamsd_approx: size(a2) < M', ierr)) return
+    if (m > 0 .and. (size(tamsd, 1, kind=c_int64_t) /= m .or. size(tamsd, 2) /= size(lag))) then
+      call gran_theory_shape_error('gran_theory_tamsd_approx: tamsd must be (M, size(lag))', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_tamsd_approx(mix, int(approx, c_int), t0, a2, tau0, t_meas, &
+                                               size(lag, kind=c_int64_t), lag, rtol, tamsd), ierr)
+  end subroutine gran_theory_tamsd_approx
 
   !> The TAMSD on the sample grid j*dt, j = 0..nsamples-1 (lags in samples): tamsd(M, size(lag)).
   subroutine gran_theory_tamsd_sampled(mix, t0, tau0, dt, nsamples, lag, rtol, tamsd, ierr)

@@ -257,6 +257,27 @@ GRAN_EXTERN int gran_theory_sonine_rates(const gran_mixture *mix, const double *
 GRAN_EXTERN int gran_theory_temperatures_approx(const gran_mixture *mix, int approximation, const double *T0,
                                                 const double *a20, int64_t ntimes, const double *t, double rtol,
                                                 double *T, double *a2);
+/* Diffusion and MSD beyond the single exponential (GRAN_THEORY_SONINE): the two-moment (second
+ * Sonine) velocity correlation of each species, two relaxation rates per species.
+ * D_k at temperatures T (M), a2 (M or NULL: 0), zeta (M cooling rates, or NULL: the Maxwellian xi_k);
+ * the Maxwellian level gives T_k tau_v,k/m_k. */
+GRAN_EXTERN int gran_theory_diffusion_approx(const gran_mixture *mix, int approximation, const double *T,
+                                             const double *a2, const double *zeta, double *D);
+/* MSD in the HCS (T0, a2, tau0 of gran_theory_hcs_approx in the same approximation; a2 may be NULL):
+ * msd ntimes*M, msd_total ntimes or NULL. Maxwellian: gran_theory_msd_hcs (Eq. 22). */
+GRAN_EXTERN int gran_theory_msd_hcs_approx(const gran_mixture *mix, int approximation, const double *T0,
+                                           const double *a2, double tau0, int64_t ntimes, const double *t, double *msd,
+                                           double *msd_total);
+/* TAMSD in the HCS (Eq. 27; tamsd nlag*M) in either approximation (T0, a2, tau0 as for
+ * gran_theory_msd_hcs_approx). Maxwellian: gran_theory_tamsd. */
+GRAN_EXTERN int gran_theory_tamsd_approx(const gran_mixture *mix, int approximation, const double *T0,
+                                         const double *a2, double tau0, double t_meas, int64_t nlag,
+                                         const double *lag, double rtol, double *tamsd);
+/* MSD by Eq. 4 from any start T0 (constant or matrix restitution for GRAN_THEORY_SONINE): the
+ * Maxwellian temperatures T_k(t) with the two-moment correlation at T(t1) in the Sonine
+ * approximation. Maxwellian: gran_theory_msd. */
+GRAN_EXTERN int gran_theory_msd_approx(const gran_mixture *mix, int approximation, const double *T0, int64_t ntimes,
+                                       const double *t, double rtol, double *msd, double *msd_total);
 /* T_k(t) from T0 by Eq. 13 (GSL odeiv2, relative tolerance rtol); T is ntimes*M. */
 GRAN_EXTERN int gran_theory_temperatures(const gran_mixture *mix, const double *T0, int64_t ntimes,
                                          const double *t, double rtol, double *T);

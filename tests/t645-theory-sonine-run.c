@@ -1,5 +1,6 @@
 /* t645-theory-sonine-run.c - `[observables] theory_sonine = true`: the run driver writes the first
- * Sonine theory (temperatures/T_theory_sonine, temperatures/a2_theory_sonine) beside T_theory;
+ * Sonine theory (temperatures/T_theory_sonine, temperatures/a2_theory_sonine) beside T_theory, and
+ * msd/msd_theory_sonine (the two-moment velocity correlation) beside msd_theory;
  * the values are gran_theory_temperatures_approx's from the scene's start (T0, a2 = 0) at the
  * output times; off by default; refused (GRAN_ERR_PARSE naming the key) where it has no meaning. */
 #include "io_test_util.h"
@@ -64,6 +65,21 @@ static void test_datasets(void **state) {
   assert_int_equal(nT0, M);
   assert_int_equal(n, NT * M);
   assert_int_equal(na, NT * M);
+  size_t nms = 0, nmm = 0;
+  double *ms = io_h5_read_double(f, "msd/msd_theory_sonine", &nms);
+  double *mm = io_h5_read_double(f, "msd/msd_theory", &nmm);
+  assert_non_null(ms);
+  assert_non_null(mm);
+  assert_int_equal(nms, NT * M);
+  /* the two-moment correlation: finite, positive, the same ballistic start (t = 0.1: within 1 %)
+   * and below Eq. 4 at the last time (eps = 0.7: D2/D1 ~ 0.98) */
+  for (int j = 0; j < NT * M; j++) assert_true(isfinite(ms[j]) && ms[j] > 0);
+  for (int k = 0; k < M; k++) {
+    assert_true(fabs(ms[k] / mm[k] - 1) < 0.01);
+    const double r = ms[(NT - 1) * M + k] / mm[(NT - 1) * M + k] - 1;
+    if (!(r < -0.002 && r > -0.05)) fail_msg("species %d: msd_theory_sonine/msd_theory - 1 = %g at t_end", k, r);
+  }
+  free(ms), free(mm);
   hsize_t d[4];
   assert_int_equal(io_h5_dims(f, "temperatures/T_theory_sonine", d), 2);
   assert_int_equal(d[0], NT);
@@ -107,6 +123,8 @@ static void test_datasets(void **state) {
   assert_int_equal(H5Lexists(f, "temperatures/T_theory", H5P_DEFAULT), 1);
   assert_int_equal(H5Lexists(f, "temperatures/T_theory_sonine", H5P_DEFAULT), 0);
   assert_int_equal(H5Lexists(f, "temperatures/a2_theory_sonine", H5P_DEFAULT), 0);
+  assert_int_equal(H5Lexists(f, "msd/msd_theory", H5P_DEFAULT), 1);
+  assert_int_equal(H5Lexists(f, "msd/msd_theory_sonine", H5P_DEFAULT), 0);
   H5Fclose(f);
 }
 

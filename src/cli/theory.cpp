@@ -1,7 +1,8 @@
 /* theory.cpp - `granary theory SCENE [--times ...] [--lags ...] [--approximation ...] [--json]`:
  * kinetic theory of the scene's mixture (HCS temperatures, relaxation and correlation times,
  * diffusion coefficients; T_k(t), MSD_k(t) and TAMSD at requested times and lags; with
- * --approximation sonine also the first Sonine HCS (T_k, a2_k, tau0) and T_k(t), a2_k(t)). */
+ * --approximation sonine also the first Sonine HCS (T_k, a2_k, tau0) and T_k(t), a2_k(t), and the
+ * MSD_k(t) and D_k(0) of the two-moment velocity correlation). */
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -219,6 +220,7 @@ int cli_theory(int argc, char **argv) {
   /* first Sonine level: the HCS with the scene's mean temperature, and the trajectories */
   const bool son = approx == GRAN_THEORY_SONINE;
   std::vector<double> Ts((size_t)M), a2s((size_t)M), Tst((size_t)(nt * M)), a2t((size_t)(nt * M));
+  std::vector<double> msds((size_t)(nt * M)), msds_tot((size_t)nt), Ds((size_t)M);
   double tau0s = NAN;
   if (son) {
     if (model == GRAN_RESTITUTION_VISCOELASTIC) {
@@ -242,7 +244,16 @@ int cli_theory(int argc, char **argv) {
       if (gran_theory_temperatures_approx(mix, GRAN_THEORY_SONINE, T0s.data(), a20.data(), nt, times.data(), 1e-10,
                                           Tst.data(), a2t.data()))
         return fail("gran_theory_temperatures_approx (sonine) failed");
+      /* MSD with the two-moment velocity correlation from the scene's start (as msd_theory_sonine) */
+      const bool closed = hcs_start && std::isfinite(tau0);
+      int st = closed ? gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, T0.data(), nullptr, tau0, nt, times.data(),
+                                                   msds.data(), msds_tot.data())
+                      : gran_theory_msd_approx(mix, GRAN_THEORY_SONINE, T0.data(), nt, times.data(), 1e-8, msds.data(),
+                                               msds_tot.data());
+      if (st) return fail("MSD theory (sonine) failed");
     }
+    if (gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T0.data(), nullptr, nullptr, Ds.data()))
+      return fail("gran_theory_diffusion_approx (sonine) failed");
   }
 
   if (json) {
@@ -273,11 +284,17 @@ int cli_theory(int argc, char **argv) {
       jarr(o, gs.data(), M);
       o += ", \"a2\": ";
       jarr(o, a2s.data(), M);
+      o += ", \"D0\": ";
+      jarr(o, Ds.data(), M);
       if (nt) {
         o += ", \"T\": ";
         jmat(o, Tst.data(), nt, M);
         o += ", \"a2_t\": ";
         jmat(o, a2t.data(), nt, M);
+        o += ", \"msd\": ";
+        jmat(o, msds.data(), nt, M);
+        o += ", \"msd_total\": ";
+        jarr(o, msds_tot.data(), nt);
       }
       o += "}";
     }
@@ -372,7 +389,16 @@ int cli_theory(int argc, char **argv) {
         for (int64_t k = 0; k < M; k++)
           std::printf("%14.8g %4" PRId64 " %16.10g %14.8g\n", times[(size_t)i], k + 1, Tst[(size_t)(i * M + k)],
                       a2t[(size_t)(i * M + k)]);
+      std::printf("\nMSD_k(t) with the two-moment (second Sonine) velocity correlation, from the scene's start\n");
+      std::printf("%14s %4s %16s %16s\n", "t", "k", "MSD_k(t)", "/ Maxwellian");
+      for (int64_t i = 0; i < nt; i++)
+        for (int64_t k = 0; k < M; k++)
+          std::printf("%14.8g %4" PRId64 " %16.10g %16.10g\n", times[(size_t)i], k + 1, msds[(size_t)(i * M + k)],
+                      msds[(size_t)(i * M + k)] / msd[(size_t)(i * M + k)]);
     }
+    std::printf("\nD_k(0) with the two-moment velocity correlation:");
+    for (int64_t k = 0; k < M; k++) std::printf(" %.8g", Ds[(size_t)k]);
+    std::printf("\n");
   }
   if (nl) {
     std::printf("\nTAMSD_k(lag; t_meas) (Eq. 27; lags >= t_meas are skipped)\n");

@@ -369,6 +369,25 @@ class DsmcEngine : public gran_engine {
         gran_warning_add("no msd_theory in the output: %s", gran_last_error_message());
         GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
       }
+      if (s->obs_theory_sonine) {
+        /* the two-moment velocity correlation from the same start (Maxwellian velocities: a2 = 0) */
+        st = hcs ? gran_theory_msd_hcs_approx(mix_, GRAN_THEORY_SONINE, T0_.data(), nullptr, tau0_, nt, tt.data(),
+                                              m.data(), mt.data())
+                 : gran_theory_msd_approx(mix_, GRAN_THEORY_SONINE, T0_.data(), nt, tt.data(), s->theory_rtol, m.data(),
+                                          mt.data());
+        if (st == GRAN_SUCCESS) {
+          GRAN_CALL(gran_h5::write_double(g.id, "msd_theory_sonine", dims, m.data(), file));
+          GRAN_CALL(gran_describe_(g.id, "msd_theory_sonine", "length^2",
+                                   "mean-squared displacement with the two-moment (second Sonine) velocity correlation "
+                                   "(gran_theory_msd_hcs_approx / gran_theory_msd_approx) [time][k]", file));
+          GRAN_CALL(gran_h5::write_double(g.id, "msd_total_theory_sonine", {nt}, mt.data(), file));
+          GRAN_CALL(gran_describe_(g.id, "msd_total_theory_sonine", "length^2",
+                                   "total mean-squared displacement with the two-moment velocity correlation", file));
+        } else {
+          gran_warning_add("no msd_theory_sonine in the output: %s", gran_last_error_message());
+          GRAN_CALL(gran_h5::attr_string(g.id, "theory_sonine_error", gran_last_error_message(), file));
+        }
+      }
     }
     return GRAN_SUCCESS;
   }

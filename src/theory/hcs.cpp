@@ -184,6 +184,7 @@ struct Newton {
   int iters = 0, rank = 0;
   Pass P;
   const double *scale = nullptr; /* rates xi_k scale_k (frozen factors), NULL: 1 */
+  const HcsPass *first = nullptr; /* the pass at the start u (unscaled), NULL: computed */
   int max_steps = -1;            /* >= 0: return after this many steps without a final check */
 };
 
@@ -312,7 +313,14 @@ int newton(Newton &N, double tol, int maxit) {
   int stall = 0;
   for (N.iters = 0;; N.iters++) {
     for (int64_t k = 0; k < M; k++) N.T[(size_t)k] = std::exp(N.u[(size_t)k]);
-    do_pass(N.mix, N.T.data(), N.P);
+    if (N.iters == 0 && N.first) {
+      N.P.xi.assign(N.first->xi, N.first->xi + M);
+      N.P.d.assign(N.first->d, N.first->d + M);
+      N.P.l.assign(N.first->l, N.first->l + M);
+      N.P.nu.assign(N.first->nu, N.first->nu + M);
+    } else {
+      do_pass(N.mix, N.T.data(), N.P);
+    }
     if (N.scale)
       for (int64_t k = 0; k < M; k++) {
         N.P.xi[(size_t)k] *= N.scale[k];
@@ -425,7 +433,8 @@ void hcs_hybridsj(const gran_mixture *mix, int64_t ref, std::vector<double> &u) 
 }
 
 /* ---- coarse start for large M ------------------------------------------------------------------ */
-int solve_u(const gran_mixture *mix, std::vector<double> &u, int64_t *ref_out, double *cbar);
+int solve_u(const gran_mixture *mix, std::vector<double> &u, int64_t *ref_out, double *cbar, double tol,
+            int *passes);
 
 void coarse_start(const gran_mixture *mix, std::vector<double> &u) {
   const int64_t M = mix->M;
@@ -473,7 +482,7 @@ void coarse_start(const gran_mixture *mix, std::vector<double> &u) {
   coarse.g2 = mix->g2;
   std::vector<double> uc((size_t)coarse.M, 0.0);
   int64_t rc = 0;
-  if (solve_u(&coarse, uc, &rc, nullptr) != GRAN_SUCCESS) {
+  if (solve_u(&coarse, uc, &rc, nullptr, RES_TOL, nullptr) != GRAN_SUCCESS) {
     gran_clear_error();
     return;
   }
@@ -495,7 +504,8 @@ void coarse_start(const gran_mixture *mix, std::vector<double> &u) {
 
 /* u = log T up to a constant (u[ref] = 0), ref = densest species; cbar = number-weighted mean xi
  * at T = exp(u) (may be NULL). */
-int solve_u(const gran_mixture *mix, std::vector<double> &u, int64_t *ref_out, double *cbar) {
+int solve_u(const gran_mixture *mix, std::vector<double> &u, int64_t *ref_out, double *cbar, double tol = RES_TOL,
+            int *passes = nullptr) {
   const int64_t M = mix->M;
   Newton N;
   N.mix = mix;
@@ -511,11 +521,16 @@ int solve_u(const gran_mixture *mix, std::vector<double> &u, int64_t *ref_out, d
   const double shift = N.u[(size_t)N.ref];
   for (auto &v : N.u) v -= shift;
   if (N.dense) {
-    GRAN_CALL(newton(N, 1e-8, 200));
-    hcs_hybridsj(mix, N.ref, N.u);
-    GRAN_CALL(newton(N, RES_TOL, 200)); /* final check (and refinement if GSL stopped early) */
+    GRAN_CALL(newton(N, std::max(tol, 1e-8), 200));
+    if (passes) *passes += N.iters + 1;
+    if (tol < 1e-8) {
+      hcs_hybridsj(mix, N.ref, N.u);
+      GRAN_CALL(newton(N, tol, 200)); /* final check (and refinement if GSL stopped early) */
+      if (passes) *passes += N.iters + 1;
+    }
   } else {
-    GRAN_CALL(newton(N, RES_TOL, 100));
+    GRAN_CALL(newton(N, tol, 100));
+    if (passes) *passes += N.iters + 1;
   }
   u = N.u;
   if (cbar) {
@@ -535,6 +550,11 @@ int solve_u(const gran_mixture *mix, std::vector<double> &u, int64_t *ref_out, d
  * clamped Newton above (dense or low rank by M); u[ref] = 0 on return, ref the densest species. */
 int gran::hcs_solve_scaled(const gran_mixture *mix, const double *scale, std::vector<double> &u, int64_t *ref_out,
                            double tol, int max_steps, int *passes) {
+  return hcs_solve_scaled(mix, scale, nullptr, u, ref_out, tol, max_steps, passes);
+}
+
+int gran::hcs_solve_scaled(const gran_mixture *mix, const double *scale, const HcsPass *first, std::vector<double> &u,
+                           int64_t *ref_out, double tol, int max_steps, int *passes) {
   const int64_t M = mix->M;
   Newton N;
   N.mix = mix;
@@ -547,11 +567,12 @@ int gran::hcs_solve_scaled(const gran_mixture *mix, const double *scale, std::ve
   N.T.assign((size_t)M, 1.0);
   N.u = u;
   N.scale = scale;
+  N.first = first;
   N.max_steps = max_steps;
   const double shift = N.u[(size_t)N.ref];
   for (auto &v : N.u) v -= shift;
   const int st = newton(N, tol, 100);
-  if (passes) *passes += N.iters + 1;
+  if (passes) *passes += N.iters + (first ? 0 : 1);
   if (st) return st;
   u = N.u;
   return GRAN_SUCCESS;
@@ -567,6 +588,14 @@ bool all_elastic(const gran_mixture *mix) {
 }
 
 } // namespace
+
+int gran::hcs_solve_start(const gran_mixture *mix, std::vector<double> &u, double tol, int *passes) {
+  int64_t ref = 0;
+  u.assign((size_t)mix->M, 0.0);
+  if (mix->M == 1 || all_elastic(mix)) return GRAN_SUCCESS;
+  return solve_u(mix, u, &ref, nullptr, tol, passes);
+}
+
 
 /**
  * @brief Homogeneous cooling state: temperatures with equal cooling rates (Eq. 21).

@@ -80,6 +80,7 @@ struct Eq4 {
   double Ut; /* u_k at the output time */
   std::vector<double> T;
   int status;
+  bool modes = false; /* the two-moment correlation (sonine_modes) instead of one tau_v */
 };
 
 /* x(s1) and the integrand at s1 */
@@ -88,6 +89,25 @@ double eq4_x(Eq4 *c, double s1, double *val) {
   const size_t j = traj_locate(tr, s1);
   for (int64_t i = 0; i < tr.M; i++)
     c->T[(size_t)i] = tr.T0[(size_t)i] * std::exp(traj_eval_at(tr, j, s1, (int)i) - 2.0 * s1);
+  const double yk = traj_eval_at(tr, j, s1, (int)c->k) - 2.0 * s1; /* log(T_k/T_k(0)) */
+  const double uk = traj_eval_at(tr, j, s1, (int)(tr.M + c->k));
+  if (c->modes) {
+    cd lam[2], cw[2];
+    const int st = sonine_modes(c->mix, c->T.data(), c->k, NAN, 0.0, lam, cw);
+    if (st) {
+      c->status = st;
+      if (val) *val = NAN;
+      return NAN;
+    }
+    const double xr = std::max(0.0, (c->Ut - uk) * std::exp(-0.5 * yk)); /* reduced time since t1 */
+    cd sum = 0.0;
+    for (int q = 0; q < 2; q++) {
+      const cd z = lam[q] * xr; /* 1 - e^-z without cancellation at small z */
+      sum += cw[q] / lam[q] * (std::abs(z) < 1e-4 ? z * (1.0 - z * (0.5 - z / 6.0)) : 1.0 - std::exp(-z));
+    }
+    if (val) *val = c->T[(size_t)c->k] / c->mix->m[(size_t)c->k] * sum.real() * tr.ts * std::exp(s1);
+    return xr * std::min(lam[0].real(), lam[1].real());
+  }
   double itv = 0.0;
   const int st = inv_tau_v_one(c->mix, c->T.data(), c->k, &itv);
   if (st) {
@@ -96,8 +116,6 @@ double eq4_x(Eq4 *c, double s1, double *val) {
     return NAN;
   }
   const double tv = 1.0 / itv;
-  const double yk = traj_eval_at(tr, j, s1, (int)c->k) - 2.0 * s1; /* log(T_k/T_k(0)) */
-  const double uk = traj_eval_at(tr, j, s1, (int)(tr.M + c->k));
   const double w = tv * std::exp(0.5 * yk);
   const double x = std::max(0.0, (c->Ut - uk) / w);
   if (val) {
@@ -208,8 +226,39 @@ GRAN_EXTERN int gran_theory_msd_mono(const gran_mixture *mix, double T1, int64_t
  * @param[in] rtol relative tolerance of the ODE and of the quadrature, in [1e-14, 0.1]
  * @param[out] msd ntimes*M; msd_total ntimes or NULL
  */
+namespace {
+int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t, double rtol, double *msd,
+            double *msd_total, bool modes);
+}
+
 GRAN_EXTERN int gran_theory_msd(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t,
                                 double rtol, double *msd, double *msd_total) {
+  return msd_eq4(mix, T0, ntimes, t, rtol, msd, msd_total, false);
+}
+
+/**
+ * @brief MSD by Eq. 4 in either approximation: GRAN_THEORY_SONINE replaces the single relaxation
+ * time tau_v,k(t1) by the two-moment correlation at T(t1) (sonine_diffusion.cpp), T_k(t) Maxwellian.
+ */
+GRAN_EXTERN int gran_theory_msd_approx(const gran_mixture *mix, int approximation, const double *T0, int64_t ntimes,
+                                       const double *t, double rtol, double *msd, double *msd_total) {
+  GRAN_TRY {
+    GRAN_CALL(check_mixture(mix, "mix"));
+    GRAN_CHECK(approximation == GRAN_THEORY_MAXWELLIAN || approximation == GRAN_THEORY_SONINE, GRAN_ERR_ARG,
+               "argument 'approximation' = %d is not a gran_theory_approximation (0 Maxwellian, 1 Sonine)",
+               approximation);
+    GRAN_CHECK(approximation == GRAN_THEORY_MAXWELLIAN || mix->model != GRAN_RESTITUTION_VISCOELASTIC,
+               GRAN_ERR_DOMAIN,
+               "mixture 'mix' has viscoelastic restitution: the Sonine MSD is implemented for constant or matrix "
+               "restitution only");
+    return msd_eq4(mix, T0, ntimes, t, rtol, msd, msd_total, approximation == GRAN_THEORY_SONINE);
+  }
+  GRAN_CATCH
+}
+
+namespace {
+int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t, double rtol, double *msd,
+            double *msd_total, bool modes) {
   GRAN_TRY {
     gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
@@ -236,7 +285,7 @@ GRAN_EXTERN int gran_theory_msd(const gran_mixture *mix, const double *T0, int64
     GRAN_CALL(traj_run(tr, 0, nullptr, nullptr, ode_rtol, true, hmax, smax));
     gsl_integration_workspace *w = gsl_integration_workspace_alloc(2000);
     GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
-    Eq4 c{&tr, mix, 0, 0.0, std::vector<double>((size_t)M), 0};
+    Eq4 c{&tr, mix, 0, 0.0, std::vector<double>((size_t)M), 0, modes};
     gsl_function F{eq4_integrand, &c};
     int ret = GRAN_SUCCESS;
     for (int64_t j = 0; j < ntimes && ret == GRAN_SUCCESS; j++) {
@@ -276,3 +325,4 @@ GRAN_EXTERN int gran_theory_msd(const gran_mixture *mix, const double *T0, int64
   }
   GRAN_CATCH
 }
+}  // namespace

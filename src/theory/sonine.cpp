@@ -49,37 +49,46 @@ struct SPass {
   std::vector<double> off;  /* sum_{i != k} d phi_k / d a2_i */
   std::vector<double> zdg;  /* d zeta_k / d a2_k */
   std::vector<double> nu;   /* collision frequency scale (for the residuals) */
+  /* the Maxwellian pass of hcs.cpp at the same T (cooling_pass: xi_k = z0_k, d_k, l_k, nu_k =
+   * (8/3) nu above), so that the temperature step needs no pass of its own */
+  std::vector<double> d, l;
 };
 
 /* Contributions of partner i to the sums of species k (own): w = sqrt(2 pi) n_i sigma_ki^2 g2,
  * mu = m_i/(m_i+m_k), r = T_i/T_k, omr = 1 - r, s = sqrt(a_k + a_i), is = 1/s. */
 template <typename V> struct PairOut {
   V zm, czo, czp, pm, cpo, cpp;
+  V dm, lm; /* d zm/d log T_k and d zm/d log T_i (the Maxwellian Jacobian terms of cooling_pass) */
 };
-template <typename V>
-static inline PairOut<V> pair_terms(V w, double p, double q, V mu, V omu, V r, V omr, V ak, V ai, V iak, V s, V is) {
+template <typename V, typename S = double>
+static inline PairOut<V> pair_terms(V w, S p, S q, V mu, V omu, V r, V omr, V ak, V ai, V iak, V s, V is) {
   PairOut<V> o;
   const V Gam = mu + r * omu, Bm = omu * omr + q * Gam; /* Bm = 1 - p Gamma = (2 a_k - A s^2)/(2 a_k) */
-  const V A = 2.0 * mu * p;
+  const V A = S(2.0) * mu * p;
   const V s2 = s * s, is2 = is * is, is3 = is2 * is, is5 = is3 * is2;
-  const V As2 = A * s2, G2 = 2.0 * p * Gam; /* A s^2 / a_k */
+  const V As2 = A * s2, G2 = S(2.0) * p * Gam; /* A s^2 / a_k */
   const V wA = w * A;
-  o.zm = (8.0 / 3.0) * wA * s * Bm;
-  o.pm = (16.0 / 15.0) * wA * ak * is * Bm * (G2 * (4.0 - 2.0 * G2) - 1.0);
-  o.czo = (-1.0 / 6.0) * wA * ak * (3.0 * As2 - 6.0 * ak - 8.0 * ai) * is3;
+  o.zm = (S(8.0) / S(3.0)) * wA * s * Bm;
+  {
+    const V t1 = S(0.5) * Bm * is, t2 = s * p * r * omu; /* dBm/d log T_k = p r (1 - mu) */
+    o.dm = (S(8.0) / S(3.0)) * wA * (ak * t1 + t2);
+    o.lm = (S(8.0) / S(3.0)) * wA * (ai * t1 - t2);
+  }
+  o.pm = (S(16.0) / S(15.0)) * wA * ak * is * Bm * (G2 * (S(4.0) - S(2.0) * G2) - S(1.0));
+  o.czo = (-S(1.0) / S(6.0)) * wA * ak * (S(3.0) * As2 - S(6.0) * ak - S(8.0) * ai) * is3;
   const V ai2 = ai * ai, ak2 = ak * ak, s4 = s2 * s2, s6 = s4 * s2;
-  o.czp = (-1.0 / 6.0) * wA * ai2 * (3.0 * As2 + 2.0 * ak) * is3 * iak;
+  o.czp = (-S(1.0) / S(6.0)) * wA * ai2 * (S(3.0) * As2 + S(2.0) * ak) * is3 * iak;
   /* P_k, P_i of the header (Horner in A and in a_i) */
-  const V C2 = ((96.0 * ai + 312.0 * ak) * ai + 336.0 * ak2) * ai + 120.0 * ak2 * ak;
-  const V C1 = ((132.0 * ai + 483.0 * ak) * ai + 561.0 * ak2) * ai + 210.0 * ak2 * ak;
-  const V C0 = ((80.0 * ai + 368.0 * ak) * ai + 462.0 * ak2) * ai + 180.0 * ak2 * ak;
-  const V Pk = ((30.0 * s6 * A - C2) * A + C1) * A - C0;
-  const V Pi = ((30.0 * s6 * A - 24.0 * ak * s4) * A + ak * ((15.0 * ai + 21.0 * ak) * ai + 6.0 * ak2)) * A +
-               ak2 * (4.0 * ak + 10.0 * ai);
-  const V c4o = (1.0 / 15.0) * wA * Pk * is5;
-  const V c4p = (1.0 / 15.0) * wA * ai2 * Pi * is5 * iak * iak;
-  o.cpo = c4o + 2.0 * o.czo + 2.0 * o.zm; /* d Phi/d a2_k: R4, 2 zeta_1, 2 zeta_0 a2_k */
-  o.cpp = c4p + 2.0 * o.czp;
+  const V C2 = ((S(96.0) * ai + S(312.0) * ak) * ai + S(336.0) * ak2) * ai + S(120.0) * ak2 * ak;
+  const V C1 = ((S(132.0) * ai + S(483.0) * ak) * ai + S(561.0) * ak2) * ai + S(210.0) * ak2 * ak;
+  const V C0 = ((S(80.0) * ai + S(368.0) * ak) * ai + S(462.0) * ak2) * ai + S(180.0) * ak2 * ak;
+  const V Pk = ((S(30.0) * s6 * A - C2) * A + C1) * A - C0;
+  const V Pi = ((S(30.0) * s6 * A - S(24.0) * ak * s4) * A + ak * ((S(15.0) * ai + S(21.0) * ak) * ai + S(6.0) * ak2)) * A +
+               ak2 * (S(4.0) * ak + S(10.0) * ai);
+  const V c4o = (S(1.0) / S(15.0)) * wA * Pk * is5;
+  const V c4p = (S(1.0) / S(15.0)) * wA * ai2 * Pi * is5 * iak * iak;
+  o.cpo = c4o + S(2.0) * o.czo + S(2.0) * o.zm; /* d Phi/d a2_k: R4, 2 zeta_1, 2 zeta_0 a2_k */
+  o.cpp = c4p + S(2.0) * o.czp;
   return o;
 }
 
@@ -87,47 +96,62 @@ using namespace gran_theory_simd;
 
 void spass_general(const gran_mixture *mix, const double *T, const double *a2, SPass &P);
 
-/* Constant eps and g2: the pairs (k, i < k) VW at a time, both directions per pair. */
-void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
+/* Constant eps and g2: the pairs (k, i < k) VWT at a time, both directions per pair; R = double
+ * (VV = vd) or float (VV = vf: the early sweeps of the HCS solve, see sonine_hcs). */
+inline vd ld(const double *p) { return vload(p); }
+inline vf ld(const float *p) { return vloadf(p); }
+template <typename R, typename VV, int VWT>
+void spass_fast_t(const gran_mixture *mix, const double *T_, const double *a2_, SPass &P) {
   const int64_t M = mix->M;
-  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.zdg, &P.nu}) v->assign((size_t)M, 0.0);
-  const double *m = mix->m.data(), *sg = mix->sigma.data(), *n = mix->n.data();
-  double *z0 = P.z0.data(), *z1 = P.z1.data(), *phi = P.phi.data(), *dg = P.diag.data(), *of = P.off.data(),
-         *nu = P.nu.data(), *zd = P.zdg.data();
-  const double p = 0.5 * (1.0 + mix->eps), q = 0.5 * (1.0 - mix->eps), W = SQ2PI * mix->g2;
-  std::vector<double> av((size_t)M), iT((size_t)M), ia((size_t)M);
+  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.zdg, &P.nu, &P.d, &P.l}) v->assign((size_t)M, 0.0);
+  std::vector<R> buf((size_t)(14 * M), R(0));
+  R *m = buf.data(), *sg = m + M, *n = sg + M, *T = n + M, *a2 = T + M;
+  R *z0 = a2 + M, *z1 = z0 + M, *phi = z1 + M, *dg = phi + M, *of = dg + M, *nu = of + M, *zd = nu + M, *dd = zd + M,
+    *ll = dd + M;
+  for (int64_t k = 0; k < M; k++) {
+    m[k] = (R)mix->m[(size_t)k];
+    sg[k] = (R)mix->sigma[(size_t)k];
+    n[k] = (R)mix->n[(size_t)k];
+    T[k] = (R)T_[k];
+    a2[k] = (R)a2_[k];
+  }
+  const R p = (R)(0.5 * (1.0 + mix->eps)), q = (R)(0.5 * (1.0 - mix->eps)), W = (R)(SQ2PI * mix->g2);
+  std::vector<R> av((size_t)M), iT((size_t)M), ia((size_t)M);
   for (int64_t k = 0; k < M; k++) {
     av[(size_t)k] = T[k] / m[k];
-    iT[(size_t)k] = 1.0 / T[k];
+    iT[(size_t)k] = R(1.0) / T[k];
     ia[(size_t)k] = m[k] / T[k];
   }
   for (int64_t k = 0; k < M; k++) {
-    const double mk = m[k], Tk = T[k], ak = av[(size_t)k], iTk = iT[(size_t)k], nk = n[k], sk = sg[k], a2k = a2[k];
-    const double iak = ia[(size_t)k];
+    const R mk = m[k], Tk = T[k], ak = av[(size_t)k], iTk = iT[(size_t)k], nk = n[k], sk = sg[k], a2k = a2[k];
+    const R iak = ia[(size_t)k];
     { /* self pair */
-      const double w = W * sk * sk * nk, s = std::sqrt(2.0 * ak);
-      const PairOut<double> o = pair_terms<double>(w, p, q, 0.5, 0.5, 1.0, 0.0, ak, ak, iak, s, 1.0 / s);
+      const R w = W * sk * sk * nk, s = std::sqrt(2.0 * ak);
+      const PairOut<R> o = pair_terms<R>(w, p, q, R(0.5), R(0.5), R(1.0), R(0.0), ak, ak, iak, s, R(1.0) / s);
       z0[k] += o.zm;
+      dd[k] += o.dm;
+      ll[k] = o.lm;
       z1[k] += (o.czo + o.czp) * a2k;
       phi[k] += o.pm + (o.cpo + o.cpp) * a2k;
       dg[k] += o.cpo + o.cpp;
       zd[k] += o.czo + o.czp;
-      nu[k] += w * 0.5 * s;
+      nu[k] += w * R(0.5) * s;
     }
-    vd vz0 = {}, vz1 = {}, vph = {}, vdg = {}, vof = {}, vnu = {}, vzd = {};
+    VV vz0 = {}, vz1 = {}, vph = {}, vdg = {}, vof = {}, vnu = {}, vzd = {}, vdd = {};
     int64_t i = 0;
-    for (; i + VW <= k; i += VW) {
-      const vd mi = vload(m + i), Ti = vload(T + i), ai = vload(av.data() + i), iTi = vload(iT.data() + i),
-               ni = vload(n + i), si = vload(sg + i), a2i = vload(a2 + i);
-      const vd sgm = 0.5 * (sk + si);
-      const vd w0 = W * sgm * sgm;
-      const vd inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv;
-      const vd s = vsqrt(ak + ai), is = 1.0 / s;
-      const vd akv = ak + (vd){}, Tkv = Tk + (vd){}, iakv = iak + (vd){}, iai = vload(ia.data() + i);
+    for (; i + VWT <= k; i += VWT) {
+      const VV mi = ld(m + i), Ti = ld(T + i), ai = ld(av.data() + i), iTi = ld(iT.data() + i),
+               ni = ld(n + i), si = ld(sg + i), a2i = ld(a2 + i);
+      const VV sgm = R(0.5) * (sk + si);
+      const VV w0 = W * sgm * sgm;
+      const VV inv = R(1.0) / (mi + mk), mu = mi * inv, omu = mk * inv;
+      const VV s = vsqrt(ak + ai), is = R(1.0) / s;
+      const VV akv = ak + (VV){}, Tkv = Tk + (VV){}, iakv = iak + (VV){}, iai = ld(ia.data() + i);
       {
-        const vd w = w0 * ni;
-        const PairOut<vd> o = pair_terms<vd>(w, p, q, mu, omu, Ti * iTk, (Tkv - Ti) * iTk, akv, ai, iakv, s, is);
+        const VV w = w0 * ni;
+        const PairOut<VV> o = pair_terms<VV>(w, p, q, mu, omu, Ti * iTk, (Tkv - Ti) * iTk, akv, ai, iakv, s, is);
         vz0 += o.zm;
+        vdd += o.dm;
         vz1 += o.czo * a2k + o.czp * a2i;
         vph += o.pm + o.cpo * a2k + o.cpp * a2i;
         vdg += o.cpo;
@@ -136,26 +160,28 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
         vnu += w * mu * s;
       }
       {
-        const vd w = w0 * nk;
-        const PairOut<vd> o = pair_terms<vd>(w, p, q, omu, mu, Tk * iTi, (Ti - Tkv) * iTi, ai, akv, iai, s, is);
-        vstore(z0 + i, vload(z0 + i) + o.zm);
-        vstore(z1 + i, vload(z1 + i) + o.czo * a2i + o.czp * a2k);
-        vstore(phi + i, vload(phi + i) + o.pm + o.cpo * a2i + o.cpp * a2k);
-        vstore(dg + i, vload(dg + i) + o.cpo);
-        vstore(of + i, vload(of + i) + o.cpp);
-        vstore(zd + i, vload(zd + i) + o.czo);
-        vstore(nu + i, vload(nu + i) + w * omu * s);
+        const VV w = w0 * nk;
+        const PairOut<VV> o = pair_terms<VV>(w, p, q, omu, mu, Tk * iTi, (Ti - Tkv) * iTi, ai, akv, iai, s, is);
+        vstore(z0 + i, ld(z0 + i) + o.zm);
+        vstore(dd + i, ld(dd + i) + o.dm);
+        vstore(z1 + i, ld(z1 + i) + o.czo * a2i + o.czp * a2k);
+        vstore(phi + i, ld(phi + i) + o.pm + o.cpo * a2i + o.cpp * a2k);
+        vstore(dg + i, ld(dg + i) + o.cpo);
+        vstore(of + i, ld(of + i) + o.cpp);
+        vstore(zd + i, ld(zd + i) + o.czo);
+        vstore(nu + i, ld(nu + i) + w * omu * s);
       }
     }
-    double sz0 = hsum(vz0), sz1 = hsum(vz1), sph = hsum(vph), sdg = hsum(vdg), sof = hsum(vof), snu = hsum(vnu),
-           szd = hsum(vzd);
+    R sz0 = hsum(vz0), sz1 = hsum(vz1), sph = hsum(vph), sdg = hsum(vdg), sof = hsum(vof), snu = hsum(vnu),
+           szd = hsum(vzd), sdd = hsum(vdd);
     for (; i < k; i++) {
-      const double mi = m[i], Ti = T[i], ai = av[(size_t)i], sgm = 0.5 * (sk + sg[i]), w0 = W * sgm * sgm;
-      const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv, s = std::sqrt(ak + ai), is = 1.0 / s;
+      const R mi = m[i], Ti = T[i], ai = av[(size_t)i], sgm = R(0.5) * (sk + sg[i]), w0 = W * sgm * sgm;
+      const R inv = R(1.0) / (mi + mk), mu = mi * inv, omu = mk * inv, s = std::sqrt(ak + ai), is = R(1.0) / s;
       {
-        const double w = w0 * n[i];
-        const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti * iTk, (Tk - Ti) * iTk, ak, ai, iak, s, is);
+        const R w = w0 * n[i];
+        const PairOut<R> o = pair_terms<R>(w, p, q, mu, omu, Ti * iTk, (Tk - Ti) * iTk, ak, ai, iak, s, is);
         sz0 += o.zm;
+        sdd += o.dm;
         sz1 += o.czo * a2k + o.czp * a2[i];
         sph += o.pm + o.cpo * a2k + o.cpp * a2[i];
         sdg += o.cpo;
@@ -164,10 +190,11 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
         snu += w * mu * s;
       }
       {
-        const double w = w0 * nk, iTi = iT[(size_t)i];
-        const PairOut<double> o =
-            pair_terms<double>(w, p, q, omu, mu, Tk * iTi, (Ti - Tk) * iTi, ai, ak, ia[(size_t)i], s, is);
+        const R w = w0 * nk, iTi = iT[(size_t)i];
+        const PairOut<R> o =
+            pair_terms<R>(w, p, q, omu, mu, Tk * iTi, (Ti - Tk) * iTi, ai, ak, ia[(size_t)i], s, is);
         z0[i] += o.zm;
+        dd[i] += o.dm;
         z1[i] += o.czo * a2[i] + o.czp * a2k;
         phi[i] += o.pm + o.cpo * a2[i] + o.cpp * a2k;
         dg[i] += o.cpo;
@@ -177,6 +204,7 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
       }
     }
     zd[k] += szd;
+    dd[k] += sdd;
     z0[k] += sz0;
     z1[k] += sz1;
     phi[k] += sph;
@@ -184,6 +212,34 @@ void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPas
     of[k] += sof;
     nu[k] += snu;
   }
+  for (int64_t k = 0; k < M; k++) {
+    P.z0[(size_t)k] = z0[k];
+    P.z1[(size_t)k] = z1[k];
+    P.phi[(size_t)k] = phi[k];
+    P.diag[(size_t)k] = dg[k];
+    P.off[(size_t)k] = of[k];
+    P.zdg[(size_t)k] = zd[k];
+    P.nu[(size_t)k] = nu[k];
+    P.d[(size_t)k] = dd[k];
+    P.l[(size_t)k] = ll[k];
+  }
+}
+
+void spass_fast(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
+  spass_fast_t<double, vd, VW>(mix, T, a2, P);
+}
+
+/* The single-precision pass is used only where every quantity it forms stays far inside float's
+ * range: masses, diameters, densities and temperatures (T_ref = 1) within [1e-6, 1e6]. */
+bool spass_lo_ok(const gran_mixture *mix, const double *T) {
+  if (mix->model != GRAN_RESTITUTION_CONSTANT || !mix->g2_mat.empty()) return false;
+  if (!(mix->g2 >= 1e-6 && mix->g2 <= 1e6)) return false;
+  auto in = [](double x) { return x >= 1e-6 && x <= 1e6; };
+  for (int64_t k = 0; k < mix->M; k++)
+    if (!in(mix->m[(size_t)k]) || !in(mix->sigma[(size_t)k]) || !in(T[k]) ||
+        !(mix->n[(size_t)k] == 0.0 || in(mix->n[(size_t)k])))
+      return false;
+  return true;
 }
 
 void spass(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
@@ -194,10 +250,10 @@ void spass(const gran_mixture *mix, const double *T, const double *a2, SPass &P)
 /* Any restitution/g2 matrices: each unordered pair once with the accessors. */
 void spass_general(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
   const int64_t M = mix->M;
-  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.zdg, &P.nu}) v->assign((size_t)M, 0.0);
+  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.zdg, &P.nu, &P.d, &P.l}) v->assign((size_t)M, 0.0);
   const double *m = mix->m.data(), *sg = mix->sigma.data(), *n = mix->n.data();
   double *z0 = P.z0.data(), *z1 = P.z1.data(), *phi = P.phi.data(), *dg = P.diag.data(), *of = P.off.data(),
-         *nu = P.nu.data(), *zd = P.zdg.data();
+         *nu = P.nu.data(), *zd = P.zdg.data(), *dd = P.d.data(), *ll = P.l.data();
   for (int64_t k = 0; k < M; k++) {
     const double mk = m[k], Tk = T[k], ak = Tk / mk;
     for (int64_t i = 0; i <= k; i++) {
@@ -212,11 +268,12 @@ void spass_general(const gran_mixture *mix, const double *T, const double *a2, S
         const double w = w0 * n[i];
         const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti / Tk, (Tk - Ti) / Tk, ak, ai, 1.0 / ak, s, is);
         z0[k] += o.zm;
+        dd[k] += o.dm;
         z1[k] += o.czo * a2[k] + o.czp * a2[i];
         phi[k] += o.pm + o.cpo * a2[k] + o.cpp * a2[i];
         dg[k] += o.cpo;
         zd[k] += o.czo;
-        if (i == k) dg[k] += o.cpp, zd[k] += o.czp;
+        if (i == k) dg[k] += o.cpp, zd[k] += o.czp, ll[k] = o.lm;
         else of[k] += o.cpp;
         nu[k] += w * mu * s;
       }
@@ -224,6 +281,7 @@ void spass_general(const gran_mixture *mix, const double *T, const double *a2, S
         const double w = w0 * n[k];
         const PairOut<double> o = pair_terms<double>(w, p, q, omu, mu, Tk / Ti, (Ti - Tk) / Ti, ai, ak, 1.0 / ai, s, is);
         z0[i] += o.zm;
+        dd[i] += o.dm;
         z1[i] += o.czo * a2[i] + o.czp * a2[k];
         phi[i] += o.pm + o.cpo * a2[i] + o.cpp * a2[k];
         dg[i] += o.cpo;
@@ -265,6 +323,8 @@ void sresidual(const SPass &P, double *rT, double *rA, double *cstar) {
 const int64_t SON_DENSE_MAX = 64; /* GSL hybrids polish of the 2M-1 unknowns up to here */
 const double SON_TOL = 1e-13;
 const double SON_ACA_TOL = 1e-6; /* the coupling kernels of the sweep (an approximate Jacobian) */
+const double SON_START_TOL = 1e-4; /* the Maxwellian start beyond SON_DENSE_MAX species */
+const double SON_LO_TOL = 1e-4;    /* single-precision passes while the residuals are above this */
 
 /* ---- GSL hybrids on x = (log T_k - log T_ref for k != ref, a2_k) ---------------------------- */
 struct SSys {
@@ -548,7 +608,8 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
                int *passes_out) {
   const int64_t M = mix->M;
   int passes = 0;
-  std::vector<double> T((size_t)M), scale((size_t)M, 1.0), da((size_t)M, 0.0), Dk((size_t)M), a2p, uold;
+  std::vector<double> T((size_t)M), scale((size_t)M, 1.0), da((size_t)M, 0.0), Dk((size_t)M), a2p, uold,
+      nuc((size_t)M);
   /* the three coupling kernels (ACA factors, self entries): an approximate Jacobian, refreshed
    * while the state still moves (residuals above 1e-4) and then kept */
   std::vector<double> UC, VC, UZ, VZ, UL, VL, Ckk((size_t)M), Zkk((size_t)M);
@@ -562,7 +623,7 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
   const int maxit = 200;
   Anderson AA;
   std::vector<double> X((size_t)(2 * M)), xprev((size_t)(2 * M));
-  bool polished = false;
+  bool polished = false, was_lo = false;
   for (int it = 0;; it++) {
     for (int64_t k = 0; k < M; k++) {
       xprev[(size_t)k] = u[(size_t)k] - u[(size_t)ref];
@@ -570,7 +631,13 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
     }
     const double shift = u[(size_t)ref];
     for (int64_t k = 0; k < M; k++) T[(size_t)k] = std::exp(u[(size_t)k] - shift);
-    spass(mix, T.data(), a2.data(), P);
+    /* while the residuals are above SON_LO_TOL the sweep needs the rates to a few digits only:
+     * the single-precision pass (twice the lanes), then the double one to the end */
+    const bool lo = M > SON_DENSE_MAX && std::max(rT, rA) > SON_LO_TOL && spass_lo_ok(mix, T.data());
+    if (lo) spass_fast_t<float, vf, VWF>(mix, T.data(), a2.data(), P);
+    else spass(mix, T.data(), a2.data(), P);
+    if (!lo && was_lo) AA = Anderson(); /* the map changed by the rounding of the float pass */
+    was_lo = lo;
     a2p = a2;
     passes++;
     sresidual(P, &rT, &rA, &c);
@@ -579,7 +646,7 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
 #endif
     if (!std::isfinite(rT) || !std::isfinite(rA))
       return GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine HCS: non-finite rates during the solve");
-    if (rT <= SON_TOL && rA <= SON_TOL) break;
+    if (!lo && rT <= SON_TOL && rA <= SON_TOL) break;
     if (M > 1 && M <= SON_DENSE_MAX && !polished && rT <= 1e-9 && rA <= 1e-9) {
       /* GSL hybrids on the 2M - 1 unknowns together; the sweeps continue if it stops short */
       polished = true;
@@ -643,7 +710,10 @@ int sonine_hcs(const gran_mixture *mix, std::vector<double> &u, std::vector<doub
 #ifdef GRAN_HCS_DEBUG
       const clock_t c0 = clock();
 #endif
-      GRAN_CALL(hcs_solve_scaled(mix, scale.data(), u, &r2, tin, 1, &passes));
+      /* the pass above was at T = exp(u - u_ref): its Maxwellian part is the Newton step's first pass */
+      for (int64_t k = 0; k < M; k++) nuc[(size_t)k] = (8.0 / 3.0) * P.nu[(size_t)k];
+      const HcsPass first{P.z0.data(), P.d.data(), P.l.data(), nuc.data()};
+      GRAN_CALL(hcs_solve_scaled(mix, scale.data(), &first, u, &r2, tin, 1, &passes));
 #ifdef GRAN_HCS_DEBUG
       std::fprintf(stderr, "sonine: newton step %.3f s\n", (double)(clock() - c0) / CLOCKS_PER_SEC);
 #endif
@@ -788,14 +858,20 @@ GRAN_EXTERN int gran_theory_hcs_approx(const gran_mixture *mix, int approximatio
       return GRAN_SUCCESS;
     }
     GRAN_CALL(check_sonine_model(mix));
-    std::vector<double> T((size_t)M);
-    /* Maxwellian start (also the answer when every pair is elastic: a2 = 0 at equipartition) */
-    GRAN_CALL(gran_theory_hcs(mix, GRAN_HCS_NORM_T1, 1.0, T.data(), nullptr));
+    /* Maxwellian start (also the answer when every pair is elastic: a2 = 0 at equipartition); beyond
+     * SON_DENSE_MAX species only to the residual SON_START_TOL, the sweeps' own temperature steps
+     * do the rest */
     std::vector<double> u((size_t)M), b((size_t)M, 0.0);
-    for (int64_t k = 0; k < M; k++) u[(size_t)k] = std::log(T[(size_t)k]);
+    int passes = 0;
+    if (M <= SON_DENSE_MAX) {
+      std::vector<double> T((size_t)M);
+      GRAN_CALL(gran_theory_hcs(mix, GRAN_HCS_NORM_T1, 1.0, T.data(), nullptr));
+      for (int64_t k = 0; k < M; k++) u[(size_t)k] = std::log(T[(size_t)k]);
+    } else {
+      GRAN_CALL(hcs_solve_start(mix, u, SON_START_TOL, &passes));
+    }
     double cbar = 0.0;
     const bool elastic = all_elastic(mix);
-    int passes = 0;
     if (!elastic) GRAN_CALL(sonine_hcs(mix, u, b, &cbar, &passes));
 #ifdef GRAN_HCS_DEBUG
     std::fprintf(stderr, "sonine hcs: M = %" PRId64 " passes %d\n", M, passes);

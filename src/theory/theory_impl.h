@@ -6,6 +6,7 @@
 
 #include "granary_impl.h"
 
+#include <complex>
 #include <vector>
 
 /* Viscoelastic source of beta_ij (GRAN_RESTITUTION_VISCOELASTIC). */
@@ -119,6 +120,25 @@ void collision_scale(const gran_mixture *mix, const double *T, double *nu);
  * pair passes used. */
 int hcs_solve_scaled(const gran_mixture *mix, const double *scale, std::vector<double> &u, int64_t *ref_out,
                      double tol, int max_steps, int *passes);
+/* The same with the first pass given: the unscaled outputs of cooling_pass (xi, d, l, nu, length M)
+ * at T = exp(u - u[ref]), e.g. accumulated by another pass over the pairs at that T. */
+struct HcsPass {
+  const double *xi, *d, *l, *nu;
+};
+int hcs_solve_scaled(const gran_mixture *mix, const double *scale, const HcsPass *first, std::vector<double> &u,
+                     int64_t *ref_out, double tol, int max_steps, int *passes);
+/* Maxwellian HCS u = log T (u[ref] = 0, ref the densest species) to the residual tol (a start for
+ * another solve; gran_theory_hcs solves to 1e-13); passes as above (may be NULL). */
+int hcs_solve_start(const gran_mixture *mix, std::vector<double> &u, double tol, int *passes);
+
+/* ---- two-moment velocity correlation (sonine_diffusion.cpp) -----------------------------------
+ * Species k at temperatures T with cooling rate zeta_k (NaN: the Maxwellian xi_k at T) and Sonine
+ * coefficient a2_k: <v(t0).v(t0 + tau)> = (3 T_k/m_k) Re(c_0 e^(-lam_0 tau) + c_1 e^(-lam_1 tau)),
+ * c_0 + c_1 = 1; both rates real and positive, or a complex-conjugate pair with Re > 0. */
+typedef std::complex<double> cd;
+int sonine_modes(const gran_mixture *mix, const double *T, int64_t k, double zeta_k, double a2_k, cd lam[2], cd c[2]);
+/* g_fun for complex y */
+cd g_cplx(cd y);
 
 /* ---- HCS states (msd.cpp) ---------------------------------------------------------------------
  * Checks that (T0, tau0) is a homogeneous cooling state (|xi_k tau0/2 - 1| <= 1e-3; tau0 = inf:

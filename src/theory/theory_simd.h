@@ -43,6 +43,38 @@ inline double hsum(vd v) {
   for (double x : a) s += x;
   return s;
 }
+
+/* single precision, the same register width (VWF lanes) */
+#if defined(__AVX512F__)
+const int VWF = 16;
+typedef float vf __attribute__((vector_size(64)));
+inline vf vsqrt(vf x) { return (vf)_mm512_mask_sqrt_ps((__m512)x, (__mmask16)-1, (__m512)x); }
+#elif defined(__AVX__)
+const int VWF = 8;
+typedef float vf __attribute__((vector_size(32)));
+inline vf vsqrt(vf x) { return (vf)_mm256_sqrt_ps((__m256)x); }
+#elif defined(__SSE2__)
+const int VWF = 4;
+typedef float vf __attribute__((vector_size(16)));
+inline vf vsqrt(vf x) { return (vf)_mm_sqrt_ps((__m128)x); }
+#else
+const int VWF = 1;
+typedef float vf;
+inline vf vsqrt(vf x) { return std::sqrt(x); }
+#endif
+inline vf vloadf(const float *p) {
+  vf v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void vstore(float *p, vf v) { std::memcpy(p, &v, sizeof v); }
+inline float hsum(vf v) {
+  float a[sizeof(vf) / sizeof(float)];
+  std::memcpy(a, &v, sizeof v);
+  float s = 0.0f;
+  for (float x : a) s += x;
+  return s;
+}
 }  // namespace gran_theory_simd
 
 #endif

@@ -1,0 +1,102 @@
+/* t414-sonine-diffusion.c - the two-moment (second Sonine) velocity correlation, diffusion
+ * coefficients and MSD (src/theory/sonine_diffusion.cpp): the elastic hard-sphere value
+ * D2/D1 = 59/58, a light tracer in a heavy elastic gas (sympy value), a tracer identical to the
+ * gas equals the gas, the inelastic D2/D1 of one species, the HCS closed form against Eq. 4 in the
+ * Sonine approximation, the TAMSD's limits, the Maxwellian level unchanged, the Fig. 3 set-up below the Maxwellian
+ * level as granary's DSMC (docs/physics-sonine.md Sec. 5), and bad input refused. */
+#include "granary_test.h"
+
+static double d_ratio(gran_mixture *mix, const double *T, int64_t k) {
+  double Dm[3], Ds[3];
+  GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_MAXWELLIAN, T, NULL, NULL, Dm));
+  GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T, NULL, NULL, Ds));
+  return Ds[k] / Dm[k];
+}
+
+static void test_limits(void **state) {
+  (void)state;
+  const double one[1] = {1};
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(1, one, one, one, &mix));
+  const double T1[1] = {1.7};
+  GRAN_ASSERT_REL(d_ratio(mix, T1, 0), 59.0 / 58.0, 1e-12); /* elastic hard spheres */
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 1.0 - 1e-9));
+  GRAN_ASSERT_REL(d_ratio(mix, T1, 0), 59.0 / 58.0, 1e-8); /* continuous at eps -> 1 */
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.5));
+  const double r = d_ratio(mix, T1, 0);
+  GRAN_ASSERT_REL(r, 0.95789474, 1e-7); /* 91/95: below the Maxwellian level */
+  gran_mixture_destroy(&mix);
+  /* light tracer (m = 1) in an elastic gas of m = 100, equal sigma and T: sympy 1.08221655841486 */
+  const double m2[2] = {1, 100}, s2[2] = {1, 1}, n2[2] = {0, 1}, T2[2] = {1, 1};
+  GRAN_ASSERT_OK(gran_mixture_create(2, m2, s2, n2, &mix));
+  GRAN_ASSERT_REL(d_ratio(mix, T2, 0), 1.08221655841486, 1e-12);
+  GRAN_ASSERT_REL(d_ratio(mix, T2, 1), 59.0 / 58.0, 1e-12);
+  gran_mixture_destroy(&mix);
+  /* a tracer identical to the gas has the gas's D (equal species reduce to one) */
+  const double m3[2] = {2, 2}, s3[2] = {1.5, 1.5}, n3[2] = {0.3, 0}, T3[2] = {0.8, 0.8};
+  GRAN_ASSERT_OK(gran_mixture_create(2, m3, s3, n3, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.7));
+  double D[2];
+  GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T3, NULL, NULL, D));
+  GRAN_ASSERT_REL(D[1], D[0], 1e-13);
+  gran_mixture_destroy(&mix);
+}
+
+static void test_msd(void **state) {
+  (void)state;
+  const double m[3] = {1, 100, 500}, s[3] = {1, cbrt(100.0), cbrt(500.0)}, n[3] = {0.1, 0.1, 0.1};
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(3, m, s, n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.5));
+  double T0[3], tau0;
+  GRAN_ASSERT_OK(gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T0, &tau0));
+  const double t[3] = {10, 100, 1000};
+  double a[9], b[9], c[9], d[9];
+  /* Maxwellian level: the approx calls are the reference calls */
+  GRAN_ASSERT_OK(gran_theory_msd_hcs(mix, T0, tau0, 3, t, a, NULL));
+  GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_MAXWELLIAN, T0, NULL, tau0, 3, t, b, NULL));
+  for (int j = 0; j < 9; j++) assert_true(a[j] == b[j]);
+  /* Sonine: the HCS closed form (a2 = 0, Maxwellian HCS) and Eq. 4 from the same start agree */
+  GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, T0, NULL, tau0, 3, t, c, NULL));
+  GRAN_ASSERT_OK(gran_theory_msd_approx(mix, GRAN_THEORY_SONINE, T0, 3, t, 1e-9, d, NULL));
+  for (int j = 0; j < 9; j++) GRAN_ASSERT_REL(d[j], c[j], 1e-6);
+  /* below the Maxwellian level at t = 1e3 as granary's DSMC (-7.0, -4.8, -3.4 %): -8.6, -5.3, -3.3 % */
+  const double want[3] = {-0.0856, -0.0528, -0.0325};
+  for (int k = 0; k < 3; k++) GRAN_ASSERT_ABS(c[6 + k] / a[6 + k] - 1, want[k], 5e-4);
+  /* the Sonine HCS (T0, a2, tau0 of gran_theory_hcs_approx) */
+  double TS[3], a2[3], taus;
+  GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_MEAN, 1.0, TS, a2, &taus));
+  GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, TS, a2, taus, 3, t, c, NULL));
+  for (int j = 0; j < 9; j++) assert_true(isfinite(c[j]) && c[j] > 0 && c[j] < a[j]);
+  /* TAMSD with the two modes: lag -> t_meas gives the MSD; small lags the ballistic MSD; between,
+   * below the Maxwellian TAMSD (as the MSD); Maxwellian level = gran_theory_tamsd */
+  {
+    GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, T0, NULL, tau0, 3, t, c, NULL));
+    const double lags[3] = {1e-3, 10, 1000 * (1 - 1e-10)};
+    double ts[9], tm[9], tm2[9];
+    GRAN_ASSERT_OK(gran_theory_tamsd_approx(mix, GRAN_THEORY_SONINE, T0, NULL, tau0, 1000, 3, lags, 1e-10, ts));
+    GRAN_ASSERT_OK(gran_theory_tamsd(mix, T0, tau0, 1000, 3, lags, 1e-10, tm));
+    GRAN_ASSERT_OK(gran_theory_tamsd_approx(mix, GRAN_THEORY_MAXWELLIAN, T0, NULL, tau0, 1000, 3, lags, 1e-10, tm2));
+    for (int j = 0; j < 9; j++) assert_true(tm[j] == tm2[j]);
+    for (int k = 0; k < 3; k++) {
+      GRAN_ASSERT_REL(ts[6 + k], c[6 + k], 1e-7);  /* lag = t_meas */
+      GRAN_ASSERT_REL(ts[k], tm[k], 1e-3);         /* ballistic: 3 T/m lag^2 in both */
+      assert_true(ts[3 + k] < tm[3 + k] && ts[3 + k] > 0.8 * tm[3 + k]);
+    }
+  }
+  /* bad input */
+  assert_int_equal(gran_theory_msd_hcs_approx(mix, 5, T0, NULL, tau0, 3, t, c, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "approximation"));
+  assert_int_equal(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, T0, NULL, 2 * tau0, 3, t, c, NULL),
+                   GRAN_ERR_DOMAIN); /* not an HCS of the rates */
+  const double bad[3] = {0.1, 1.5, 0};
+  assert_int_equal(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, TS, bad, taus, 3, t, c, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "a2"));
+  assert_int_equal(gran_theory_diffusion_approx(mix, 7, T0, NULL, NULL, d), GRAN_ERR_ARG);
+  gran_mixture_destroy(&mix);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_limits), cmocka_unit_test(test_msd)};
+  return cmocka_run_group_tests_name("t414-sonine-diffusion", tests, NULL, NULL);
+}
