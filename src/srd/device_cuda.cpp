@@ -5,9 +5,10 @@
  *     warning; "cuda" without either is GRAN_ERR_UNSUPPORTED naming which.
  * (2) The host reference of the device algorithm (gran_ref_srd_*, same contracts as the GPU
  *     launchers of cuda/srd_cuda.h): the rules of src/srd/rules.h in plain serial loops, cell sums
- *     in particle order (so its particles are the CPU engine's, bit for bit, in double storage:
- *     t890), float storage emulated by rounding what it stores. The GPU tests compare the GPU
- *     against it.
+ *     in particle order (so its particles follow the CPU engine's to rounding in double storage:
+ *     t890; the CPU engine's loops compile the rules with constant effect bits, so the compiler
+ *     fuses other multiply-adds), float storage emulated by rounding what it stores. The GPU tests
+ *     compare the GPU against it.
  * (3) The engine hooks: a run whose options name a device keeps its particles and cells there; the
  *     engine (src/srd/engine.cpp) calls gran_srd_dev_* at its dispatch points. The host side does
  *     what the CPU engine does on the host: the per-step geometry (Lees-Edwards offset, wall

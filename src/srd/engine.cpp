@@ -11,8 +11,9 @@
  * RNG state (32 B) persist. Global sums use fixed blocks of SRD_BLOCK particles (streaming) or the
  * slabs (collisions) added in order (independent of the thread count).
  * The physics of the phases is the rules of src/srd/rules.h (srd_rule_move, srd_rule_thermal,
- * srd_rule_cell, srd_rule_collide), the same functions the devices call (cuda/srd.cu, the host
- * reference in device_cuda.cpp); the loops here iterate, store and add the partials up.
+ * srd_rule_cell; srd_rule_collide written out in the collision loop, for the bits), the same
+ * functions the devices call (cuda/srd.cu, the host reference in device_cuda.cpp); the loops here
+ * iterate, store and add the partials up.
  * Templates: DIM, DISSIP (eps < 1 or thermostat), LE, WALL, ACCEL; they make the rules' effect mask
  * a compile-time constant (srd_rule_fx_fold), so an effect that is off is compiled out of the loops.
  */
@@ -435,13 +436,28 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       int64_t done = 0;
       slab_chunks(sl, [&](const int64_t *ib, int64_t m) {
         const uint32_t *pcc = pc + done;
-        const int32_t fxc = srd_rule_fx_fold(FX_FIXED, K.fx);
         done += m;
         for (int64_t j = 0; j < m; ++j) {
           const int64_t i = ib[j];
           double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
           const double dvx = LE && (pcc[j] & 0x80000000u) ? -gm.le_dv : 0.0;
-          srd_rule_collide(fxc, DIM, &K, &gm, &W[pcc[j] & 0x7fffffffu].rot, dvx, py[i], v, acc);
+          /* srd_rule_collide of rules.h, written out with the template flags: the compiler's
+           * choice to inline srd_rotate here or not decides which multiply-adds it fuses, and that
+           * choice differs when the flags reach the loop through srd_rule_collide (3-D runs with
+           * dissipation then differ in the last bits from every earlier result). t890 compares this
+           * loop with srd_rule_collide on the reference device (the same to rounding). */
+          const srd_cell_rot &cr = W[pcc[j] & 0x7fffffffu].rot;
+          if (LE) v[0] += dvx;
+          const double e0 = DISSIP || WALL ? v[0] * v[0] + v[1] * v[1] + v[2] * v[2] : 0.0;
+          const double vx0 = v[0];
+          if (cr.r[0] != 0.0 || cr.r[1] != 0.0 || cr.r[2] != 0.0) srd_rotate(v, &cr, K.ca, K.sa, DIM, DISSIP);
+          if (DISSIP || WALL) acc[SRD_ACC_DE] += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - e0);
+          if (LE) {
+            const double yy = (dvx != 0.0) ? py[i] - gm.box[1] : py[i];
+            acc[SRD_ACC_VIR] += (v[0] - vx0) * yy;
+            acc[SRD_ACC_LEW] -= dvx * (v[0] - vx0);
+            v[0] -= dvx;
+          }
           vx[i] = v[0];
           vy[i] = v[1];
           if (DIM == 3) vz[i] = v[2];

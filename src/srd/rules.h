@@ -4,7 +4,9 @@
  * collision rule (srd_rule_cell; with the global thermostat, after a sum over the cells of
  * srd_rule_thermal and srd_rule_gscale), and per particle the collision (srd_rule_collide). These
  * functions are the whole physics of a step; the callers only iterate and store:
- *  - the CPU engine (src/srd/engine.cpp): OpenMP loops over blocks of particles and slabs of cells;
+ *  - the CPU engine (src/srd/engine.cpp): OpenMP loops over blocks of particles and slabs of cells
+ *    (its collision loop writes srd_rule_collide out with its template flags, for the bits: see
+ *    there and docs/developers/gsrd-rules.md);
  *  - the GPU (cuda/srd.cu): one kernel per phase, a thread per particle or cell;
  *  - the host reference of the device algorithm (src/srd/device_cuda.cpp): plain serial loops.
  * They are built on the primitives of src/srd/srd_kernels.h and are C99 / C++ / CUDA alike
