@@ -1,5 +1,6 @@
-/* srd.cu - the GSRD engine on one NVIDIA GPU: kernels that call the shared per-particle and per-cell
- * functions of src/srd/srd_kernels.h, and the extern "C" launchers of cuda/srd_cuda.h. */
+/* srd.cu - the GSRD engine on one NVIDIA GPU: kernels that iterate over particles or cells and call
+ * the step rules of src/srd/rules.h (the CPU engine's), and the extern "C" launchers of
+ * cuda/srd_cuda.h. */
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -13,12 +14,6 @@
 #include "srd/device_cuda.h" /* gran_srd_dev_check_params */
 
 namespace {
-
-/* per-cell collision record: the shared srd_cell_rot plus whether the cell collides (n >= 2) */
-struct CellRot {
-  srd_cell_rot rot;
-  int32_t active;
-};
 
 template <class T> struct Soa {
   T *x[3];
@@ -49,13 +44,14 @@ __device__ inline double warp_allsum(double x) {
 
 constexpr int kAggMaxGroups = 12; /* more distinct cells in a warp: plain atomics */
 
-/* Pass 1: stream + plane flux + wall + wrap (srd_dev_move), bin what is stored under the shift, cell
- * sums relative to Vref. AGG = false: every particle adds itself (dim + 2 atomics). AGG = true
- * (gran_cuda_srd_set_sums): the lanes of a warp that fall in the same cell (__match_any_sync) add
- * their sum once, when the warp holds at most kAggMaxGroups cells (particles sorted by cell); the
- * warp loop is warp-uniform so that every shuffle has the full warp. */
+/* Pass 1: the move (srd_rule_move: stream + plane flux + wall + wrap) and the per-step finiteness
+ * check, bin what is stored under the shift, cell sums relative to Vref. AGG = false: every
+ * particle adds itself (dim + 2 atomics). AGG = true (gran_cuda_srd_set_sums): the lanes of a warp
+ * that fall in the same cell (__match_any_sync) add their sum once, when the warp holds at most
+ * kAggMaxGroups cells (particles sorted by cell); the warp loop is warp-uniform so that every
+ * shuffle has the full warp. */
 template <class T, bool AGG>
-__global__ void k_stream_bin(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, double sx, double sy, double sz,
+__global__ void k_stream_bin(Soa<T> d, int64_t n, srd_rule_const K, srd_geom gm, double sx, double sy, double sz,
                              const double *__restrict__ vref, srd_cell_sum *__restrict__ sums,
                              double *__restrict__ acc) {
   const int dim = gm.dim;
@@ -73,7 +69,8 @@ __global__ void k_stream_bin(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, 
         p[k] = (double)d.x[k][i];
         v[k] = (double)d.v[k][i];
       }
-      srd_dev_move(&K, &gm, p, v, a);
+      srd_rule_move(K.fx, dim, &K, &gm, p, v, a);
+      if (srd_nonfinite(p, v) != 0.0) a[SRD_ACC_BAD] += 1.0; /* non-finite stays non-finite: see srd_wrap1 */
       for (int k = 0; k < dim; ++k) {
         const T xs = sizeof(T) == 4 ? (T)srd_dev_float_pos(&gm, k, p[k]) : (T)p[k], vs = (T)v[k];
         d.x[k][i] = xs;
@@ -125,21 +122,39 @@ __global__ void k_stream_bin(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, 
   flush_acc(a, SRD_ACC_BAD, SRD_ACC_BAD + 1, acc); /* non-finite moves: no atomic unless one was met */
 }
 
-/* Per cell (srd_dev_cell): moments, new reference, virtual particles, axis, eps_eff, thermostat;
- * sums cleared. stat[0]: clamped cells, stat[1]: bits of the smallest dt_max (nonnegative doubles
- * order as their bit patterns). */
-__global__ void k_cells(int64_t ncell, srd_dev_const K, srd_geom gm, double sx, double sy, double sz,
+/* Global thermostat (SRD_FX_GTHERMO): every cell's thermal energy and degrees of freedom
+ * (srd_rule_thermal) into therm[0], therm[1] (zeroed before; one atomic per warp). */
+__global__ void k_thermal(int64_t ncell, int dim, const srd_cell_sum *__restrict__ sums,
+                          const double *__restrict__ vref, double *__restrict__ therm) {
+  double a[2] = {0.0, 0.0};
+  for (int64_t c = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; c < ncell; c += (int64_t)gridDim.x * blockDim.x) {
+    const srd_cell_sum cs = sums[c];
+    const double ref[3] = {vref[3 * c], vref[3 * c + 1], vref[3 * c + 2]};
+    double ec, dc;
+    if (!srd_rule_thermal(dim, &cs, ref, &ec, &dc)) continue;
+    a[0] += ec;
+    a[1] += dc;
+  }
+  flush_acc(a, 0, 2, therm);
+}
+
+/* Per cell (srd_rule_cell): moments, new reference, virtual particles, axis, eps_eff, thermostat
+ * (therm: the sums of k_thermal, with SRD_FX_GTHERMO); sums cleared. stat[0]: clamped cells,
+ * stat[1]: bits of the smallest dt_max (nonnegative doubles order as their bit patterns). */
+__global__ void k_cells(int64_t ncell, srd_rule_const K, srd_geom gm, double sx, double sy, double sz,
                         srd_cell_sum *__restrict__ sums, double *__restrict__ vref, gran_rng *__restrict__ rng,
-                        CellRot *__restrict__ rot, unsigned long long *__restrict__ stat) {
+                        srd_cell_rot *__restrict__ rot, const double *__restrict__ therm,
+                        unsigned long long *__restrict__ stat) {
   const double s[3] = {sx, sy, sz};
+  const double gscale = (K.fx & SRD_FX_GTHERMO) ? srd_rule_gscale(therm[0], therm[1], K.T0) : 1.0;
   for (int64_t c = (int64_t)blockIdx.x * blockDim.x + threadIdx.x; c < ncell; c += (int64_t)gridDim.x * blockDim.x) {
     const srd_cell_sum cs = sums[c];
     double ref[3] = {vref[3 * c], vref[3 * c + 1], vref[3 * c + 2]};
     gran_rng r = rng[c];
-    CellRot cr;
+    srd_cell_rot cr;
     int cl;
     double dtm;
-    cr.active = srd_dev_cell(&K, &gm, s, c, &cs, ref, &r, &cr.rot, &cl, &dtm);
+    srd_rule_cell(K.fx, gm.dim, &K, &gm, s, c, &cs, gscale, ref, &r, &cr, &cl, &dtm);
     for (int k = 0; k < 3; ++k) vref[3 * c + k] = ref[k];
     rng[c] = r;
     rot[c] = cr;
@@ -151,10 +166,10 @@ __global__ void k_cells(int64_t ncell, srd_dev_const K, srd_geom gm, double sx, 
   }
 }
 
-/* Pass 2: rotate-and-scale each particle in its (recomputed) cell (srd_dev_collide). */
+/* Pass 2: the collision of each particle in its (recomputed) cell (srd_rule_collide). */
 template <class T>
-__global__ void k_rotate(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, double sx, double sy, double sz,
-                         const CellRot *__restrict__ rot, double *__restrict__ acc) {
+__global__ void k_rotate(Soa<T> d, int64_t n, srd_rule_const K, srd_geom gm, double sx, double sy, double sz,
+                         const srd_cell_rot *__restrict__ rot, double *__restrict__ acc) {
   const int dim = gm.dim;
   const double s[3] = {sx, sy, sz};
   double a[SRD_ACC_N] = {};
@@ -163,13 +178,12 @@ __global__ void k_rotate(Soa<T> d, int64_t n, srd_dev_const K, srd_geom gm, doub
     for (int k = 0; k < dim; ++k) p[k] = (double)d.x[k][i];
     double dvx;
     const int64_t c = srd_bin(&gm, s, p, &dvx);
-    const CellRot cr = rot[c];
-    if (!cr.active) continue;
+    const srd_cell_rot cr = rot[c];
     for (int k = 0; k < dim; ++k) v[k] = (double)d.v[k][i];
-    srd_dev_collide(&K, &gm, &cr.rot, dvx, p[1], v, a);
+    srd_rule_collide(K.fx, dim, &K, &gm, &cr, dvx, p[1], v, a);
     for (int k = 0; k < dim; ++k) d.v[k][i] = (T)v[k];
   }
-  if (K.fx & (SRD_FX_EPS | SRD_FX_THERMO | SRD_FX_WALL | SRD_FX_LE)) flush_acc(a, SRD_ACC_DE, SRD_ACC_LEW + 1, acc);
+  if (K.fx & (SRD_FX_DISSIP | SRD_FX_WALL | SRD_FX_LE)) flush_acc(a, SRD_ACC_DE, SRD_ACC_LEW + 1, acc);
 }
 
 /* particles per cell of the unshifted grid (no Lees-Edwards image), as doubles */
@@ -245,8 +259,8 @@ __global__ void k_touch(char *p, size_t n) {
 }
 
 constexpr int kThreads = 256;
-constexpr int kClamp = 0, kDtMax = 1, kMom = 2, kAcc = 6, kStat = 16;
-static_assert(kAcc + SRD_ACC_N <= kStat, "the ledger sums fit the stat block");
+constexpr int kClamp = 0, kDtMax = 1, kMom = 2, kAcc = 6, kTherm = kAcc + SRD_ACC_N, kStat = 16;
+static_assert(kTherm + 2 <= kStat, "the ledger and thermostat sums fit the stat block");
 constexpr unsigned long long kInfBits = 0x7ff0000000000000ull; /* +inf */
 
 }  // namespace
@@ -263,12 +277,13 @@ struct gran_cuda_srd {
   srd_cell_sum *sums = nullptr;
   double *vref = nullptr;
   gran_rng *rng = nullptr;
-  CellRot *rot = nullptr;
+  srd_cell_rot *rot = nullptr;
   unsigned long long *stat = nullptr; /* [kClamp] clamped cells, [kDtMax] bits of the smallest dt_max,
-                                         [kMom..+4) moments, [kAcc..+SRD_ACC_N) ledger sums (doubles) */
+                                         [kMom..+4) moments, [kAcc..+SRD_ACC_N) ledger sums,
+                                         [kTherm..+2) the global thermostat's sums (doubles) */
   unsigned grid_p = 1, grid_c = 1;
   int key_bits = 32;
-  srd_dev_const K{};
+  srd_rule_const K{};
   srd_geom last_gm{};       /* geometry and shift of the last binning: the sort key */
   double last_s[3] = {0, 0, 0};
   int agg = 0;              /* cell sums: 0 one atomic per particle, 1 warp-aggregated */
@@ -286,13 +301,10 @@ unsigned grid_for(int64_t n) {
   return (unsigned)(want < 1 ? 1 : want > cap ? cap : want);
 }
 
-/* the one parameter check of the launchers, shared with the host reference (device_cuda.cpp) */
-int check_params(const gran_cuda_srd_params *p) { return gran_srd_dev_check_params(p); }
-
 size_t bytes_of(const gran_cuda_srd_params *p) {
   const size_t n = (size_t)p->n, nc = (size_t)cells_of(p->geom), real = p->precision ? 4 : 8;
   const size_t part = n * (2 * (size_t)p->geom.dim * real + real + 4 * sizeof(uint32_t));
-  const size_t cell = nc * (sizeof(srd_cell_sum) + 3 * sizeof(double) + sizeof(gran_rng) + sizeof(CellRot));
+  const size_t cell = nc * (sizeof(srd_cell_sum) + 3 * sizeof(double) + sizeof(gran_rng) + sizeof(srd_cell_rot));
   const size_t scratch = n / 64 + (size_t)(64u << 20); /* CUB onesweep histograms + slack */
   return part + cell + scratch;
 }
@@ -315,7 +327,14 @@ template <class T> int step_t(gran_cuda_srd *h, const srd_geom &gm, const double
   else
     k_stream_bin<T, false><<<h->grid_p, kThreads>>>(d, p.n, h->K, gm, s[0], s[1], s[2], h->vref, h->sums, acc);
   GRAN_CUDA_CALL(cudaGetLastError());
-  k_cells<<<h->grid_c, kThreads>>>(h->ncell, h->K, gm, s[0], s[1], s[2], h->sums, h->vref, h->rng, h->rot, h->stat);
+  double *therm = reinterpret_cast<double *>(h->stat + kTherm);
+  if (h->K.fx & SRD_FX_GTHERMO) {
+    GRAN_CUDA_CALL(cudaMemsetAsync(therm, 0, 2 * sizeof(double)));
+    k_thermal<<<h->grid_c, kThreads>>>(h->ncell, gm.dim, h->sums, h->vref, therm);
+    GRAN_CUDA_CALL(cudaGetLastError());
+  }
+  k_cells<<<h->grid_c, kThreads>>>(h->ncell, h->K, gm, s[0], s[1], s[2], h->sums, h->vref, h->rng, h->rot, therm,
+                                   h->stat);
   GRAN_CUDA_CALL(cudaGetLastError());
   k_rotate<T><<<h->grid_p, kThreads>>>(d, p.n, h->K, gm, s[0], s[1], s[2], h->rot, acc);
   GRAN_CUDA_CALL(cudaGetLastError());
@@ -394,7 +413,7 @@ int upload_reals(void *dst, const double *src, size_t n, size_t real, double wal
 
 GRAN_EXTERN int gran_cuda_srd_bytes(const gran_cuda_srd_params *p, size_t *bytes) {
   GRAN_CHECK_PTR(bytes);
-  GRAN_CALL(check_params(p));
+  GRAN_CALL(gran_srd_dev_check_params(p));
   *bytes = bytes_of(p);
   return GRAN_SUCCESS;
 }
@@ -403,7 +422,7 @@ GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *p, const double
                                      const gran_rng *cell_rng, gran_cuda_srd **out) {
   GRAN_CHECK_PTR(out);
   *out = nullptr;
-  GRAN_CALL(check_params(p));
+  GRAN_CALL(gran_srd_dev_check_params(p));
   GRAN_CHECK((x == nullptr) == (v == nullptr) && (x == nullptr) == (cell_rng == nullptr), GRAN_ERR_ARG,
              "x, v and cell_rng must be all given or all NULL (device-side random state)");
   for (int k = 0; x && k < p->geom.dim; ++k)
@@ -447,14 +466,14 @@ GRAN_EXTERN int gran_cuda_srd_create(const gran_cuda_srd_params *p, const double
     GRAN_CUDA_CALL(cudaMemset(h->vref, 0, nc * 3 * sizeof(double)));
     GRAN_CUDA_CALL(cudaMalloc(&h->rng, nc * sizeof(gran_rng)));
     if (cell_rng) GRAN_CUDA_CALL(cudaMemcpy(h->rng, cell_rng, nc * sizeof(gran_rng), cudaMemcpyHostToDevice));
-    GRAN_CUDA_CALL(cudaMalloc(&h->rot, nc * sizeof(CellRot)));
+    GRAN_CUDA_CALL(cudaMalloc(&h->rot, nc * sizeof(srd_cell_rot)));
     GRAN_CUDA_CALL(cudaMalloc(&h->stat, kStat * sizeof(unsigned long long)));
     {
       unsigned long long st0[kStat] = {0};
       st0[kDtMax] = kInfBits;
       GRAN_CUDA_CALL(cudaMemcpy(h->stat, st0, sizeof st0, cudaMemcpyHostToDevice));
     }
-    h->K = gran_srd_dev_const_of(p);
+    h->K = srd_rule_const_of(p);
     h->last_gm = p->geom;
     for (int a = 0; x && a < 2 * dim; ++a)
       GRAN_CALL(upload_reals(a < dim ? h->x[a] : h->v[a - dim], a < dim ? x[a] : v[a - dim], n, h->real,

@@ -11,10 +11,12 @@
  * (atomicAdd on the GPU), relative to the previous mean of the same cell; one xoshiro state per cell
  * of the binning grid (stream c + 1 of the run's seed, as on the CPU); the grid shift is drawn on the
  * host (stream 0) and passed to each step. Every step is two passes over the particles with a
- * per-cell pass between (the bodies of src/srd/device_cuda_ops.h): (1) stream + Lees-Edwards plane
- * flux + wall reflect + wrap + bin under the shift + cell sums, (2) per cell moments, virtual
- * particles, axis, eps_eff, thermostat, then rotate-and-scale of every particle (the cell index is
- * recomputed, not stored). The energy-ledger and stress sums (SRD_ACC_*) accumulate on the device
+ * per-cell pass between, each calling the rules of src/srd/rules.h (the CPU engine's too): (1) the
+ * move (srd_rule_move: stream + Lees-Edwards plane flux + wall reflect + wrap) + bin under the
+ * shift + cell sums, (2) with the global thermostat the sum of the cells' thermal energies
+ * (srd_rule_thermal), then per cell the collision rule (srd_rule_cell: moments, virtual particles,
+ * axis, eps_eff, thermostat), then the collision of every particle (srd_rule_collide; the cell
+ * index is recomputed, not stored). The energy-ledger and stress sums (SRD_ACC_*) accumulate on the device
  * until gran_*_srd_ledger reads them. Particles are sorted by the cell of the last binning with CUB
  * radix sort on request (stable: the order the CPU engine's counting sort gives); no per-cell
  * capacity. All host arrays are borrowed (copied in or out), never kept. */
@@ -26,7 +28,7 @@
 
 #include "granary.h"
 #include "srd/srd_kernels.h"
-#include "srd/device_cuda_ops.h"
+#include "srd/rules.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -38,24 +40,27 @@ typedef struct gran_cuda_srd_params {
   srd_geom geom;       /* box, grid, boundaries of the run (le_dx, wall_u_lo may change per step) */
   int64_t n;           /* particles */
   int32_t precision;   /* 0: double SoA, 1: float SoA */
-  int32_t fx;          /* effects: SRD_FX_* of src/srd/device_cuda_ops.h (0: standard SRD) */
+  int32_t fx;          /* effects: SRD_FX_* of src/srd/rules.h (0: standard SRD; DISSIP is derived) */
   double dt;           /* time step */
   double alpha;        /* rotation angle, radians */
   double coef;         /* (1 - eps^2) sigma^2 dt of Eq. 2.1 (SRD_FX_EPS) */
   double g[3];         /* constant acceleration (SRD_FX_ACCEL) */
   double n0;           /* mean particles per cell: virtual particles fill cut cells to it (SRD_FX_WALL) */
   double wall_T;       /* temperature of the virtual particles (SRD_FX_WALL) */
-  double T0;           /* thermostat temperature (SRD_FX_THERMO) */
+  double T0;           /* thermostat temperature (SRD_FX_THERMO, SRD_FX_GTHERMO) */
+  double shear_rate;   /* Lees-Edwards shear rate (SRD_FX_LE): geom.le_dv = shear_rate geom.box[1] */
 } gran_cuda_srd_params;
 
-/* the run constants of the bodies (src/srd/device_cuda_ops.h) from the parameters */
-static inline srd_dev_const gran_srd_dev_const_of(const gran_cuda_srd_params *p) {
-  srd_dev_const k;
+/* the run constants of the rules (src/srd/rules.h) from the parameters: the one constructor, for
+ * the CPU engine (src/srd/engine.cpp) and the devices alike */
+static inline srd_rule_const srd_rule_const_of(const gran_cuda_srd_params *p) {
+  srd_rule_const k;
   const double a = p->geom.a;
-  k.fx = p->fx;
+  k.fx = srd_rule_fx_norm(p->fx);
   k.dim = p->geom.dim;
   k.dt = p->dt;
   for (int q = 0; q < 3; ++q) k.g[q] = p->g[q];
+  k.rate = p->shear_rate;
   k.coef = p->coef;
   k.inv_vol = 1.0 / (p->geom.dim == 3 ? a * a * a : a * a);
   k.n0 = p->n0;
@@ -64,6 +69,14 @@ static inline srd_dev_const gran_srd_dev_const_of(const gran_cuda_srd_params *p)
   k.ca = cos(p->alpha);
   k.sa = sin(p->alpha);
   return k;
+}
+
+/* Float storage of coordinate k (precision 1): the rounding may not put a particle onto a wall (on
+ * the wall axis a stored position stays in [0, box); periodic axes wrap any value at the next step). */
+GRAN_HD static inline float srd_dev_float_pos(const srd_geom *gm, int k, double x) {
+  float f = (float)x;
+  while (k == gm->wall_axis && (double)f >= gm->box[k]) f = nextafterf(f, 0.0f);
+  return f;
 }
 
 /* ---- GPU (cuda/srd.cu) ---- */

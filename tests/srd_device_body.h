@@ -197,14 +197,15 @@ static void sdb_body_cell_invariants(int device, int dim, double eps) {
 
 /* ---- engine level --------------------------------------------------------------------------- */
 
-enum { SDE_PERIODIC, SDE_DISSIP, SDE_THERMO, SDE_NOSLIP, SDE_SLIP, SDE_SHEAR, SDE_BODYFORCE, SDE_NSCENES };
+enum { SDE_PERIODIC, SDE_DISSIP, SDE_THERMO, SDE_NOSLIP, SDE_SLIP, SDE_SHEAR, SDE_BODYFORCE, SDE_GTHERMO, SDE_NSCENES };
 static const char *const sde_names[SDE_NSCENES] = {"periodic 3-D",
                                                    "2-D eps 0.9 (clamps)",
                                                    "3-D thermostat eps 0.8",
                                                    "3-D no-slip walls, gravity, vibrating wall",
                                                    "2-D slip walls, gravity",
                                                    "2-D Lees-Edwards eps 0.95",
-                                                   "3-D Lees-Edwards + body force"};
+                                                   "3-D Lees-Edwards + body force",
+                                                   "3-D global thermostat, Lees-Edwards"};
 
 /* the options of one scene (small boxes: n0 = 10, 8^3 or 16^2 cells) */
 static void sde_options(int scene, gran_srd_options *o) {
@@ -258,6 +259,11 @@ static void sde_options(int scene, gran_srd_options *o) {
     o->accel[0] = 0.01;
     o->accel[2] = 0.005;
     o->alpha_deg = 90.0;
+    break;
+  case SDE_GTHERMO: /* the viscosity set-up: the shear heats, the global thermostat holds T0 */
+    o->shear_rate = 0.1;
+    o->thermostat = 2;
+    o->T0 = 0.8;
     break;
   default:
     break;

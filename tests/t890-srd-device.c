@@ -237,6 +237,81 @@ static void test_physics_reference(void **state) {
   sde_body_sk_ideal(R, 1, 2, 32, 12);
 }
 
+/* the global thermostat (thermostat = 2) on the reference device: under shear heating it holds the
+ * temperature at T0 (within 5 % over 200 steps, removing the shear work: e_collisions < 0) where
+ * the same run without it warms by more than 8 %; the CPU engine gives the same numbers (1e-9) */
+static void test_global_thermostat_reference(void **state) {
+  (void)state;
+  double T[2];
+  for (int th = 0; th < 2; ++th) {
+    gran_srd_options o;
+    sde_options(SDE_GTHERMO, &o);
+    o.thermostat = th ? 2 : 0;
+    gran_srd *c = NULL, *r = NULL;
+    GRAN_ASSERT_OK(gran_srd_create(&o, &c));
+    o.device = GRAN_SRD_DEVICE_REFERENCE;
+    GRAN_ASSERT_OK(gran_srd_create(&o, &r));
+    GRAN_ASSERT_OK(gran_srd_advance(c, 200));
+    GRAN_ASSERT_OK(gran_srd_advance(r, 200));
+    gran_srd_obs oc, orr;
+    GRAN_ASSERT_OK(gran_srd_observe(c, &oc));
+    GRAN_ASSERT_OK(gran_srd_observe(r, &orr));
+    sde_compare_obs(th ? "global thermostat" : "no thermostat", &oc, &orr, 1e-9);
+    T[th] = orr.temperature / o.T0;
+    printf("  shear rate %g, %s: T / T0 = %.4f after 200 steps, e_collisions %.4g\n", o.shear_rate,
+           th ? "global thermostat" : "no thermostat", T[th], orr.e_collisions);
+    if (th && !(orr.e_collisions < 0.0)) fail_msg("the global thermostat removed no energy (%g)", orr.e_collisions);
+    GRAN_ASSERT_OK(gran_srd_destroy(&c));
+    GRAN_ASSERT_OK(gran_srd_destroy(&r));
+  }
+  if (!(T[0] > 1.08)) fail_msg("the shear did not heat the run without thermostat (T / T0 = %g)", T[0]);
+  if (!(fabs(T[1] - 1.0) < 0.05)) fail_msg("the global thermostat did not hold T0 (T / T0 = %g)", T[1]);
+}
+
+/* the launchers' one parameter check (gran_srd_dev_check_params, the GPU's too) names what is wrong */
+static void test_launcher_params(void **state) {
+  (void)state;
+  const gran_srd_launchers *L = gran_srd_launchers_get(GRAN_SRD_DEVICE_REFERENCE);
+  assert_non_null(L);
+  double x0[8] = {0}, *xs[3] = {x0, x0, x0};
+  gran_rng r[1];
+  GRAN_ASSERT_OK(gran_rng_seed(r, 1));
+  gran_cuda_srd_params p;
+  memset(&p, 0, sizeof p);
+  p.geom.dim = 3;
+  p.geom.wall_axis = -1;
+  p.geom.a = p.geom.inv_a = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    p.geom.L[k] = p.geom.nc[k] = 1;
+    p.geom.box[k] = 1.0;
+  }
+  p.n = 8;
+  p.dt = 0.1;
+  p.alpha = 1.0;
+  p.T0 = 1.0;
+  gran_cuda_srd *h = NULL;
+  GRAN_ASSERT_OK(L->create(&p, (const double *const *)xs, (const double *const *)xs, r, &h));
+  GRAN_ASSERT_OK(L->destroy(&h));
+  const struct {
+    int32_t fx;
+    double T0, shear;
+    const char *word;
+  } bad[] = {{SRD_FX_ALL + 1, 1.0, 0.0, "fx"},
+             {SRD_FX_THERMO | SRD_FX_GTHERMO, 1.0, 0.0, "exclude"},
+             {SRD_FX_GTHERMO, 0.0, 0.0, "T0"},
+             {SRD_FX_LE, 1.0, 0.0, "shear_rate"}};
+  for (size_t q = 0; q < sizeof bad / sizeof bad[0]; ++q) {
+    gran_cuda_srd_params b = p;
+    b.fx = bad[q].fx;
+    b.T0 = bad[q].T0;
+    b.shear_rate = bad[q].shear;
+    GRAN_ASSERT_ERR(L->create(&b, (const double *const *)xs, (const double *const *)xs, r, &h), GRAN_ERR_ARG);
+    assert_null(h);
+    if (!strstr(gran_last_error_message(), bad[q].word))
+      fail_msg("case %zu: '%s' does not name '%s'", q, gran_last_error_message(), bad[q].word);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_device_resolve),
@@ -246,6 +321,8 @@ int main(void) {
       cmocka_unit_test(test_engine_vs_reference),
       cmocka_unit_test(test_particles_write_through),
       cmocka_unit_test(test_physics_reference),
+      cmocka_unit_test(test_global_thermostat_reference),
+      cmocka_unit_test(test_launcher_params),
   };
   return cmocka_run_group_tests_name("t890-srd-device", tests, NULL, NULL);
 }

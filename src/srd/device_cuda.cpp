@@ -4,9 +4,11 @@
  *     takes the GPU when the CUDA backend is compiled and a device is visible, else the CPU with a
  *     warning; "cuda" without either is GRAN_ERR_UNSUPPORTED naming which.
  * (2) The host reference of the device algorithm (gran_ref_srd_*, same contracts as the GPU
- *     launchers of cuda/srd_cuda.h): the bodies of src/srd/device_cuda_ops.h in plain loops, cell
- *     sums in particle order (so it follows the CPU engine to rounding: t890), float storage
- *     emulated by rounding what it stores. The GPU tests compare the GPU against it.
+ *     launchers of cuda/srd_cuda.h): the rules of src/srd/rules.h in plain serial loops, cell sums
+ *     in particle order (so its particles follow the CPU engine's to rounding in double storage:
+ *     t890; the CPU engine's loops compile the rules with constant effect bits, so the compiler
+ *     fuses other multiply-adds), float storage emulated by rounding what it stores. The GPU tests
+ *     compare the GPU against it.
  * (3) The engine hooks: a run whose options name a device keeps its particles and cells there; the
  *     engine (src/srd/engine.cpp) calls gran_srd_dev_* at its dispatch points. The host side does
  *     what the CPU engine does on the host: the per-step geometry (Lees-Edwards offset, wall
@@ -85,6 +87,14 @@ int gran_srd_dev_check_params(const gran_cuda_srd_params *p) {
   GRAN_CHECK(p->precision == 0 || p->precision == 1, GRAN_ERR_ARG, "precision = %d: must be 0 (double) or 1 (float)",
              (int)p->precision);
   GRAN_CHECK(p->dt > 0.0 && std::isfinite(p->dt), GRAN_ERR_ARG, "dt = %g must be positive", p->dt);
+  GRAN_CHECK((p->fx & ~SRD_FX_ALL) == 0, GRAN_ERR_ARG, "fx = %d: bits outside SRD_FX_* (%d)", (int)p->fx, SRD_FX_ALL);
+  GRAN_CHECK((p->fx & (SRD_FX_THERMO | SRD_FX_GTHERMO)) != (SRD_FX_THERMO | SRD_FX_GTHERMO), GRAN_ERR_ARG,
+             "fx = %d: SRD_FX_THERMO (cell-level) and SRD_FX_GTHERMO (global) exclude each other", (int)p->fx);
+  GRAN_CHECK(!(p->fx & (SRD_FX_THERMO | SRD_FX_GTHERMO)) || (p->T0 > 0.0 && std::isfinite(p->T0)), GRAN_ERR_ARG,
+             "T0 = %g: a thermostat needs a positive temperature", p->T0);
+  GRAN_CHECK(!(p->fx & SRD_FX_LE) || (std::isfinite(p->shear_rate) && p->shear_rate != 0.0 && g.le_on), GRAN_ERR_ARG,
+             "fx has SRD_FX_LE: shear_rate = %g must be finite and non-zero and geom.le_on = %d set", p->shear_rate,
+             (int)g.le_on);
   GRAN_CHECK(g.a > 0.0 && std::isfinite(g.a) && std::isfinite(g.inv_a), GRAN_ERR_ARG,
              "geom.a = %g must be positive (and 1 / a finite)", g.a);
   for (int k = 0; k < 3; ++k) {
@@ -125,14 +135,13 @@ namespace {
 
 struct RefState {
   gran_cuda_srd_params p{};
-  srd_dev_const k{};
+  srd_rule_const k{};
   int64_t ncell = 0;
   bool f32 = false;
   std::vector<double> x[3], v[3], vref;
   std::vector<gran_rng> rng;
   std::vector<srd_cell_sum> sum;
   std::vector<srd_cell_rot> rot;
-  std::vector<unsigned char> active;
   srd_geom last_gm{};
   double last_s[3] = {0, 0, 0};
   double acc[SRD_ACC_N] = {};
@@ -145,15 +154,13 @@ struct RefState {
 RefState *ref_of(gran_cuda_srd *h) { return reinterpret_cast<RefState *>(h); }
 const RefState *ref_of(const gran_cuda_srd *h) { return reinterpret_cast<const RefState *>(h); }
 
-int check_params(const gran_cuda_srd_params *p) { return gran_srd_dev_check_params(p); }
-
 }  // namespace
 
 int gran_ref_srd_create(const gran_cuda_srd_params *p, const double *const x[3], const double *const v[3],
                         const gran_rng *cell_rng, gran_cuda_srd **out) {
   GRAN_CHECK_PTR(out);
   *out = nullptr;
-  GRAN_CALL(check_params(p));
+  GRAN_CALL(gran_srd_dev_check_params(p));
   GRAN_CHECK_PTR(x);
   GRAN_CHECK_PTR(v);
   GRAN_CHECK_PTR(cell_rng);
@@ -162,7 +169,7 @@ int gran_ref_srd_create(const gran_cuda_srd_params *p, const double *const x[3],
   GRAN_TRY {
     RefState *r = new RefState;
     r->p = *p;
-    r->k = gran_srd_dev_const_of(p);
+    r->k = srd_rule_const_of(p);
     r->ncell = p->geom.nc[0] * p->geom.nc[1] * p->geom.nc[2];
     r->f32 = p->precision == 1;
     const size_t n = (size_t)p->n, nc = (size_t)r->ncell;
@@ -180,7 +187,6 @@ int gran_ref_srd_create(const gran_cuda_srd_params *p, const double *const x[3],
       r->sum.resize(nc);
       for (auto &c : r->sum) srd_sum_clear(&c);
       r->rot.resize(nc);
-      r->active.assign(nc, 0);
     } catch (...) {
       delete r;
       throw;
@@ -202,7 +208,7 @@ int gran_ref_srd_step(gran_cuda_srd *h, const srd_geom *gm, const double s[3], i
              GRAN_ERR_ARG, "gm: dimension, grid or walls differ from the state's");
   for (int k = 0; k < gm->dim; ++k)
     GRAN_CHECK(s[k] >= 0.0 && s[k] <= gm->a, GRAN_ERR_ARG, "shift s[%d] = %g outside [0, a]", k, s[k]);
-  const int dim = gm->dim;
+  const int dim = gm->dim, fx = r.k.fx;
   const int64_t n = r.p.n;
   /* pass 1: move, store, bin what is stored, sums in particle order */
   for (int64_t i = 0; i < n; ++i) {
@@ -211,7 +217,8 @@ int gran_ref_srd_step(gran_cuda_srd *h, const srd_geom *gm, const double s[3], i
       p[k] = r.x[k][i];
       v[k] = r.v[k][i];
     }
-    srd_dev_move(&r.k, gm, p, v, r.acc);
+    srd_rule_move(fx, dim, &r.k, gm, p, v, r.acc);
+    if (srd_nonfinite(p, v) != 0.0) r.acc[SRD_ACC_BAD] += 1.0; /* non-finite stays non-finite: see srd_wrap1 */
     for (int k = 0; k < dim; ++k) {
       p[k] = r.x[k][i] = r.store_x(k, p[k]);
       v[k] = r.v[k][i] = r.store(v[k]);
@@ -220,27 +227,39 @@ int gran_ref_srd_step(gran_cuda_srd *h, const srd_geom *gm, const double s[3], i
     v[0] += dvx;
     srd_sum_add(&r.sum[c], v, &r.vref[3 * c], dim);
   }
+  /* the global thermostat's factor: every cell's thermal energy, in cell order */
+  double gscale = 1.0;
+  if (fx & SRD_FX_GTHERMO) {
+    double e = 0.0, dof = 0.0;
+    for (int64_t c = 0; c < r.ncell; ++c) {
+      double ec, dc;
+      if (!srd_rule_thermal(dim, &r.sum[c], &r.vref[3 * c], &ec, &dc)) continue;
+      e += ec;
+      dof += dc;
+    }
+    gscale = srd_rule_gscale(e, dof, r.k.T0);
+  }
   /* cells */
   int64_t ncl = 0;
   double dtm = INFINITY;
   for (int64_t c = 0; c < r.ncell; ++c) {
     int cl;
     double d;
-    r.active[c] = (unsigned char)srd_dev_cell(&r.k, gm, s, c, &r.sum[c], &r.vref[3 * c], &r.rng[c], &r.rot[c], &cl, &d);
+    const srd_cell_sum cs = r.sum[c];
+    srd_rule_cell(fx, dim, &r.k, gm, s, c, &cs, gscale, &r.vref[3 * c], &r.rng[c], &r.rot[c], &cl, &d);
     if (cl) {
       ++ncl;
       dtm = std::min(dtm, d);
     }
     srd_sum_clear(&r.sum[c]);
   }
-  /* pass 2: rotate-and-scale */
+  /* pass 2: collisions (a cell that does not collide leaves its particles as they are) */
   for (int64_t i = 0; i < n; ++i) {
     double p[3] = {0, 0, 0}, v[3] = {0, 0, 0}, dvx;
     for (int k = 0; k < dim; ++k) p[k] = r.x[k][i];
     const int64_t c = srd_bin(gm, s, p, &dvx);
-    if (!r.active[c]) continue;
     for (int k = 0; k < dim; ++k) v[k] = r.v[k][i];
-    srd_dev_collide(&r.k, gm, &r.rot[c], dvx, p[1], v, r.acc);
+    srd_rule_collide(fx, dim, &r.k, gm, &r.rot[c], dvx, p[1], v, r.acc);
     for (int k = 0; k < dim; ++k) r.v[k][i] = r.store(v[k]);
   }
   r.p.geom = *gm;
@@ -389,18 +408,14 @@ void gran_srd_dev_free(gran_srd_dev *d) {
   delete d;
 }
 
-namespace {
-
-gran_cuda_srd_params params_of(const gran_srd *s) {
+gran_cuda_srd_params srd_params_of(const gran_srd *s) {
   const gran_srd_options &o = s->opt;
   gran_cuda_srd_params p;
   std::memset(&p, 0, sizeof p);
   p.geom = s->gm;
   p.n = s->n;
   p.precision = o.precision;
-  p.fx = (o.accel[0] != 0 || o.accel[1] != 0 || o.accel[2] != 0 ? SRD_FX_ACCEL : 0) |
-         (o.wall_axis >= 0 ? SRD_FX_WALL : 0) | (o.shear_rate != 0 ? SRD_FX_LE : 0) | (o.eps < 1.0 ? SRD_FX_EPS : 0) |
-         (o.thermostat ? SRD_FX_THERMO : 0);
+  p.fx = srd_fx_of(&o);
   p.dt = o.dt;
   p.alpha = o.alpha_deg * M_PI / 180.0;
   p.coef = (1.0 - o.eps * o.eps) * o.sigma * o.sigma * o.dt;
@@ -408,8 +423,11 @@ gran_cuda_srd_params params_of(const gran_srd *s) {
   p.n0 = o.n0;
   p.wall_T = o.wall_T > 0 ? o.wall_T : o.T0;
   p.T0 = o.T0;
+  p.shear_rate = o.shear_rate;
   return p;
 }
+
+namespace {
 
 void host_arrays(gran_srd *s, double *x[3], double *v[3]) {
   const bool d3 = s->opt.dim == 3;
@@ -423,13 +441,10 @@ void host_arrays(gran_srd *s, double *x[3], double *v[3]) {
 
 /* start the run on device (CUDA or REFERENCE) from the host state, cells included */
 int dev_start(gran_srd *s, int32_t device) {
-  GRAN_CHECK(s->opt.thermostat != 2, GRAN_ERR_UNSUPPORTED,
-             "option 'thermostat' = 2 (global profile-unbiased) runs on the CPU engine only (device %d asked)",
-             (int)device);
   const gran_srd_launchers *L = gran_srd_launchers_get(device);
   GRAN_CHECK(L != nullptr, GRAN_ERR_INTERNAL, "no launchers for device %d", (int)device);
   GRAN_CALL(srd_check_finite(s, "when copied to the device"));
-  const gran_cuda_srd_params p = params_of(s);
+  const gran_cuda_srd_params p = srd_params_of(s);
   double *x[3], *v[3];
   host_arrays(s, x, v);
   gran_cuda_srd *h = nullptr;
@@ -539,7 +554,7 @@ int gran_srd_dev_advance(gran_srd *s, int64_t steps) {
     s->e_coll += acc[SRD_ACC_DE];
     s->flux_coll += acc[SRD_ACC_VIR];
     if (e == GRAN_SUCCESS && acc[SRD_ACC_BAD] > 0) {
-      /* the per-step check of the device (srd_dev_move): name the first such particle from the
+      /* the per-step check of the device (after each srd_rule_move): name the first such particle from the
        * state copied back; a non-finite value stays one, so the copy shows it */
       GRAN_CALL(gran_srd_dev_sync(s, 0));
       return GRAN_ERROR(GRAN_ERR_NUMERIC, "GSRD on the device: %.0f particle moves met a non-finite position or velocity "

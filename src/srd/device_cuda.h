@@ -45,5 +45,8 @@ int gran_srd_dev_structure_factor(gran_srd *s, int64_t nbins, double *k, double 
  * speeds the parameters imply within the range of srd_limits.h. */
 struct gran_cuda_srd_params;
 int gran_srd_dev_check_params(const gran_cuda_srd_params *p);
+/* The launchers' parameters of a run (effects: srd_fx_of of src/srd/rules.h): what the rules'
+ * constants are made of (srd_rule_const_of) on the CPU engine and the devices alike. */
+gran_cuda_srd_params srd_params_of(const gran_srd *s);
 #endif
 #endif

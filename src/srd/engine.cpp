@@ -10,12 +10,18 @@
  * rotate-and-scale of the slab's particles. Per cell only the reference velocity (24 B) and the
  * RNG state (32 B) persist. Global sums use fixed blocks of SRD_BLOCK particles (streaming) or the
  * slabs (collisions) added in order (independent of the thread count).
- * Templates: DIM, DISSIP (eps < 1 or thermostat), LE, WALL, ACCEL; an effect that is off is
- * compiled out of the loops.
+ * The physics of the phases is the rules of src/srd/rules.h (srd_rule_move, srd_rule_thermal,
+ * srd_rule_cell; srd_rule_collide written out in the collision loop, for the bits), the same
+ * functions the devices call (cuda/srd.cu, the host reference in device_cuda.cpp); the loops here
+ * iterate, store and add the partials up.
+ * Templates: DIM, DISSIP (eps < 1 or thermostat), LE, WALL, ACCEL; they make the rules' effect mask
+ * a compile-time constant (srd_rule_fx_fold), so an effect that is off is compiled out of the loops.
  */
 #include "srd/srd_impl.h"
 #include "srd/srd_limits.h"
+#include "srd/rules.h"
 #include "core/run_bounds.h"
+#include "../cuda/srd_cuda.h" /* srd_rule_const_of: the rules' constants, as the devices make them */
 
 #include <algorithm>
 #include <cstdio>
@@ -161,14 +167,6 @@ inline void sum_blocks3(const double *part, int64_t nb, double t[3]) {
   }
 }
 
-struct StepCtx {
-  double g[3];
-  double f_eps; /* (1 - eps^2) sigma^2 dt */
-  double rho_unit; /* 1 / a^d */
-  double vt_scale; /* wall_T */
-  bool thermo;
-};
-
 /* The first particle of [lo, hi) whose position or velocity is not finite after its move, coded
  * as i 32 + component 4 + kind (component 0..5 = x y z vx vy vz, a velocity before a position: a
  * NaN velocity makes the position NaN too; kind 0 NaN, 1 +inf, 2 -inf); -1 when none. */
@@ -206,12 +204,15 @@ int do_steps(gran_srd *s, int64_t nsteps) {
   gran_rng *rng = s->rng.data();
   const gran_srd_options &o = s->opt;
   const double dt = o.dt;
-  const double f_eps = (1.0 - o.eps * o.eps) * o.sigma * o.sigma * dt;
-  const double cellvol = DIM == 3 ? o.a * o.a * o.a : o.a * o.a;
-  const double inv_vol = 1.0 / cellvol;
-  const double wallT = o.wall_T > 0 ? o.wall_T : o.T0;
-  const double n0 = o.n0;
-  const double ca = s->ca, sa = s->sa;
+  /* the rules' constants (the devices make theirs the same way) and the effect mask, in which the
+   * template flags are compile-time constants: an effect that is off folds out of the loops. The
+   * mask is made inside each parallel loop and lambda (srd_rule_fx_fold of the constexpr FX_FIXED):
+   * a local shared into an OpenMP region or captured is a run-time value there, and the rules'
+   * branches (and the multiply-adds the compiler fuses across them) would no longer fold. */
+  const gran_cuda_srd_params prm = srd_params_of(s);
+  const srd_rule_const K = srd_rule_const_of(&prm);
+  constexpr int32_t FX_FIXED = (ACCEL ? SRD_FX_ACCEL : 0) | (WALL ? SRD_FX_WALL : 0) | (LE ? SRD_FX_LE : 0) |
+                               (DISSIP ? SRD_FX_DISSIP : 0);
   double *part = s->part.data();
   /* slabs of the binning grid: runs of whole layers along its slowest axis (z in 3-D, y in 2-D), the
    * cells of a slab a contiguous index range. A slab holds about SRD_SLAB_CELLS cells (its
@@ -301,40 +302,20 @@ int do_steps(gran_srd *s, int64_t nsteps) {
     /* (2) stream; each fixed block of SRD_BLOCK particles then lists its particles by slab of the
      * shifted binning grid (a counting sort inside the block, increasing order in each slab) */
     {
-      const double ga[3] = {o.accel[0], o.accel[1], o.accel[2]};
-      const double rate = o.shear_rate, hy = 0.5 * gm.box[1];
 #pragma omp parallel for schedule(static) num_threads(nth)
       for (int64_t b = 0; b < nb; ++b) {
         FtzScope ftz;
+        const int32_t fx = srd_rule_fx_fold(FX_FIXED, K.fx);
         const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
-        double flux = 0.0, ext = 0.0, imp = 0.0, chk = 0.0;
+        double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0}; /* the block's kinetic flux, external work, wall impulse */
+        double chk = 0.0;
         uint16_t *row = off + b * srow;
         for (int64_t k = 0; k < srow; ++k) row[k] = 0;
         uint32_t sid[SRD_BLOCK];
         for (int64_t i = lo; i < hi; ++i) {
           double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
           double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-          const double e0 = ACCEL || WALL || LE ? 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) : 0.0;
-          const double y0 = p[1];
-          srd_stream(p, v, dt, ga, DIM, ACCEL);
-          if (LE) {
-            /* kinetic momentum flux averaged over every plane y = const (Eq. 1.43 integrated over
-             * the plane position): each plane y_p between y0 and y1 sees this particle cross with
-             * vx relative to the imposed flow there, u(y_p) = rate (y_p - Ly/2); the integral over
-             * y_p is (vx_mid - u((y0 + y1)/2)) (y1 - y0) (y unwrapped during the step). Same mean
-             * as counting crossings of discrete planes, far less noise (no plane is missed). */
-            const double dy = p[1] - y0;
-            const double vxm = ACCEL ? v[0] - 0.5 * ga[0] * dt : v[0];
-            flux += (vxm - rate * (y0 + 0.5 * dy - hy)) * dy;
-          }
-          if (WALL) {
-            double dpw[3];
-            if (srd_wall_reflect(&gm, p, v, dpw)) imp += dpw[gm.wall_axis];
-          }
-          srd_wrap(&gm, p, v);
-          if (ACCEL || WALL || LE) {
-            ext += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - e0;
-          }
+          srd_rule_move(fx, DIM, &K, &gm, p, v, acc);
           /* the per-step finiteness check, branch-free: the positions after the move are in the
            * box when finite (sum <= 3e290), and a non-finite position or velocity leaves a
            * non-finite position (x += v dt; the wrap and the walls keep it so) */
@@ -355,9 +336,9 @@ int do_steps(gran_srd *s, int64_t nsteps) {
         uint16_t cur[SRD_MAX_SLABS + 1];
         for (int64_t k = 0; k < nslab; ++k) cur[k] = row[k];
         for (int64_t i = lo; i < hi; ++i) list[lo + cur[sid[i - lo]]++] = (uint16_t)(i - lo);
-        part[4 * b] = flux;
-        part[4 * b + 1] = ext;
-        part[4 * b + 2] = imp;
+        part[4 * b] = acc[SRD_ACC_FLUX];
+        part[4 * b + 1] = acc[SRD_ACC_EXT];
+        part[4 * b + 2] = acc[SRD_ACC_IMP];
         part[4 * b + 3] = chk - chk != 0.0 ? first_nonfinite(px, py, pz, vx, vy, vz, lo, hi) : -1.0;
       }
       for (int64_t b = 0; b < nb; ++b) /* the first non-finite particle, in particle order */
@@ -378,7 +359,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
      * cells and adds their thermal energies per slab; the slab partials are added in slab order
      * (the same factor for any thread count). */
     double gscale = 1.0;
-    if (DISSIP && o.thermostat == 2) {
+    if (srd_rule_fx_fold(FX_FIXED, K.fx) & SRD_FX_GTHERMO) {
       std::vector<double> tp((size_t)nslab * 2, 0.0);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
       for (int64_t sl = 0; sl < nslab; ++sl) {
@@ -393,12 +374,10 @@ int do_steps(gran_srd *s, int64_t nsteps) {
         slab_sums(sl, c0, mc, W.data(), &gm, sh, nullptr);
         double e = 0.0, dof = 0.0;
         for (int64_t c = 0; c < mc; ++c) {
-          const srd_cell_sum &cs = W[c].s;
-          if (cs.n < 2) continue;
-          double V[3], th;
-          srd_cell_moments(&cs, cell[c0 + c].V, DIM, V, &th);
-          e += (double)(DIM * cs.n) * th;
-          dof += (double)(DIM * (cs.n - 1));
+          double ec, dc;
+          if (!srd_rule_thermal(DIM, &W[c].s, cell[c0 + c].V, &ec, &dc)) continue;
+          e += ec;
+          dof += dc;
         }
         tp[2 * sl] = e;
         tp[2 * sl + 1] = dof;
@@ -408,7 +387,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
         e += tp[2 * sl];
         dof += tp[2 * sl + 1];
       }
-      if (e > 0.0) gscale = std::sqrt(dof * o.T0 / e);
+      gscale = srd_rule_gscale(e, dof, K.T0);
     }
     /* (4) collision, slab by slab (parallel over slabs): the slab's cell sums relative to the
      * reference velocities, then per cell the moments, eps_eff, random axis (the cell's own RNG
@@ -437,71 +416,23 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       if ((int64_t)pcv.size() < np) pcv.resize((size_t)np);
       uint32_t *pc = pcv.data();
       slab_sums(sl, c0, mc, W, &gm, sh, pc);
+      const int32_t fx = srd_rule_fx_fold(FX_FIXED, K.fx);
       for (int64_t lc = 0; lc < mc; ++lc) {
-        const int64_t c = c0 + lc;
         /* the sums are read into locals, then the same slot receives the collision record; its
          * V (the cell mean, or the old reference in an empty cell) is next step's reference */
         const srd_cell_sum csum = W[lc].s;
-        double V[3], th;
-        srd_cell_moments(&csum, cell[c].V, DIM, V, &th);
-        const int64_t nc = csum.n;
-        if (nc == 0)
-          for (int k = 0; k < 3; ++k) V[k] = cell[c].V[k];
         srd_cell_rot cr;
-        cr.f = 1.0;
-        cr.g = 1.0;
-        if (WALL) {
-          int lo;
-          if (srd_cell_cut(&gm, sh, c, &lo) && (double)nc < n0) {
-            /* virtual particles (Sec. 1.3.5.5): n0 - n of them, Maxwellian about the wall velocity */
-            const double m = std::floor(n0 - (double)nc + 0.5);
-            if (m > 0) {
-              const double *ut = lo ? gm.wall_t_lo : gm.wall_t_hi;
-              const double uw = lo ? gm.wall_u_lo : gm.wall_u_hi;
-              const double sd = std::sqrt(m * wallT);
-              for (int k = 0; k < DIM; ++k) {
-                const double u = (k == gm.wall_axis) ? uw : ut[k];
-                V[k] = ((double)nc * V[k] + m * u + sd * srd_rng_normal(&rng[c])) / ((double)nc + m);
-              }
-            }
-          }
-        }
-        for (int k = 0; k < 3; ++k) cr.V[k] = cell[c].V[k] = V[k];
-        if (nc < 2) {
-          cr.r[0] = cr.r[1] = cr.r[2] = 0.0; /* no collision in this cell */
-          cr.f = cr.g = 1.0;
-          W[lc].rot = cr;
-          continue;
-        }
-        srd_draw_axis(&rng[c], DIM, cr.r);
-        if (DISSIP) {
-          double f = 1.0;
-          if (o.eps < 1.0) {
-            int cl;
-            const double rho = (double)nc * inv_vol;
-            f = srd_eps_eff(f_eps, rho, th, &cl);
-            if (cl) {
-              ++nclamp;
-              dtmax = std::min(dtmax, srd_dt_max(f_eps / dt, rho, th));
-            }
-          }
-          double sc = 1.0;
-          if (o.thermostat == 2) {
-            sc = gscale;
-          } else if (o.thermostat == 1 && th > 0.0) {
-            /* cell-level MB thermostat: kinetic energy of the d (n - 1) thermal dof redrawn */
-            const double k = 0.5 * DIM * (double)(nc - 1);
-            const double enew = srd_rng_gamma(&rng[c], k) * o.T0;
-            const double eold = 0.5 * DIM * (double)nc * th;
-            sc = std::sqrt(enew / eold);
-          }
-          cr.f = f * sc;
-          cr.g = sc;
+        int cl;
+        double dtm;
+        srd_rule_cell(fx, DIM, &K, &gm, sh, c0 + lc, &csum, gscale, cell[c0 + lc].V, &rng[c0 + lc], &cr, &cl, &dtm);
+        if (cl) {
+          ++nclamp;
+          dtmax = std::min(dtmax, dtm);
         }
         W[lc].rot = cr;
       }
-      /* rotate-and-scale the slab's particles (in the same order: their cells from slab_sums) */
-      double de = 0.0, vir = 0.0, lew = 0.0;
+      /* the collisions of the slab's particles (in the same order: their cells from slab_sums) */
+      double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0}; /* the slab's energy change, virial, Lees-Edwards work */
       int64_t done = 0;
       slab_chunks(sl, [&](const int64_t *ib, int64_t m) {
         const uint32_t *pcc = pc + done;
@@ -510,16 +441,21 @@ int do_steps(gran_srd *s, int64_t nsteps) {
           const int64_t i = ib[j];
           double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
           const double dvx = LE && (pcc[j] & 0x80000000u) ? -gm.le_dv : 0.0;
+          /* srd_rule_collide of rules.h, written out with the template flags: the compiler's
+           * choice to inline srd_rotate here or not decides which multiply-adds it fuses, and that
+           * choice differs when the flags reach the loop through srd_rule_collide (3-D runs with
+           * dissipation then differ in the last bits from every earlier result). t890 compares this
+           * loop with srd_rule_collide on the reference device (the same to rounding). */
           const srd_cell_rot &cr = W[pcc[j] & 0x7fffffffu].rot;
           if (LE) v[0] += dvx;
           const double e0 = DISSIP || WALL ? v[0] * v[0] + v[1] * v[1] + v[2] * v[2] : 0.0;
           const double vx0 = v[0];
-          if (cr.r[0] != 0.0 || cr.r[1] != 0.0 || cr.r[2] != 0.0) srd_rotate(v, &cr, ca, sa, DIM, DISSIP);
-          if (DISSIP || WALL) de += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - e0);
+          if (cr.r[0] != 0.0 || cr.r[1] != 0.0 || cr.r[2] != 0.0) srd_rotate(v, &cr, K.ca, K.sa, DIM, DISSIP);
+          if (DISSIP || WALL) acc[SRD_ACC_DE] += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - e0);
           if (LE) {
             const double yy = (dvx != 0.0) ? py[i] - gm.box[1] : py[i];
-            vir += (v[0] - vx0) * yy;
-            lew -= dvx * (v[0] - vx0); /* lab-frame energy change minus the cell-frame one */
+            acc[SRD_ACC_VIR] += (v[0] - vx0) * yy;
+            acc[SRD_ACC_LEW] -= dvx * (v[0] - vx0);
             v[0] -= dvx;
           }
           vx[i] = v[0];
@@ -527,9 +463,9 @@ int do_steps(gran_srd *s, int64_t nsteps) {
           if (DIM == 3) vz[i] = v[2];
         }
       });
-      spart[(size_t)(4 * sl)] = de;
-      spart[(size_t)(4 * sl + 1)] = vir;
-      spart[(size_t)(4 * sl + 2)] = lew;
+      spart[(size_t)(4 * sl)] = acc[SRD_ACC_DE];
+      spart[(size_t)(4 * sl + 1)] = acc[SRD_ACC_VIR];
+      spart[(size_t)(4 * sl + 2)] = acc[SRD_ACC_LEW];
     }
     s->clamped += nclamp;
     s->dt_max = std::min(s->dt_max, dtmax);
@@ -687,9 +623,6 @@ int alloc_state(gran_srd *s) {
     gran_warning_add("GSRD: option 'threads' = %d is more than 4 per processor; the engine uses %d (results do not "
                      "depend on the thread count)",
                      (int)o.threads, srd_threads_used(o.threads));
-  const double al = o.alpha_deg * M_PI / 180.0;
-  s->ca = std::cos(al);
-  s->sa = std::sin(al);
   return GRAN_SUCCESS;
 }
 
@@ -796,10 +729,11 @@ GRAN_EXTERN int gran_srd_advance(gran_srd *s, int64_t steps) {
                "argument 'steps': %s", why);
     if (s->dev.p) return gran_srd_dev_advance(s, steps); /* device hook (owner: CUDA backend) */
     const gran_srd_options &o = s->opt;
-    const bool dis = o.eps < 1.0 || o.thermostat;
-    const bool le = o.shear_rate != 0;
-    const bool w = o.wall_axis >= 0;
-    const bool acc = o.accel[0] != 0 || o.accel[1] != 0 || o.accel[2] != 0;
+    const int32_t fx = srd_fx_of(&o); /* the step loop's template flags: the rules' effects */
+    const bool dis = fx & SRD_FX_DISSIP;
+    const bool le = fx & SRD_FX_LE;
+    const bool w = fx & SRD_FX_WALL;
+    const bool acc = fx & SRD_FX_ACCEL;
     step_fn f = o.dim == 2 ? pick1<2>(dis, le, w, acc) : pick1<3>(dis, le, w, acc);
     return f(s, steps);
   }

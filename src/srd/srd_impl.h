@@ -68,7 +68,6 @@ struct gran_srd {
   /* state */
   int64_t step = 0;
   double time = 0.0;
-  double ca = 1.0, sa = 0.0;
   /* energy ledger (per mass; E = sum v^2 / 2 (+ potential)) */
   double e_initial = 0.0;
   double e_coll = 0.0;    /* energy change in collisions (< 0: dissipated; thermostat adds) */

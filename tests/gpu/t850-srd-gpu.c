@@ -1,15 +1,15 @@
 /* t850-srd-gpu.c - the GSRD test bodies of tests/srd_device_body.h on the GPU (make test-gpu):
  *  - launcher level: conservation (double and float storage), the GPU against the host reference
- *    for one scene and seed (same shift, same per-cell streams, same bodies of
- *    src/srd/device_cuda_ops.h; only the order of the atomic cell-sum additions differs, so in
+ *    for one scene and seed (same shift, same per-cell streams, same rules of
+ *    src/srd/rules.h; only the order of the atomic cell-sum additions differs, so in
  *    double the particles agree to ~1e-13 after 20 steps (tolerance 1e-9, v ~ 1) and the per-cell
  *    RNG states bit for bit; float storage: the temperature within 4 standard errors), sort keeps the
  *    state, bad input;
  *  - engine level: every scene (periodic, clamps, thermostat, no-slip walls + gravity + vibrating
- *    wall, slip walls, Lees-Edwards + dissipation, Lees-Edwards + body force) with device = cuda
- *    against device = cpu: every particle, the ledger, the stress, the clamps, S(k) (cuFFT against
- *    FFTW), checkpoints moved CPU -> GPU and GPU -> CPU; float storage against the CPU engine within
- *    the statistical noise of each quantity. Without a GPU: says so and passes (skip). */
+ *    wall, slip walls, Lees-Edwards + dissipation, Lees-Edwards + body force, global thermostat)
+ *    with device = cuda against device = cpu: every particle, the ledger, the stress, the clamps,
+ *    S(k) (cuFFT against FFTW), checkpoints moved CPU -> GPU and GPU -> CPU; float storage against
+ *    the CPU engine within the statistical noise of each quantity. Without a GPU: says so and passes (skip). */
 #include "srd_device_body.h"
 
 static int have_gpu(void) {
