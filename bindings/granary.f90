@@ -1183,14 +1183,14 @@ module granary
       integer(c_int64_t), intent(out) :: count(*)
       integer(c_int) :: ierr
     end function c_gran_srd_structure_factor
-    function c_gran_srd_checkpoint_write(srd, path) bind(C, name='gran_srd_checkpoint_write') result(ierr)
+    function c_gran_srd_checkpoint_write(srd, path, group) bind(C, name='gran_srd_checkpoint_write') result(ierr)
       import :: c_int, c_ptr
-      type(c_ptr), value :: srd, path
+      type(c_ptr), value :: srd, path, group
       integer(c_int) :: ierr
     end function c_gran_srd_checkpoint_write
-    function c_gran_srd_checkpoint_read(path, srd) bind(C, name='gran_srd_checkpoint_read') result(ierr)
+    function c_gran_srd_checkpoint_read(path, group, srd) bind(C, name='gran_srd_checkpoint_read') result(ierr)
       import :: c_int, c_ptr
-      type(c_ptr), value :: path
+      type(c_ptr), value :: path, group
       type(c_ptr), intent(out) :: srd
       integer(c_int) :: ierr
     end function c_gran_srd_checkpoint_read
@@ -3116,22 +3116,26 @@ contains
                                                 int(size(mean), c_int64_t), mean, count), ierr)
   end subroutine gran_srd_velocity_profile
 
-  subroutine gran_srd_checkpoint_write(srd, path, ierr)
+  !> The engine state as group `group` of the HDF5 file `path` (created if missing; the group replaced).
+  subroutine gran_srd_checkpoint_write(srd, path, group, ierr)
     type(c_ptr), intent(in) :: srd
-    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: path, group
     integer, intent(out), optional :: ierr
-    character(kind=c_char), allocatable, target :: cp(:)
+    character(kind=c_char), allocatable, target :: cp(:), cg(:)
     call io_to_c(path, cp)
-    call gran_check(c_gran_srd_checkpoint_write(srd, c_loc(cp)), ierr)
+    call io_to_c(group, cg)
+    call gran_check(c_gran_srd_checkpoint_write(srd, c_loc(cp), c_loc(cg)), ierr)
   end subroutine gran_srd_checkpoint_write
 
-  subroutine gran_srd_checkpoint_read(path, srd, ierr)
-    character(len=*), intent(in) :: path
+  !> New engine from the state in group `group` of `path`.
+  subroutine gran_srd_checkpoint_read(path, group, srd, ierr)
+    character(len=*), intent(in) :: path, group
     type(c_ptr), intent(out) :: srd
     integer, intent(out), optional :: ierr
-    character(kind=c_char), allocatable, target :: cp(:)
+    character(kind=c_char), allocatable, target :: cp(:), cg(:)
     call io_to_c(path, cp)
-    call gran_check(c_gran_srd_checkpoint_read(c_loc(cp), srd), ierr)
+    call io_to_c(group, cg)
+    call gran_check(c_gran_srd_checkpoint_read(c_loc(cp), c_loc(cg), srd), ierr)
   end subroutine gran_srd_checkpoint_read
 
   !> Cell fields of the unshifted lattice (cells(1) x cells(2) (x cells(3)), x fastest):

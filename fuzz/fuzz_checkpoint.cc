@@ -70,7 +70,7 @@ void srd_base(int dim, int wall, int shear, int therm) {
   if (shear) o.shear_rate = 0.05;
   gran_srd *s = nullptr;
   const std::string p = fz::scratch() + "/base.gsrd";
-  if (gran_srd_create(&o, &s) || gran_srd_advance(s, 3) || gran_srd_checkpoint_write(s, p.c_str()))
+  if (gran_srd_create(&o, &s) || gran_srd_advance(s, 3) || gran_srd_checkpoint_write(s, p.c_str(), "/srd"))
     fz::fail("cannot write a GSRD base checkpoint", gran_last_error_message());
   gran_srd_destroy(&s);
   g_base.push_back(slurp(p));
@@ -379,7 +379,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if ((flags & 0x0e) != 0x0e) srd_trailer(b); /* else (1 in 8) the CRC stays: the reader must refuse */
     spill(path, b);
     gran_srd *srd = nullptr;
-    if (!fz::check(gran_srd_checkpoint_read(path.c_str(), &srd), "gran_srd_checkpoint_read")) check_srd(srd, in);
+    if (!fz::check(gran_srd_checkpoint_read(path.c_str(), "/srd", &srd), "gran_srd_checkpoint_read")) check_srd(srd, in);
     gran_srd_destroy(&srd);
   } else {
     spill(path, b);

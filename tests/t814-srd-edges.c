@@ -206,7 +206,7 @@ static void test_checkpoint_values(void **state) {
   gran_srd *s = NULL, *t = NULL;
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, 2));
-  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path, "/srd"));
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
   /* sigma in the stored options (after the 8-byte magic): a file error naming the option */
   FILE *f = fopen(path, "r+b");
@@ -216,7 +216,7 @@ static void test_checkpoint_values(void **state) {
   assert_true(fwrite(&big, 8, 1, f) == 1);
   fclose(f);
   rewrite_crc(path);
-  GRAN_ASSERT_ERR(gran_srd_checkpoint_read(path, &t), GRAN_ERR_IO);
+  GRAN_ASSERT_ERR(gran_srd_checkpoint_read(path, "/srd", &t), GRAN_ERR_IO);
   assert_non_null(strstr(gran_last_error_message(), "'sigma'"));
   assert_null(t);
   unlink(path);

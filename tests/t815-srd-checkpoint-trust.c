@@ -48,7 +48,7 @@ static ckp_img write_ckp(const char *path, int64_t steps) {
   gran_srd *s = NULL;
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, steps));
-  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path, "/srd"));
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
   ckp_img c;
   c.b = io_read_all(path, &c.n);
@@ -76,7 +76,7 @@ static void expect_refused(const ckp_img *c, const char *bad, size_t at, const v
   io_write_all(bad, b, c->n);
   free(b);
   gran_srd *t = NULL;
-  const int rc = gran_srd_checkpoint_read(bad, &t);
+  const int rc = gran_srd_checkpoint_read(bad, "/srd", &t);
   if (rc != GRAN_ERR_IO || !strstr(gran_last_error_message(), field))
     fprintf(stderr, "edit of '%s' at byte %zu: rc %d, message: %s\n", field, at, rc, gran_last_error_message());
   assert_int_equal(rc, GRAN_ERR_IO);
@@ -98,7 +98,7 @@ static void test_reader_edits(void **state) {
   const char *path = io_path("a.ckp"), *bad = io_path("bad.ckp");
   ckp_img c = write_ckp(path, 9);
   gran_srd *t = NULL;
-  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, &t)); /* the file as written */
+  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, "/srd", &t)); /* the file as written */
   GRAN_ASSERT_OK(gran_srd_destroy(&t));
   /* options: the same check as gran_srd_create, naming the option */
   edit_d(&c, bad, kOpt + offsetof(gran_srd_options, eps), 1.5, "'eps'");
@@ -162,7 +162,7 @@ static void test_reader_edits(void **state) {
   free(c.b);
   /* a checkpoint at step 0: time 0 exactly, and a reader of it continues */
   c = write_ckp(path, 0);
-  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, &t));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, "/srd", &t));
   GRAN_ASSERT_OK(gran_srd_advance(t, 2));
   GRAN_ASSERT_OK(gran_srd_destroy(&t));
   edit_d(&c, bad, kSc + 0 * 8, 1e-300, "'time'");

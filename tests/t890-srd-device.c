@@ -129,7 +129,7 @@ static void test_checkpoint_cuda_without_gpu(void **state) {
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, 4));
   const char *path = "t890-cuda-ckpt.bin";
-  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path, "/srd"));
   /* patch options.device in the file (magic, then the options struct) */
   FILE *f = fopen(path, "r+b");
   assert_non_null(f);
@@ -150,7 +150,7 @@ static void test_checkpoint_cuda_without_gpu(void **state) {
   assert_int_equal(fclose(f), 0);
   int64_t w0, w1;
   GRAN_ASSERT_OK(gran_warning_count(&w0));
-  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, &r));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, "/srd", &r));
   GRAN_ASSERT_OK(gran_warning_count(&w1));
   assert_int_equal(w1 - w0, 1);
   int32_t d = -1;
