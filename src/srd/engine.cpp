@@ -620,7 +620,8 @@ int check_options(const gran_srd_options *o) {
   for (int k = 0; k < 3; ++k) GRAN_CHECK(std::isfinite(o->accel[k]), GRAN_ERR_ARG, "option 'accel[%d]' is not finite", k);
   GRAN_CHECK(std::isfinite(o->vib_amp) && std::isfinite(o->vib_omega), GRAN_ERR_ARG, "option 'vib_amp'/'vib_omega' not finite");
   GRAN_CHECK((o->vib_amp == 0 && o->vib_omega == 0) || o->wall_axis >= 0, GRAN_ERR_ARG,
-             "option 'vib_amp' needs walls (wall_axis >= 0)");
+             "option 'vib_amp' (and 'vib_omega') needs walls (wall_axis >= 0; got vib_amp %g, vib_omega %g)", o->vib_amp,
+             o->vib_omega);
   GRAN_CHECK(std::isfinite(o->wall_T) && o->wall_T >= 0, GRAN_ERR_ARG, "option 'wall_T' must be >= 0");
   GRAN_CHECK(o->thermostat >= 0 && o->thermostat <= 2, GRAN_ERR_ARG,
              "option 'thermostat' must be 0 (off), 1 (cell-level) or 2 (global, profile-unbiased) (got %d)",
