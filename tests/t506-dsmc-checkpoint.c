@@ -3,11 +3,10 @@
  * collision, counters, ledger, collision counts and trajectories with memcmp. Every selector, with
  * and without observables, constant and viscoelastic restitution. Bad files and mismatched
  * mixtures fail with GRAN_ERR_IO / GRAN_ERR_ARG naming the path; a damaged state (an index out of
- * range) is refused with GRAN_ERR_IO. */
+ * range) is refused with GRAN_ERR_IO; checksum-consistent generator states no generator reaches
+ * (zero, near zero) are refused naming 'rng' or 'rng_lanes'. */
 #define _POSIX_C_SOURCE 200809L
-#include <unistd.h>
-
-#include <hdf5.h>
+#include "io_test_util.h" /* io_edit_raw: an edit through HDF5, checksum recomputed */
 
 #include "dsmc_util.h"
 
@@ -108,6 +107,27 @@ static void test_checkpoint_errors(void **state) {
   GRAN_ASSERT_OK(gran_mixture_create_powerlaw(5, 2.0, 1.0, 0.1, 3.0, &other));
   GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/run/engine", other, &b), GRAN_ERR_ARG);
   gran_mixture_destroy(&other);
+  /* generator states a generator never reaches, checksum recomputed: refused naming the field */
+  {
+    char bad[300];
+    snprintf(bad, sizeof bad, "%s.bad", g_path);
+    const uint64_t zero[4] = {0, 0, 0, 0}, few[4] = {0xff, 0, 0x3, 0};
+    io_edit_raw(g_path, bad, "/run/engine/rng", 0, zero, 4, H5T_NATIVE_UINT64);
+    GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(bad, "/run/engine", mix, &b), GRAN_ERR_IO);
+    assert_non_null(strstr(gran_last_error_message(), "rng"));
+    io_edit_raw(g_path, bad, "/run/engine/rng", 0, few, 4, H5T_NATIVE_UINT64);
+    GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(bad, "/run/engine", mix, &b), GRAN_ERR_IO);
+    assert_non_null(strstr(gran_last_error_message(), "(rng;"));
+    /* lane 3 of the buffered streams: words s[w][3] at w * 8 + 3 */
+    for (int w = 0; w < 4; w++) {
+      const uint64_t z = 0;
+      io_edit_raw(w == 0 ? g_path : bad, bad, "/run/engine/rng_lanes", w * 8 + 3, &z, 1, H5T_NATIVE_UINT64);
+    }
+    GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(bad, "/run/engine", mix, &b), GRAN_ERR_IO);
+    assert_non_null(strstr(gran_last_error_message(), "rng_lanes"));
+    assert_null(b);
+    remove(bad);
+  }
   /* a damaged state: an index outside its array is refused, not used (here the file checksum
    * catches the edit first; t606 recomputes the checksum and reaches the value checks) */
   {

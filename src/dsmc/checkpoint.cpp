@@ -264,6 +264,10 @@ int validate_state(const gran_dsmc *s, const char *path) {
     if (!ok && !bad) bad = what;
   };
   need(s->vrng.pos >= 0 && s->vrng.pos <= kRngBuf, "rng_pos");
+  /* generator states: what a generator reaches (src/io/state.h, the GSRD reader's rule) */
+  need(gran_state::rng_plausible(s->rng.s[0], s->rng.s[1], s->rng.s[2], s->rng.s[3]), "rng");
+  for (int l = 0; l < kRngLanes; l++)
+    need(gran_state::rng_plausible(s->vrng.s[0][l], s->vrng.s[1][l], s->vrng.s[2][l], s->vrng.s[3][l]), "rng_lanes");
   need(s->cand_head >= 0 && s->cand_head < kDsmcPipe && (s->cand_count == 0 || s->cand_count == kDsmcPipe),
        "candidate pipeline");
   need(s->traj_next >= 0 && s->traj_next <= s->opt.traj_samples, "trajectory sample index");

@@ -94,6 +94,17 @@ class Group {
   const char *path_ = "";
 };
 
+/* ---- checks every engine's reader shares ----
+ * A xoshiro256 state (4 words) a generator reached has 128 +- 8 of its 256 bits set; fewer than 32
+ * or more than 224 (odds below 1e-30) is an edited state, zero the generator's forbidden one. */
+inline int rng_bits(uint64_t a, uint64_t b, uint64_t c, uint64_t d) {
+  return __builtin_popcountll(a) + __builtin_popcountll(b) + __builtin_popcountll(c) + __builtin_popcountll(d);
+}
+inline bool rng_plausible(uint64_t a, uint64_t b, uint64_t c, uint64_t d) {
+  const int n = rng_bits(a, b, c, d);
+  return n >= 32 && n <= 224;
+}
+
 }  // namespace gran_state
 
 #endif

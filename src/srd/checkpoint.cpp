@@ -122,16 +122,9 @@ std::string opt_value(const gran_srd_options &o, const OptField &f, int k) {
   return buf;
 }
 
-/* bits set in a generator state: a state a generator reached has 128 +- 8 of its 256 bits set;
- * fewer than 32 or more than 224 (odds below 1e-30) is an edited state, zero the forbidden one */
-int rng_bits(const gran_rng &r) {
-  return __builtin_popcountll(r.s[0]) + __builtin_popcountll(r.s[1]) + __builtin_popcountll(r.s[2]) +
-         __builtin_popcountll(r.s[3]);
-}
-bool rng_plausible(const gran_rng &r) {
-  const int b = rng_bits(r);
-  return b >= 32 && b <= 224;
-}
+/* the shared plausibility of a generator state (src/io/state.h) */
+int rng_bits(const gran_rng &r) { return gran_state::rng_bits(r.s[0], r.s[1], r.s[2], r.s[3]); }
+bool rng_plausible(const gran_rng &r) { return gran_state::rng_plausible(r.s[0], r.s[1], r.s[2], r.s[3]); }
 bool finite_all(const double *p, size_t n) {
   for (size_t i = 0; i < n; ++i)
     if (!std::isfinite(p[i])) return false;
