@@ -70,6 +70,8 @@ int get_any(hid_t g, const char *name, hid_t type, int64_t n, void *data, const 
                  (mc != H5T_INTEGER || H5Tget_sign(ft.id) == H5Tget_sign(type)),
              GRAN_ERR_IO, "checkpoint '%s': field '%s' has the wrong type (expected %s%zu)", path, name,
              mc == H5T_FLOAT ? "float" : H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int", 8 * H5Tget_size(type));
+  GRAN_CHECK(n == 0 || (double)H5Dget_storage_size(ds.id) >= (double)n * (double)H5Tget_size(type), GRAN_ERR_IO,
+             "checkpoint '%s': field '%s' declares %lld values but holds no data for them", path, name, (long long)n);
   if (n > 0)
     GRAN_CHECK(H5Dread(ds.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0, GRAN_ERR_IO,
                "checkpoint '%s': cannot read field '%s'", path, name);
@@ -188,7 +190,12 @@ int64_t Group::npoints(const char *name) const {
   H5Obj ds(H5Dopen2((hid_t)id_, name, H5P_DEFAULT), H5Dclose);
   if (ds.id < 0) return -1;
   H5Obj space(H5Dget_space(ds.id), H5Sclose);
-  return space.id < 0 ? -1 : (int64_t)H5Sget_simple_extent_npoints(space.id);
+  H5Obj ft(H5Dget_type(ds.id), H5Tclose);
+  if (space.id < 0 || ft.id < 0) return -1;
+  const int64_t np = (int64_t)H5Sget_simple_extent_npoints(space.id);
+  /* a size a file declares but does not hold (no storage written) asks for memory it cannot fill */
+  if (np > 0 && (double)H5Dget_storage_size(ds.id) < (double)np * (double)H5Tget_size(ft.id)) return -1;
+  return np;
 }
 
 int Group::put(const char *name, int64_t n, const double *x) const {

@@ -61,7 +61,7 @@ class Group {
 
   /* a dataset or group `name` exists in this group */
   bool has(const char *name) const;
-  /* values of dataset `name`; -1 when it is missing */
+  /* values of dataset `name`; -1 when it is missing or holds less data than it declares */
   int64_t npoints(const char *name) const;
 
   /* typed 1-D arrays of n values */
