@@ -129,8 +129,8 @@ gran_get_threads          nthreads=out
 gran_srd_options_default  opt=out
 gran_srd_observe          obs=out
 gran_srd_particles        n=out
-gran_srd_checkpoint_write path=ptr
-gran_srd_checkpoint_read  path=ptr
+gran_srd_checkpoint_write path=ptr group=ptr
+gran_srd_checkpoint_read  path=ptr group=ptr
 gran_srd_fields           count=null velocity=null temperature=null
 gran_srd_get_device       device=out
 """

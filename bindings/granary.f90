@@ -2007,22 +2007,26 @@ contains
                                                 int(size(mean), c_int64_t), mean, count), ierr)
   end subroutine gran_srd_velocity_profile
 
-  subroutine gran_srd_checkpoint_write(srd, path, ierr)
+  !> The engine state as group `group` of the HDF5 file `path` (created if missing; the group replaced).
+  subroutine gran_srd_checkpoint_write(srd, path, group, ierr)
     type(c_ptr), intent(in) :: srd
-    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: path, group
     integer, intent(out), optional :: ierr
-    character(kind=c_char), allocatable, target :: cp(:)
+    character(kind=c_char), allocatable, target :: cp(:), cg(:)
     call io_to_c(path, cp)
-    call gran_check(c_gran_srd_checkpoint_write(srd, c_loc(cp)), ierr)
+    call io_to_c(group, cg)
+    call gran_check(c_gran_srd_checkpoint_write(srd, c_loc(cp), c_loc(cg)), ierr)
   end subroutine gran_srd_checkpoint_write
 
-  subroutine gran_srd_checkpoint_read(path, srd, ierr)
-    character(len=*), intent(in) :: path
+  !> New engine from the state in group `group` of `path`.
+  subroutine gran_srd_checkpoint_read(path, group, srd, ierr)
+    character(len=*), intent(in) :: path, group
     type(c_ptr), intent(out) :: srd
     integer, intent(out), optional :: ierr
-    character(kind=c_char), allocatable, target :: cp(:)
+    character(kind=c_char), allocatable, target :: cp(:), cg(:)
     call io_to_c(path, cp)
-    call gran_check(c_gran_srd_checkpoint_read(c_loc(cp), srd), ierr)
+    call io_to_c(group, cg)
+    call gran_check(c_gran_srd_checkpoint_read(c_loc(cp), c_loc(cg), srd), ierr)
   end subroutine gran_srd_checkpoint_read
 
   !> Cell fields of the unshifted lattice (cells(1) x cells(2) (x cells(3)), x fastest):

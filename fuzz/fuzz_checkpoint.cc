@@ -1,16 +1,14 @@
 /* fuzz_checkpoint.cc - libFuzzer harness for the value checks of checkpoint readers and the engines
- * they resume. A few valid checkpoints are written once, from fixed options and seeds: GSRD binary
- * states ("GSRDCKP2": magic, gran_srd_options, 12 double scalars, 3 int64 counters, the grid-shift
- * RNG, the particle arrays, the cell reference velocities and RNG states, then the total length
- * (uint64) and the CRC-32 of everything before it) and run checkpoints (HDF5 after a 512-byte
- * header "granary-file 1\nlength N\ncrc32 C\n" holding the CRC-32 of the bytes after it) of a
- * low-rank, a Bird-with-aggregation, a cell-with-aggregation and a GSRD run. The fuzz bytes pick
- * one and edit it, value by value: whole doubles and int64 words (edge values such as NaN, inf,
- * 1e300, -0, 2^63-1, or raw bits), int32 option fields, single bytes, elements of any HDF5 dataset,
- * the GSRD state inside a run checkpoint, numbers in the stored scene text; then the checksums are
- * recomputed, so that the reader's value checks and the resumed engine (a few steps, observed)
- * are what the edit reaches. Every status must be a listed code with a message; nothing returned
- * or written with GRAN_SUCCESS may be inf or NaN. */
+ * they resume. A few valid checkpoints are written once, from fixed options and seeds, all HDF5
+ * after a 512-byte header "granary-file 1\nlength N\ncrc32 C\n" holding the CRC-32 of the bytes
+ * after it: GSRD states (gran_srd_checkpoint_write: group /srd of named fields, options/NAME
+ * among them) and run checkpoints of a low-rank, a Bird-with-aggregation, a cell-with-aggregation
+ * and a GSRD run. The fuzz bytes pick one and edit it, value by value: elements of any dataset
+ * (edge values such as NaN, inf, 1e300, -0, 2^63-1, or raw bits), a dataset one value longer or
+ * shorter, numbers in the stored scene text; then the checksum is recomputed (or, 1 in 8 for a
+ * GSRD state, left stale: the reader must refuse), so that the reader's value checks and the
+ * resumed engine (a few steps, observed) are what the edit reaches. Every status must be a listed
+ * code with a message; nothing returned or written with GRAN_SUCCESS may be inf or NaN. */
 #include <zlib.h>
 
 #include <algorithm>
@@ -22,11 +20,8 @@
 namespace {
 
 std::vector<std::vector<uint8_t>> g_base;   /* the valid checkpoints */
-std::vector<int> g_is_h5;                   /* 1: run checkpoint (HDF5), 0: GSRD binary */
+std::vector<int> g_is_h5;                   /* 1: run checkpoint, 0: GSRD state (gran_srd_checkpoint_write) */
 std::vector<std::string> g_scene;           /* the scene text of a run checkpoint */
-
-const size_t kOpt = sizeof(gran_srd_options);
-const size_t kHead = 8 + kOpt + 12 * 8 + 3 * 8 + sizeof(gran_rng); /* up to the particle arrays */
 
 std::vector<uint8_t> slurp(const std::string &path) {
   std::vector<uint8_t> b;
@@ -45,7 +40,7 @@ void spill(const std::string &path, const std::vector<uint8_t> &b) {
   std::fclose(f);
 }
 
-/* ---- GSRD binary states ---- */
+/* ---- GSRD states ---- */
 void srd_base(int dim, int wall, int shear, int therm) {
   gran_srd_options o;
   gran_srd_options_default(&o);
@@ -70,94 +65,13 @@ void srd_base(int dim, int wall, int shear, int therm) {
   if (shear) o.shear_rate = 0.05;
   gran_srd *s = nullptr;
   const std::string p = fz::scratch() + "/base.gsrd";
-  if (gran_srd_create(&o, &s) || gran_srd_advance(s, 3) || gran_srd_checkpoint_write(s, p.c_str()))
+  if (gran_srd_create(&o, &s) || gran_srd_advance(s, 3) || gran_srd_checkpoint_write(s, p.c_str(), "/srd"))
     fz::fail("cannot write a GSRD base checkpoint", gran_last_error_message());
   gran_srd_destroy(&s);
   g_base.push_back(slurp(p));
   g_is_h5.push_back(0);
   g_scene.push_back("");
   std::remove(p.c_str());
-}
-
-/* the bytes a GSRD state of these options has (the reader's rule); -1 when none */
-int64_t srd_bytes(const gran_srd_options &o) {
-  double ncb = 1, nc = 1;
-  for (int k = 0; k < 3; ++k) {
-    const double L = k < o.dim ? (double)o.cells[k] : 1.0;
-    ncb *= L;
-    nc *= L + (k == o.wall_axis ? 1 : 0);
-  }
-  const double nn = std::floor(o.n0 * ncb + 0.5);
-  if (!(nn >= 1 && nn < 4e9) || !(nc < 4e9) || (o.dim != 2 && o.dim != 3)) return -1;
-  return (int64_t)(kHead + nn * 8.0 * 2 * o.dim + nc * 3 * 8 + nc * (double)sizeof(gran_rng) + 8 + 4);
-}
-
-void put_word(std::vector<uint8_t> &b, size_t at, fz::Bytes &in) {
-  if (at + 8 > b.size()) return;
-  const uint8_t c = in.u8();
-  uint64_t w;
-  if (c < 110) {
-    const double d = in.edge_double();
-    std::memcpy(&w, &d, 8);
-  } else if (c < 200) {
-    const int64_t i = in.edge_int();
-    std::memcpy(&w, &i, 8);
-  } else if (c < 230) { /* the old value scaled by a power of two (a double field stays plausible) */
-    double d;
-    std::memcpy(&d, &b[at], 8);
-    d = std::ldexp(d, (int8_t)in.u8());
-    std::memcpy(&w, &d, 8);
-  } else {
-    w = in.u64();
-  }
-  std::memcpy(&b[at], &w, 8);
-}
-
-/* one edit of a GSRD state (the trailer is fixed afterwards) */
-void srd_edit(std::vector<uint8_t> &b, fz::Bytes &in) {
-  if (b.size() < kHead + 12) return;
-  static const size_t i32s[] = {offsetof(gran_srd_options, dim),        offsetof(gran_srd_options, wall_axis),
-                                offsetof(gran_srd_options, wall_rule),  offsetof(gran_srd_options, thermostat),
-                                offsetof(gran_srd_options, sort_every), offsetof(gran_srd_options, threads),
-                                offsetof(gran_srd_options, device),     offsetof(gran_srd_options, precision)};
-  const size_t body = b.size() - 12;
-  switch (in.u8() % 5) {
-  case 0: { /* an int32 option */
-    const size_t at = 8 + i32s[in.u8() % (sizeof i32s / sizeof i32s[0])];
-    const int32_t v = (int32_t)(in.u8() < 128 ? in.edge_int() : (int64_t)(int8_t)in.u8());
-    std::memcpy(&b[at], &v, 4);
-    break;
-  }
-  case 1: /* a word of the options, scalars, counters or grid-shift RNG */
-  case 2: put_word(b, 8 + 8 * (in.u8() % ((kHead - 8) / 8)), in); break;
-  case 3: put_word(b, 8 + 8 * (size_t)(in.u16() % ((body - 8) / 8)), in); break; /* any word */
-  default: b[8 + in.u16() % (body - 8)] = in.u8(); break;                         /* a byte */
-  }
-}
-
-/* The length the (edited) options imply, when the bytes ask for it and it stays small: the state
- * is cut or grown (grown by repeating its own bytes) and the particle counter set to match. */
-void srd_resize(std::vector<uint8_t> &b, bool want) {
-  if (!want || b.size() < kHead + 12) return;
-  gran_srd_options o;
-  std::memcpy(&o, &b[8], kOpt);
-  const int64_t n = srd_bytes(o);
-  if (n <= 0 || n > (1 << 20) || (size_t)n == b.size()) return;
-  const size_t old = b.size() - 12;
-  b.resize((size_t)n);
-  for (size_t i = old; i < b.size(); ++i) b[i] = b[kHead + (i - old) % (old - kHead)];
-  double ncb = 1;
-  for (int k = 0; k < o.dim; ++k) ncb *= (double)o.cells[k];
-  const int64_t np = (int64_t)std::floor(o.n0 * ncb + 0.5);
-  std::memcpy(&b[8 + kOpt + 12 * 8 + 2 * 8], &np, 8);
-}
-
-void srd_trailer(std::vector<uint8_t> &b) {
-  if (b.size() < 12) return;
-  const uint64_t total = b.size();
-  std::memcpy(&b[b.size() - 12], &total, 8);
-  const uint32_t crc = (uint32_t)crc32(crc32(0L, Z_NULL, 0), b.data(), (uInt)(b.size() - 4));
-  std::memcpy(&b[b.size() - 4], &crc, 4);
 }
 
 /* ---- run checkpoints (HDF5) ---- */
@@ -182,7 +96,7 @@ const char *kScenes[] = {
     "seed = 7\nt_end = 1.0\n[cell]\ncells = 2\ndt = 0.1\ne_agg = 1.0\ne_frag = 3.0\neps_f = 0.7\nheat_rate = 0.01\n"
     "bath_density = 0.01\nbath_mass = 0.5\nbath_T = 1.0\nbath_sigma = 0.5\n[observables]\ntimes = [0.2, 0.5, 1.0]\n"
     "msd = false\n",
-    /* GSRD 2-D with walls, gravity and snapshots (its binary state inside /engine/state) */
+    /* GSRD 2-D with walls, gravity and snapshots (its state group /engine) */
     "[engine]\ntype = \"srd\"\ndimension = 2\ncells = [6, 5]\nn0 = 4\ndt = 0.5\nalpha = 120\neps = 0.9\nsigma = 0.2\n"
     "T0 = 1.0\nsteps = 8\nseed = 3\nthreads = 1\n[boundaries]\nwalls = {axis = \"y\", rule = \"slip\"}\n[forces]\n"
     "gravity = [0, -0.01]\n[observables]\nevery = 2\nsonine_a2 = true\nsnapshots = {every = 2}\n",
@@ -217,8 +131,30 @@ herr_t list_ds(hid_t, const char *name, const H5O_info_t *info, void *op) {
   return 0;
 }
 
-/* one element of one dataset: an edge value or raw bits of its class; a byte dataset (the GSRD
- * state) gets a GSRD edit with its own trailer fixed */
+/* dataset `name` replaced by one of its own type one value longer (its last value repeated) or
+ * shorter */
+void h5_resize(hid_t f, const std::string &name, hid_t ty, hssize_t np, bool longer) {
+  const size_t es = H5Tget_size(ty);
+  const hssize_t m = longer ? np + 1 : np - 1;
+  if (np <= 0 || m < 0 || es == 0 || es > 16) return;
+  std::vector<uint8_t> v((size_t)(np + 1) * es);
+  hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  const bool ok = d >= 0 && H5Dread(d, ty, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) >= 0;
+  if (d >= 0) H5Dclose(d);
+  if (!ok || H5Ldelete(f, name.c_str(), H5P_DEFAULT) < 0) return;
+  std::memcpy(&v[(size_t)np * es], &v[(size_t)(np - 1) * es], es);
+  hsize_t dim = (hsize_t)m;
+  hid_t s2 = H5Screate_simple(1, &dim, nullptr);
+  hid_t d2 = H5Dcreate2(f, name.c_str(), ty, s2, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (d2 >= 0) {
+    if (m > 0) H5Dwrite(d2, ty, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Dclose(d2);
+  }
+  H5Sclose(s2);
+}
+
+/* one element of one dataset: an edge value or raw bits of its class; with `resize`, sometimes the
+ * dataset one value longer or shorter instead */
 void h5_dataset_edit(hid_t f, const std::vector<std::string> &ds, fz::Bytes &in, bool resize) {
   if (ds.empty()) return;
   const std::string &name = ds[in.u8() % ds.size()];
@@ -227,32 +163,10 @@ void h5_dataset_edit(hid_t f, const std::vector<std::string> &ds, fz::Bytes &in,
   hid_t ty = H5Dget_type(d), sp = H5Dget_space(d);
   const hssize_t np = H5Sget_simple_extent_npoints(sp);
   const H5T_class_t cl = H5Tget_class(ty);
-  if (np > 0 && cl == H5T_INTEGER && H5Tget_size(ty) == 1) {
-    std::vector<uint8_t> b((size_t)np);
-    if (H5Dread(d, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data()) >= 0) {
-      const int k = 1 + in.u8() % 3;
-      for (int e = 0; e < k; ++e) srd_edit(b, in);
-      const size_t before = b.size();
-      srd_resize(b, resize);
-      srd_trailer(b);
-      if (b.size() == before) {
-        H5Dwrite(d, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data());
-      } else { /* another length: a new dataset in its place */
-        H5Dclose(d);
-        d = -1;
-        const std::string parent = name.find('/') == std::string::npos ? "." : name.substr(0, name.rfind('/'));
-        const std::string leaf = name.substr(name.rfind('/') + 1);
-        hid_t g = H5Gopen2(f, parent.c_str(), H5P_DEFAULT);
-        if (g >= 0 && H5Ldelete(g, leaf.c_str(), H5P_DEFAULT) >= 0) {
-          hsize_t dim = b.size();
-          hid_t s2 = H5Screate_simple(1, &dim, nullptr);
-          hid_t d2 = H5Dcreate2(g, leaf.c_str(), H5T_NATIVE_UCHAR, s2, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-          if (d2 >= 0) H5Dwrite(d2, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data()), H5Dclose(d2);
-          H5Sclose(s2);
-        }
-        if (g >= 0) H5Gclose(g);
-      }
-    }
+  if (resize && H5Sget_simple_extent_ndims(sp) == 1 && in.u8() < 64) {
+    H5Dclose(d);
+    d = -1;
+    h5_resize(f, name, ty, np, in.u8() & 1);
   } else if (np > 0 && (cl == H5T_FLOAT || cl == H5T_INTEGER)) {
     hsize_t at = (hsize_t)(((uint32_t)in.u16() << 16 | in.u16()) % (uint64_t)np), one = 1;
     /* the element in the dataset's own row-major order */
@@ -395,29 +309,25 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   const int nedit = 1 + in.u8() % 6;
   std::vector<uint8_t> b = g_base[which];
   const std::string path = fz::scratch() + "/in.ckpt";
+  spill(path, b);
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (f < 0) fz::fail("the base checkpoint does not open in HDF5", path.c_str());
+  std::vector<std::string> ds;
+  H5Ovisit(f, H5_INDEX_NAME, H5_ITER_INC, list_ds, &ds); /* the HDF5 1.10 API (Debian 12) */
+  std::string text;
+  for (int e = 0; e < nedit; ++e) {
+    if (g_is_h5[which] && in.u8() < 32) h5_scene_edit(f, in, &text);
+    else h5_dataset_edit(f, ds, in, flags & 1);
+  }
+  H5Fclose(f);
+  b = slurp(path);
+  if (g_is_h5[which] || (flags & 0x0e) != 0x0e) h5_header(b); /* else (1 in 8) stale: the reader must refuse */
+  spill(path, b);
   if (!g_is_h5[which]) {
-    for (int e = 0; e < nedit; ++e) srd_edit(b, in);
-    srd_resize(b, flags & 1);
-    if ((flags & 0x0e) != 0x0e) srd_trailer(b); /* else (1 in 8) the CRC stays: the reader must refuse */
-    spill(path, b);
     gran_srd *srd = nullptr;
-    if (!fz::check(gran_srd_checkpoint_read(path.c_str(), &srd), "gran_srd_checkpoint_read")) check_srd(srd, in);
+    if (!fz::check(gran_srd_checkpoint_read(path.c_str(), "/srd", &srd), "gran_srd_checkpoint_read")) check_srd(srd, in);
     gran_srd_destroy(&srd);
   } else {
-    spill(path, b);
-    hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    if (f < 0) fz::fail("the base checkpoint does not open in HDF5", path.c_str());
-    std::vector<std::string> ds;
-    H5Ovisit(f, H5_INDEX_NAME, H5_ITER_INC, list_ds, &ds); /* the HDF5 1.10 API (Debian 12) */
-    std::string text;
-    for (int e = 0; e < nedit; ++e) {
-      if (in.u8() < 32) h5_scene_edit(f, in, &text);
-      else h5_dataset_edit(f, ds, in, flags & 1);
-    }
-    H5Fclose(f);
-    b = slurp(path);
-    h5_header(b);
-    spill(path, b);
     if (!scene_small(text)) {
       fz::clean_scratch();
       return 0;

@@ -37,7 +37,7 @@ int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size) {
   if (st != GRAN_SUCCESS && gran_last_error_message()[0] == '\0') abort();
   gran_scene_destroy(&s);
   gran_srd *srd = NULL;
-  st = gran_srd_checkpoint_read(in, &srd);
+  st = gran_srd_checkpoint_read(in, "/srd", &srd);
   if (st != GRAN_SUCCESS && gran_last_error_message()[0] == '\0') abort();
   if (st == GRAN_SUCCESS && gran_srd_advance(srd, 1) != GRAN_SUCCESS && gran_last_error_message()[0] == '\0') abort();
   gran_srd_destroy(&srd);

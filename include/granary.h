@@ -767,8 +767,15 @@ GRAN_EXTERN int gran_srd_particles(gran_srd *srd, int64_t *n, double **x, double
 /* Density structure factor S(k) of the unshifted cell counts (FFTW r2c), radially averaged in
  * nbins shells of width 2 pi / (L a), k = 0 removed; k[i], s[i] and the mode count per shell. */
 GRAN_EXTERN int gran_srd_structure_factor(gran_srd *srd, int64_t nbins, double *k, double *s, int64_t *count);
-GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *srd, const char *path);
-GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **srd);
+/* The complete engine state (options, counters, energies, particles, cell reference velocities,
+ * every RNG state) as group `group` of the HDF5 file `path`, format "granary-srd-state 1", named
+ * fields (docs/developers/state-format.md); the file is created if missing, an existing group of
+ * that name replaced, the file written to PATH.tmp with a checksum header, fsync'ed and renamed
+ * (the same shape as gran_dsmc_checkpoint_write). Read validates every value and refuses
+ * (GRAN_ERR_IO, naming the field) what no run writes; files of the older binary format (GSRDCKP2)
+ * are refused. Resume is bit for bit with any thread count. */
+GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *srd, const char *path, const char *group);
+GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, const char *group, gran_srd **srd);
 /* ---- GSRD velocity profile (shear and Poiseuille flow analysis, run driver) ----
  * Instantaneous mean of velocity component `component` (0..dim-1) of the particles in nbins equal
  * slabs along `axis` (0..dim-1) spanning [0, cells[axis] a): mean[b] (0 where count[b] = 0) and

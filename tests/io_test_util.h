@@ -141,6 +141,68 @@ static inline void io_edit_copy(const char *src, const char *dst, const char *da
   io_refresh_crc(dst);
 }
 
+/* Copy granary file `src` to `dst` and write `count` values (memory type `mt`, e.g.
+ * H5T_NATIVE_UINT64) at [index, index + count) of `dataset`, checksum recomputed. */
+static inline void io_edit_raw(const char *src, const char *dst, const char *dataset, int64_t index, const void *val,
+                               size_t count, hid_t mt) {
+  size_t n = 0;
+  unsigned char *b = io_read_all(src, &n);
+  io_write_all(dst, b, n);
+  free(b);
+  hid_t f = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
+  if (d < 0) fprintf(stderr, "io_edit_raw: no dataset '%s' in '%s'\n", dataset, src);
+  assert_true(d >= 0);
+  hid_t sp = H5Dget_space(d);
+  const hsize_t start = (hsize_t)index, cnt = (hsize_t)count;
+  assert_true((hssize_t)(start + cnt) <= H5Sget_simple_extent_npoints(sp));
+  assert_true(H5Sselect_hyperslab(sp, H5S_SELECT_SET, &start, NULL, &cnt, NULL) >= 0);
+  hid_t ms = H5Screate_simple(1, &cnt, NULL);
+  assert_true(H5Dwrite(d, mt, ms, sp, H5P_DEFAULT, val) >= 0);
+  H5Sclose(ms);
+  H5Sclose(sp);
+  H5Dclose(d);
+  H5Fclose(f);
+  io_refresh_crc(dst);
+}
+
+/* Copy granary file `src` to `dst` with 1-D `dataset` replaced by one of `len` values of its type
+ * (its values as far as they go, zeros after), or removed (len < 0); checksum recomputed. */
+static inline void io_edit_resize(const char *src, const char *dst, const char *dataset, int64_t len) {
+  size_t n = 0;
+  unsigned char *b = io_read_all(src, &n);
+  io_write_all(dst, b, n);
+  free(b);
+  hid_t f = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t ft = H5Dget_type(d), sp = H5Dget_space(d);
+  const hssize_t np = H5Sget_simple_extent_npoints(sp);
+  const size_t es = H5Tget_size(ft);
+  const size_t keep = len < 0 ? 0 : (size_t)(len < np ? len : np);
+  unsigned char *v = (unsigned char *)calloc((size_t)(np > 0 ? np : 1) + (len > 0 ? (size_t)len : 0), es);
+  assert_true(np == 0 || H5Dread(d, ft, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+  H5Sclose(sp);
+  H5Dclose(d);
+  assert_true(H5Ldelete(f, dataset, H5P_DEFAULT) >= 0);
+  if (len >= 0) {
+    const hsize_t dim = (hsize_t)len;
+    hid_t ns = H5Screate_simple(1, &dim, NULL);
+    hid_t nd = H5Dcreate2(f, dataset, ft, ns, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    assert_true(nd >= 0);
+    memset(v + keep * es, 0, ((size_t)len - keep) * es);
+    assert_true(len == 0 || H5Dwrite(nd, ft, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+    H5Dclose(nd);
+    H5Sclose(ns);
+  }
+  free(v);
+  H5Tclose(ft);
+  H5Fclose(f);
+  io_refresh_crc(dst);
+}
+
 /* ---- HDF5 comparison ---------------------------------------------------------------------- */
 typedef struct {
   hid_t other;

@@ -376,11 +376,11 @@ static void sde_body_devices(int scene, int da, int db, double xtol, double otol
   char pa[64], pb[64];
   snprintf(pa, sizeof pa, "srd-device-ckpt-%d-%d-%d-a.bin", scene, da, db);
   snprintf(pb, sizeof pb, "srd-device-ckpt-%d-%d-%d-b.bin", scene, da, db);
-  GRAN_ASSERT_OK(gran_srd_checkpoint_write(a, pa));
-  GRAN_ASSERT_OK(gran_srd_checkpoint_write(b, pb));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(a, pa, "/srd"));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(b, pb, "/srd"));
   gran_srd *ra = NULL, *rb = NULL;
-  GRAN_ASSERT_OK(gran_srd_checkpoint_read(pa, &ra));
-  GRAN_ASSERT_OK(gran_srd_checkpoint_read(pb, &rb));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_read(pa, "/srd", &ra));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_read(pb, "/srd", &rb));
   GRAN_ASSERT_OK(gran_srd_get_device(ra, &got));
   assert_int_equal(got, da); /* resumes where it ran */
   GRAN_ASSERT_OK(gran_srd_set_device(ra, db));

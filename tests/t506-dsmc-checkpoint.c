@@ -3,11 +3,10 @@
  * collision, counters, ledger, collision counts and trajectories with memcmp. Every selector, with
  * and without observables, constant and viscoelastic restitution. Bad files and mismatched
  * mixtures fail with GRAN_ERR_IO / GRAN_ERR_ARG naming the path; a damaged state (an index out of
- * range) is refused with GRAN_ERR_IO. */
+ * range) is refused with GRAN_ERR_IO; checksum-consistent generator states no generator reaches
+ * (zero, near zero) are refused naming 'rng' or 'rng_lanes'. */
 #define _POSIX_C_SOURCE 200809L
-#include <unistd.h>
-
-#include <hdf5.h>
+#include "io_test_util.h" /* io_edit_raw: an edit through HDF5, checksum recomputed */
 
 #include "dsmc_util.h"
 
@@ -15,8 +14,7 @@ static char g_path[256];
 
 static int setup(void **state) {
   (void)state;
-  snprintf(g_path, sizeof g_path, "/tmp/granary-t506-%ld.h5", (long)getpid());
-  remove(g_path);
+  dsmc_ckpt_path(g_path, sizeof g_path, "t506");
   return 0;
 }
 static int teardown(void **state) {
@@ -25,40 +23,8 @@ static int teardown(void **state) {
   return 0;
 }
 
-static void compare(const gran_dsmc *a, const gran_dsmc *b, int observe) {
-  const gran_particles *pa, *pb;
-  GRAN_ASSERT_OK(gran_dsmc_particles(a, &pa));
-  GRAN_ASSERT_OK(gran_dsmc_particles(b, &pb));
-  assert_int_equal(pa->n, pb->n);
-  assert_memory_equal(pa->v, pb->v, sizeof(double) * 3 * (size_t)pa->n);
-  if (observe & (GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_TRAJECTORIES)) {
-    assert_memory_equal(pa->r, pb->r, sizeof(double) * 3 * (size_t)pa->n);
-    assert_memory_equal(pa->t_last, pb->t_last, sizeof(double) * (size_t)pa->n);
-  }
-  gran_dsmc_stats sa, sb;
-  GRAN_ASSERT_OK(gran_dsmc_get_stats(a, &sa));
-  GRAN_ASSERT_OK(gran_dsmc_get_stats(b, &sb));
-  assert_memory_equal(&sa, &sb, sizeof sa);
-  double ea[3], eb[3];
-  GRAN_ASSERT_OK(gran_dsmc_energy(a, &ea[0], &ea[1], &ea[2]));
-  GRAN_ASSERT_OK(gran_dsmc_energy(b, &eb[0], &eb[1], &eb[2]));
-  assert_memory_equal(ea, eb, sizeof ea);
-  if (observe & GRAN_OBSERVE_COLLISION_COUNTS) {
-    int64_t ca[25], cb[25];
-    GRAN_ASSERT_OK(gran_dsmc_collision_counts(a, ca));
-    GRAN_ASSERT_OK(gran_dsmc_collision_counts(b, cb));
-    assert_memory_equal(ca, cb, sizeof ca);
-  }
-  if (observe & GRAN_OBSERVE_TRAJECTORIES) {
-    int64_t na, nb, sa_, sb_;
-    const double *xa, *xb;
-    GRAN_ASSERT_OK(gran_dsmc_trajectories(a, &na, &sa_, &xa, NULL));
-    GRAN_ASSERT_OK(gran_dsmc_trajectories(b, &nb, &sb_, &xb, NULL));
-    assert_int_equal(na, nb);
-    assert_int_equal(sa_, sb_);
-    assert_memory_equal(xa, xb, sizeof(double) * 3 * (size_t)(na * sa_));
-  }
-}
+/* five species: collision counts 5 x 5 */
+static void compare(const gran_dsmc *a, const gran_dsmc *b, int observe) { dsmc_assert_same_state(a, b, observe, 5, 0); }
 
 static gran_mixture *five_species(int visco) {
   gran_mixture *mix;
@@ -141,6 +107,27 @@ static void test_checkpoint_errors(void **state) {
   GRAN_ASSERT_OK(gran_mixture_create_powerlaw(5, 2.0, 1.0, 0.1, 3.0, &other));
   GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(g_path, "/run/engine", other, &b), GRAN_ERR_ARG);
   gran_mixture_destroy(&other);
+  /* generator states a generator never reaches, checksum recomputed: refused naming the field */
+  {
+    char bad[300];
+    snprintf(bad, sizeof bad, "%s.bad", g_path);
+    const uint64_t zero[4] = {0, 0, 0, 0}, few[4] = {0xff, 0, 0x3, 0};
+    io_edit_raw(g_path, bad, "/run/engine/rng", 0, zero, 4, H5T_NATIVE_UINT64);
+    GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(bad, "/run/engine", mix, &b), GRAN_ERR_IO);
+    assert_non_null(strstr(gran_last_error_message(), "rng"));
+    io_edit_raw(g_path, bad, "/run/engine/rng", 0, few, 4, H5T_NATIVE_UINT64);
+    GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(bad, "/run/engine", mix, &b), GRAN_ERR_IO);
+    assert_non_null(strstr(gran_last_error_message(), "(rng;"));
+    /* lane 3 of the buffered streams: words s[w][3] at w * 8 + 3 */
+    for (int w = 0; w < 4; w++) {
+      const uint64_t z = 0;
+      io_edit_raw(w == 0 ? g_path : bad, bad, "/run/engine/rng_lanes", w * 8 + 3, &z, 1, H5T_NATIVE_UINT64);
+    }
+    GRAN_ASSERT_ERR(gran_dsmc_checkpoint_read(bad, "/run/engine", mix, &b), GRAN_ERR_IO);
+    assert_non_null(strstr(gran_last_error_message(), "rng_lanes"));
+    assert_null(b);
+    remove(bad);
+  }
   /* a damaged state: an index outside its array is refused, not used (here the file checksum
    * catches the edit first; t606 recomputes the checksum and reaches the value checks) */
   {

@@ -299,8 +299,8 @@ static void test_checkpoint(void **state) {
   gran_srd *s = NULL, *t = NULL;
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, 13));
-  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path));
-  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, &t));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path, "/srd"));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, "/srd", &t));
   GRAN_ASSERT_OK(gran_srd_advance(s, 17));
   GRAN_ASSERT_OK(gran_srd_advance(t, 17));
   int64_t n1, n2;
@@ -315,18 +315,19 @@ static void test_checkpoint(void **state) {
   assert_memory_equal(&oa, &ob, sizeof oa);
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
   GRAN_ASSERT_OK(gran_srd_destroy(&t));
-  GRAN_ASSERT_ERR(gran_srd_checkpoint_read("/nonexistent/x.ckp", &t), GRAN_ERR_IO);
+  GRAN_ASSERT_ERR(gran_srd_checkpoint_read("/nonexistent/x.ckp", "/srd", &t), GRAN_ERR_IO);
   FILE *f = fopen(path, "wb");
   fputs("garbage", f);
   fclose(f);
-  GRAN_ASSERT_ERR(gran_srd_checkpoint_read(path, &t), GRAN_ERR_IO);
+  GRAN_ASSERT_ERR(gran_srd_checkpoint_read(path, "/srd", &t), GRAN_ERR_IO);
   assert_null(t);
   /* damaged files: every one of 200 single-bit flips (spread over the file, header and trailer
    * included), a truncation and an extension is refused with GRAN_ERR_IO, never a crash or an
    * allocation the file does not justify */
+  remove(path); /* a new file: the garbage above is no HDF5 file to add a group to */
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, 3));
-  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path, "/srd"));
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
   f = fopen(path, "rb");
   assert_non_null(f);
@@ -352,23 +353,25 @@ static void test_checkpoint(void **state) {
     } else if (trial == 201) {
       fwrite(img, 1, (size_t)len, f); /* extended */
       fputc(0, f);
-    } else {
-      img[7] = '1'; /* the format before device options */
-      fwrite(img, 1, (size_t)len, f);
-      img[7] = '2';
+    } else { /* the binary format before HDF5: refused, saying to rerun */
+      fwrite("GSRDCKP2", 1, 8, f);
+      fwrite(img + 8, 1, (size_t)len - 8, f);
     }
     fclose(f);
-    const int rc = gran_srd_checkpoint_read(bad, &t);
+    const int rc = gran_srd_checkpoint_read(bad, "/srd", &t);
     if (rc != GRAN_ERR_IO) fprintf(stderr, "trial %d (byte %ld): rc %d\n", trial, at, rc);
     assert_int_equal(rc, GRAN_ERR_IO);
     assert_null(t);
-    if (trial == 202) assert_non_null(strstr(gran_last_error_message(), "format 1"));
+    if (trial == 202) {
+      assert_non_null(strstr(gran_last_error_message(), "GSRDCKP2"));
+      assert_non_null(strstr(gran_last_error_message(), "rerun the scene"));
+    }
   }
   free(img);
   remove(bad);
   /* a write that cannot happen leaves nothing behind */
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
-  GRAN_ASSERT_ERR(gran_srd_checkpoint_write(s, "/nonexistent-dir/x.ckp"), GRAN_ERR_IO);
+  GRAN_ASSERT_ERR(gran_srd_checkpoint_write(s, "/nonexistent-dir/x.ckp", "/srd"), GRAN_ERR_IO);
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
   remove(path);
 }

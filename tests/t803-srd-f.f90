@@ -53,8 +53,8 @@ program t803_srd_f
   call gran_srd_velocity_profile(srd, 3, 0, pm, pc, ierr)
   call expect(ierr == GRAN_ERR_ARG, 'velocity profile: bad axis')
 
-  call gran_srd_checkpoint_write(srd, ckpt)
-  call gran_srd_checkpoint_read(ckpt, srd2)
+  call gran_srd_checkpoint_write(srd, ckpt, '/srd')
+  call gran_srd_checkpoint_read(ckpt, '/srd', srd2)
   call gran_srd_advance(srd, 7_c_int64_t)
   call gran_srd_advance(srd2, 7_c_int64_t)
   call gran_srd_particles(srd, x, y, z, vx, vy, vz)
@@ -64,6 +64,10 @@ program t803_srd_f
   call gran_srd_observe(srd2, ob2)
   call expect(ob%energy == ob2%energy, 'restart energy')
   call gran_srd_destroy(srd2)
+  call gran_srd_checkpoint_read(ckpt, '/other', srd2, ierr)
+  call expect(ierr == GRAN_ERR_IO .and. .not. c_associated(srd2), 'checkpoint: a missing group is refused')
+  call gran_srd_checkpoint_write(srd, ckpt, '/', ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'checkpoint: the root is no group for a state')
   call gran_srd_destroy(srd)
   call expect(.not. c_associated(srd), 'destroy nulls')
   open(unit=11, file=ckpt, status='old')
@@ -72,7 +76,7 @@ program t803_srd_f
   opt%alpha_deg = 0
   call gran_srd_create(opt, srd, ierr)
   call expect(ierr == GRAN_ERR_ARG, 'alpha = 0 rejected')
-  call gran_srd_checkpoint_read('/nonexistent/x.ckp', srd, ierr)
+  call gran_srd_checkpoint_read('/nonexistent/x.ckp', '/srd', srd, ierr)
   call expect(ierr == GRAN_ERR_IO, 'missing checkpoint')
 
   call test_finish('t803-srd-f')

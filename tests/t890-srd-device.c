@@ -5,7 +5,7 @@
  * particles, thermostat, gravity, Lees-Edwards stress, clamps) agrees to rounding. The engine hooks
  * (src/srd/device_cuda.cpp) are the ones a GPU run takes; tests/gpu/t850-srd-gpu.c runs the same
  * bodies on the GPU. */
-#include <zlib.h>
+#include "io_test_util.h" /* io_edit_raw: an edit through HDF5, checksum recomputed */
 
 #include "srd_device_body.h"
 #include "srd/device_cuda.h"
@@ -129,28 +129,13 @@ static void test_checkpoint_cuda_without_gpu(void **state) {
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, 4));
   const char *path = "t890-cuda-ckpt.bin";
-  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path));
-  /* patch options.device in the file (magic, then the options struct) */
-  FILE *f = fopen(path, "r+b");
-  assert_non_null(f);
+  GRAN_ASSERT_OK(gran_srd_checkpoint_write(s, path, "/srd"));
+  /* options.device in the file: CUDA */
   const int32_t cuda = GRAN_SRD_DEVICE_CUDA;
-  assert_int_equal(fseek(f, 8 + (long)offsetof(gran_srd_options, device), SEEK_SET), 0);
-  assert_int_equal(fwrite(&cuda, sizeof cuda, 1, f), 1);
-  /* the file ends with the CRC-32 of every byte before it: recompute it for the edited file */
-  assert_int_equal(fseek(f, 0, SEEK_END), 0);
-  const long len = ftell(f);
-  unsigned char *img = malloc((size_t)len);
-  assert_non_null(img);
-  assert_int_equal(fseek(f, 0, SEEK_SET), 0);
-  assert_int_equal(fread(img, 1, (size_t)len, f), (size_t)len);
-  const uint32_t crc = (uint32_t)crc32(crc32(0L, Z_NULL, 0), img, (uInt)(len - 4));
-  free(img);
-  assert_int_equal(fseek(f, len - 4, SEEK_SET), 0);
-  assert_int_equal(fwrite(&crc, 4, 1, f), 1);
-  assert_int_equal(fclose(f), 0);
+  io_edit_raw(path, path, "/srd/options/device", 0, &cuda, 1, H5T_NATIVE_INT32);
   int64_t w0, w1;
   GRAN_ASSERT_OK(gran_warning_count(&w0));
-  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, &r));
+  GRAN_ASSERT_OK(gran_srd_checkpoint_read(path, "/srd", &r));
   GRAN_ASSERT_OK(gran_warning_count(&w1));
   assert_int_equal(w1 - w0, 1);
   int32_t d = -1;

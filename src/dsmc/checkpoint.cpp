@@ -4,15 +4,13 @@
  * collision counters, trajectory buffers, options. The mixture is not stored: the reader passes
  * it and it must match (masses, diameters, restitution model, which species are tracers;
  * checked). The tracer flags are derived from that mixture (n_k = 0) and the stored counts, as at
- * creation; the stored flags only check them (files without them are accepted). HDF5 errors are silenced
- * and mapped to GRAN_ERR_IO naming the file. */
+ * creation; the stored flags only check them (files without them are accepted). The fields go
+ * through the state interface of the I/O layer (src/io/state.h), which names the file and the
+ * field in every refusal. */
 #include "dsmc_impl.h"
 #include "cell_impl.h"
 #include "agg_impl.h"
-#include "io/io_impl.h"
-
-#include <hdf5.h>
-#include <sys/stat.h>
+#include "io/state.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -26,69 +24,30 @@ const char *kFormat = "granary-dsmc-state 4"; /* 2: the clock counts from t_star
 const char *kFormat2 = "granary-dsmc-state 2"; /* read: the same state without the cell selector */
 const char *kFormat3 = "granary-dsmc-state 3"; /* read: without the fragment law (monomers) */
 
-/* closes an HDF5 handle on scope exit */
-struct H5Handle {
-  hid_t id = -1;
-  herr_t (*close)(hid_t) = nullptr;
-  H5Handle(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
-  ~H5Handle() {
-    if (id >= 0 && close) close(id);
-  }
-  H5Handle(const H5Handle &) = delete;
-  H5Handle &operator=(const H5Handle &) = delete;
-};
-
+/* The state's fields through the state interface (src/io/state.h), with the names the templates
+ * below share between writing and reading. */
 struct Writer {
-  hid_t g;
+  const gran_state::Group &g;
   const char *path;
-  int put(const char *name, hid_t type, int64_t n, const void *data) {
-    const hsize_t dim = (hsize_t)n;
-    H5Handle space(H5Screate_simple(1, &dim, nullptr), H5Sclose);
-    GRAN_CHECK(space.id >= 0, GRAN_ERR_IO, "HDF5: cannot create a dataspace for '%s' in '%s'", name, path);
-    H5Handle ds(H5Dcreate2(g, name, type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-    GRAN_CHECK(ds.id >= 0, GRAN_ERR_IO, "HDF5: cannot create dataset '%s' in '%s'", name, path);
-    if (n > 0)
-      GRAN_CHECK(H5Dwrite(ds.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0, GRAN_ERR_IO,
-                 "HDF5: cannot write dataset '%s' in '%s'", name, path);
-    return GRAN_SUCCESS;
-  }
-  int d(const char *name, int64_t n, const double *x) { return put(name, H5T_NATIVE_DOUBLE, n, x); }
-  int i64(const char *name, int64_t n, const int64_t *x) { return put(name, H5T_NATIVE_INT64, n, x); }
-  int i32(const char *name, int64_t n, const int32_t *x) { return put(name, H5T_NATIVE_INT32, n, x); }
-  int u64(const char *name, int64_t n, const uint64_t *x) { return put(name, H5T_NATIVE_UINT64, n, x); }
-  int d1(const char *name, double x) { return d(name, 1, &x); }
-  int i1(const char *name, int64_t x) { return i64(name, 1, &x); }
+  int d(const char *name, int64_t n, const double *x) { return g.put(name, n, x); }
+  int i64(const char *name, int64_t n, const int64_t *x) { return g.put(name, n, x); }
+  int i32(const char *name, int64_t n, const int32_t *x) { return g.put(name, n, x); }
+  int u64(const char *name, int64_t n, const uint64_t *x) { return g.put(name, n, x); }
+  int d1(const char *name, double x) { return g.put1(name, x); }
+  int i1(const char *name, int64_t x) { return g.put1(name, x); }
 };
 
 struct Reader {
-  hid_t g;
+  const gran_state::Group &g;
   const char *path;
-  int get(const char *name, hid_t type, int64_t n, void *data) {
-    H5Handle ds(H5Dopen2(g, name, H5P_DEFAULT), H5Dclose);
-    GRAN_CHECK(ds.id >= 0, GRAN_ERR_IO, "HDF5: dataset '%s' missing in '%s'", name, path);
-    H5Handle space(H5Dget_space(ds.id), H5Sclose);
-    GRAN_CHECK(space.id >= 0, GRAN_ERR_IO, "HDF5: cannot read dataset '%s' in '%s'", name, path);
-    const hssize_t np = H5Sget_simple_extent_npoints(space.id);
-    GRAN_CHECK(np == (hssize_t)n, GRAN_ERR_IO, "checkpoint '%s': dataset '%s' has %lld values, expected %lld", path,
-               name, (long long)np, (long long)n);
-    if (n > 0)
-      GRAN_CHECK(H5Dread(ds.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0, GRAN_ERR_IO,
-                 "HDF5: cannot read dataset '%s' in '%s'", name, path);
-    return GRAN_SUCCESS;
-  }
-  int d(const char *name, int64_t n, double *x) { return get(name, H5T_NATIVE_DOUBLE, n, x); }
-  int i64(const char *name, int64_t n, int64_t *x) { return get(name, H5T_NATIVE_INT64, n, x); }
-  int i32(const char *name, int64_t n, int32_t *x) { return get(name, H5T_NATIVE_INT32, n, x); }
-  int u64(const char *name, int64_t n, uint64_t *x) { return get(name, H5T_NATIVE_UINT64, n, x); }
+  int d(const char *name, int64_t n, double *x) { return g.get(name, n, x); }
+  int i64(const char *name, int64_t n, int64_t *x) { return g.get(name, n, x); }
+  int i32(const char *name, int64_t n, int32_t *x) { return g.get(name, n, x); }
+  int u64(const char *name, int64_t n, uint64_t *x) { return g.get(name, n, x); }
   /* number of values of a dataset (-1 when missing): sizes are checked before anything is allocated */
-  int64_t npoints(const char *name) {
-    if (H5Lexists(g, name, H5P_DEFAULT) <= 0) return -1;
-    H5Handle ds(H5Dopen2(g, name, H5P_DEFAULT), H5Dclose);
-    if (ds.id < 0) return -1;
-    H5Handle space(H5Dget_space(ds.id), H5Sclose);
-    return space.id < 0 ? -1 : (int64_t)H5Sget_simple_extent_npoints(space.id);
-  }
-  int i1(const char *name, int64_t *x) { return i64(name, 1, x); }
+  int64_t npoints(const char *name) { return g.npoints(name); }
+  bool has(const char *name) { return g.has(name); }
+  int i1(const char *name, int64_t *x) { return g.get1(name, x); }
 };
 
 /* Speed classes (issue 11): slots, leaves, the bounds of the alias table and the tree of raises,
@@ -305,6 +264,10 @@ int validate_state(const gran_dsmc *s, const char *path) {
     if (!ok && !bad) bad = what;
   };
   need(s->vrng.pos >= 0 && s->vrng.pos <= kRngBuf, "rng_pos");
+  /* generator states: what a generator reaches (src/io/state.h, the GSRD reader's rule) */
+  need(gran_state::rng_plausible(s->rng.s[0], s->rng.s[1], s->rng.s[2], s->rng.s[3]), "rng");
+  for (int l = 0; l < kRngLanes; l++)
+    need(gran_state::rng_plausible(s->vrng.s[0][l], s->vrng.s[1][l], s->vrng.s[2][l], s->vrng.s[3][l]), "rng_lanes");
   need(s->cand_head >= 0 && s->cand_head < kDsmcPipe && (s->cand_count == 0 || s->cand_count == kDsmcPipe),
        "candidate pipeline");
   need(s->traj_next >= 0 && s->traj_next <= s->opt.traj_samples, "trajectory sample index");
@@ -718,6 +681,29 @@ int aggev_read(Reader &r, gran_dsmc *s) {
 }
 /* ---- end of the event selectors' aggregation block ---- */
 
+/* The stored options against the run's (scene options, the replica's seed), field by field. */
+int options_match(const gran_dsmc_options &c, const gran_dsmc_options &o, const char *group, const char *path) {
+  auto differ = [&](const char *name, double a, double b) {
+    return GRAN_ERROR(GRAN_ERR_IO,
+                      "checkpoint '%s': the DSMC state in '%s' does not match the scene: option '%s' differs (stored "
+                      "%.17g, scene %.17g; a checkpoint resumes the run of its own scene)", path, group, name, a, b);
+  };
+  if (c.seed != o.seed)
+    return GRAN_ERROR(GRAN_ERR_IO,
+                      "checkpoint '%s': the DSMC state in '%s' does not match the scene: option 'seed' differs (stored "
+                      "%llu, this replica's %llu; a checkpoint resumes the run of its own scene)", path, group,
+                      (unsigned long long)c.seed, (unsigned long long)o.seed);
+  if (c.selector != o.selector) return differ("selector", c.selector, o.selector);
+  if (c.observe != o.observe) return differ("observe", c.observe, o.observe);
+  if (c.bound_refresh != o.bound_refresh) return differ("bound_refresh", (double)c.bound_refresh, (double)o.bound_refresh);
+  if (c.t_start != o.t_start) return differ("t_start", c.t_start, o.t_start);
+  if (c.traj_per_species != o.traj_per_species)
+    return differ("traj_per_species", (double)c.traj_per_species, (double)o.traj_per_species);
+  if (c.traj_samples != o.traj_samples) return differ("traj_samples", (double)c.traj_samples, (double)o.traj_samples);
+  if (c.traj_dt != o.traj_dt) return differ("traj_dt", c.traj_dt, o.traj_dt);
+  return GRAN_SUCCESS;
+}
+
 int options_io_write(Writer &w, const gran_dsmc *s) {
   const gran_dsmc_options &o = s->opt;
   int64_t oi[6] = {o.selector, o.observe, o.bound_refresh, o.traj_per_species, o.traj_samples, s->M};
@@ -743,11 +729,6 @@ int options_io_write(Writer &w, const gran_dsmc *s) {
   return GRAN_SUCCESS;
 }
 
-bool file_exists(const char *path) {
-  struct stat st;
-  return stat(path, &st) == 0;
-}
-
 }  // namespace
 }  // namespace gran
 
@@ -757,23 +738,9 @@ using namespace gran;
 int gran_dsmc_checkpoint_write_h5_(const gran_dsmc *sim, int64_t file_id, const char *group, const char *path) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
-    const hid_t fid = (hid_t)file_id;
-    if (H5Lexists(fid, group, H5P_DEFAULT) > 0)
-      GRAN_CHECK(H5Ldelete(fid, group, H5P_DEFAULT) >= 0, GRAN_ERR_IO, "cannot replace group '%s' in '%s'", group,
-                 path);
-    H5Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-    H5Pset_create_intermediate_group(lcpl.id, 1);
-    H5Handle g(H5Gcreate2(fid, group, lcpl.id, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-    GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "cannot create group '%s' in '%s'", group, path);
-    {
-      H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-      H5Tset_size(type.id, std::strlen(kFormat));
-      H5Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-      H5Handle at(H5Acreate2(g.id, "format", type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-      GRAN_CHECK(at.id >= 0 && H5Awrite(at.id, type.id, kFormat) >= 0, GRAN_ERR_IO,
-                 "cannot write attribute 'format' in '%s'", path);
-    }
-    Writer w{g.id, path};
+    gran_state::Group g;
+    GRAN_CALL(g.create(file_id, group, kFormat, path));
+    Writer w{g, path};
     GRAN_CALL(options_io_write(w, sim));
     GRAN_CALL(state_io(w, const_cast<gran_dsmc *>(sim))); /* the writer only reads the state */
     if (sim->cell) {
@@ -798,58 +765,35 @@ GRAN_EXTERN int gran_dsmc_checkpoint_write(const gran_dsmc *sim, const char *pat
     GRAN_CHECK(path[0] != '\0', GRAN_ERR_ARG, "argument 'path' is empty");
     GRAN_CHECK(group[0] != '\0' && std::strcmp(group, "/") != 0, GRAN_ERR_ARG,
                "argument 'group' = '%s' must name a group below the root", group);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    /* The file is assembled in memory (an existing one is read in whole by HDF5's core driver)
-     * and written by gran_h5::commit_memory_file: PATH.tmp, fsync, rename, with granary's
-     * checksum header. HDF5 never writes to disk itself, so a full disk is a plain GRAN_ERR_IO
-     * and the previous file stays as it was. */
-    hid_t fid;
-    if (file_exists(path)) {
-      GRAN_CHECK(H5Fis_hdf5(path) > 0, GRAN_ERR_IO, "checkpoint file '%s' exists and is not an HDF5 file", path);
-      H5Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-      H5Pset_fapl_core(fapl.id, (size_t)1 << 20, 0);
-      fid = H5Fopen(path, H5F_ACC_RDWR, fapl.id);
-    } else {
-      fid = (hid_t)gran_h5::create_memory_file();
-    }
-    GRAN_CHECK(fid >= 0, GRAN_ERR_IO, "cannot open or create checkpoint file '%s' for writing", path);
-    int64_t f64 = fid;
-    int st = gran_dsmc_checkpoint_write_h5_(sim, fid, group, path);
-    if (st != GRAN_SUCCESS) {
-      H5Fclose(fid);
-      return st;
-    }
-    return gran_h5::commit_memory_file(&f64, path, "checkpoint");
+    /* The file is assembled in memory (an existing one is read in whole) and committed by the
+     * state interface: PATH.tmp, fsync, rename, with granary's checksum header. HDF5 never
+     * writes to disk itself, so a full disk is a plain GRAN_ERR_IO and the previous file stays as
+     * it was. */
+    gran_state::File f;
+    GRAN_CALL(f.open_update(path));
+    GRAN_CALL(gran_dsmc_checkpoint_write_h5_(sim, f.id(), group, path));
+    return f.commit("checkpoint");
   }
   GRAN_CATCH
 }
 
 /* A new engine from group `group` of the open HDF5 file `file_id` (`path` names it in messages). */
-int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran_mixture *mix, gran_dsmc **sim,
-                                  const char *path) {
+int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran_mixture *mix,
+                                  const gran_dsmc_options *expect, gran_dsmc **sim, const char *path) {
   GRAN_TRY {
     GRAN_CHECK_PTR(sim);
     *sim = nullptr;
     GRAN_CALL(check_mixture(mix, "mix"));
-    H5Handle file(-1, nullptr);
-    file.id = (hid_t)file_id;
-    GRAN_CHECK(H5Lexists(file.id, group, H5P_DEFAULT) > 0, GRAN_ERR_IO, "checkpoint file '%s' has no group '%s'", path,
-               group);
-    H5Handle g(H5Gopen2(file.id, group, H5P_DEFAULT), H5Gclose);
-    GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "cannot open group '%s' in '%s'", group, path);
+    gran_state::Group g;
+    GRAN_CALL(g.open(file_id, group, path));
     {
-      char buf[64] = {0};
-      H5Handle at(H5Aopen(g.id, "format", H5P_DEFAULT), H5Aclose);
-      GRAN_CHECK(at.id >= 0, GRAN_ERR_IO, "group '%s' in '%s' is not a DSMC checkpoint (no format)", group, path);
-      H5Handle type(H5Aget_type(at.id), H5Tclose);
-      const size_t sz = H5Tget_size(type.id);
-      GRAN_CHECK(sz < sizeof buf && H5Aread(at.id, type.id, buf) >= 0 &&
-                     (std::strcmp(buf, kFormat) == 0 || std::strcmp(buf, kFormat2) == 0 ||
-                      std::strcmp(buf, kFormat3) == 0),
-                 GRAN_ERR_IO,
+      std::string fmt;
+      GRAN_CALL(g.format(&fmt));
+      GRAN_CHECK(!fmt.empty(), GRAN_ERR_IO, "group '%s' in '%s' is not a DSMC checkpoint (no format)", group, path);
+      GRAN_CHECK(fmt == kFormat || fmt == kFormat2 || fmt == kFormat3, GRAN_ERR_IO,
                  "group '%s' in '%s' is not a '%s' checkpoint", group, path, kFormat);
     }
-    Reader rd{g.id, path};
+    Reader rd{g, path};
     int64_t oi[6];
     double od[3];
     gran_dsmc_options o;
@@ -866,12 +810,13 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
     o.t_start = od[1];
     o.traj_dt = od[2];
     o.speed_classes = 0; /* a file without the dataset: off, whatever the default */
-    if (H5Lexists(g.id, "options_speed_classes", H5P_DEFAULT) > 0) { /* speed classes (issue 11) */
+    if (rd.has("options_speed_classes")) { /* speed classes (issue 11) */
       int64_t sc;
       GRAN_CALL(rd.i1("options_speed_classes", &sc));
       GRAN_CHECK(sc == 0 || sc == 1, GRAN_ERR_IO, "checkpoint '%s' holds invalid engine options (speed_classes)", path);
       o.speed_classes = (int32_t)sc;
     }
+    if (expect) GRAN_CALL(options_match(o, *expect, group, path));
     const int64_t M = oi[5];
     GRAN_CHECK(M == mix->M, GRAN_ERR_ARG,
                "mixture 'mix' has " GRAN_I64_FMT " species, the checkpoint '%s' " GRAN_I64_FMT, mix->M, path, M);
@@ -927,7 +872,7 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
     std::vector<double> vtree[3];
     if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK)
       for (int r = 0; r < 3; r++) vtree[r].assign(s->v[r].node, s->v[r].node + 2 * s->v[r].base);
-    if (ierr == GRAN_SUCCESS && H5Lexists(g.id, "tracer", H5P_DEFAULT) > 0) {
+    if (ierr == GRAN_SUCCESS && rd.has("tracer")) {
       std::vector<int32_t> trc((size_t)M);
       ierr = rd.i32("tracer", M, trc.data());
       for (int64_t k = 0; k < M && ierr == GRAN_SUCCESS; k++)
@@ -949,7 +894,7 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
       if (ierr == GRAN_SUCCESS) ierr = cell_validate(s, path);
       if (ierr == GRAN_SUCCESS) ierr = dsmc_cell_check_bath(s);
     }
-    const bool aggev = o.selector != GRAN_SELECTOR_CELL && H5Lexists(g.id, "agg_options_real", H5P_DEFAULT) > 0;
+    const bool aggev = o.selector != GRAN_SELECTOR_CELL && rd.has("agg_options_real");
     if (ierr == GRAN_SUCCESS && aggev) ierr = aggev_read(rd, s); /* event selectors with aggregation */
     if (ierr == GRAN_SUCCESS && s->classes) dsmc_class_read_done(s); /* alias tables, identities' slots */
     if (ierr == GRAN_SUCCESS) ierr = counters_validate(s, path);
@@ -978,13 +923,9 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
     GRAN_CHECK_PTR(path);
     GRAN_CHECK_PTR(group);
     GRAN_CALL(check_mixture(mix, "mix"));
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    GRAN_CHECK(file_exists(path), GRAN_ERR_IO, "checkpoint file '%s' is missing", path);
-    GRAN_CALL(gran_h5::verify_file_if_marked(path, "checkpoint")); /* before HDF5 parses it */
-    GRAN_CHECK(H5Fis_hdf5(path) > 0, GRAN_ERR_IO, "checkpoint file '%s' is not HDF5", path);
-    H5Handle file(H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-    GRAN_CHECK(file.id >= 0, GRAN_ERR_IO, "cannot open checkpoint file '%s'", path);
-    return gran_dsmc_checkpoint_read_h5_(file.id, group, mix, sim, path);
+    gran_state::File f;
+    GRAN_CALL(f.open_read(path, "checkpoint"));
+    return gran_dsmc_checkpoint_read_h5_(f.id(), group, mix, nullptr, sim, path);
   }
   GRAN_CATCH
 }

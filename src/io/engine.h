@@ -15,7 +15,7 @@
  *
  * The driver's calling sequence (run and resume make exactly the same engine calls, so a resumed
  * run is bit for bit the uninterrupted one):
- *   create (factory) -> declare(bufs) -> memory() -> start(seed) | checkpoint_read(file, group)
+ *   create (factory) -> declare(bufs) -> memory() -> start(seed) | checkpoint_read(file, group, seed)
  *   -> for each output time i >= next: advance(t_i), record(bufs, i) [, checkpoint_write(...)]
  *   -> advance(t_end) -> write_output(file, ntimes): the engine's own groups and the theory.
  * After each record(bufs, i) the driver checks row i of every buffer: non-finite values stop the
@@ -113,9 +113,11 @@ class gran_engine {
   virtual int write_output(int64_t file, const char *fname, int64_t nrec) = 0;
   /* Engine state into / out of HDF5 group `group` of the open checkpoint file `file` (`fname`
    * names it in messages). The driver builds the file in memory and writes it with its checksum
-   * (gran_h5::commit_memory_file), and verifies that checksum before a read. */
+   * (gran_h5::commit_memory_file), and verifies that checksum before a read. `seed` is the seed
+   * start() would take for this replica: the stored state must have been started from it, and
+   * every stored option must be the scene's (each refusal names the option). */
   virtual int checkpoint_write(int64_t file, const char *fname, const char *group) = 0;
-  virtual int checkpoint_read(int64_t file, const char *fname, const char *group) = 0;
+  virtual int checkpoint_read(int64_t file, const char *fname, const char *group, uint64_t seed) = 0;
   /* Columns of the end-of-run summary (simulated beside theory), only of observables that are on. */
   virtual std::vector<gran_summary_column> summary_columns() const = 0;
   /* Files other than `output` that write_output(file = output) writes (GSRD: the XDMF sidecar).

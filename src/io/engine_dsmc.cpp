@@ -265,10 +265,14 @@ class DsmcEngine : public gran_engine {
   int checkpoint_write(int64_t file, const char *fname, const char *group) override {
     return gran_dsmc_checkpoint_write_h5_(sim_, file, group, fname);
   }
-  int checkpoint_read(int64_t file, const char *fname, const char *group) override {
+  int checkpoint_read(int64_t file, const char *fname, const char *group, uint64_t seed) override {
     GRAN_CALL(initial());
     gran_dsmc_destroy(&sim_);
-    return gran_dsmc_checkpoint_read_h5_(file, group, mix_, &sim_, fname);
+    /* the options this replica's start() would give: the stored ones must be these */
+    gran_dsmc_options expect;
+    GRAN_CALL(gran_scene_dsmc_options(s_, &expect, nullptr, nullptr));
+    expect.seed = seed;
+    return gran_dsmc_checkpoint_read_h5_(file, group, mix_, &expect, &sim_, fname);
   }
 
   std::vector<gran_summary_column> summary_columns() const override {

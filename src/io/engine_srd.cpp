@@ -10,17 +10,16 @@
  * replica whose seed is the scene's, or whose checkpoint group is /engine), written into the
  * output under /fields with an XDMF sidecar (OUTPUT.xmf) that ParaView opens, and kept in the
  * checkpoint so that a resumed run writes the same file.
- * Checkpoint: the engine's own binary checkpoint (gran_srd_checkpoint_write: every particle, RNG
- * state and ledger) stored byte for byte as a uint8 dataset, through a temporary file in $TMPDIR
- * (else /tmp). */
+ * Checkpoint: the engine's state group (gran_srd_checkpoint_write_h5_, src/srd/checkpoint.cpp:
+ * options, counters, ledger, particles, every RNG state as named fields), every stored physics
+ * option compared with the scene's on resume; the adapter adds the stress window's start and the
+ * snapshots to the same group. */
 #include <hdf5.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <unistd.h>
 
 #include "io/engine.h"
 #include "srd/fields.h"
@@ -36,119 +35,12 @@ struct H5Obj {
   }
 };
 
-/* The first option in which a checkpoint's GSRD state (c) and the scene (o) differ, or NULL: every
- * field of gran_srd_options but the seed (each replica's own), threads and device (how, not what,
- * is computed; the state moves between devices). The static_assert makes a new field update this
- * list. */
-const char *srd_options_differ(const gran_srd_options &c, const gran_srd_options &o) {
-  static_assert(sizeof(gran_srd_options) == 4 * 4 + 3 * 8 + 14 * 8 + 8 + 4 * 4,
-                "gran_srd_options changed: compare the new field in srd_options_differ");
-  if (c.dim != o.dim) return "dim";
-  if (c.wall_axis != o.wall_axis) return "wall_axis";
-  if (c.wall_axis >= 0 && c.wall_rule != o.wall_rule) return "wall_rule";
-  if (c.thermostat != o.thermostat) return "thermostat";
-  for (int k = 0; k < o.dim; ++k)
-    if (c.cells[k] != o.cells[k]) return k == 0 ? "cells[0]" : k == 1 ? "cells[1]" : "cells[2]";
-  if (c.a != o.a) return "a";
-  if (c.n0 != o.n0) return "n0";
-  if (c.dt != o.dt) return "dt";
-  if (c.alpha_deg != o.alpha_deg) return "alpha";
-  if (c.eps != o.eps) return "eps";
-  if (c.sigma != o.sigma) return "sigma";
-  if (c.T0 != o.T0) return "T0";
-  if (c.shear_rate != o.shear_rate) return "shear_rate";
-  for (int k = 0; k < 3; ++k)
-    if (c.accel[k] != o.accel[k]) return k == 0 ? "accel[0]" : k == 1 ? "accel[1]" : "accel[2]";
-  if (c.vib_amp != o.vib_amp) return "vib_amp";
-  if (c.vib_omega != o.vib_omega) return "vib_omega";
-  if (c.wall_T != o.wall_T) return "wall_T";
-  if (c.sort_every != o.sort_every) return "sort_every";
-  if (c.precision != o.precision) return "precision";
-  return nullptr;
-}
-
 /* One field snapshot (replica 0). */
 struct Snap {
   int64_t index = 0; /* output index */
   std::vector<double> count, vel, temp;
 };
 
-int write_u8(hid_t loc, const char *name, const std::vector<unsigned char> &b, const char *file) {
-  hsize_t dims[1] = {(hsize_t)b.size()};
-  H5Obj sp(H5Screate_simple(1, dims, nullptr), H5Sclose);
-  H5Obj d(H5Dcreate2(loc, name, H5T_NATIVE_UCHAR, sp.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-  GRAN_CHECK(sp.id >= 0 && d.id >= 0, GRAN_ERR_IO, "HDF5: cannot create dataset '%s' in '%s'", name, file);
-  GRAN_CHECK(b.empty() || H5Dwrite(d.id, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data()) >= 0, GRAN_ERR_IO,
-             "HDF5: cannot write dataset '%s' in '%s'", name, file);
-  return GRAN_SUCCESS;
-}
-
-int read_u8(hid_t loc, const char *name, std::vector<unsigned char> &b, const char *file) {
-  GRAN_CHECK(H5Lexists(loc, name, H5P_DEFAULT) > 0, GRAN_ERR_IO, "checkpoint '%s' has no dataset '%s'", file, name);
-  H5Obj d(H5Dopen2(loc, name, H5P_DEFAULT), H5Dclose);
-  GRAN_CHECK(d.id >= 0, GRAN_ERR_IO, "checkpoint '%s': cannot open '%s'", file, name);
-  H5Obj sp(H5Dget_space(d.id), H5Sclose);
-  GRAN_CHECK(sp.id >= 0 && H5Sget_simple_extent_ndims(sp.id) == 1, GRAN_ERR_IO, "checkpoint '%s': '%s' is not 1-D", file, name);
-  hsize_t n = 0;
-  H5Sget_simple_extent_dims(sp.id, &n, nullptr);
-  GRAN_CHECK(n < ((hsize_t)1 << 40), GRAN_ERR_IO, "checkpoint '%s': '%s' is too large", file, name);
-  b.resize((size_t)n);
-  GRAN_CHECK(n == 0 || H5Dread(d.id, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, b.data()) >= 0, GRAN_ERR_IO,
-             "checkpoint '%s': cannot read '%s'", file, name);
-  return GRAN_SUCCESS;
-}
-
-/* A temporary file (mkstemp) in $TMPDIR (else /tmp; else next to `near`, the checkpoint): local to
- * the process, also on an MPI rank that does not see the checkpoint's folder. Removed by the
- * destructor. */
-struct TmpFile {
-  std::string path;
-  ~TmpFile() {
-    if (!path.empty()) std::remove(path.c_str());
-  }
-  int make(const char *near) {
-    const char *td = std::getenv("TMPDIR");
-    const std::string dirs[3] = {td && *td ? td : "/tmp", "/tmp", ""};
-    int err = 0;
-    for (const std::string &d : dirs) {
-      std::string tpl = d.empty() ? std::string(near) + ".srd-XXXXXX" : d + "/granary-srd-XXXXXX";
-      std::vector<char> b(tpl.begin(), tpl.end());
-      b.push_back('\0');
-      const int fd = mkstemp(b.data());
-      if (fd < 0) {
-        err = errno;
-        continue;
-      }
-      close(fd);
-      path = b.data();
-      return GRAN_SUCCESS;
-    }
-    return GRAN_ERROR(GRAN_ERR_IO, "cannot create a temporary file in $TMPDIR, /tmp or next to '%s': %s", near,
-                      std::strerror(err));
-  }
-};
-
-int slurp(const std::string &path, std::vector<unsigned char> &b) {
-  FILE *f = std::fopen(path.c_str(), "rb");
-  GRAN_CHECK(f != nullptr, GRAN_ERR_IO, "cannot read '%s': %s", path.c_str(), std::strerror(errno));
-  b.clear();
-  unsigned char buf[1 << 16];
-  size_t got;
-  while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) b.insert(b.end(), buf, buf + got);
-  const bool err = std::ferror(f) != 0;
-  std::fclose(f);
-  GRAN_CHECK(!err, GRAN_ERR_IO, "cannot read '%s'", path.c_str());
-  return GRAN_SUCCESS;
-}
-
-int spill(const std::string &path, const std::vector<unsigned char> &b) {
-  FILE *f = std::fopen(path.c_str(), "wb");
-  GRAN_CHECK(f != nullptr, GRAN_ERR_IO, "cannot write '%s': %s", path.c_str(), std::strerror(errno));
-  bool ok = b.empty() || std::fwrite(b.data(), 1, b.size(), f) == b.size();
-  ok = std::fclose(f) == 0 && ok;
-  GRAN_CHECK(ok, GRAN_ERR_IO, "cannot write '%s'", path.c_str());
-  return GRAN_SUCCESS;
-}
 
 /* OUTPUT.h5 -> OUTPUT.xmf (any other name: NAME.xmf) */
 std::string xmf_path(const std::string &h5) {
@@ -429,17 +321,11 @@ class SrdEngine : public gran_engine {
 
   int checkpoint_write(int64_t file, const char *fname, const char *group) override {
     GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: checkpoint before start");
-    TmpFile tmp;
-    GRAN_CALL(tmp.make(fname));
-    GRAN_CALL(gran_srd_checkpoint_write(srd_, tmp.path.c_str()));
-    std::vector<unsigned char> blob;
-    GRAN_CALL(slurp(tmp.path, blob));
-    H5Obj lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-    H5Pset_create_intermediate_group(lcpl.id, 1);
-    H5Obj g(H5Gcreate2((hid_t)file, group, lcpl.id, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-    GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "HDF5: cannot create group '%s' in '%s'", group, fname);
-    GRAN_CALL(gran_h5::attr_string(g.id, "format", "granary-srd-checkpoint 1", fname));
-    GRAN_CALL(write_u8(g.id, "state", blob, fname));
+    /* the engine's state (src/srd/checkpoint.cpp), then the adapter's own part in the same group:
+     * the stress window's start and replica 0's field snapshots */
+    GRAN_CALL(gran_srd_checkpoint_write_h5_(srd_, file, group, fname));
+    H5Obj g(H5Gopen2((hid_t)file, group, H5P_DEFAULT), H5Gclose);
+    GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "HDF5: cannot open group '%s' in '%s'", group, fname);
     GRAN_CALL(gran_h5::attr_double(g.id, "stress_t0", stress_t0_, fname));
     const int64_t ns = (int64_t)snaps_.size();
     GRAN_CALL(gran_h5::attr_int64(g.id, "snapshots", ns, fname));
@@ -455,36 +341,17 @@ class SrdEngine : public gran_engine {
     return GRAN_SUCCESS;
   }
 
-  int checkpoint_read(int64_t file, const char *fname, const char *group) override {
+  int checkpoint_read(int64_t file, const char *fname, const char *group, uint64_t seed) override {
     gran_srd_destroy(&srd_);
     snaps_.clear();
     rep0_ = std::strcmp(group, "/engine") == 0;
-    GRAN_CHECK(H5Lexists((hid_t)file, group, H5P_DEFAULT) > 0, GRAN_ERR_IO, "checkpoint '%s' has no group '%s'", fname, group);
+    /* the engine's state, every stored physics option compared with the scene's (its text is
+     * the checkpoint's own) before anything is allocated */
+    gran_srd_options expect = o_;
+    expect.seed = seed;
+    GRAN_CALL(gran_srd_checkpoint_read_h5_(file, group, fname, &expect, &srd_));
     H5Obj g(H5Gopen2((hid_t)file, group, H5P_DEFAULT), H5Gclose);
     GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "checkpoint '%s': cannot open group '%s'", fname, group);
-    std::string fmt;
-    GRAN_CALL(gran_h5::read_attr_string(g.id, "format", fmt, fname));
-    GRAN_CHECK(fmt == "granary-srd-checkpoint 1", GRAN_ERR_IO, "checkpoint '%s': group '%s' is not a GSRD engine state (format '%s')",
-               fname, group, fmt.c_str());
-    std::vector<unsigned char> blob;
-    GRAN_CALL(read_u8(g.id, "state", blob, fname));
-    /* the options in the state's header (after its 8-byte magic) must be the scene's before the
-     * engine allocates anything from them */
-    gran_srd_options c;
-    GRAN_CHECK(blob.size() >= 8 + sizeof c, GRAN_ERR_IO, "checkpoint '%s': the GSRD state in '%s' is truncated", fname, group);
-    std::memcpy(&c, blob.data() + 8, sizeof c);
-    {
-      const char *diff = srd_options_differ(c, o_);
-      GRAN_CHECK(diff == nullptr, GRAN_ERR_IO,
-                 "checkpoint '%s': the GSRD state in '%s' does not match the scene: option '%s' differs (a checkpoint "
-                 "resumes the run of its own scene)", fname, group, diff);
-    }
-    {
-      TmpFile tmp;
-      GRAN_CALL(tmp.make(fname));
-      GRAN_CALL(spill(tmp.path, blob));
-      GRAN_CALL(gran_srd_checkpoint_read(tmp.path.c_str(), &srd_));
-    }
     {
       /* the engine stands at the step of the last recorded output time: rows the checkpoint says
        * were recorded were recorded by this state, and none after it */

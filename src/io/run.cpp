@@ -1042,8 +1042,11 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
       H5File f;
       f.id = open_checkpoint(r, checkpoint, bytes);
       GRAN_CHECK(f.id >= 0, GRAN_ERR_IO, "cannot open checkpoint '%s'", checkpoint);
-      for (int64_t k : r.mine)
-        GRAN_CALL(r.reps[(size_t)k].eng->checkpoint_read(f.id, checkpoint, engine_group(k).c_str()));
+      for (int64_t k : r.mine) {
+        uint64_t seed = 0;
+        GRAN_CALL(replica_seed(r.s->seed, k, &seed));
+        GRAN_CALL(r.reps[(size_t)k].eng->checkpoint_read(f.id, checkpoint, engine_group(k).c_str(), seed));
+      }
       return GRAN_SUCCESS;
     };
     GRAN_CALL(sync_status(r, restore()));

@@ -1,4 +1,4 @@
-/* engine.cpp - GSRD CPU engine: set-up, the step loop, observables, checkpoints.
+/* engine.cpp - GSRD CPU engine: set-up, the step loop, observables (checkpoints: checkpoint.cpp).
  *
  * One step: (1) draw the grid shift (stream 0); (2) stream, wall reflection, periodic/Lees-Edwards
  * wrap, kinetic momentum flux (parallel over fixed blocks of SRD_BLOCK particles), and each block
@@ -30,9 +30,7 @@
 #include <cfloat>
 #include <memory>
 #include <string>
-#include <sys/stat.h>
 #include <unistd.h>
-#include <zlib.h>
 #include <fftw3.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -558,7 +556,8 @@ int check_options(const gran_srd_options *o) {
   for (int k = 0; k < 3; ++k) GRAN_CHECK(std::isfinite(o->accel[k]), GRAN_ERR_ARG, "option 'accel[%d]' is not finite", k);
   GRAN_CHECK(std::isfinite(o->vib_amp) && std::isfinite(o->vib_omega), GRAN_ERR_ARG, "option 'vib_amp'/'vib_omega' not finite");
   GRAN_CHECK((o->vib_amp == 0 && o->vib_omega == 0) || o->wall_axis >= 0, GRAN_ERR_ARG,
-             "option 'vib_amp' needs walls (wall_axis >= 0)");
+             "option 'vib_amp' (and 'vib_omega') needs walls (wall_axis >= 0; got vib_amp %g, vib_omega %g)", o->vib_amp,
+             o->vib_omega);
   GRAN_CHECK(std::isfinite(o->wall_T) && o->wall_T >= 0, GRAN_ERR_ARG, "option 'wall_T' must be >= 0");
   GRAN_CHECK(o->thermostat >= 0 && o->thermostat <= 2, GRAN_ERR_ARG,
              "option 'thermostat' must be 0 (off), 1 (cell-level) or 2 (global, profile-unbiased) (got %d)",
@@ -641,6 +640,9 @@ double energy_of(const gran_srd *s) {
 }
 
 } // namespace
+
+int srd_check_options_(const gran_srd_options *o) { return check_options(o); }
+int srd_alloc_state_(gran_srd *s) { return alloc_state(s); }
 
 GRAN_EXTERN int gran_srd_options_default(gran_srd_options *opt) {
   GRAN_CHECK_PTR(opt);
@@ -1068,286 +1070,6 @@ GRAN_EXTERN int gran_srd_velocity_profile(const gran_srd *s, int32_t axis, int32
     }
     for (int64_t b = 0; b < nbins; ++b)
       if (count[b] > 0) mean[b] /= (double)count[b];
-    return GRAN_SUCCESS;
-  }
-  GRAN_CATCH
-}
-
-/* ---- checkpoint: binary, "GSRDCKP2": magic, options, scalars, arrays, then a trailer of the
- * total length (uint64) and the CRC-32 (zlib) of every byte before the CRC. Written to PATH.tmp,
- * flushed, fsync'd and renamed, so a failed write never leaves a half-written PATH. Read: the
- * length is compared with the size the options imply before any allocation, the CRC is checked
- * before any value is used, and then every value is validated (finite, positions in the box,
- * counters non-negative, RNG states non-zero). ---- */
-namespace {
-const char kSrdMagic[8] = {'G', 'S', 'R', 'D', 'C', 'K', 'P', '2'};
-/* a FILE with a running CRC-32 and byte count */
-struct CkFile {
-  FILE *f = nullptr;
-  uLong crc = crc32(0L, Z_NULL, 0);
-  uint64_t bytes = 0;
-};
-template <class T> bool wr(CkFile &c, const T *p, size_t n) {
-  if (n == 0) return true;
-  if (fwrite(p, sizeof(T), n, c.f) != n) return false;
-  const unsigned char *q = (const unsigned char *)p;
-  size_t len = sizeof(T) * n;
-  c.bytes += len;
-  while (len > 0) {
-    const uInt k = (uInt)std::min<size_t>(len, (size_t)1 << 30);
-    c.crc = crc32(c.crc, q, k);
-    q += k;
-    len -= k;
-  }
-  return true;
-}
-template <class T> bool rd(FILE *f, T *p, size_t n) { return n == 0 || fread(p, sizeof(T), n, f) == n; }
-/* the cells' reference velocities, 3 doubles per cell */
-bool wr_refs(CkFile &f, const gran_srd *s) {
-  for (const srd_cpu_cell &c : s->cell)
-    if (!wr(f, c.V, 3)) return false;
-  return true;
-}
-bool rd_refs(FILE *f, gran_srd *s) {
-  for (srd_cpu_cell &c : s->cell)
-    if (!rd(f, c.V, 3)) return false;
-  return true;
-}
-/* bytes of a checkpoint of a run with these (checked) options; -1 if they give no valid run */
-int64_t ckp_bytes(const gran_srd_options &o) {
-  double ncb = 1, nc = 1;
-  for (int k = 0; k < 3; ++k) {
-    const double L = k < o.dim ? (double)o.cells[k] : 1.0;
-    ncb *= L;
-    nc *= L + (k == o.wall_axis ? 1 : 0);
-  }
-  const double nn = std::floor(o.n0 * ncb + 0.5);
-  if (!(nn >= 1 && nn < 4e9) || !(nc < (double)UINT32_MAX)) return -1;
-  const double b = 8.0 + (double)sizeof(gran_srd_options) + 12 * 8 + 3 * 8 + (double)sizeof(gran_rng) +
-                   nn * 8.0 * 2 * o.dim + nc * 3 * 8 + nc * (double)sizeof(gran_rng) + 8 + 4;
-  return (int64_t)b;
-}
-bool finite_all(const double *p, size_t n) {
-  for (size_t i = 0; i < n; ++i)
-    if (!std::isfinite(p[i])) return false;
-  return true;
-}
-/* bits set in a generator state: a state a generator reached has 128 +- 8 of its 256 bits set;
- * fewer than 32 or more than 224 (odds below 1e-30) is an edited state, zero the forbidden one */
-int rng_bits(const gran_rng &r) {
-  return __builtin_popcountll(r.s[0]) + __builtin_popcountll(r.s[1]) + __builtin_popcountll(r.s[2]) +
-         __builtin_popcountll(r.s[3]);
-}
-bool rng_plausible(const gran_rng &r) {
-  const int b = rng_bits(r);
-  return b >= 32 && b <= 224;
-}
-/* Every stored value of a checkpoint (s: options checked, arrays read; sc, ic: the scalars and
- * integers as stored), each refusal naming the field:
- * - counters: particle count = the options'; step >= 0; clamp count in [0, step x cells] (at most
- *   one clamp per cell and step);
- * - time = step dt (the step loop adds dt per step: within the rounding of step additions);
- *   stress_t0 (start of the stress window) in [0, time];
- * - energies: finite; e_initial >= 0 and > 0 unless N = 1 (the only state whose velocities are all
- *   zero once the mean is removed, without shear); the ledger e_initial + e_collisions +
- *   e_external is the kinetic energy now (>= 0 to rounding);
- * - velocities: finite, finite squares, and no particle with more kinetic energy than
- *   kVelocityFactor x the ledger's (or e_initial's) total: velocities changed through
- *   gran_srd_particles by more than that factor in energy make the file unreadable;
- * - positions: every coordinate in [0, L) of its axis (the step loop keeps them there);
- * - cell reference velocities: finite and within the speeds the state allows (below);
- * - dt_max > 0 (inf: no clamp); stress sums and wall impulses finite;
- * - RNG states: the grid shift's and every cell's non-zero with 32..224 of 256 bits set. */
-constexpr double kVelocityFactor = 1e3;
-int ckp_validate(const char *path, const gran_srd *s, const double sc[12], const int64_t ic[3]) {
-  const gran_srd_options &o = s->opt;
-  GRAN_CHECK(ic[2] == s->n, GRAN_ERR_IO, "checkpoint '%s': field 'n' (particle count) %lld, the options give %lld", path,
-             (long long)ic[2], (long long)s->n);
-  GRAN_CHECK(ic[0] >= 0, GRAN_ERR_IO, "checkpoint '%s': field 'step' = %lld is negative", path, (long long)ic[0]);
-  GRAN_CHECK(ic[1] >= 0 && (double)ic[1] <= (double)ic[0] * (double)s->ncell, GRAN_ERR_IO,
-             "checkpoint '%s': field 'clamped' = %lld outside [0, step x cells] = [0, %g]", path, (long long)ic[1],
-             (double)ic[0] * (double)s->ncell);
-  const char *sname[12] = {"time",      "e_initial", "e_collisions", "e_external",     "dt_max",         "flux_kin",
-                           "flux_coll", "stress_t0", "wall_impulse[0]", "wall_impulse[1]", "wall_impulse[2]", "reserved"};
-  for (int k = 0; k < 12; ++k)
-    GRAN_CHECK(k == 4 || std::isfinite(sc[k]), GRAN_ERR_IO, "checkpoint '%s': field '%s' is not finite (%g)", path,
-               sname[k], sc[k]);
-  GRAN_CHECK(sc[11] == 0, GRAN_ERR_IO, "checkpoint '%s': field 'reserved' = %g (written as 0)", path, sc[11]);
-  GRAN_CHECK(sc[4] > 0, GRAN_ERR_IO, "checkpoint '%s': field 'dt_max' = %g (must be > 0 or inf)", path, sc[4]);
-  /* each step's addition rounds by at most eps t / 2: k steps by k eps t / 2 (4x margin, and at most
-   * 1e-3 of t: a step count whose time no longer changes by dt is not a run's) */
-  const double tstep = (double)ic[0] * o.dt, ttol = std::min(((double)ic[0] + 1.0) * 2.0 * DBL_EPSILON, 1e-3) * tstep;
-  GRAN_CHECK(std::fabs(sc[0] - tstep) <= ttol, GRAN_ERR_IO,
-             "checkpoint '%s': field 'time' = %.17g is not step x dt = %lld x %g = %.17g", path, sc[0],
-             (long long)ic[0], o.dt, tstep);
-  GRAN_CHECK(sc[7] >= 0 && sc[7] <= sc[0], GRAN_ERR_IO, "checkpoint '%s': field 'stress_t0' = %g outside [0, time = %g]",
-             path, sc[7], sc[0]);
-  GRAN_CHECK(sc[1] >= 0 && (sc[1] > 0 || s->n == 1), GRAN_ERR_IO,
-             "checkpoint '%s': field 'e_initial' = %g (the energy at creation is > 0 for N = %lld particles)", path, sc[1],
-             (long long)s->n);
-  const double ledger = sc[1] + sc[2] + sc[3], lscale = std::fabs(sc[1]) + std::fabs(sc[2]) + std::fabs(sc[3]);
-  GRAN_CHECK(std::isfinite(ledger) && ledger >= -1e-9 * lscale, GRAN_ERR_IO,
-             "checkpoint '%s': fields 'e_initial' + 'e_collisions' + 'e_external' = %g: a negative kinetic energy", path,
-             ledger);
-  const double emax = kVelocityFactor * std::max(std::max(ledger, sc[1]), 1e-9 * lscale);
-  const double *pv[3] = {s->vx.data(), s->vy.data(), o.dim == 3 ? s->vz.data() : nullptr};
-  const double *px[3] = {s->x.data(), s->y.data(), o.dim == 3 ? s->z.data() : nullptr};
-  const char *ax = "xyz";
-  const size_t n = (size_t)s->n;
-  for (size_t i = 0; i < n; ++i) {
-    double e = 0;
-    for (int k = 0; k < o.dim; ++k) {
-      const double v = pv[k][i];
-      GRAN_CHECK(std::isfinite(v) && std::isfinite(v * v), GRAN_ERR_IO,
-                 "checkpoint '%s': field 'v%c' of particle %zu = %g (its square is not finite)", path, ax[k], i, v);
-      e += 0.5 * v * v;
-    }
-    GRAN_CHECK(e <= emax, GRAN_ERR_IO,
-               "checkpoint '%s': field 'v' of particle %zu: kinetic energy %g exceeds %g x the stored total kinetic "
-               "energy %g", path, i, e, kVelocityFactor, emax / kVelocityFactor);
-  }
-  for (int k = 0; k < o.dim; ++k) {
-    const double hi = s->gm.box[k];
-    for (size_t i = 0; i < n; ++i)
-      GRAN_CHECK(px[k][i] >= 0.0 && px[k][i] < hi, GRAN_ERR_IO,
-                 "checkpoint '%s': field '%c' of particle %zu = %.17g outside the box [0, %.17g)", path, ax[k], i,
-                 px[k][i], hi);
-  }
-  /* a cell's reference velocity is the mean of its particles' and virtual particles' velocities
-   * (wall velocity + Maxwellian at wall_T) of an earlier step: within the fastest particle, the
-   * walls' and the Lees-Edwards speeds and 40 thermal speeds of the virtual particles */
-  const double wT = o.wall_axis >= 0 ? (o.wall_T > 0 ? o.wall_T : o.T0) : 0.0;
-  const double vcap = std::sqrt(2.0 * emax) + std::fabs(o.vib_amp * o.vib_omega) + std::fabs(o.shear_rate) * s->gm.box[1] +
-                      40.0 * std::sqrt(wT);
-  for (size_t c = 0; c < s->cell.size(); ++c) {
-    const double *V = s->cell[c].V;
-    const double q = std::sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2]);
-    GRAN_CHECK(finite_all(V, 3) && q <= vcap, GRAN_ERR_IO,
-               "checkpoint '%s': field 'cell reference velocity' of cell %zu: |V| = %g exceeds the speeds the state "
-               "allows (%g)", path, c, q, vcap);
-  }
-  GRAN_CHECK(rng_plausible(s->shift_rng), GRAN_ERR_IO,
-             "checkpoint '%s': field 'shift_rng' (grid-shift RNG state) has %d of 256 bits set (a generated state: "
-             "32..224; 0 is xoshiro's forbidden state)", path, rng_bits(s->shift_rng));
-  for (size_t c = 0; c < s->rng.size(); ++c)
-    GRAN_CHECK(rng_plausible(s->rng[c]), GRAN_ERR_IO,
-               "checkpoint '%s': field 'rng' of cell %zu has %d of 256 bits set (a generated state: 32..224; 0 is "
-               "xoshiro's forbidden state)", path, c, rng_bits(s->rng[c]));
-  return GRAN_SUCCESS;
-}
-} // namespace
-
-GRAN_EXTERN int gran_srd_checkpoint_write(const gran_srd *s, const char *path) {
-  GRAN_TRY {
-    GRAN_CHECK_PTR_AS(s, srd);
-    GRAN_CHECK_PTR(path);
-    GRAN_CALL(gran_srd_dev_sync(s, 1)); /* device hook (owner: CUDA backend): copy back, cells too */
-    const std::string tmp = std::string(path) + ".tmp";
-    CkFile c;
-    c.f = std::fopen(tmp.c_str(), "wb");
-    GRAN_CHECK(c.f != nullptr, GRAN_ERR_IO, "cannot open checkpoint '%s' for writing", tmp.c_str());
-    const double sc[12] = {s->time, s->e_initial, s->e_coll, s->e_ext, s->dt_max, s->flux_kin,
-                           s->flux_coll, s->stress_t0, s->wall_impulse[0], s->wall_impulse[1], s->wall_impulse[2], 0};
-    const int64_t ic[3] = {s->step, s->clamped, s->n};
-    const size_t n = (size_t)s->n;
-    bool ok = wr(c, kSrdMagic, 8) && wr(c, &s->opt, 1) && wr(c, sc, 12) && wr(c, ic, 3) && wr(c, &s->shift_rng, 1) &&
-              wr(c, s->x.data(), n) && wr(c, s->y.data(), n) && wr(c, s->vx.data(), n) && wr(c, s->vy.data(), n) &&
-              (s->opt.dim == 2 || (wr(c, s->z.data(), n) && wr(c, s->vz.data(), n))) &&
-              wr_refs(c, s) && wr(c, s->rng.data(), s->rng.size());
-    const uint64_t total = c.bytes + 8 + 4;
-    ok = ok && wr(c, &total, 1);
-    const uint32_t crc = (uint32_t)c.crc;
-    ok = ok && fwrite(&crc, 4, 1, c.f) == 1;
-    ok = ok && std::fflush(c.f) == 0 && fsync(fileno(c.f)) == 0;
-    ok = (std::fclose(c.f) == 0) && ok;
-    ok = ok && std::rename(tmp.c_str(), path) == 0;
-    if (!ok) std::remove(tmp.c_str());
-    GRAN_CHECK(ok, GRAN_ERR_IO, "writing checkpoint '%s' failed (%s); no file was left there", path,
-               std::strerror(errno));
-    return GRAN_SUCCESS;
-  }
-  GRAN_CATCH
-}
-
-GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, gran_srd **out) {
-  GRAN_TRY {
-    GRAN_CHECK_PTR(path);
-    GRAN_CHECK_PTR_AS(out, srd);
-    *out = nullptr;
-    struct stat st;
-    GRAN_CHECK(stat(path, &st) == 0, GRAN_ERR_IO, "cannot open checkpoint '%s' (%s)", path, std::strerror(errno));
-    GRAN_CHECK(S_ISREG(st.st_mode), GRAN_ERR_IO, "checkpoint '%s' is not a regular file", path);
-    FILE *f = std::fopen(path, "rb");
-    GRAN_CHECK(f != nullptr, GRAN_ERR_IO, "cannot open checkpoint '%s'", path);
-    std::unique_ptr<FILE, int (*)(FILE *)> fg(f, std::fclose);
-    char magic[8];
-    gran_srd_options o;
-    GRAN_CHECK(rd(f, magic, 8) && std::memcmp(magic, kSrdMagic, 7) == 0, GRAN_ERR_IO,
-               "'%s' is not a GSRD checkpoint", path);
-    GRAN_CHECK(magic[7] == kSrdMagic[7], GRAN_ERR_IO,
-               "'%s' is a GSRD checkpoint of format %c; this granary reads format %c", path, magic[7], kSrdMagic[7]);
-    GRAN_CHECK(rd(f, &o, 1), GRAN_ERR_IO, "checkpoint '%s' is truncated (options)", path);
-    /* the length the options imply, before anything is allocated or trusted */
-    const int64_t want = ckp_bytes(o);
-    GRAN_CHECK(want > 0 && (int64_t)st.st_size == want, GRAN_ERR_IO,
-               "checkpoint '%s' has %lld bytes; its options imply %lld (truncated, or damaged options)", path,
-               (long long)st.st_size, (long long)want);
-    /* CRC of everything before the last 4 bytes */
-    {
-      GRAN_CHECK(std::fseek(f, 0, SEEK_SET) == 0, GRAN_ERR_IO, "cannot read checkpoint '%s'", path);
-      uLong crc = crc32(0L, Z_NULL, 0);
-      std::vector<unsigned char> buf((size_t)1 << 20);
-      int64_t left = want - 4;
-      while (left > 0) {
-        const size_t k = (size_t)std::min<int64_t>(left, (int64_t)buf.size());
-        GRAN_CHECK(std::fread(buf.data(), 1, k, f) == k, GRAN_ERR_IO, "checkpoint '%s' is truncated", path);
-        crc = crc32(crc, buf.data(), (uInt)k);
-        left -= (int64_t)k;
-      }
-      uint32_t stored = 0;
-      GRAN_CHECK(std::fread(&stored, 4, 1, f) == 1, GRAN_ERR_IO, "checkpoint '%s' is truncated", path);
-      GRAN_CHECK(stored == (uint32_t)crc, GRAN_ERR_IO,
-                 "checkpoint '%s' is damaged: CRC-32 %08x, stored %08x", path, (unsigned)crc, (unsigned)stored);
-      GRAN_CHECK(std::fseek(f, 8 + (long)sizeof o, SEEK_SET) == 0, GRAN_ERR_IO, "cannot read checkpoint '%s'", path);
-    }
-    /* the stored options pass the check of gran_srd_create; a refusal is the file's (GRAN_ERR_IO) */
-    if (check_options(&o) != GRAN_SUCCESS) {
-      const std::string why = gran_last_error_message();
-      return GRAN_ERROR(GRAN_ERR_IO, "checkpoint '%s' holds invalid options: %s", path, why.c_str());
-    }
-    std::unique_ptr<gran_srd> s(new gran_srd);
-    s->opt = o;
-    GRAN_CALL(alloc_state(s.get()));
-    double sc[12];
-    int64_t ic[3];
-    uint64_t total = 0;
-    const size_t n = (size_t)s->n;
-    bool ok = rd(f, sc, 12) && rd(f, ic, 3) && rd(f, &s->shift_rng, 1) &&
-              rd(f, s->x.data(), n) && rd(f, s->y.data(), n) && rd(f, s->vx.data(), n) && rd(f, s->vy.data(), n) &&
-              (o.dim == 2 || (rd(f, s->z.data(), n) && rd(f, s->vz.data(), n))) &&
-              rd_refs(f, s.get()) && rd(f, s->rng.data(), s->rng.size()) && rd(f, &total, 1);
-    GRAN_CHECK(ok, GRAN_ERR_IO, "checkpoint '%s' is truncated", path);
-    GRAN_CHECK(total == (uint64_t)want, GRAN_ERR_IO, "checkpoint '%s': stored length %llu, file %lld", path,
-               (unsigned long long)total, (long long)want);
-    /* values: a CRC-consistent file may still have been written by a foreign or edited program */
-    GRAN_CALL(ckp_validate(path, s.get(), sc, ic));
-    fg.reset();
-    s->time = sc[0];
-    s->e_initial = sc[1];
-    s->e_coll = sc[2];
-    s->e_ext = sc[3];
-    s->dt_max = sc[4];
-    s->flux_kin = sc[5];
-    s->flux_coll = sc[6];
-    s->stress_t0 = sc[7];
-    for (int k = 0; k < 3; ++k) s->wall_impulse[k] = sc[8 + k];
-    s->step = ic[0];
-    s->clamped = ic[1];
-    /* ---- device hook (owner: CUDA backend): resume on the device the options name ---- */
-    const int e = gran_srd_dev_attach(s.get(), 1);
-    if (e != GRAN_SUCCESS) return e;
-    /* ---- end device hook ---- */
-    *out = s.release();
     return GRAN_SUCCESS;
   }
   GRAN_CATCH

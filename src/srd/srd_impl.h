@@ -117,4 +117,9 @@ int srd_threads_used(int32_t threads);
  * GRAN_SUCCESS (engine.cpp). */
 int srd_check_finite(const gran_srd *s, const char *when);
 
+/* engine.cpp: gran_srd_create's check of the options (GRAN_ERR_ARG naming the option), and the
+ * geometry and arrays of a state from its checked options (no particles drawn); checkpoint.cpp
+ * reads a state into them. */
+int srd_check_options_(const gran_srd_options *o);
+int srd_alloc_state_(gran_srd *s);
 #endif
