@@ -107,16 +107,23 @@ static inline void io_refresh_crc(const char *path) {
   free(b);
 }
 
-/* Copy granary file `src` to `dst` and set dataset[index] = value (int64 when is_int, else double)
- * through HDF5, checksum recomputed: a deliberate edit, which a reader must catch from the values. */
-static inline void io_edit_copy(const char *src, const char *dst, const char *dataset, int64_t index, double value,
-                                int is_int) {
+/* Copy granary file `src` to `dst` and open the copy for writing (the edit helpers below; the
+ * caller closes it and calls io_refresh_crc). */
+static inline hid_t io_copy_open(const char *src, const char *dst) {
   size_t n = 0;
   unsigned char *b = io_read_all(src, &n);
   io_write_all(dst, b, n);
   free(b);
   hid_t f = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
   assert_true(f >= 0);
+  return f;
+}
+
+/* Copy granary file `src` to `dst` and set dataset[index] = value (int64 when is_int, else double)
+ * through HDF5, checksum recomputed: a deliberate edit, which a reader must catch from the values. */
+static inline void io_edit_copy(const char *src, const char *dst, const char *dataset, int64_t index, double value,
+                                int is_int) {
+  hid_t f = io_copy_open(src, dst);
   hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
   assert_true(d >= 0);
   hid_t sp = H5Dget_space(d);
@@ -145,12 +152,7 @@ static inline void io_edit_copy(const char *src, const char *dst, const char *da
  * H5T_NATIVE_UINT64) at [index, index + count) of `dataset`, checksum recomputed. */
 static inline void io_edit_raw(const char *src, const char *dst, const char *dataset, int64_t index, const void *val,
                                size_t count, hid_t mt) {
-  size_t n = 0;
-  unsigned char *b = io_read_all(src, &n);
-  io_write_all(dst, b, n);
-  free(b);
-  hid_t f = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
-  assert_true(f >= 0);
+  hid_t f = io_copy_open(src, dst);
   hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
   if (d < 0) fprintf(stderr, "io_edit_raw: no dataset '%s' in '%s'\n", dataset, src);
   assert_true(d >= 0);
@@ -170,12 +172,7 @@ static inline void io_edit_raw(const char *src, const char *dst, const char *dat
 /* Copy granary file `src` to `dst` with 1-D `dataset` replaced by one of `len` values of its type
  * (its values as far as they go, zeros after), or removed (len < 0); checksum recomputed. */
 static inline void io_edit_resize(const char *src, const char *dst, const char *dataset, int64_t len) {
-  size_t n = 0;
-  unsigned char *b = io_read_all(src, &n);
-  io_write_all(dst, b, n);
-  free(b);
-  hid_t f = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
-  assert_true(f >= 0);
+  hid_t f = io_copy_open(src, dst);
   hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
   assert_true(d >= 0);
   hid_t ft = H5Dget_type(d), sp = H5Dget_space(d);

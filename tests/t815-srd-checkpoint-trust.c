@@ -275,12 +275,7 @@ static const char *scene_text(const char *out) {
 }
 
 static void edit_root_attr(const char *src, const char *dst, const char *name, int64_t v) {
-  size_t n = 0;
-  unsigned char *b = io_read_all(src, &n);
-  io_write_all(dst, b, n);
-  free(b);
-  hid_t f = H5Fopen(dst, H5F_ACC_RDWR, H5P_DEFAULT);
-  assert_true(f >= 0);
+  hid_t f = io_copy_open(src, dst);
   hid_t a = H5Aopen(f, name, H5P_DEFAULT);
   assert_true(a >= 0);
   assert_true(H5Awrite(a, H5T_NATIVE_INT64, &v) >= 0);
