@@ -85,7 +85,7 @@ static void load_table(void) {
   char engine[16] = "";
   int sections = 0;
   for (char *line = md; *line; line = strchr(line, '\n') ? strchr(line, '\n') + 1 : line + strlen(line)) {
-    if (!strncmp(line, "### ", 4)) {
+    if (!strncmp(line, "## ", 3)) {
       const char *t = strstr(line, "type = \"");
       assert_non_null(t);
       sscanf(t + 8, "%15[^\"]", engine);

@@ -50,7 +50,7 @@ std::string cell(const char *s, bool code = false) {
 }
 
 void print_markdown(const gran_engine_entry &e) {
-  std::printf("### %s: `[engine] type = \"%s\"`\n\n", e.name, e.type);
+  std::printf("## %s: `[engine] type = \"%s\"`\n\n", e.name, e.type);
   std::printf("| key | type | default | bounds | unit | meaning | C field |\n");
   std::printf("| --- | --- | --- | --- | --- | --- | --- |\n");
   for (const gran_scene_key *k : ordered(e))
