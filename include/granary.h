@@ -376,19 +376,19 @@ typedef struct gran_dsmc_options {
   int64_t traj_per_species;  /* tracer particles per species whose trajectories are recorded */
   double traj_dt;            /* sampling interval of the trajectories */
   int64_t traj_samples;      /* samples per trajectory (first at t_start) */
-  /* speed classes (issue 11): 1 = the low-rank selectors bin each large species' particles by
+  /* speed classes: 1 = the low-rank selectors bin each large species' particles by
    * speed into classes with their own bounds (higher acceptance, same statistics); particles then
    * move between slots, and gran_dsmc_particles fills its view at each call (by creation order
    * with GRAN_OBSERVE_TRAJECTORIES, else grouped by species in no fixed order within a species).
    * 0 = off (one bound per species; the view is the live state). Ignored by Bird.
-   * GRAN_SPEED_CLASSES_AUTO (-1, the default): decided at creation by the rule of issue 11
+   * GRAN_SPEED_CLASSES_AUTO (-1, the default): decided at creation by a measured rule (docs/developers/dsmc-speed.md)
    * (README "Speed classes": on for GRAN_SELECTOR_LOWRANK where it was measured to pay, else off);
    * gran_dsmc_get_stats' class_moves > 0 after collisions shows it was on. */
   int32_t speed_classes;
   int32_t pad_classes_;
 } gran_dsmc_options;
 
-/* gran_dsmc_options.speed_classes (issue 11) */
+/* gran_dsmc_options.speed_classes */
 enum gran_speed_classes {
   GRAN_SPEED_CLASSES_OFF = 0,
   GRAN_SPEED_CLASSES_ON = 1,

@@ -1,4 +1,4 @@
-/* agg_impl.h - aggregation and fragmentation shared by every DSMC selector (issue 10): the
+/* agg_impl.h - aggregation and fragmentation shared by every DSMC selector: the
  * cluster-size bookkeeping (DsmcAgg: the cell selector's DsmcCell and the event selectors'
  * DsmcAggEv both extend it), the random words of the engine's buffered streams, and the collision
  * rules (the DSMC outline step 10 as corrected in docs/physics.md):

@@ -50,7 +50,7 @@ struct Reader {
   int i1(const char *name, int64_t *x) { return g.get1(name, x); }
 };
 
-/* Speed classes (issue 11): slots, leaves, the bounds of the alias table and the tree of raises,
+/* Speed classes: slots, leaves, the bounds of the alias table and the tree of raises,
  * class counters, the leaves of the pre-drawn candidates. Identities (cid) with trajectories. */
 template <class F, class D>
 int class_io(F &f, D *s) {
@@ -810,7 +810,7 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
     o.t_start = od[1];
     o.traj_dt = od[2];
     o.speed_classes = 0; /* a file without the dataset: off, whatever the default */
-    if (rd.has("options_speed_classes")) { /* speed classes (issue 11) */
+    if (rd.has("options_speed_classes")) { /* speed classes */
       int64_t sc;
       GRAN_CALL(rd.i1("options_speed_classes", &sc));
       GRAN_CHECK(sc == 0 || sc == 1, GRAN_ERR_IO, "checkpoint '%s' holds invalid engine options (speed_classes)", path);

@@ -1,4 +1,4 @@
-/* classes.cpp - speed classes of the low-rank selector (issue 11; dsmc_impl.h explains the
+/* classes.cpp - speed classes of the low-rank selector (dsmc_impl.h explains the
  * layout): setup, the sort of a species into its classes at each tightening of the bounds, the
  * trees over the leaves (species, class), raises and overflow rebuilds, the identity-ordered view
  * of gran_dsmc_particles, and the hot loop's instantiations. */

@@ -36,7 +36,7 @@ struct DsmcCand {
   int32_t a, b;   /* speed classes: the leaves (species, class) of the slots j, l; else 0 */
 };
 
-/* ---- speed classes (issue 11; opt.speed_classes with the low-rank selectors) ----
+/* ---- speed classes (opt.speed_classes with the low-rank selectors) ----
  * Within each species with at least kClassMin particles the slots are split into kClassNum
  * classes c, each owning the fixed slots [start, start + cap) of which [start, start + n) hold
  * particles. The trees are built over the leaves (species, class) with the capacity in place of
@@ -245,7 +245,7 @@ struct gran_dsmc {
   /* pipeline of pre-drawn candidates */
   gran::DsmcCand cand[gran::kDsmcPipe]{};
   int32_t cand_head = 0, cand_count = 0;
-  /* ---- speed classes (issue 11): on only with opt.speed_classes and a low-rank selector ----
+  /* ---- speed classes: on only with opt.speed_classes and a low-rank selector ----
    * The particles then live in the slot arrays cv (velocities) and cr (displacements: R(t) = r +
    * v (t - t_start)); with trajectories also cid (identity of the particle in a slot: its index at
    * creation) and cslot (slot of each identity). Identities cost a cache miss per class move (b501),

@@ -31,7 +31,7 @@ constexpr bool kDispTlast = GRAN_DSMC_DISP_TLAST != 0;
 #endif
 constexpr bool kPrefetchR = GRAN_DSMC_PREFETCH_R != 0;
 /* 1: one 64-bit word per trial gives both the uniform of the trial time (high 32 bits) and the
- * acceptance uniform (low 32 bits) instead of one word each (issue 11, "fewer draws"; measured in
+ * acceptance uniform (low 32 bits) instead of one word each ("fewer draws"; measured in
  * the report of the speed branch: see README, DSMC performance). */
 #ifndef GRAN_DSMC_RNG_SPLIT
 #define GRAN_DSMC_RNG_SPLIT 0
@@ -161,7 +161,7 @@ struct SelClass {
     c->k = lf[b].species;
     c->j = lf[a].start + u64_below(r[2], lf[a].cap);
     c->l = lf[b].start + u64_below(r[3], lf[b].cap);
-    /* (skipping the prefetch of a slot empty at draw time did not pay: b501 note in the README) */
+    /* (skipping the prefetch of a slot empty at draw time was measured without gain: docs/performance.md) */
     prefetch_particle(s->cv.data(), c->j);
     prefetch_particle(s->cv.data(), c->l);
   }

@@ -433,7 +433,7 @@ GRAN_EXTERN int gran_dsmc_options_default(gran_dsmc_options *opt) {
   opt->traj_per_species = 0;
   opt->traj_dt = 1.0;
   opt->traj_samples = 0;
-  opt->speed_classes = GRAN_SPEED_CLASSES_AUTO; /* on where it pays (dsmc_classes_auto; README, issue 11) */
+  opt->speed_classes = GRAN_SPEED_CLASSES_AUTO; /* on where it pays (dsmc_classes_auto; docs/developers/dsmc-speed.md) */
   return GRAN_SUCCESS;
 }
 

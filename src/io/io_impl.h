@@ -50,7 +50,7 @@ struct gran_scene {
   double N1 = 0.0;
   double volume = 0.0;
   int64_t bound_refresh = 0;
-  int speed_classes = -1; /* `[engine] speed_classes` (issue 11): gran_dsmc_options.speed_classes (-1: auto) */
+  int speed_classes = -1; /* `[engine] speed_classes`: gran_dsmc_options.speed_classes (-1: auto) */
   int64_t replicas = 1;   /* independent runs (run.cpp); replica r draws from RNG stream r of seed */
   double max_memory = 0;  /* [engine] max_memory_gb in bytes; 0: MemAvailable at the check */
   int keep_replicas = 0;  /* also write the per-replica rows */

@@ -959,7 +959,7 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     const double vol = d == 3 ? s->opt.a * s->opt.a * s->opt.a : s->opt.a * s->opt.a;
     const double mr = r1 / nbox;
     ob->sigma_rho = std::sqrt(std::max(0.0, r2 / nbox - mr * mr)) / vol;
-    /* ---- Sonine a2 of the thermal velocities (issue 8, helper s8a2) ----
+    /* ---- Sonine a2 of the thermal velocities ----
      * u = v - V_cell in the unshifted cells with n >= 2. Removing the cell mean shrinks the second
      * cumulant of u by (n-1)/n and the fourth by g(n) = (n-1)(n^2-3n+3)/n^3 (cumulants are
      * multilinear), so w = u sqrt(n/(n-1)) has the population variance and a fourth cumulant

@@ -257,17 +257,8 @@ GRAN_EXTERN int gran_theory_tamsd_approx(const gran_mixture *mix, int approximat
                approximation);
     if (approximation == GRAN_THEORY_MAXWELLIAN)
       return gran_theory_tamsd(mix, T0, tau0, t_meas, nlag, lag, rtol, tamsd);
-    GRAN_CHECK(std::isfinite(t_meas) && t_meas > 0.0, GRAN_ERR_ARG, "argument 't_meas' = %g must be finite and > 0",
-               t_meas);
-    GRAN_CHECK(nlag >= 0, GRAN_ERR_ARG, "argument 'nlag' = %" PRId64 " is negative", nlag);
-    GRAN_CALL(check_rtol(rtol, "rtol"));
-    if (nlag > 0) {
-      GRAN_CALL(check_times(lag, nlag, "lag"));
-      for (int64_t j = 0; j < nlag; j++)
-        GRAN_CHECK(lag[j] <= t_meas, GRAN_ERR_ARG, "argument 'lag[%" PRId64 "]' = %g exceeds t_meas = %g", j, lag[j],
-                   t_meas);
-      GRAN_CHECK_PTR(tamsd);
-    }
+    GRAN_CALL(check_tamsd_args(mix, T0, tau0, t_meas, nlag, lag, rtol)); /* the Maxwellian TAMSD's checks */
+    if (nlag > 0) GRAN_CHECK_PTR(tamsd);
     std::vector<cd> lam, c;
     GRAN_CALL(sonine_hcs_modes(mix, T0, a2, tau0, lam, c));
     const int64_t M = mix->M;

@@ -108,6 +108,8 @@ struct HcsTamsd {
   }
 };
 
+}  // namespace
+namespace gran {
 int check_tamsd_args(const gran_mixture *mix, const double *T0, double tau0, double t_meas, int64_t nlag,
                      const double *lag, double rtol) {
   GRAN_CALL(check_hcs_args(mix, T0, tau0));
@@ -123,6 +125,8 @@ int check_tamsd_args(const gran_mixture *mix, const double *T0, double tau0, dou
   }
   return GRAN_SUCCESS;
 }
+}  // namespace gran
+namespace {
 
 /* Mean squared increment of species k over [t', t' + D] in the HCS (Eq. 4 started at t'). */
 inline double increment(double pref, double beta, double tau0, double tv, double tp, double D) {

@@ -145,6 +145,9 @@ cd g_cplx(cd y);
  * elastic at equipartition) and returns D_k(0) (may be NULL) and tau_v,k(0). */
 int hcs_state(const gran_mixture *mix, const double *T0, double tau0, double *D, double *tau_v);
 int check_hcs_args(const gran_mixture *mix, const double *T0, double tau0);
+/* check_hcs_args, then t_meas > 0, nlag >= 0, rtol, and lags (check_times) <= t_meas (tamsd.cpp) */
+int check_tamsd_args(const gran_mixture *mix, const double *T0, double tau0, double t_meas, int64_t nlag,
+                     const double *lag, double rtol);
 
 /* ---- temperature trajectories (ode.cpp) -----------------------------------------------------
  * Eq. 13 integrated with GSL odeiv2 (msbdf with the analytic Jacobian; stiff: relaxation of the
