@@ -138,16 +138,17 @@ FMOD_OBJ := $(BUILD)/obj/bindings/granary.o
 # The raw layer of the Fortran module (constants, bind(C) types, interfaces), the gran_abi_query
 # table and t901-layout-f's list, generated from include/granary.h by bindings/gen_raw.py.
 GEN_RAW     := bindings/gen_raw.py
-GEN_RAW_OUT := bindings/granary_raw.inc src/core/abi_table.inc tests/t901-layout-f.inc
+GEN_RAW_OUT := bindings/granary_raw.inc src/core/abi_table.inc tests/t901-layout-f.inc include/granary.abi
 # the module the Fortran tests share (expect, require, test_finish)
 FTEST_OBJ := $(BUILD)/obj/tests/granary_test_f.o
 
 LIB_A    := $(BUILD)/libgranary.a
-# Shared library: SONAME libgranary.so.MAJOR, file libgranary.so.MAJOR.MINOR.PATCH, and the links
-# libgranary.so -> libgranary.so.MAJOR -> the file (ldconfig style), in $(BUILD) as in the
-# installation, so that a program linked with -L$(BUILD) -lgranary finds its SONAME there.
+# Shared library: SONAME libgranary.so.ABI (GRAN_ABI_VERSION: the rules in docs/developers/abi.md),
+# file libgranary.so.MAJOR.MINOR.PATCH (the release), and the links libgranary.so ->
+# libgranary.so.ABI -> the file (ldconfig style), in $(BUILD) as in the installation, so that a
+# program linked with -L$(BUILD) -lgranary finds its SONAME there.
 VERSION  := $(shell sed -n 's/^\#define GRAN_VERSION_STRING "\(.*\)"/\1/p' include/granary.h)
-SOMAJOR  := $(firstword $(subst ., ,$(VERSION)))
+SOMAJOR  := $(shell sed -n 's/^\#define GRAN_ABI_VERSION \([0-9]*\)$$/\1/p' include/granary.h)
 SONAME   := libgranary.so.$(SOMAJOR)
 LIB_SO   := $(BUILD)/libgranary.so
 LIB_SO_FILE := $(BUILD)/libgranary.so.$(VERSION)

@@ -36,6 +36,12 @@
 #define GRAN_VERSION_MINOR 1
 #define GRAN_VERSION_PATCH 0
 #define GRAN_VERSION_STRING "0.1.0"
+/* The ABI number: the shared library's SONAME is libgranary.so.GRAN_ABI_VERSION. It rises with
+ * every change that can break a program built against an older header (a struct's fields, a
+ * function's parameters, a constant's value, a removed name); additions leave it. The rules are in
+ * the developers' pages (abi.md); include/granary.abi records the ABI it names. At run time,
+ * gran_abi_query("GRAN_ABI_VERSION", &v) gives the library's number. */
+#define GRAN_ABI_VERSION 1
 
 GRAN_EXTERN int gran_get_version(int *major, int *minor, int *patch);
 /* Build configuration, e.g. "cxx=g++ 12.2 flags=-O3 -march=native cuda=yes". Static storage. */

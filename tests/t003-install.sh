@@ -12,7 +12,7 @@ prefix="$tmp/prefix"
 make -s -C "$src" BUILD="$build" OPT="${GRAN_OPT:--O3 -march=native}" SAN="${GRAN_SAN:-}" NVCC="${GRAN_NVCC:-}" \
   install prefix="$prefix" >"$tmp/install.log" 2>&1 || { cat "$tmp/install.log"; exit 1; }
 ver=$(sed -n 's/^#define GRAN_VERSION_STRING "\(.*\)"/\1/p' "$src/include/granary.h")
-major=${ver%%.*}
+major=$(sed -n 's/^#define GRAN_ABI_VERSION \([0-9]*\)$/\1/p' "$src/include/granary.h") # the SONAME's number
 for f in "libgranary.so.$ver" "libgranary.so.$major" libgranary.so libgranary.a libgranary_fortran.a; do
   [ -e "$prefix/lib/$f" ] || { echo "FAIL: $prefix/lib/$f missing"; exit 1; }
 done
