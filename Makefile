@@ -455,6 +455,10 @@ install: all
 	ln -sf $(SONAME) $(DESTDIR)$(prefix)/lib/libgranary.so
 	install -m 644 $(BUILD)/mod/granary.mod $(DESTDIR)$(prefix)/include/granary/
 	install -m 755 $(CLI) $(DESTDIR)$(prefix)/bin/
+	install -d $(DESTDIR)$(prefix)/share/granary/python
+	cp -R scenes $(DESTDIR)$(prefix)/share/granary/
+	install -m 644 include/granary.abi $(DESTDIR)$(prefix)/share/granary/
+	install -m 644 figures/granary_h5.py $(DESTDIR)$(prefix)/share/granary/python/
 	sed -e 's|@prefix@|$(prefix)|' -e 's|@version@|$(VERSION)|' \
 	  -e 's|@libs@|$(PKG_LIBS) $(CUDA_LIBS) $(OMP_FLAG)|' granary.pc.in > $(DESTDIR)$(prefix)/lib/pkgconfig/granary.pc
 

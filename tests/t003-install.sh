@@ -2,7 +2,8 @@
 # t003-install.sh - the installed library links as README says: `make install` into a temporary
 # prefix, then both README examples (C and Fortran) are built with nothing but the pkg-config line
 # and run. The shared library carries a SONAME and versioned file names; the .pc file's rpath lets
-# the programs find it without LD_LIBRARY_PATH.
+# the programs find it without LD_LIBRARY_PATH. The scenes, the ABI manifest and the output reader
+# module go under share/granary/.
 set -eu
 src=${GRAN_SOURCE_DIR:-.}
 build=${GRAN_BUILD:-build}
@@ -19,6 +20,10 @@ done
 soname=$(objdump -p "$prefix/lib/libgranary.so.$ver" | awk '/SONAME/ {print $2}')
 [ "$soname" = "libgranary.so.$major" ] || { echo "FAIL: SONAME is '$soname', expected libgranary.so.$major"; exit 1; }
 echo "ok: libgranary.so.$ver with SONAME $soname"
+for f in scenes/default.toml scenes/srd/haff.toml granary.abi python/granary_h5.py; do
+  [ -e "$prefix/share/granary/$f" ] || { echo "FAIL: $prefix/share/granary/$f missing"; exit 1; }
+done
+echo "ok: scenes, granary.abi and the reader module under share/granary"
 export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
 # the README's lines (section "Calling granary from C / Fortran")
 cc ${GRAN_SAN:-} $(pkg-config --cflags granary) "$src/bindings/examples/example.c" -o "$tmp/example-c" \
