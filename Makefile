@@ -384,11 +384,12 @@ install-docs:
 	else echo "install: no HTML manual in $(DOCS_OUT)/html (make docs builds it); not installed"; fi
 
 # ---- figures ----------------------------------------------------------------------------------
-# `make figures` regenerates seed 000 Figs. 1-8 and Table I as PNG in build/figures/ (QUICK=1: the
-# reduced scenes of scenes/quick/, a few minutes). Plotting needs Debian's python3-matplotlib and
-# python3-h5py (FIG_DEB_PKGS, installed by `make deps` when possible and by `make figures`); they
-# are not needed to build or test granary (the reader test skips without h5py). Debian's
-# /usr/bin/python3 is used on purpose: another python3 on PATH may lack Debian's modules.
+# `make figures` regenerates Figs. 1-8 and Table I of Bodrova & Osinsky (2024) as PNG in
+# build/figures/ (QUICK=1: the reduced scenes of scenes/quick/, a few minutes). Plotting needs
+# Debian's python3-matplotlib and python3-h5py (FIG_DEB_PKGS, installed by `make deps` when
+# possible and by `make figures`); they are not needed to build or test granary (the reader test
+# skips without h5py). Debian's /usr/bin/python3 is used on purpose: another python3 on PATH may
+# lack Debian's modules.
 FIG_DEB_PKGS := python3-matplotlib python3-h5py python3-numpy
 FIG_PYTHON   ?= /usr/bin/python3
 FIG_OUT      ?= $(BUILD)/figures
@@ -409,7 +410,7 @@ deps: figures-deps-soft
 figures-deps-soft:
 	@if ! ( $(FIG_OK) ); then ( $(FIG_INSTALL) ) || echo "deps: plotting packages not installed (only make figures needs them)"; fi
 
-# ---- MPI block (owner: replicas over MPI, issue 9) ---------------------------------------------
+# ---- MPI block (owner: replicas over MPI) ------------------------------------------------------
 # build/granary-mpi: the same driver compiled by mpicxx with -DGRAN_MPI (src/cli/mpi.cpp), built
 # when an MPI compiler wrapper is found (Debian: libopenmpi-dev openmpi-bin; `make deps` tries
 # them). `mpirun -n P build/granary-mpi run SCENE` spreads the replicas over P processes. The

@@ -217,7 +217,7 @@ void summary(const std::string &path) {
     if (used[1])
       std::printf("  b: light species among heavy ones diffuse 10-14 %% faster than Eq. 4 predicts (Lorentz gas: 32/(9 pi))\n");
     if (used[2])
-      std::printf("  c: a heavy, dilute species (tracer limit, seed 000 Eq. 35) runs hotter than the Maxwellian theory:\n"
+      std::printf("  c: a heavy, dilute species (tracer limit, Bodrova & Osinsky Eq. 35) runs hotter than the Maxwellian theory:\n"
                   "     near or in the ordered phase of Santos and Dufty (b > 1) T_k/T_1 is well above it (physics, not noise)\n");
   }
   if (haveE && !ek.empty())
