@@ -2,7 +2,7 @@
  *  - aggregating DSMC scenes (cell selector with the monomer law, low-rank selector with the binary
  *    law): with --times scene, T_k(t) is the run driver's temperatures/T_theory of the same scene to
  *    1e-12 and n_k(t) x one volume its clusters/n_theory; n_total and T_mean are the sums of the
- *    rows; the seed-002 aggregation scene gives T_1(60) = 0.934 (the cooling-mixture theory: 0.777);
+ *    rows; the DSMC outline's aggregation scene gives T_1(60) = 0.934 (the cooling-mixture theory: 0.777);
  *  - GSRD free cooling: T(t) = T0 / (1 + t/tau)^2 with 1/tau = (1 - eps^2) sigma^2 (n0/a^d) sqrt(T0)
  *    (x 2/3 in 3-D) computed here, equal to the run driver's temperature/T_theory; the
  *    Poisson-occupancy factor against docs/physics.md (0.98882, 0.97728 at n0 = 10);
