@@ -2,6 +2,7 @@
  * mean and standard error when there are several), the partial output of a stopped run, and the
  * row rule every recorded row obeys (check_row). */
 #include <hdf5.h>
+#include <hdf5_hl.h>
 
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,61 @@
 namespace gran_run {
 
 namespace {
+
+/* Dataset `name` of `loc` as an HDF5 dimension scale of that name (H5DSset_scale: h5py's
+ * Dataset.dims, xarray's dimension names). */
+int make_scale(int64_t loc, const char *name, const char *file) {
+  hid_t d = H5Dopen2((hid_t)loc, name, H5P_DEFAULT);
+  GRAN_CHECK(d >= 0, GRAN_ERR_IO, "cannot open dataset '%s' in '%s'", name, file);
+  const herr_t e = H5DSset_scale(d, name);
+  H5Dclose(d);
+  GRAN_CHECK(e >= 0, GRAN_ERR_IO, "HDF5: cannot make '%s' a dimension scale in '%s'", name, file);
+  return GRAN_SUCCESS;
+}
+
+/* The scale of the species axes of buffer b in its group g: `species` (k = 1..M) for the first,
+ * `species_2` for a second (the partner of collision_counts), written once per group. */
+const char *species_scale(size_t a) { return a == 0 ? "species" : "species_2"; }
+int species_scales(int64_t g, const gran_row_buf &b, const char *file) {
+  for (size_t a = 0; a < b.species_axes.size(); a++) {
+    const char *nm = species_scale(a);
+    const int ax = b.species_axes[a];
+    GRAN_CHECK(ax >= 0 && ax < (int)b.row_dims.size(), GRAN_ERR_INTERNAL, "dataset '%s/%s': species axis %d out of range",
+               b.group.c_str(), b.name.c_str(), ax);
+    const int64_t M = b.row_dims[(size_t)ax];
+    std::vector<int64_t> have;
+    if (gran_h5::exists(g, nm)) {
+      GRAN_CALL(gran_h5::read_int64(g, nm, have, nullptr, file));
+      GRAN_CHECK((int64_t)have.size() == M, GRAN_ERR_INTERNAL, "group '%s': species axes of %zu and %" PRId64 " species",
+                 b.group.c_str(), have.size(), M);
+      continue;
+    }
+    std::vector<int64_t> k((size_t)M);
+    for (int64_t i = 0; i < M; i++) k[(size_t)i] = i + 1;
+    GRAN_CALL(gran_h5::write_int64(g, nm, {M}, k.data(), file));
+    GRAN_CALL(gran_describe_(g, nm, "1", a == 0 ? "species index k = 1..M (the species axis of this group's datasets)"
+                                               : "species index l = 1..M (the second species axis, [time][k][l])",
+                             file));
+    GRAN_CALL(make_scale(g, nm, file));
+  }
+  return GRAN_SUCCESS;
+}
+
+/* The group's `time` scale on axis `off` of dataset `name` (the rows of buffer b), its species
+ * scales on the species axes after it; off = 1 for X_replicas ([replica][time]...). */
+int attach_scales(int64_t g, const gran_row_buf &b, const char *name, int off, const char *file) {
+  hid_t d = H5Dopen2((hid_t)g, name, H5P_DEFAULT);
+  GRAN_CHECK(d >= 0, GRAN_ERR_IO, "cannot open dataset '%s' in '%s'", name, file);
+  herr_t e = 0;
+  for (size_t a = 0; a <= b.species_axes.size() && e >= 0; a++) {
+    hid_t sc = H5Dopen2((hid_t)g, a == 0 ? "time" : species_scale(a - 1), H5P_DEFAULT);
+    e = sc >= 0 ? H5DSattach_scale(d, sc, (unsigned)(off + (a == 0 ? 0 : 1 + b.species_axes[a - 1]))) : -1;
+    if (sc >= 0) H5Dclose(sc);
+  }
+  H5Dclose(d);
+  GRAN_CHECK(e >= 0, GRAN_ERR_IO, "HDF5: cannot attach the dimension scales of '%s/%s' in '%s'", b.group.c_str(), name, file);
+  return GRAN_SUCCESS;
+}
 
 /* The _FillValue attribute (gran_row_fill) of dataset `name` in `loc`. */
 int fill_attr(int64_t loc, const char *name, const char *file) {
@@ -81,6 +137,8 @@ int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> 
     GRAN_CALL(fill_attr(g, b.name.c_str(), file));
     GRAN_CALL(fill_attr(g, nse.c_str(), file));
   }
+  GRAN_CALL(attach_scales(g, b, b.name.c_str(), 0, file));
+  GRAN_CALL(attach_scales(g, b, nse.c_str(), 0, file));
   if (r.keep) {
     std::vector<int64_t> rd = {R};
     rd.insert(rd.end(), dims.begin(), dims.end());
@@ -95,6 +153,7 @@ int write_reduced(const Run &r, size_t q, int64_t g, const std::vector<int64_t> 
     }
     GRAN_CALL(gran_describe_(g, nrep.c_str(), b.units.c_str(), (b.description + "; per replica [replica][...]").c_str(), file));
     if (b.fill) GRAN_CALL(fill_attr(g, nrep.c_str(), file));
+    GRAN_CALL(attach_scales(g, b, nrep.c_str(), 1, file));
   }
   return GRAN_SUCCESS;
 }
@@ -204,6 +263,7 @@ int write_output_file(Run &r, const std::string &path, int64_t nrec) {
     GRAN_CALL(gran_h5::attr_int64(f.id, "recorded", nrec, file));
     GRAN_CALL(gran_h5::write_double(f.id, "time", {nt}, s->times.data(), file));
     GRAN_CALL(gran_describe_(f.id, "time", "time", "the output times", file));
+    GRAN_CALL(make_scale(f.id, "time", file));
     for (size_t q = 0; q < r.reps[0].bufs.size(); q++) {
       const gran_row_buf &b = r.reps[0].bufs[q];
       H5Group g;
@@ -213,7 +273,9 @@ int write_output_file(Run &r, const std::string &path, int64_t nrec) {
         GRAN_CALL(gran_h5::make_group(f.id, b.group.c_str(), &g.id, file));
         GRAN_CALL(gran_h5::write_double(g.id, "time", {nt}, s->times.data(), file));
         GRAN_CALL(gran_describe_(g.id, "time", "time", "the output times (rows of this group's datasets)", file));
+        GRAN_CALL(make_scale(g.id, "time", file));
       }
+      GRAN_CALL(species_scales(g.id, b, file));
       std::vector<int64_t> dims = {nt};
       dims.insert(dims.end(), b.row_dims.begin(), b.row_dims.end());
       if (r.R == 1) {
@@ -221,6 +283,7 @@ int write_output_file(Run &r, const std::string &path, int64_t nrec) {
         else GRAN_CALL(gran_h5::write_double(g.id, b.name.c_str(), dims, b.d.data(), file));
         GRAN_CALL(gran_describe_(g.id, b.name.c_str(), b.units.c_str(), b.description.c_str(), file));
         if (b.fill) GRAN_CALL(fill_attr(g.id, b.name.c_str(), file));
+        GRAN_CALL(attach_scales(g.id, b, b.name.c_str(), 0, file));
         continue;
       }
       GRAN_CALL(write_reduced(r, q, g.id, dims, file));
