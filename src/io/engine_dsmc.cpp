@@ -69,11 +69,9 @@ class DsmcEngine : public gran_engine {
       gran_row_buf_add(b, "velocity_distribution", "pdf", 0, {M, s->vd_bins}, "1",
                        "speed histogram of c = |v - u_k| / sqrt(2 T_k / m_k), normalised by N_k dc [time][k][bin]");
     /* the axes over the species (the driver attaches the group's `species` scale to them) */
-    for (const char *gn : {"temperatures/T", "msd/msd", "sonine_a2/a2", "clusters/n", "velocity_distribution/pdf"}) {
-      const std::string p = gn;
-      const size_t sl = p.find('/');
-      gran_row_buf_species_axes(b, p.substr(0, sl).c_str(), p.substr(sl + 1).c_str(), {0});
-    }
+    const char *per_species[][2] = {{"temperatures", "T"}, {"msd", "msd"}, {"sonine_a2", "a2"}, {"clusters", "n"},
+                                    {"velocity_distribution", "pdf"}};
+    for (const auto &gn : per_species) gran_row_buf_species_axes(b, gn[0], gn[1], {0});
     gran_row_buf_species_axes(b, "collision_counts", "counts", {0, 1});
     /* per-species values of a species without particles (record allows NaN only there) */
     const char *empty = "a species without particles";
