@@ -75,12 +75,14 @@ ifeq ($(filter $(NOCONFIG_GOALS),$(MAKECMDGOALS)),)
 include $(CONFIG)
 endif
 
+# PKG_LIBS: -lhdf5_hl (HDF5's high-level library, part of libhdf5-dev) for the dimension scales of
+# the output file (H5DS); it has no pkg-config file of its own in Debian.
 $(CONFIG): Makefile
 	@mkdir -p $(@D)
 	@if ! ( $(DEPS_OK) ); then $(MAKE) --no-print-directory deps; fi
 	@( $(DEPS_OK) ) || { echo "granary: dependencies still missing (see 'make deps')" >&2; exit 1; }
 	@echo "PKG_CFLAGS := $$(pkg-config --cflags $(PKGS))" > $@.tmp
-	@echo "PKG_LIBS := $$(pkg-config --libs gsl fftw3 hdf5 zlib)" >> $@.tmp
+	@echo "PKG_LIBS := -lhdf5_hl $$(pkg-config --libs gsl fftw3 hdf5 zlib)" >> $@.tmp
 	@echo "CMOCKA_LIBS := $$(pkg-config --libs cmocka)" >> $@.tmp
 	@mv $@.tmp $@
 

@@ -1,8 +1,11 @@
 /* t603-output.c - the HDF5 output of gran_scene_run: layout (groups, datasets, shapes, root
- * attributes), values equal to a direct engine run, writability checked before any work, and
- * no half-written file ever under the final name. */
+ * attributes), values equal to a direct engine run, the units of the run (unit_system and the
+ * reference values) and the dimension scales of the rows, writability checked before any work,
+ * and no half-written file ever under the final name. */
 #include "io_test_util.h"
 #include "io_tiny_scene.h"
+
+#include <hdf5_hl.h>
 
 static void expect_dims(hid_t f, const char *name, int rank, hsize_t d0, hsize_t d1, hsize_t d2) {
   hsize_t d[4] = {0, 0, 0, 0};
@@ -172,6 +175,153 @@ static void test_layout_and_values(void **state) {
   gran_scene_destroy(&s);
 }
 
+static double attr_double(hid_t loc, const char *name) {
+  double v = NAN;
+  hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
+  if (a < 0) fail_msg("attribute '%s' is missing", name);
+  assert_true(H5Aread(a, H5T_NATIVE_DOUBLE, &v) >= 0);
+  H5Aclose(a);
+  return v;
+}
+
+/* 1 when dataset `scale` of group `g` is a dimension scale attached to axis `axis` of `ds` */
+static int attached(hid_t f, const char *g, const char *ds, const char *scale, unsigned axis) {
+  char a[256], b[256];
+  snprintf(a, sizeof a, "%s/%s", g, ds);
+  snprintf(b, sizeof b, "%s/%s", g, scale);
+  hid_t d = H5Dopen2(f, a, H5P_DEFAULT), s = H5Dopen2(f, b, H5P_DEFAULT);
+  if (d < 0 || s < 0) fail_msg("dataset '%s' or '%s' is missing", a, b);
+  if (H5DSis_scale(s) <= 0) fail_msg("'%s' is not a dimension scale", b);
+  const htri_t r = H5DSis_attached(d, s, axis);
+  H5Dclose(d);
+  H5Dclose(s);
+  return r > 0;
+}
+
+/* The time axis and the species axes of every row dataset carry their group's scales `time` and
+ * `species` (`species_2`), and only on their own axes. */
+static void check_scales(hid_t f, int replicas) {
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  hid_t t = H5Dopen2(f, "time", H5P_DEFAULT);
+  assert_true(H5DSis_scale(t) > 0);
+  char name[64];
+  assert_true(H5DSget_scale_name(t, name, sizeof name) > 0);
+  assert_string_equal(name, "time");
+  H5Dclose(t);
+  const char *x[] = {"T", "T_se"};
+  for (int i = 0; i < (replicas ? 2 : 1); i++) {
+    assert_true(attached(f, "temperatures", x[i], "time", 0));
+    assert_true(attached(f, "temperatures", x[i], "species", 1));
+    assert_false(attached(f, "temperatures", x[i], "time", 1));
+    assert_false(attached(f, "temperatures", x[i], "species", 0));
+  }
+  assert_true(attached(f, "msd", "msd", "time", 0));
+  assert_true(attached(f, "msd", "msd", "species", 1));
+  assert_true(attached(f, "msd", "msd_total", "time", 0));
+  assert_true(attached(f, "stats", "collisions", "time", 0));
+  assert_true(attached(f, "collision_counts", "counts", "time", 0));
+  assert_true(attached(f, "collision_counts", "counts", "species", 1));
+  assert_true(attached(f, "collision_counts", "counts", "species_2", 2));
+  assert_true(attached(f, "velocity_distribution", "pdf", "species", 1));
+  assert_false(attached(f, "velocity_distribution", "pdf", "species", 2)); /* the bins */
+  assert_false(attached(f, "momentum", "p", "time", 1));                  /* x, y, z */
+  if (replicas) {                                                          /* [replica][time][k] */
+    assert_true(attached(f, "temperatures", "T_replicas", "time", 1));
+    assert_true(attached(f, "temperatures", "T_replicas", "species", 2));
+    assert_false(attached(f, "temperatures", "T_replicas", "time", 0));
+  }
+  size_t n = 0;
+  double *k = io_h5_read_double(f, "temperatures/species", &n);
+  assert_int_equal(n, IO_TINY_M);
+  assert_true(k[0] == 1 && k[1] == 2);
+  free(k);
+}
+
+/* unit_system names the units, the reference values are the scene's (docs/units.md) */
+static void test_units_and_scales(void **state) {
+  (void)state;
+  /* the tiny scene: m_1 = 1, sigma_1 = 1, <T(0)> = 1 (hcs, T_mean = 1) */
+  const char *out = io_path("units1.h5");
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(io_tiny_text("lowrank", out), "tiny.toml", &s));
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, "", NULL, NULL));
+  gran_scene_destroy(&s);
+  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  char *u = io_h5_attr_string(f, "unit_system");
+  assert_non_null(u);
+  assert_non_null(strstr(u, "DSMC units: mass m_1"));
+  assert_non_null(strstr(u, "energy k_B T0"));
+  assert_non_null(strstr(u, "time unit: sigma_1 sqrt(m_1/(k_B T0))"));
+  free(u);
+  GRAN_ASSERT_REL(attr_double(f, "reference_mass"), 1.0, 1e-15);
+  GRAN_ASSERT_REL(attr_double(f, "reference_length"), 1.0, 1e-15);
+  GRAN_ASSERT_REL(attr_double(f, "reference_energy"), 1.0, 1e-12);
+  GRAN_ASSERT_REL(attr_double(f, "reference_time"), 1.0, 1e-12);
+  check_scales(f, 0);
+  H5Fclose(f);
+
+  /* m_1 = 2, sigma_1 = 0.5, <T(0)> = 8: time unit sigma_1 sqrt(m_1/T0) = 0.25 of the scene's; two
+   * replicas with their rows (X_se, X_replicas) */
+  char text[4096];
+  out = io_path("units2.h5");
+  snprintf(text, sizeof text, "%s", io_tiny_text("lowrank", out));
+  char *m = strstr(text, "mass = [1.0, 4.0]\n");
+  assert_non_null(m);
+  memcpy(m, "mass = [2.0, 4.0]\n", 18);
+  char rest[4096];
+  char *in = strstr(text, "[initial]\n") + strlen("[initial]\n");
+  snprintf(rest, sizeof rest, "%s", in);
+  snprintf(in, sizeof text - (size_t)(in - text), "T_mean = 8.0\n%s", rest);
+  char *en = strstr(text, "[engine]\n") + strlen("[engine]\n");
+  snprintf(rest, sizeof rest, "%s", en);
+  snprintf(en, sizeof text - (size_t)(en - text), "replicas = 2\nkeep_replicas = true\n%s", rest);
+  char *mx = strstr(text, "[mixture]\n") + strlen("[mixture]\n");
+  snprintf(rest, sizeof rest, "%s", mx);
+  snprintf(mx, sizeof text - (size_t)(mx - text), "sigma = [0.5, 1.0]\n%s", rest);
+  GRAN_ASSERT_OK(gran_scene_parse(text, "tiny2.toml", &s));
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, "", NULL, NULL));
+  gran_scene_destroy(&s);
+  f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  u = io_h5_attr_string(f, "unit_system");
+  assert_non_null(u);
+  assert_non_null(strstr(u, "m_1 = 2;"));
+  assert_non_null(strstr(u, "sigma_1 = 0.5;"));
+  assert_non_null(strstr(u, "k_B T0 = 8,"));
+  assert_non_null(strstr(u, "sigma_1 sqrt(m_1/(k_B T0)) = 0.25"));
+  free(u);
+  GRAN_ASSERT_REL(attr_double(f, "reference_mass"), 2.0, 1e-15);
+  GRAN_ASSERT_REL(attr_double(f, "reference_length"), 0.5, 1e-15);
+  GRAN_ASSERT_REL(attr_double(f, "reference_energy"), 8.0, 1e-12);
+  GRAN_ASSERT_REL(attr_double(f, "reference_time"), 0.25, 1e-12);
+  check_scales(f, 1);
+  H5Fclose(f);
+
+  /* GSRD: mass 1, length a, energy T0; T0 = 4: a sqrt(m/(k_B T0)) = 0.5 */
+  out = io_path("units3.h5");
+  snprintf(text, sizeof text,
+           "[engine]\ntype = \"srd\"\ndimension = 2\ncells = 6\nn0 = 5\ndt = 0.1\nT0 = 4\nsteps = 20\n"
+           "[observables]\nevery = 5\n[output]\npath = \"%s\"\n",
+           out);
+  GRAN_ASSERT_OK(gran_scene_parse(text, "srd.toml", &s));
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, "", NULL, NULL));
+  gran_scene_destroy(&s);
+  f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  u = io_h5_attr_string(f, "unit_system");
+  assert_non_null(u);
+  assert_non_null(strstr(u, "GSRD units:"));
+  assert_non_null(strstr(u, "a sqrt(m/(k_B T0)) = 0.5"));
+  free(u);
+  GRAN_ASSERT_REL(attr_double(f, "reference_mass"), 1.0, 1e-15);
+  GRAN_ASSERT_REL(attr_double(f, "reference_length"), 1.0, 1e-15);
+  GRAN_ASSERT_REL(attr_double(f, "reference_energy"), 4.0, 1e-15);
+  GRAN_ASSERT_REL(attr_double(f, "reference_time"), 0.5, 1e-15);
+  assert_true(attached(f, "temperature", "T", "time", 0));
+  H5Fclose(f);
+}
+
 static void test_unwritable(void **state) {
   (void)state;
   const char *blocker = io_path("a-file");
@@ -288,6 +438,7 @@ int main(void) {
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_layout_and_values),
+      cmocka_unit_test(test_units_and_scales),
       cmocka_unit_test(test_unwritable),
       cmocka_unit_test(test_no_half_written_files),
   };

@@ -1,5 +1,5 @@
-/* t641-run-rows.c - the run driver's rules on what a run records and accepts (src/io/run.cpp,
- * src/io/scene.cpp):
+/* t641-run-rows.c - the run driver's rules on what a run records and accepts
+ * (src/io/run_output.cpp, src/io/scene.cpp):
  *  - every recorded row is checked: a non-finite value stops the run with GRAN_ERR_NUMERIC naming
  *    the dataset and the output time, the rows before it go to OUTPUT.partial.h5 (no output file,
  *    nothing non-finite written); values that may not exist carry the _FillValue attribute;

@@ -1,5 +1,5 @@
-/* t642-run-files.c - the files and signals of a run (src/io/run.cpp, src/io/h5.cpp,
- * src/cli/run.cpp):
+/* t642-run-files.c - the files and signals of a run (src/io/run_files.cpp, src/io/run_output.cpp,
+ * src/io/h5.cpp, src/cli/run.cpp):
  *  - every file a run writes (output, partial output, the XDMF sidecars of both, each .tmp, the
  *    checkpoint) is compared by identity with the scene, the checkpoint and each other: refused
  *    before any work, naming both roles, the other file untouched;

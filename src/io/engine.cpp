@@ -3,6 +3,8 @@
  * engine plugs in. */
 #include <hdf5.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "io/engine.h"
@@ -56,6 +58,11 @@ void gran_row_buf_allow_fill(std::vector<gran_row_buf> &bufs, const char *group,
   b->description += std::string("; _FillValue (") + when + ")";
 }
 
+void gran_row_buf_species_axes(std::vector<gran_row_buf> &bufs, const char *group, const char *name, std::vector<int> axes) {
+  gran_row_buf *b = gran_row_buf_find(bufs, group, name);
+  if (b) b->species_axes = std::move(axes);
+}
+
 gran_row_buf *gran_row_buf_find(std::vector<gran_row_buf> &bufs, const char *group, const char *name) {
   for (auto &b : bufs)
     if (b.group == group && b.name == name) return &b;
@@ -81,4 +88,30 @@ int gran_describe_(int64_t loc, const char *name, const char *units, const char 
   if (st == GRAN_SUCCESS) st = gran_h5::attr_string(d, "description", description, file);
   H5Dclose(d);
   return st;
+}
+
+int gran_write_unit_system_(int64_t file, const char *fname, const char *engine, double mass, double length,
+                            double energy) {
+  const bool dsmc = std::strcmp(engine, "DSMC") == 0;
+  const char *m = dsmc ? "m_1" : "m", *l = dsmc ? "sigma_1" : "a";
+  const double time = length * std::sqrt(mass / energy);
+  char buf[512];
+  /* all three 1 (to rounding: the mean temperature is a sum): the units are the reference values */
+  auto one = [](double x) { return std::fabs(x - 1.0) <= 1e-12; };
+  if (one(mass) && one(length) && one(energy))
+    std::snprintf(buf, sizeof buf,
+                  "%s units: mass %s (%s), length %s (%s), energy k_B T0 (%s; k_B = 1); time unit: %s sqrt(%s/(k_B T0))",
+                  engine, m, dsmc ? "the mass of species 1" : "the particle mass", l,
+                  dsmc ? "the diameter of species 1" : "the cell size",
+                  dsmc ? "T0 the mean initial temperature <T(t_start)>" : "T0 the scene's T0", l, m);
+  else
+    std::snprintf(buf, sizeof buf, "%s units: those of the scene's numbers (mass: %s = %.6g; length: %s = %.6g; energy: that "
+                  "of the temperatures, k_B T0 = %.6g, k_B = 1); time unit: length sqrt(mass/energy), in which "
+                  "%s sqrt(%s/(k_B T0)) = %.6g",
+                  engine, m, mass, l, length, energy, l, m, time);
+  GRAN_CALL(gran_h5::attr_string(file, "unit_system", buf, fname));
+  GRAN_CALL(gran_h5::attr_double(file, "reference_mass", mass, fname));
+  GRAN_CALL(gran_h5::attr_double(file, "reference_length", length, fname));
+  GRAN_CALL(gran_h5::attr_double(file, "reference_energy", energy, fname));
+  return gran_h5::attr_double(file, "reference_time", time, fname);
 }

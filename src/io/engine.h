@@ -53,6 +53,10 @@ struct gran_row_buf {
    * other element, and every element of a buffer without fill, must be finite: the driver stops
    * the run with GRAN_ERR_NUMERIC otherwise (gran_row_buf_allow_fill). */
   int fill = 0;
+  /* the row dims (0-based, in row_dims) that run over the species k = 1..M: the driver attaches
+   * its dimension scale `species` (a second such axis: `species_2`) of the group to them, as it
+   * attaches the group's `time` to the time axis (gran_row_buf_species_axes) */
+  std::vector<int> species_axes;
   std::vector<double> d;
   std::vector<int64_t> n;
 };
@@ -65,11 +69,20 @@ constexpr double gran_row_fill = 9.969209968386869e36;
 /* Mark buffer group/name as one whose elements may be NaN for "no value" (`when` says when, and
  * is appended to its description). Does nothing when the buffer is not declared. */
 void gran_row_buf_allow_fill(std::vector<gran_row_buf> &bufs, const char *group, const char *name, const char *when);
+/* Mark row dims `axes` of buffer group/name as species axes. Does nothing when it is not declared. */
+void gran_row_buf_species_axes(std::vector<gran_row_buf> &bufs, const char *group, const char *name, std::vector<int> axes);
 /* The buffer group/name; nullptr when not declared. */
 gran_row_buf *gran_row_buf_find(std::vector<gran_row_buf> &bufs, const char *group, const char *name);
 
 /* `units` and `description` attributes of dataset `name` in group `loc` (every dataset has both). */
 int gran_describe_(int64_t loc, const char *name, const char *units, const char *description, const char *file);
+/* The root attributes naming the units of a run (docs/units.md): `unit_system`, a sentence, and
+ * the scene's values of the quantities that set them, `reference_mass`, `reference_length`,
+ * `reference_energy` and `reference_time` = length sqrt(mass / energy), in the scene's units.
+ * engine: "DSMC" or "GSRD"; mass, length, energy: m_1, sigma_1, <T(t_start)> (DSMC) or the
+ * particle mass 1, the cell size a, T0 (GSRD). */
+int gran_write_unit_system_(int64_t file, const char *fname, const char *engine, double mass, double length,
+                            double energy);
 
 /* Where the engine stands, for the progress line and the run result. */
 struct gran_engine_state {
@@ -188,7 +201,7 @@ int gran_engine_dsmc_create_(const gran_scene *s, std::unique_ptr<gran_engine> &
 /* engine_srd.cpp (GSRD) */
 int gran_engine_srd_create_(const gran_scene *s, std::unique_ptr<gran_engine> &out);
 
-/* run.cpp: where a stopped run writes what it recorded (OUT.h5 -> OUT.partial.h5), and the
+/* run_files.cpp: where a stopped run writes what it recorded (OUT.h5 -> OUT.partial.h5), and the
  * checkpoint path of a run (NULL checkpoint: the scene's; its default OUTPUT.ckpt follows output). */
 std::string gran_partial_path_(const std::string &out);
 std::string gran_run_checkpoint_path_(const gran_scene *s, const char *output, const char *checkpoint);

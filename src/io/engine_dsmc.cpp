@@ -68,6 +68,11 @@ class DsmcEngine : public gran_engine {
     if (s->obs_veldist)
       gran_row_buf_add(b, "velocity_distribution", "pdf", 0, {M, s->vd_bins}, "1",
                        "speed histogram of c = |v - u_k| / sqrt(2 T_k / m_k), normalised by N_k dc [time][k][bin]");
+    /* the axes over the species (the driver attaches the group's `species` scale to them) */
+    const char *per_species[][2] = {{"temperatures", "T"}, {"msd", "msd"}, {"sonine_a2", "a2"}, {"clusters", "n"},
+                                    {"velocity_distribution", "pdf"}};
+    for (const auto &gn : per_species) gran_row_buf_species_axes(b, gn[0], gn[1], {0});
+    gran_row_buf_species_axes(b, "collision_counts", "counts", {0, 1});
     /* per-species values of a species without particles (record allows NaN only there) */
     const char *empty = "a species without particles";
     gran_row_buf_allow_fill(b, "temperatures", "T", empty);
@@ -221,6 +226,16 @@ class DsmcEngine : public gran_engine {
       GRAN_CALL(gran_h5::attr_double(f, "fn", s->cell.fn, file));
     }
     GRAN_CALL(gran_h5::attr_int64(f, "nspecies", M, file));
+    {
+      /* the units (docs/units.md): m_1, sigma_1 and the number-weighted mean initial temperature */
+      double nsum = 0, nT = 0;
+      for (int64_t k = 0; k < M; k++) {
+        nsum += s->density[(size_t)k];
+        nT += s->density[(size_t)k] * T0_[(size_t)k];
+      }
+      const double Tm = nsum > 0 ? nT / nsum : T0_[0];
+      GRAN_CALL(gran_write_unit_system_(f, file, "DSMC", s->mass[0], s->sigma[0], Tm));
+    }
     {
       H5Group g;
       GRAN_CALL(gran_h5::make_group(f, "species", &g.id, file));

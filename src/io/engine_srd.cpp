@@ -254,6 +254,7 @@ class SrdEngine : public gran_engine {
   int write_output(int64_t f, const char *file, int64_t nrec) override {
     const auto &q = s_->srd;
     GRAN_CALL(gran_h5::attr_int64(f, "dimension", o_.dim, file));
+    GRAN_CALL(gran_write_unit_system_(f, file, "GSRD", 1.0, o_.a, o_.T0)); /* docs/units.md */
     {
       H5Obj g(-1, H5Gclose);
       GRAN_CALL(gran_h5::make_group(f, "srd", &g.id, file));
