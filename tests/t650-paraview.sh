@@ -11,9 +11,10 @@
 #  - ParaView's integral of the density over the box is N (area in 2-D, volume in 3-D);
 #  - the pair of files moved to another directory opens the same (the sidecar names the HDF5
 #    file relative to itself), and a script given a bare file name opens it by its absolute path;
-#  - a screenshot of the default view (2-D: the reader's default representation coloured by
-#    density, velocity glyphs; 3-D: the surface) is not empty: over 20 % of its pixels are not
-#    the background. Saved in the test's temporary folder, which is kept when the test fails.
+#  - screenshots of the last snapshot are not empty (over 20 % of the pixels are not the
+#    background): 2-D the default view (the reader's default representation coloured by density)
+#    and the surface with velocity arrows, 3-D the surface. Saved in the test's temporary folder,
+#    which is kept when the test fails.
 # Skips (exit 0, saying so) when ParaView is not installed (no pvbatch or pvpython), and the
 # screenshot alone when there is no X display, no Xvfb and ParaView cannot render offscreen.
 set -eu
@@ -29,11 +30,12 @@ fi
 tmp=$(mktemp -d /tmp/granary-t650-XXXXXX)
 xpid=
 # kept when the test fails (the screenshots and logs in it), removed when it passes
-trap 'rc=$?; [ -z "$xpid" ] || kill "$xpid" 2>/dev/null; if [ $rc -eq 0 ]; then rm -rf "$tmp"; else echo "kept $tmp"; fi' EXIT
+trap 'rc=$?; [ -z "$xpid" ] || kill "$xpid" 2>/dev/null || true; if [ $rc -eq 0 ]; then rm -rf "$tmp"; else echo "kept $tmp"; fi' EXIT
 cd "$tmp"
 # ParaView's rendering needs a display: the one there is, else a virtual one (Xvfb on a free
 # display number, with -noreset: ParaView closes its first connection and opens the next at once,
-# which a server resetting after its last client refuses now and then; xvfb-run starts it so),
+# which a server resetting after its last client refuses now and then; xvfb-run starts Xvfb
+# without -noreset),
 # else offscreen rendering alone (builds with EGL or OSMesa)
 start_xvfb() {
   command -v Xvfb >/dev/null 2>&1 || return 1
