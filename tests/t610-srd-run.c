@@ -11,9 +11,12 @@
  *    bit for bit, as the uninterrupted run (Lees-Edwards stress, snapshots, S(k) included);
  *  - replicas: R = 3 gives X and X_se, replica 0 is the R = 1 run, the mean is the mean of the kept
  *    per-replica rows;
- *  - snapshots: the XDMF sidecar is well-formed XML, its topology is 2DCORECTMesh / 3DCORECTMesh
- *    with cell-centred attributes, and every HDF reference names an existing dataset of the
- *    stated shape; the fields sum to N, to the total momentum and to twice the kinetic energy;
+ *  - snapshots: the XDMF sidecar is well-formed XML, its topology a 3DCORECTMesh (2-D: one node
+ *    along z) with cell-centred attributes, every HDF reference names an existing dataset of the
+ *    stated shape by the output's base name; its grid times, each snapshot group's attributes
+ *    time, step and output_index and /fields/{time, step, output_index} agree with /time and
+ *    stats/steps (dt = 0.5: step and time differ); the fields sum to N, to the total momentum and
+ *    to twice the kinetic energy;
  *  - a vibrated bed (walls, gravity, vibrating bottom wall) runs with its ledger closed;
  *  - every shipped scene of scenes/srd/ parses, and scenes/srd/vibrated-bed.toml runs in full;
  *  - `granary run` prints the GSRD header and the summary (T beside Haff's law, Mach).
@@ -482,6 +485,19 @@ static void xdmf_check(const char *xmf, const char *xdir, xml_state *st) {
   free(x);
 }
 
+/* a numeric attribute of an object of f (NAN when missing) */
+static double attr_num(hid_t f, const char *obj, const char *name) {
+  double v = NAN;
+  hid_t a = H5Aopen_by_name(f, obj, name, H5P_DEFAULT, H5P_DEFAULT);
+  if (a < 0) {
+    fprintf(stderr, "missing attribute %s of %s\n", name, obj);
+    return v;
+  }
+  if (H5Aread(a, H5T_NATIVE_DOUBLE, &v) < 0) v = NAN;
+  H5Aclose(a);
+  return v;
+}
+
 static void test_snapshots(void **state) {
   (void)state;
   for (int dim = 2; dim <= 3; dim++) {
@@ -489,9 +505,9 @@ static void test_snapshots(void **state) {
     snprintf(leaf, sizeof leaf, "snap%d.h5", dim);
     const char *out = io_path(leaf);
     snprintf(text, sizeof text,
-             "[engine]\ntype = \"srd\"\ndimension = %d\ncells = %s\nn0 = 7\neps = 0.9\nsigma = 0.1\nsteps = 30\nseed = 12\n"
+             "[engine]\ntype = \"srd\"\ndimension = %d\ncells = %s\nn0 = 7\ndt = 0.5\neps = 0.9\nsigma = 0.1\nsteps = 30\nseed = 12\n"
              "[boundaries]\nlees_edwards = {shear_rate = 0.05}\n"
-             "[observables]\ntimes = [0, 10, 20, 30]\nsnapshots = {times = [0, 15]}\n[output]\npath = \"%s\"\n",
+             "[observables]\ntimes = [0, 5, 10, 15]\nsnapshots = {times = [0, 7.5]}\n[output]\npath = \"%s\"\n",
              dim, dim == 2 ? "[10, 6]" : "[5, 4, 3]", out);
     gran_scene *s = NULL;
     GRAN_ASSERT_OK(gran_scene_parse(text, "snap.toml", &s));
@@ -506,7 +522,23 @@ static void test_snapshots(void **state) {
     assert_int_equal(st.cell_attrs, 8);
     assert_int_equal(st.refs, 8);
     char *x = io_read_file(xmf);
-    assert_non_null(strstr(x, dim == 3 ? "Dimensions=\"4 5 6\"" : "Dimensions=\"7 11\"")); /* nodes: cells + 1, z y x */
+    /* nodes: cells + 1, z y x; 2-D: the plane z = 0 of a 3-D mesh (one node along z), so that
+     * ParaView puts it in the x-y plane */
+    assert_non_null(strstr(x, dim == 3 ? "Dimensions=\"4 5 6\"" : "Dimensions=\"1 7 11\""));
+    assert_null(strstr(x, "2DCORECTMesh"));
+    assert_null(strstr(x, "ORIGIN_DXDY\""));
+    assert_non_null(strstr(x, "GeometryType=\"ORIGIN_DXDYDZ\""));
+    /* the HDF5 file by its base name (it sits beside the sidecar), not by the path it was written to */
+    char ref[64];
+    snprintf(ref, sizeof ref, ">snap%d.h5:/fields/snap_000000/density<", dim);
+    assert_non_null(strstr(x, ref));
+    assert_null(strstr(x, io_tmpdir));
+    /* the temporal collection: one Time per grid, the snapshot times */
+    double xt[4];
+    int nxt = 0;
+    for (const char *q = strstr(x, "<Time Value=\""); q && nxt < 4; q = strstr(q + 1, "<Time Value=\""))
+      xt[nxt++] = strtod(q + strlen("<Time Value=\""), NULL);
+    assert_int_equal(nxt, 2);
     free(x);
     /* the fields sum to N, the momentum and twice the kinetic energy of their output time */
     hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -514,10 +546,26 @@ static void test_snapshots(void **state) {
     const double N = 7.0 * nc;
     size_t n;
     double *p = rd(f, "momentum/p", NULL), *ek = rd(f, "energy/e_kin", NULL), *tt = rd(f, "time", &n);
-    assert_true(n == 5 && tt[2] == 15.0); /* the snapshot time joined the output times */
-    free(tt);
+    assert_true(n == 5 && tt[2] == 7.5); /* the snapshot time joined the output times */
     const char *snaps[2] = {"/fields/snap_000000", "/fields/snap_000002"};
-    const int row[2] = {0, 2}; /* t = 15 joined the output times 0, 10, 20, 30 as row 2 */
+    const int row[2] = {0, 2}; /* t = 7.5 joined the output times 0, 5, 10, 15 as row 2 */
+    /* each snapshot's time, step (time / dt, the row of stats/steps) and output index, in its
+     * group's attributes and in /fields/{time, step, output_index}, which list the snapshots */
+    double *steps = rd(f, "stats/steps", NULL), *ft = rd(f, "fields/time", &n);
+    assert_int_equal(n, 2);
+    double *fs = rd(f, "fields/step", &n);
+    assert_int_equal(n, 2);
+    double *fi = rd(f, "fields/output_index", &n);
+    assert_int_equal(n, 2);
+    for (int j = 0; j < 2; j++) {
+      const double t = tt[row[j]];
+      assert_true(attr_num(f, snaps[j], "time") == t && ft[j] == t && xt[j] == t);
+      assert_true(attr_num(f, snaps[j], "step") == steps[row[j]] && fs[j] == steps[row[j]]);
+      assert_true(steps[row[j]] == t / 0.5);
+      assert_true(attr_num(f, snaps[j], "output_index") == row[j] && fi[j] == row[j]);
+    }
+    assert_true(steps[2] == 15.0);
+    free(tt), free(steps), free(ft), free(fs), free(fi);
     for (int j = 0; j < 2; j++) {
       char nm[128];
       snprintf(nm, sizeof nm, "%s/count", snaps[j]);

@@ -455,8 +455,10 @@ class SrdEngine : public gran_engine {
     }
   }
 
-  /* /fields/snap_NNNNNN/{count, density, velocity, temperature} and the XDMF sidecar (its .tmp:
-   * the driver renames it once the output file it points to is in place) */
+  /* /fields/snap_NNNNNN/{count, density, velocity, temperature} (attributes time, step,
+   * output_index), /fields/{time, step, output_index} of all snapshots, and the XDMF sidecar (its
+   * .tmp: the driver renames it once the output file it points to is in place). The sidecar names
+   * the output by its base name: the two files sit in the same directory. */
   int write_snapshots(int64_t f, const char *file, int64_t nrec) {
     std::vector<const Snap *> use;
     for (const Snap &sn : snaps_)
@@ -474,7 +476,7 @@ class SrdEngine : public gran_engine {
     GRAN_CALL(gran_h5::attr_double(g.id, "a", o_.a, file));
     GRAN_CALL(gran_h5::attr_string(g.id, "xdmf", base_name(xmf_path(file)), file));
     std::vector<double> times, dens((size_t)cells_);
-    std::vector<int64_t> idx;
+    std::vector<int64_t> idx, steps;
     std::string grids;
     char buf[512];
     const std::string h5name = xml_escape(base_name(file));
@@ -487,12 +489,15 @@ class SrdEngine : public gran_engine {
       char nm[32];
       std::snprintf(nm, sizeof nm, "snap_%06lld", (long long)sn->index);
       const double t = s_->times[(size_t)sn->index];
+      const int64_t step = s_->srd.out_steps[(size_t)sn->index];
       times.push_back(t);
+      steps.push_back(step);
       idx.push_back(sn->index);
       for (int64_t c = 0; c < cells_; ++c) dens[(size_t)c] = sn->count[(size_t)c] / vol;
       H5Obj sg(-1, H5Gclose);
       GRAN_CALL(gran_h5::make_group(g.id, nm, &sg.id, file));
       GRAN_CALL(gran_h5::attr_double(sg.id, "time", t, file));
+      GRAN_CALL(gran_h5::attr_int64(sg.id, "step", step, file));
       GRAN_CALL(gran_h5::attr_int64(sg.id, "output_index", sn->index, file));
       GRAN_CALL(gran_h5::write_double(sg.id, "count", sdims, sn->count.data(), file));
       GRAN_CALL(gran_describe_(sg.id, "count", "1", "particles per cell", file));
@@ -502,24 +507,27 @@ class SrdEngine : public gran_engine {
       GRAN_CALL(gran_describe_(sg.id, "velocity", "length/time", "mean velocity per cell (x, y, z; z = 0 in 2-D; 0 in empty cells)", file));
       GRAN_CALL(gran_h5::write_double(sg.id, "temperature", sdims, sn->temp.data(), file));
       GRAN_CALL(gran_describe_(sg.id, "temperature", "energy", "cell temperature sum |v - V|^2 / (d n) (0 in empty cells)", file));
-      /* XDMF: a uniform grid per snapshot; topology dimensions are node counts (cells + 1) */
+      /* XDMF: a uniform grid per snapshot, always a 3DCORECTMesh: its Dimensions are node counts
+       * (cells + 1) ordered z y x, Origin and Spacing of ORIGIN_DXDYDZ likewise. A 2-D snapshot is
+       * the plane z = 0 (one node along z): the readers place a 2DCORECTMesh in the y-z plane,
+       * where the velocity (vx, vy, 0) would not lie along the grid. */
       std::vector<int64_t> nodes = sdims;
       for (int64_t &x : nodes) x += 1;
-      std::string geo_o = d == 3 ? "0 0 0" : "0 0", geo_s;
-      for (int k = 0; k < d; ++k) {
+      if (d == 2) nodes.insert(nodes.begin(), 1);
+      std::string geo_s;
+      for (int k = 0; k < 3; ++k) {
         std::snprintf(buf, sizeof buf, "%s%.17g", k ? " " : "", o_.a);
         geo_s += buf;
       }
       std::snprintf(buf, sizeof buf, "%.17g", t);
       grids += "      <Grid Name=\"" + std::string(nm) + "\" GridType=\"Uniform\">\n";
       grids += "        <Time Value=\"" + std::string(buf) + "\"/>\n";
-      grids += std::string("        <Topology TopologyType=\"") + (d == 3 ? "3DCORECTMesh" : "2DCORECTMesh") +
-               "\" Dimensions=\"" + dimstr(nodes) + "\"/>\n";
-      grids += std::string("        <Geometry GeometryType=\"") + (d == 3 ? "ORIGIN_DXDYDZ" : "ORIGIN_DXDY") + "\">\n";
-      grids += "          <DataItem Name=\"Origin\" Dimensions=\"" + std::to_string(d) +
-               "\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" + geo_o + "</DataItem>\n";
-      grids += "          <DataItem Name=\"Spacing\" Dimensions=\"" + std::to_string(d) +
-               "\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" + geo_s + "</DataItem>\n";
+      grids += "        <Topology TopologyType=\"3DCORECTMesh\" Dimensions=\"" + dimstr(nodes) + "\"/>\n";
+      grids += "        <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
+      grids += "          <DataItem Name=\"Origin\" Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+               "Format=\"XML\">0 0 0</DataItem>\n";
+      grids += "          <DataItem Name=\"Spacing\" Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+               "Format=\"XML\">" + geo_s + "</DataItem>\n";
       grids += "        </Geometry>\n";
       const char *attrs[4][2] = {{"density", "Scalar"}, {"count", "Scalar"}, {"temperature", "Scalar"}, {"velocity", "Vector"}};
       for (auto &at : attrs) {
@@ -534,7 +542,9 @@ class SrdEngine : public gran_engine {
     }
     const int64_t ns = (int64_t)times.size();
     GRAN_CALL(gran_h5::write_double(g.id, "time", {ns}, times.data(), file));
-    GRAN_CALL(gran_describe_(g.id, "time", "time", "times of the snapshots", file));
+    GRAN_CALL(gran_describe_(g.id, "time", "time", "times of the snapshots (the Time of each grid of the XDMF sidecar)", file));
+    GRAN_CALL(gran_h5::write_int64(g.id, "step", {ns}, steps.data(), file));
+    GRAN_CALL(gran_describe_(g.id, "step", "1", "collision steps done at each snapshot (time = step dt)", file));
     GRAN_CALL(gran_h5::write_int64(g.id, "output_index", {ns}, idx.data(), file));
     GRAN_CALL(gran_describe_(g.id, "output_index", "1", "output index (row of /time) of each snapshot", file));
     std::string x = "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n"
