@@ -1,8 +1,10 @@
 """figure_driver.py - what every `make figures` script shares: the command line (--quick, --granary,
---out, --only, --replot, --dpi), running a scene once per invocation with `granary run`, and the
-loop over the requested figures. The figure scripts (make_figures.py: Bodrova & Osinsky 2024; make_srd_figures.py:
-GSRD) keep only their scenes and their plots. Not part of the reader module users import
-(granary_h5.py)."""
+--out, --only, --replot, --dpi), running a scene once per invocation with `granary run`, the loop
+over the requested figures, and saving a figure (PNG at --dpi, 300 by default, and PDF beside it;
+the numbers measured from the run, which the manual's validation page quotes, beside them in
+NAME.txt). The figure scripts (make_figures.py: Bodrova & Osinsky and the DSMC outline;
+make_srd_figures.py: GSRD) keep only their scenes and their plots. Not part of the reader module
+users import (granary_h5.py)."""
 
 import argparse
 import os
@@ -23,6 +25,32 @@ def run_granary(args, src, out, walls):
     return out
 
 
+def head(fig, title, subtitle, top=0.9, bottom=0.09, titled_axes=False):
+    """The title and the one-line subtitle above the axes, spaced in inches (any figure height);
+    `top` is lowered as far as the two lines need (further when the axes have titles)."""
+    h = fig.get_figheight()
+    if title is not None:
+        fig.suptitle(title, fontsize=10, y=0.99, va="top")
+    fig.text(0.5, 1.0 - 0.42 / h, subtitle, ha="center", va="top", fontsize=8, color="0.25")
+    fig.subplots_adjust(top=min(top, 1.0 - (0.95 if titled_axes else 0.7) / h), bottom=bottom)
+
+
+def save(fig, args, fname, notes=""):
+    """Write fig as args.out/NAME.png (args.dpi) and NAME.pdf, and `notes` (what the run measured:
+    the sentences the validation page quotes) as NAME.txt and on stdout; close fig."""
+    import matplotlib.pyplot as plt
+    base = os.path.join(args.out, os.path.splitext(fname)[0])
+    fig.savefig(base + ".png", dpi=args.dpi)
+    fig.savefig(base + ".pdf")
+    plt.close(fig)
+    with open(base + ".txt", "w") as fp:
+        fp.write(notes.strip() + "\n")
+    print("figures: wrote %s.png, .pdf, .txt" % base, flush=True)
+    if notes.strip():
+        print("  " + notes.strip(), flush=True)
+    return base + ".png"
+
+
 def main(doc, figures, draw, quick_help, only_example):
     """Parse the command line, then draw(args, fig, walls) for each requested figure (all of
     `figures` without --only). Returns (args, figures drawn, walls, seconds)."""
@@ -32,7 +60,7 @@ def main(doc, figures, draw, quick_help, only_example):
     ap.add_argument("--out", default="build/figures")
     ap.add_argument("--only", default="", help="comma-separated subset, e.g. " + only_example)
     ap.add_argument("--replot", action="store_true", help="reuse existing outputs, run nothing new")
-    ap.add_argument("--dpi", type=int, default=110)
+    ap.add_argument("--dpi", type=int, default=300, help="PNG resolution (the PDF beside it is vector)")
     args = ap.parse_args()
     os.makedirs(os.path.join(args.out, "data"), exist_ok=True)
     todo = [s for s in args.only.split(",") if s] or list(figures)

@@ -1,20 +1,26 @@
 #!/usr/bin/python3
-"""Regenerate Figs. 1-8 and Table I of Bodrova & Osinsky (2024) as PNG files (`make figures`).
+"""Regenerate the figures of Bodrova & Osinsky (2024) (Figs. 1-8 and Table I) and of the DSMC
+outline (Figs. 1-6 and the aggregation/fragmentation figures, outline_figures.py) as PNG (300 dpi)
+and PDF files (`make figures`).
 
-Each figure runs one scene of scenes/ with `granary run` (scenes/quick/ with --quick,
-scenes/reduced/ otherwise: the shipped scene split into replicas, e.g. N/4 particles x 4
+Each Bodrova & Osinsky figure runs one scene of scenes/ with `granary run` (scenes/quick/ with
+--quick, scenes/reduced/ otherwise: the shipped scene split into replicas, e.g. N/4 particles x 4
 replicas, so that every figure has error bars at about the cost of one shipped run), reads the
 HDF5 output through granary_h5 only, and draws DSMC (symbols, error bars = one standard error
-over replicas where the file has X_se) with the kinetic theory the run wrote (lines).
+over replicas where the file has X_se) with the Maxwellian kinetic theory the run wrote (solid
+lines) and, where the scene asks for it (theory_sonine = true), the Sonine theory (dashed). The
+image carries a title and a one-line subtitle (particle numbers, replicas); the caption is the
+paragraph of docs/validation.md, and the numbers measured from the run (where DSMC and theory
+differ by more than 3 standard errors) go to NAME.txt beside the image.
 
     /usr/bin/python3 figures/make_figures.py [--quick] [--granary build/granary]
                                              [--out build/figures] [--only fig1,table1] [--replot]
+                                             [--dpi 300]
 """
 
 import json
 import os
 import sys
-import textwrap
 
 import matplotlib
 matplotlib.use("Agg")
@@ -24,47 +30,18 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from granary_h5 import Output  # noqa: E402
 import figure_driver  # noqa: E402
-from figure_driver import run_granary  # noqa: E402
+from figure_driver import head, run_granary, save  # noqa: E402
+import outline_figures  # noqa: E402
 
 # figure -> the scenes it needs (full mode, quick mode)
 SCENES = {
     "fig1": ["fig1"], "fig2": ["fig2"], "fig3": ["fig3"], "fig4": ["fig4"], "fig5": ["fig5"],
     "fig6": ["table1", "fig6"], "table1": ["table1", "fig6"], "fig7": ["fig7"], "fig8": ["fig8"],
 }
+SCENES.update(outline_figures.SCENES)
+PAPER = "Bodrova & Osinsky (2024)"
 FULL_DIR = "scenes/reduced"
 COLORS = ["C0", "C3", "C2", "C1", "C4", "C5", "C6"]
-
-THEORY_OFF = ("Maxwellian theory known to be off (physics notes, \"Where the Maxwellian theory is "
-              "known to be off\"): ")
-
-# Why the DSMC MSD lies below Eq. 4 / Eq. 22 (docs/physics.md, "Why the DSMC MSD lies below
-# Eq. 4"). Measured with single runs of scenes/quick/figN.toml (one replica) and with the
-# displacements integrated again from the velocities sampled on a fine grid (they agree with the
-# engine's to 4e-4: t517), and Eq. 4 evaluated again with the *measured* T_k(t) (so the
-# temperature part of the difference and the velocity-correlation part separate).
-MSD_BELOW = ("DSMC below the line: the theory's Maxwellian (first Sonine) velocity correlation, "
-             "not bookkeeping (engine displacements = integral of the sampled velocities to 4e-4; "
-             "Eq. 11 = Maxwellian momentum-transfer rate - cooling rate/2, exactly: t517). %s")
-MSD_WHY = {
-    "fig1": "Eq. 4 fed with the measured T_k(t) is still 7.2 % above DSMC for m = 1 at t = 37 "
-            "(the temperatures add 1.0 %); this part peaks while T_2/T_1 climbs from 3 to 40 and "
-            "is +1.0 % late, at a constant ratio (Eq. 4's reduced-time kernel, tau_v,k ~ "
-            "T_k^(-1/2) over a correlation time, is exact only at constant ratios: a likely "
-            "contributor, not separated). At t = 1e5, m = 1 agrees by cancellation (+1.0 % kernel, "
-            "-1.4 % temperatures); m = 100 late: -3.2 % kernel, -0.7 % temperatures.",
-    "fig2": "Here the light gas is only -0.4 % off Eq. 4 with the measured temperatures; the "
-            "-1.5 % comes from the theory's temperatures (the gas cools 1 % faster than Maxwellian: "
-            "a2 = +0.052 at eps = 0.5, Haff's rate x (1 + 3 a2/16)).",
-    "fig3": "With the measured T_k(t) (N_k = 1e5, one run, t = 1e3) Eq. 22 is still 6.8, 4.3 "
-            "and 2.8 % above DSMC for m = 1, 100, 500; the temperatures add 0.2-0.6 % (total -7.0, "
-            "-4.8, -3.4 %; N_k = 1e4: -7.8, -4.6, -1.1 %). The initial decay rate of <v(t1).v(t)> is the "
-            "Maxwellian one within 1-2.5 %: the tail of the correlation differs. The paper's "
-            "log-log plot cannot show 8 % (0.03 decades).",
-    "fig5": "The gas (a monodisperse HCS at eps = 0.5) is 3.6 % below Eq. 22 with its measured "
-            "temperatures, 0.8 % more from its faster (a2 > 0) cooling; t503 measures the same "
-            "dMSD/dc = 0.96 x theory at eps = 0.5 (1.01 at eps = 0.9).",
-}
-
 
 def scene_path(name, quick):
     if quick:
@@ -119,9 +96,9 @@ def residual(rx, x, y, se, th, color, marker="o"):
         rx.plot(x[good], r, marker, ms=3, mfc="none", color=color)
 
 
-def beyond(x, ys, ses, ths, labels, xname="t"):
-    """Caption sentence: where DSMC and theory differ by more than 3 standard errors (measured,
-    not explained: the reasons known are in the caption before it)."""
+def beyond(x, ys, ses, ths, labels, xname="t", against="the theory"):
+    """The measured sentence: where DSMC and a theory differ by more than 3 standard errors (the
+    largest deviation and on how many points); the reasons known are on the validation page."""
     parts = []
     for y, se, th, lab in zip(ys, ses, ths, labels):
         if se is None or th is None:
@@ -137,16 +114,16 @@ def beyond(x, ys, ses, ths, labels, xname="t"):
         parts.append("%s %+.1f %% at %s = %.3g (%d of %d points)" % (lab, 100 * rel[i], xname, x[i],
                                                                      int(bad.sum()), int(good.sum())))
     if not parts:
-        return " DSMC agrees with the theory within 3 standard errors at every point."
-    return (" Measured, beyond 3 standard errors (largest deviation): " + "; ".join(parts) + ".")
+        return "DSMC agrees with %s within 3 standard errors at every point." % against
+    return ("Against %s, beyond 3 standard errors (largest deviation): " % against + "; ".join(parts) + ".")
 
 
-def two_panels(figsize=(7, 6.6)):
+def two_panels(figsize=(7, 6.2)):
     """The plot above, DSMC against theory in per cent below (shared x)."""
     fig, (ax, rx) = plt.subplots(2, 1, figsize=figsize, sharex=True,
                                  gridspec_kw={"height_ratios": [3, 1.3], "hspace": 0.06})
     rx.axhline(0.0, color="k", lw=0.8)
-    rx.set_ylabel("DSMC / theory - 1 [%]", fontsize=8)
+    rx.set_ylabel("DSMC / Maxwellian theory - 1 [%]", fontsize=8)
     return fig, ax, rx
 
 
@@ -154,76 +131,115 @@ def col(a, k):
     return None if a is None else a[:, k]
 
 
-def finish(fig, ax, o, fname, args, caption, top=0.88):
-    fig.text(0.5, 0.94, size_text(o), ha="center", va="top", fontsize=8, color="0.25")
-    text = "\n".join(textwrap.wrap(caption, 120))
-    fig.text(0.01, 0.01, text, fontsize=7.5, va="bottom", ha="left")
-    nlines = text.count("\n") + 1
-    fig.subplots_adjust(bottom=0.1 + 0.028 * nlines, top=top)
-    path = os.path.join(args.out, fname)
-    fig.savefig(path, dpi=args.dpi)
-    plt.close(fig)
-    print("figures: wrote %s" % path, flush=True)
+def finish(fig, o, fname, args, title, notes, subtitle=None, top=0.9, bottom=0.09):
+    """Title and one-line subtitle (particle numbers, replicas) above the axes; no caption in the
+    image (it is the paragraph of docs/validation.md); the measured notes go to NAME.txt."""
+    head(fig, title, subtitle or size_text(o), top, bottom, titled_axes=fname == "fig5.png")
+    save(fig, args, fname, notes)
 
 
-def msd_figure(args, o, fname, title, caption, total=False, species_names=None):
+def sonine_lines(ax, rx, x, ths, th, color):
+    """The Sonine theory dashed beside the Maxwellian line; in the lower panel its shift from the
+    Maxwellian line, 100 (Sonine / Maxwellian - 1)."""
+    if ths is None:
+        return
+    ax.plot(x, ths, "--", color=color, lw=1.1)
+    if th is not None and rx is not None:
+        good = np.isfinite(ths) & np.isfinite(th) & (th > 0)
+        rx.plot(x[good], 100.0 * (ths[good] / th[good] - 1.0), "--", color=color, lw=1.0)
+
+
+def theory_legend(ax, sonine, loc="lower right", fontsize=7):
+    """Legend: the species' DSMC symbols and Maxwellian lines, plus one entry for the dashed style."""
+    if sonine:
+        ax.plot([], [], "k--", lw=1.1, label="Sonine theory (two-moment), dashed")
+    hs, ls = ax.get_legend_handles_labels()
+    rank = [0 if lab.startswith("DSMC") else 1 if lab.startswith("Maxwellian") else 2 for lab in ls]
+    order = sorted(range(len(ls)), key=lambda i: (rank[i], i))
+    ax.legend([hs[i] for i in order], [ls[i] for i in order], fontsize=fontsize, loc=loc)
+
+
+def reduced_time(t, T, T0):
+    """Bodrova & Osinsky Eq. 6 without the 1/tau_c(0): int_0^t sqrt(T(t')/T0) dt' on the output
+    grid, sqrt(T/T0) taken as a power of t between outputs (exact for the ballistic and the Haff
+    regime) and as the trapezoid from t = 0 (where it is 1) to the first output."""
+    f = np.sqrt(np.maximum(T, 1e-300) / T0)
+    tau = np.empty_like(t)
+    tau[0] = t[0] * 0.5 * (1.0 + f[0])
+    for i in range(1, len(t)):
+        r = t[i] / t[i - 1]
+        p = np.log(f[i] / f[i - 1]) / np.log(r)
+        seg = f[i - 1] * t[i - 1] * (np.log(r) if abs(p + 1) < 1e-9 else (r ** (p + 1) - 1) / (p + 1))
+        tau[i] = tau[i - 1] + seg
+    return tau
+
+
+def msd_figure(args, o, fname, title, total=False, x=None, xlabel=None, diffusive=False):
+    """Partial MSDs (symbols) with the Maxwellian theory (solid) and the Sonine theory (dashed,
+    when the file has msd/msd_theory_sonine); x: the abscissa (default t)."""
     t = o.times("msd")
+    x = t if x is None else x
     msd, se, th = o.msd(), o.msd_se(), o.msd_theory()
+    ths = o.get("msd/msd_theory_sonine")
     m = o.species("mass")
     fig, ax, rx = two_panels()
     for k in range(o.nspecies):
         c = COLORS[k % len(COLORS)]
         lab = "m_%d = %g" % (k + 1, m[k])
-        points(ax, t, msd[:, k], col(se, k), c, "DSMC, " + lab)
+        points(ax, x, msd[:, k], col(se, k), c, "DSMC, " + lab)
         if th is not None:
-            ax.plot(t, th[:, k], "-", color=c, lw=1.2, label="theory, " + lab)
-            residual(rx, t, msd[:, k], col(se, k), th[:, k], c)
+            ax.plot(x, th[:, k], "-", color=c, lw=1.2, label="Maxwellian theory, " + lab)
+            residual(rx, x, msd[:, k], col(se, k), th[:, k], c)
+        sonine_lines(ax, rx, x, col(ths, k), col(th, k), c)
+        if diffusive:  # ~ x at long times, through the last point (the paper's dotted line)
+            late = x >= x[-1] / 1e3
+            ax.plot(x[late], msd[-1, k] * x[late] / x[-1], ":", color="0.3", lw=1.2,
+                    label="~ tau_1 (normal diffusion)" if k == 0 else None)
     if total:
-        points(ax, t, o.msd_total(), o.msd_total_se(), "k", "DSMC, total MSD (Eq. 3)", "s")
+        points(ax, x, o.msd_total(), o.msd_total_se(), "k", "DSMC, total MSD (Eq. 3)", "s")
         if o.msd_total_theory() is not None:
-            ax.plot(t, o.msd_total_theory(), "k--", lw=1.2, label="theory, total MSD (Eq. 3)")
-            residual(rx, t, o.msd_total(), o.msd_total_se(), o.msd_total_theory(), "k", "s")
+            ax.plot(x, o.msd_total_theory(), "k-.", lw=1.2, label="Maxwellian theory, total MSD (Eq. 3)")
+            residual(rx, x, o.msd_total(), o.msd_total_se(), o.msd_total_theory(), "k", "s")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    rx.set_xlabel("t [%s]" % o.units("msd/time"))
-    ax.set_ylabel("<R_k^2(t)> [%s]" % o.units("msd/msd"))
-    fig.suptitle(title, fontsize=10)
-    ax.legend(fontsize=7, loc="lower right")
+    rx.set_xlabel(xlabel or "t [%s]" % o.units("msd/time"))
+    ax.set_ylabel("<R_k^2> [%s]" % o.units("msd/msd"))
+    theory_legend(ax, ths is not None)
     theory = o.attr("theory", "", "msd")
-    labs = ["m_%d = %g:" % (k + 1, m[k]) for k in range(o.nspecies)]
-    meas = beyond(t, [msd[:, k] for k in range(o.nspecies)], [col(se, k) for k in range(o.nspecies)],
-                  [col(th, k) for k in range(o.nspecies)], labs)
-    finish(fig, ax, o, fname, args, caption + " Theory: %s." % theory + meas)
+    n = o.nspecies
+    labs = ["m_%d = %g:" % (k + 1, m[k]) for k in range(n)]
+    notes = ("tau0 = %.4g. " % o.tau0 if o.tau0 is not None else "") + "Maxwellian theory: %s. " % theory + beyond(
+        t, [msd[:, k] for k in range(n)], [col(se, k) for k in range(n)], [col(th, k) for k in range(n)], labs,
+        against="the Maxwellian theory")
+    if ths is not None:
+        notes += " " + beyond(t, [msd[:, k] for k in range(n)], [col(se, k) for k in range(n)],
+                              [col(ths, k) for k in range(n)], labs, against="the Sonine theory")
+    finish(fig, o, fname, args, title, notes)
 
 
 def fig1(args, f):
     with Output(f["fig1"]) as o:
-        msd_figure(args, o, "fig1.png", "Bodrova & Osinsky 2024, Fig. 1: binary mixture from equipartition",
-                   "Partial MSDs, eps = 0.5, n_1 = n_2 = 0.1, m = (1, 100), sigma_1 = sigma_2 = 1, "
-                   "T_1(0) = T_2(0) = 1; plotted against t (the paper uses tau_1). Ballistic "
-                   "(~t^2) at short, diffusive at long times. " + THEORY_OFF +
-                   "the temperature ratio by 0.6-1.2 % (first Sonine correction). " +
-                   MSD_BELOW % MSD_WHY["fig1"])
+        # the paper's abscissa: tau_1 (Eq. 6 with k = 1) from the measured T_1(t), in units of the
+        # mean collision time tau_c(0) of Eq. 7 (g2 = 1)
+        t = o.times("msd")
+        n1, s1, m1 = o.species("density")[0], o.species("sigma")[0], o.species("mass")[0]
+        T10 = o.species("T0")[0]
+        tc0_inv = 4.0 * n1 * s1 * s1 * np.sqrt(np.pi * T10 / m1)
+        T1 = np.interp(np.log(t), np.log(o.times("temperatures")), o.T()[:, 0])
+        tau1 = reduced_time(t, T1, T10) * tc0_inv
+        msd_figure(args, o, "fig1.png", PAPER + " Fig. 1: binary mixture from equipartition, eps = 0.5",
+                   x=tau1, xlabel="tau_1 (Eq. 6 with the measured T_1(t); tau_c(0) = %.4g)" % (1 / tc0_inv),
+                   diffusive=True)
 
 
 def fig2(args, f):
     with Output(f["fig2"]) as o:
-        msd_figure(args, o, "fig2.png", "Bodrova & Osinsky 2024, Fig. 2: binary mixture in the HCS, eps = 0.5",
-                   "n = (0.1, 0.001), m = (1, 100), sigma_2 = 100^(1/3), T(0) = (0.554, 45.58755), "
-                   "tau0 = %.4g (caption: 19.258). " % o.tau0 + THEORY_OFF +
-                   "heavy intruders among light particles run a few % hotter than the Maxwellian "
-                   "theory (towards the Santos-Dufty ordered phase of Fig. 5), so their MSD can lie "
-                   "slightly above the line at long times. " + MSD_BELOW % MSD_WHY["fig2"])
+        msd_figure(args, o, "fig2.png", PAPER + " Fig. 2: binary mixture in the HCS, eps = 0.5")
 
 
 def fig3(args, f):
     with Output(f["fig3"]) as o:
-        msd_figure(args, o, "fig3.png", "Bodrova & Osinsky 2024, Fig. 3: ternary mixture in the HCS, eps = 0.5",
-                   "m = (1, 100, 500), sigma_k = m_k^(1/3), n_k = 0.1, HCS start (caption: "
-                   "T(0) = (0.048, 1.1, 1.845) at <T> = 1); tau0 = %.4g (caption: 1.83). Dashed: "
-                   "total MSD, Eq. 3. " % o.tau0 + THEORY_OFF +
-                   "temperature ratios by about 1 % (first Sonine correction). " +
-                   MSD_BELOW % MSD_WHY["fig3"], total=True)
+        msd_figure(args, o, "fig3.png", PAPER + " Fig. 3: ternary mixture in the HCS, eps = 0.5", total=True)
 
 
 def fig4(args, f):
@@ -247,32 +263,28 @@ def fig4(args, f):
                 residual(rx, t, r, rse, th[:, k - 1] / th[:, 0], c)
                 for lst, v in zip(meas, (r, rse, th[:, k - 1] / th[:, 0], "k = %d:" % k)):
                     lst.append(v)
-        ax.plot([], [], "k-", label="theory (Eq. 4)")
+        ax.plot([], [], "k-", label="Maxwellian theory (Eq. 4)")
         ax.set_xscale("log")
         ax.set_yscale("log")
         rx.set_xlabel("t [%s]" % o.units("msd/time"))
         ax.set_ylabel("<R_k^2> / <R_1^2>")
-        fig.suptitle("Bodrova & Osinsky 2024, Fig. 4: n_k = 0.1 k^-3, 100 species, MSD ratios", fontsize=10)
         ax.legend(fontsize=7, loc="lower right")
-        finish(fig, ax, o, "fig4.png", args,
-               "m_k = k, sigma_k = k^(1/3), eps = 0.5, equal initial temperatures. The ratio first "
-               "falls, then rises as T_k/T_1 grows towards ~k^(5/3). Species with fewer than 50 "
-               "particles in all replicas together are not shown (the paper: N_1 = 1e7). " + THEORY_OFF +
-               "heavy species among light ones run hotter than the Maxwellian theory (as the heavy "
-               "tracers of Fig. 5), so their ratio ends above the line at long times; the light "
-               "species' own diffusion is up to 10-14 % faster than Eq. 4." + beyond(t, *meas))
+        finish(fig, o, "fig4.png", args, PAPER + " Fig. 4: n_k = 0.1 k^-3, 100 species, MSD ratios",
+               "Species shown: those with >= 50 particles in all replicas together. " +
+               beyond(t, *meas, against="the Maxwellian theory"))
 
 
 def fig5(args, f):
     with Output(f["fig5"]) as o:
-        fig, axg = plt.subplots(2, 2, figsize=(10, 6.4), sharex="col",
+        fig, axg = plt.subplots(2, 2, figsize=(10, 6.0), sharex="col",
                                 gridspec_kw={"height_ratios": [3, 1.3], "hspace": 0.06})
         axs, rxs = axg[0], axg[1]
         for rx in rxs:
             rx.axhline(0.0, color="k", lw=0.8)
-        rxs[0].set_ylabel("DSMC / theory - 1 [%]", fontsize=8)
+        rxs[0].set_ylabel("DSMC / Maxwellian theory - 1 [%]", fontsize=8)
         t = o.times("msd")
         msd, se, th = o.msd(), o.msd_se(), o.msd_theory()
+        ths = o.get("msd/msd_theory_sonine")
         lag = o.lags()
         ta, tase, tath = o.tamsd(), o.tamsd_se(), o.tamsd_theory()
         m = o.species("mass")
@@ -280,33 +292,36 @@ def fig5(args, f):
             c = COLORS[k]
             lab = "m_%d = %g%s" % (k + 1, m[k], " (tracer)" if o.species("density")[k] == 0 else "")
             points(axs[0], t, msd[:, k], col(se, k), c, "DSMC, " + lab)
-            axs[0].plot(t, th[:, k], "-", color=c, lw=1.2, label="theory, " + lab)
+            axs[0].plot(t, th[:, k], "-", color=c, lw=1.2, label="Maxwellian theory, " + lab)
             residual(rxs[0], t, msd[:, k], col(se, k), th[:, k], c)
+            sonine_lines(axs[0], rxs[0], t, col(ths, k), th[:, k], c)
             if ta is not None:
                 points(axs[1], lag, ta[:, k], col(tase, k), c, "DSMC, " + lab, "s")
                 if tath is not None:
-                    axs[1].plot(lag, tath[:, k], "-", color=c, lw=1.2, label="theory, " + lab)
+                    axs[1].plot(lag, tath[:, k], "-", color=c, lw=1.2, label="Maxwellian theory, " + lab)
                     residual(rxs[1], lag, ta[:, k], col(tase, k), tath[:, k], c, "s")
         for ax, rx, xl, yl in ((axs[0], rxs[0], "t", "MSD <R_k^2(t)>"), (axs[1], rxs[1], "lag Delta", "TAMSD")):
             ax.set_xscale("log")
             ax.set_yscale("log")
             rx.set_xlabel(xl + " [time]")
             ax.set_ylabel(yl + " [length^2]")
-            ax.legend(fontsize=7, loc="lower right")
+        theory_legend(axs[0], ths is not None)
+        axs[1].legend(fontsize=7, loc="lower right")
         axs[1].set_title("TAMSD, t_meas = %g, %d tracers/species"
                          % (o.attr("t_meas", 0, "tamsd"), o.get("tamsd/tracers")[1]), fontsize=9)
-        fig.suptitle("Bodrova & Osinsky 2024, Fig. 5: tracer limit n_2 = 0, MSD and TAMSD", fontsize=10)
         axs[0].set_title("MSD", fontsize=9)
-        finish(fig, axs[0], o, "fig5.png", args,
-               "n = (0.1, 0), m = (1, 100), T(0) = (1, 412.93), tau0 = %.4g (caption: 11.3). TAMSD "
-               "theory: Eq. 26 on the simulation's sample grid; the TAMSD comes from the tracers of replica 0, "
-               "its error bars from their spread (at the largest lags the gas lies about 2.5 standard "
-               "errors below the theory: the -4 %% of its MSD plus noise that is correlated across lags). " % o.tau0 + THEORY_OFF +
-               "heavy tracers (b > 1 in Eq. 35) are in the ordered phase of Santos and Dufty: "
-               "T_2/T_1 is about 1.53x the Maxwellian value, so the tracers' MSD and TAMSD lie "
-               "above the theory (the difference is physics, not noise). " + MSD_BELOW % MSD_WHY["fig5"] +
-               beyond(t, [msd[:, k] for k in range(o.nspecies)], [col(se, k) for k in range(o.nspecies)],
-                      [th[:, k] for k in range(o.nspecies)], ["MSD m_%d = %g:" % (k + 1, m[k]) for k in range(o.nspecies)]))
+        n = o.nspecies
+        labs = ["MSD m_%d = %g:" % (k + 1, m[k]) for k in range(n)]
+        notes = "tau0 = %.4g. " % o.tau0 + beyond(t, [msd[:, k] for k in range(n)], [col(se, k) for k in range(n)],
+                                                [th[:, k] for k in range(n)], labs, against="the Maxwellian theory")
+        if ths is not None:
+            notes += " " + beyond(t, [msd[:, k] for k in range(n)], [col(se, k) for k in range(n)],
+                                  [ths[:, k] for k in range(n)], labs, against="the Sonine theory")
+        if ta is not None and tath is not None:
+            notes += " TAMSD: " + beyond(lag, [ta[:, k] for k in range(n)], [col(tase, k) for k in range(n)],
+                                         [tath[:, k] for k in range(n)], ["m_%d:" % (k + 1) for k in range(n)],
+                                         xname="lag", against="Eq. 26")
+        finish(fig, o, "fig5.png", args, PAPER + " Fig. 5: tracer limit n_2 = 0, MSD and TAMSD", notes, top=0.87)
 
 
 def fig6(args, f):
@@ -330,7 +345,7 @@ def fig6(args, f):
                                          lab + " (species with >= 100 particles in all replicas)")):
                     lst.append(v)
         if th is not None:
-            ax.plot(k, th[-1], "k-", lw=1, label="theory (Eqs. 14-15)")
+            ax.plot(k, th[-1], "k-", lw=1, label="Maxwellian theory (Eqs. 14-15)")
         ths = lo.T_theory_sonine()
         if ths is not None:
             ax.plot(k, ths[-1], "--", color="C2", lw=1, label="first Sonine theory")
@@ -341,16 +356,9 @@ def fig6(args, f):
         rx.set_xlabel("k = m_k / m_1")
         ax.set_ylabel("T_k(t = %g) [%s]" % (lo.times("temperatures")[-1],
                                              lo.units("temperatures/T")))
-        fig.suptitle("Bodrova & Osinsky 2024, Fig. 6: T_k at t = 100, low-rank and Bird's DSMC", fontsize=10)
         ax.legend(fontsize=8, loc="lower right")
-        finish(fig, ax, lo, "fig6.png", args,
-               "n_k = 0.1 k^-3 (125 species, N_k = round(n_k V)), eps = 0.5, T(0) = 1. Species with "
-               "no particles are left out; the heaviest have few particles, hence the scatter. The "
-               "two selectors agree within noise. " + THEORY_OFF +
-               "temperature ratios by about 1 % (first Sonine correction)." +
-               (" Dashed: the first Sonine theory (temperatures/T_theory_sonine, from a2 = 0 at t = 0; "
-                "lower panel: its shift from the Maxwellian curve)." if lo.T_theory_sonine() is not None else "") +
-               beyond(k.astype(float), *meas, xname="k"))
+        finish(fig, lo, "fig6.png", args, PAPER + " Fig. 6: T_k at t = 100, low-rank and Bird's DSMC",
+               beyond(k.astype(float), *meas, xname="k", against="the Maxwellian theory"))
 
 
 def table1(args, f, walls):
@@ -374,7 +382,7 @@ def table1(args, f, walls):
                          "-" if wall is None else "%.1f" % wall,
                          "%.4g" % (paper[0] * scale), "%.4g" % (paper[1] * scale), "%d" % paper[2]])
             size = size_text(o)
-    fig, ax = plt.subplots(figsize=(10, 3.4))
+    fig, ax = plt.subplots(figsize=(10, 2.6))
     ax.axis("off")
     cols = ["method", "collisions\n(mean of a replica)", "E_kin(t = 100)\n(mean of a replica)", "wall s (here,\nall replicas)",
             "paper collisions\nx N_1/1e6", "paper E_kin\nx N_1/1e6", "paper s\n(their machine)"]
@@ -382,43 +390,29 @@ def table1(args, f, walls):
     tab.auto_set_font_size(False)
     tab.set_fontsize(8)
     tab.scale(1, 2.0)
-    fig.text(0.5, 0.8, size, ha="center", fontsize=8, color="0.25")
-    ax.set_title("Bodrova & Osinsky 2024, Table I: low-rank against Bird's DSMC, n_k = 0.1 k^-3, eps = 0.5, t = 100",
-                 fontsize=10)
-    cap = ("The paper's energy column is corrected: its 1.233e5 is a misprinted exponent "
-           "(E_kin = (1/2) sum m v^2 = 1.233e4 at N_1 = 1e6; physics notes, \"Corrections to the sources\"). Paper values "
-           "are scaled by N_1/1e6 = %g (N_1 of one replica) for comparison; +- is one standard "
-           "error over the replicas. Its run times were measured on the authors' machine, ours "
-           "on a loaded 2-core machine (wall time of `granary run` for all replicas, "
-           "'-' when the figure was only replotted)." % scale)
-    fig.text(0.01, 0.02, "\n".join(textwrap.wrap(cap, 140)), fontsize=7.5, va="bottom")
-    path = os.path.join(args.out, "table1.png")
-    fig.savefig(path, dpi=args.dpi)
-    plt.close(fig)
+    # the paper's E_kin column is corrected (docs/physics.md, Corrections to the sources: its 1.233e5
+    # is a misprinted exponent); paper values scaled by N_1/1e6 of one replica
+    finish(fig, None, "table1.png", args,
+           PAPER + " Table I: low-rank against Bird's DSMC, n_k = 0.1 k^-3, eps = 0.5, t = 100",
+           "Paper values scaled by N_1/1e6 = %g; rows: %s." % (scale, json.dumps(rows)),
+           subtitle=size + "; paper E_kin corrected (1.233e4, not 1.233e5)", top=0.86, bottom=0.02)
     with open(os.path.join(args.out, "table1.json"), "w") as fp:
         json.dump({"columns": cols, "rows": rows}, fp, indent=1)
-    print("figures: wrote %s" % path, flush=True)
 
 
 def fig7(args, f):
     with Output(f["fig7"]) as o:
-        msd_figure(args, o, "fig7.png", "Bodrova & Osinsky 2024, Fig. 7: binary mixture, viscoelastic restitution",
-                   "A kappa^(2/5) = 0.09, m = (1, 100), sigma_2 = 100^(1/3), n_1 = n_2 = 0.1, "
-                   "equipartition at t = 0; ballistic at short times, ~t^(1/6) at long times. " +
-                   THEORY_OFF + "the light species among heavy ones diffuses 10-14 % faster than "
-                   "Eq. 4 predicts (Lorentz-gas ratio 32/(9 pi) = 1.13), visible at long times.")
+        msd_figure(args, o, "fig7.png", PAPER + " Fig. 7: binary mixture, viscoelastic restitution")
 
 
 def fig8(args, f):
     with Output(f["fig8"]) as o:
-        msd_figure(args, o, "fig8.png", "Bodrova & Osinsky 2024, Fig. 8: ternary mixture, viscoelastic restitution",
-                   "A kappa^(2/5) = 0.09, m = (1, 100, 500), sigma_k = m_k^(1/3), n_k = 0.1, "
-                   "equipartition at t = 0. " + THEORY_OFF + "the light species among heavy ones "
-                   "diffuses 10-14 % faster than Eq. 4 predicts (Lorentz-gas ratio 32/(9 pi) = "
-                   "1.13), visible at long times.")
+        msd_figure(args, o, "fig8.png", PAPER + " Fig. 8: ternary mixture, viscoelastic restitution")
 
 
 def draw(args, fig, walls):
+    if fig in outline_figures.SCENES:
+        return outline_figures.draw(args, fig, walls)
     files = {name: run_scene(args, name, walls) for name in SCENES[fig]}
     if fig == "table1":
         table1(args, files, walls)

@@ -1,9 +1,11 @@
 #!/usr/bin/python3
-"""Regenerate the GSRD figures of Zantop (2017) as PNG files (`make figures`).
+"""Regenerate the GSRD figures of Zantop's thesis (2017) as PNG (300 dpi) and PDF files (`make figures`).
 
 Each figure runs the scenes of scenes/srd/ with `granary run` (reduced sizes, stated in each scene
 file; every scene takes seconds), reads the HDF5 output through granary_h5 only, and draws GSRD
-(symbols) with the theory the run wrote or a relation that must hold (lines):
+(symbols) with the theory the run wrote or a relation that must hold (lines). The image carries
+a title and a one-line subtitle; the caption is the paragraph of docs/validation.md, the numbers
+measured from the run go to NAME.txt beside the image:
 
   srd-haff        Fig. 3.5   T(t) of the homogeneous cooling gas beside Haff's law (Eq. 2.1 rate)
   srd-clustering  Fig. 3.12  E_kin, T, Mach number and sigma(rho) through the onset of clustering
@@ -22,7 +24,6 @@ file; every scene takes seconds), reads the HDF5 output through granary_h5 only,
 
 import os
 import sys
-import textwrap
 
 import matplotlib
 matplotlib.use("Agg")
@@ -32,7 +33,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from granary_h5 import Output  # noqa: E402
 import figure_driver  # noqa: E402
-from figure_driver import run_granary  # noqa: E402
+from figure_driver import head, run_granary, save  # noqa: E402
 
 A2_EFF = ["0.900", "0.935", "0.960", "0.980"]
 VISC_2D = [30, 45, 60, 90, 120, 150]
@@ -67,16 +68,16 @@ def size_text(o):
     return s
 
 
-def finish(fig, o, fname, args, caption, top=0.86, size=None):
-    fig.text(0.5, 0.935, size or size_text(o), ha="center", va="top", fontsize=8, color="0.25")
-    text = "\n".join(textwrap.wrap(caption, 125))
-    fig.text(0.01, 0.01, text, fontsize=7.5, va="bottom", ha="left")
-    nlines = text.count("\n") + 1
-    fig.subplots_adjust(bottom=0.1 + 0.03 * nlines, top=top, wspace=0.3, hspace=0.35)
-    path = os.path.join(args.out, fname)
-    fig.savefig(path, dpi=args.dpi)
-    plt.close(fig)
-    print("figures: wrote %s" % path, flush=True)
+def finish(fig, o, fname, args, notes, top=0.86, size=None, bottom=0.1):
+    """The one-line subtitle under the title (set by the caller with fig.suptitle), no caption in
+    the image (it is the paragraph of docs/validation.md); the measured notes go to NAME.txt."""
+    sup = getattr(fig, "_suptitle", None)  # the title the caller set
+    if sup is not None:
+        sup.set_y(0.99)
+        sup.set_va("top")
+    head(fig, None, size or size_text(o), top, bottom, titled_axes=True)
+    fig.subplots_adjust(wspace=0.3, hspace=0.35)
+    save(fig, args, fname, notes)
 
 
 def pts(ax, x, y, se, color, label, marker="o"):
@@ -108,10 +109,8 @@ def srd_haff(args, f):
         dev = 100 * (T[-1] / th[-1] - 1)
         fig.suptitle("Haff's law of the homogeneous cooling GSRD gas (thesis Fig. 3.5, reduced)", fontsize=10)
         finish(fig, o, "srd-haff.png", args,
-               "T falls by %.1f decades; at the end it lies %+.1f %% from the mean-field Haff law "
-               "(the rate uses the cell density n0 and T, not the Poisson occupancy and the (n - 1)/n of the cell "
-               "temperature; the thesis fits the rate). Right: sqrt(T(0)/T) is linear in t as Haff's law says."
-               % (np.log10(T[0] / T[-1]), dev))
+               "T falls by %.1f decades; at the end it lies %+.1f %% from the mean-field Haff law (1/tau = %.4g)."
+               % (np.log10(T[0] / T[-1]), dev, rate))
 
 
 def srd_clustering(args, f):
@@ -166,22 +165,22 @@ def srd_clustering(args, f):
         fig.suptitle("Onset of clustering at eps = 0.98 (thesis Fig. 3.12, reduced)", fontsize=10)
         grow = sr[-1] / sr[0]
         finish(fig, o, "srd-clustering.png", args,
-               "While the gas cools homogeneously the Mach number stays near its noise level (cell means of n0 "
-               "particles) and T follows Haff's law; Mach crosses one at t = %s (dotted line), E_kin overtakes theta, "
-               "T (global, with the flow) leaves Haff's law and sigma(rho) grows %.1f-fold by the end: the inhomogeneous cooling state. "
-               "The thesis sees the transition after about 3e3 steps in a 120^3 box at n0 = 25." %
-               ("%g" % tc if tc is not None else "(not reached)", grow), top=0.9)
+               "Mach crosses one at t = %s; sigma(rho) grows %.1f-fold by t = %g; at the end T/Haff = %.3g, "
+               "E_kin/theta = %.3g." % ("%g" % tc if tc is not None else "(not reached)", grow, t[-1],
+                                       T[-1] / Tt[-1] if Tt is not None else float("nan"), Ek[-1] / th[-1]),
+               top=0.88, bottom=0.07)
 
 
 def srd_a2(args, f):
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
     o0 = None
-    mins = []
+    mins, epss = [], []
     for k, e in enumerate(A2_EFF):
         o = Output(f["a2-eff" + e])
         t, a2 = o.times("sonine_a2"), o.get("sonine_a2/a2")
         t = t / o.attr("dt", 1.0, "srd")  # steps, as the thesis' axis (t in units of dt)
         mins.append("%s: %.3f at %g steps" % (e, a2.min(), t[np.argmin(a2)]))
+        epss.append(o.attr("eps", 1, "srd"))
         ax.plot(t, a2, "o-", ms=3, mfc="none", color="C%d" % k, label="eps_eff(t0) = %s (eps = %.6g)" % (e, o.attr("eps", 1, "srd")))
         if o0 is None:
             o0 = o
@@ -193,14 +192,12 @@ def srd_a2(args, f):
     ax.set_ylabel("a2 (thermal velocities v - V_cell)")
     ax.legend(fontsize=7.5)
     fig.suptitle("Second Sonine coefficient of the freely cooling GSRD gas (thesis Fig. 3.15, reduced)", fontsize=10)
-    finish(fig, o0, "srd-a2.png", args,
-           "a2 first decreases (0.900 barely), then returns towards zero, as in the thesis (minima near 500 steps there). "
-           "Minima (eps_eff(t0): a2): %s. As in "
-           "the thesis, the minima are lower for higher eps_eff(t0), and the strongly dissipating runs turn positive "
-           "later. The scenes keep the thesis' n0 = 25, T0 = 100, dt = 0.01 (streaming length dt sqrt(T0) = 0.1 a); "
-           "with dt sqrt(T0) = a the order reverses (README, GSRD Sonine a2). a2 is that of the thermal velocities, "
-           "corrected for the cell-mean subtraction (0 for a Maxwellian). No theory is drawn (physics notes, \"Oracles for tests\": GSRD "
-           "a2 is an observable, not a test). eps differs between the four runs, the line above names the first." % "; ".join(mins))
+    d = int(o0.attr("dimension", 3))
+    cells = o0.get("srd/cells")
+    size = "GSRD %d-D, %s cells, N = %d, dt = %g, eps = %s, one run each" % (
+        d, "^".join(["%d" % cells[0], "%d" % d]) if len(set(cells[:d])) == 1 else " x ".join("%d" % c for c in cells[:d]),
+        o0.attr("N", 0, "srd"), o0.attr("dt", 0, "srd"), ", ".join("%.4g" % e for e in epss))
+    finish(fig, o0, "srd-a2.png", args, "Minima (eps_eff(t0): a2): %s." % "; ".join(mins), size=size)
     o0.close()
 
 
@@ -245,11 +242,8 @@ def srd_bed(args, f):
         dev = np.median(np.abs(p_y[good] / hydro[good] - 1)) * 100 if good.any() else float("nan")
         fig.suptitle("Vibrated granular bed under gravity (thesis Ch. 5, reduced)", fontsize=10)
         finish(fig, o, "srd-bed.png", args,
-               "Averages over %d snapshots of the second half of the run. The ideal SRD gas in steady state "
-               "carries its weight: n theta = g x (particles above y) per unit length; in the lower half of the bed "
-               "the median deviation is %.0f %% (the thermal pressure leaves out the momentum flux of the mean flow "
-               "the wall drives, and theta of sparsely filled cells is biased low at the top)." % (len(use), dev),
-               top=0.8)
+               "Averages over %d snapshots of the second half of the run; n theta against g x (particles above y) / L_x "
+               "in the lower half of the bed: median deviation %.0f %%." % (len(use), dev), top=0.8)
 
 
 # ---- viscosity (Figs. 3.2, 3.3, 3.6) ------------------------------------------------------------------
@@ -323,10 +317,9 @@ def visc_figure(args, rows, dim, fname, fig_no, eq, kinetic, theory_pts, extra_c
     cells = o.get("srd/cells")
     size = "%s %d-D, %s cells, n0 = %g, dt = %g, eps = %g, %d scenes (one per alpha), error bars: 1 s.e." % (
         who, dim, " x ".join("%d" % c for c in cells[:dim]), M, o.attr("dt", 0, "srd"), o.attr("eps", 1, "srd"), len(rows))
-    finish(fig, o, fname, args, size=size, caption=
-           "Symbols: nu = Lees-Edwards stress / (n0 shear rate), mean and standard error of %d output intervals "
-           "after the start-up. alpha: measured +- s.e. (theory): %s. %s" % (rows[0]["nblk"], tab, extra_caption),
-           top=0.9)
+    finish(fig, o, fname, args, size=size, top=0.9, bottom=0.08, notes=
+           "nu from %d output intervals after the start-up. alpha: measured +- s.e. (theory): %s. %s"
+           % (rows[0]["nblk"], tab, extra_caption))
     for r in rows:
         r["o"].close()
 
@@ -335,15 +328,14 @@ def srd_viscosity_2d(args, f):
     rows = visc_runs(f, ["viscosity-2d-a%03d" % a for a in VISC_2D], 2)
     th = [nu_kinetic(2, r["n0"], r["alpha"]) + nu_collisional(2, r["n0"], r["alpha"]) for r in rows]
     visc_figure(args, rows, 2, "srd-viscosity-2d.png", "3.2", "Eq. 1.48", lambda a: nu_kinetic(2, rows[0]["n0"], a), th,
-                "8 x 8 cells on purpose: the 2-D viscosity grows with the box (hydrodynamic long-time tails, which Eq. 1.48 "
-                "leaves out). Global thermostat at kT = 1; shear rate min(0.1, 0.05 / nu).")
+                "")
 
 
 def srd_viscosity_3d(args, f):
     rows = visc_runs(f, ["viscosity-3d-a%03d" % a for a in VISC_3D], 2)
     th = [nu_kinetic(3, r["n0"], r["alpha"]) + nu_collisional(3, r["n0"], r["alpha"]) for r in rows]
     visc_figure(args, rows, 3, "srd-viscosity-3d.png", "3.3", "Eq. 1.49", lambda a: nu_kinetic(3, rows[0]["n0"], a), th,
-                "Global thermostat at kT = 1; shear rate min(0.05, 0.05 / nu).")
+                "")
 
 
 def srd_viscosity_gsrd(args, f):
@@ -362,11 +354,8 @@ def srd_viscosity_gsrd(args, f):
     fig_kappa = float(np.mean(kap)) / rows[0]["n0"]
     visc_figure(args, rows, 2, "srd-viscosity-gsrd.png", "3.6", "Eq. 2.55",
                 lambda a: nu_eq255(rows[0]["n0"], a, fig_theta, fig_kappa), th,
-                "GSRD, eps = 0.9, no thermostat: the shear heating balances the dissipation; the lines are drawn at the "
-                "mean theta = %.3f and mean kappa, the lower panel compares each run with Eq. 2.55 + collisional at its own steady "
-                "theta (%.3f-%.3f, theta_cells corrected for n - 1) and kappa (Eq. 2.53; n0 kappa = %.1e-%.1e, "
-                "eps_eff = 1 - n0 kappa >= 0.998 as in the thesis; there Eq. 2.55 differs from Eq. 1.48 at the same theta by "
-                "%.2f %% at most). 8 x 8 cells, sigma and shear rate chosen per angle (scene files)."
+                "Lines at the mean theta = %.3f and mean kappa; steady theta %.3f-%.3f, n0 kappa = %.1e-%.1e; Eq. 2.55 "
+                "differs from Eq. 1.48 at the same theta by %.2f %% at most."
                 % (fig_theta, thetas.min(), thetas.max(), min(kap), max(kap), dmax), who="GSRD")
 
 
