@@ -10,7 +10,7 @@ and fragmentation), drawn by `make figures` through make_figures.py (--only outl
                         n_k(t) and the cluster-size distribution against the Smoluchowski equations
   outline-agg-frag      the aggregation-fragmentation steady state under the white-noise thermostat
 
-Scenes: scenes/seed002/NAME.toml; with --quick scenes/quick/outline-NAME.toml where that exists
+Scenes: scenes/outline/NAME.toml; with --quick scenes/quick/outline-NAME.toml where that exists
 (the N = 1e5 gas and the steady state to shorter times), else the full scene (they take seconds).
 """
 
@@ -37,7 +37,7 @@ def scene_path(name, quick):
     q = "scenes/quick/outline-%s.toml" % name
     if quick and os.path.exists(q):
         return q
-    return "scenes/seed002/%s.toml" % name
+    return "scenes/outline/%s.toml" % name
 
 
 def run_scene(args, name, walls):

@@ -132,10 +132,10 @@ static void test_aggregation_driver(void **state) {
   agg_case("lowrank", "[aggregation]\ne_agg = 1.0\ne_frag = 3.0\neps_f = 0.7\nfrag_law = \"binary\"\n");
 }
 
-static void test_aggregation_seed002(void **state) {
+static void test_aggregation_outline(void **state) {
   (void)state;
   char args[1024];
-  snprintf(args, sizeof args, "%s/scenes/seed002/aggregation.toml --times 60", gran_test_source_dir());
+  snprintf(args, sizeof args, "%s/scenes/outline/aggregation.toml --times 60", gran_test_source_dir());
   jv root;
   theory_json(args, &root);
   /* the Smoluchowski kinetics: T_1(60) = 0.9338 (the cooling mixture of fixed species: 0.777) */
@@ -377,7 +377,7 @@ int main(void) {
   io_tmp("t646");
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_aggregation_driver), cmocka_unit_test(test_aggregation_seed002),
+      cmocka_unit_test(test_aggregation_driver), cmocka_unit_test(test_aggregation_outline),
       cmocka_unit_test(test_gsrd_haff),          cmocka_unit_test(test_gsrd_viscosity),
       cmocka_unit_test(test_no_theory),
   };

@@ -1,4 +1,4 @@
-/* t525-seed002-scenes.c - the scenes of scenes/seed002 (the DSMC outline's Figs. 1-6, aggregation in
+/* t525-outline-scenes.c - the scenes of scenes/outline (the DSMC outline's Figs. 1-6, aggregation in
  * the cell and the low-rank selectors, an aggregation-fragmentation steady state) load, build their
  * mixture and engine and advance; Figs. 1-2 (N = 2000) run through the driver to the end: T(t) within
  * 4 standard errors (sqrt(2/(3N)) T) plus 1 % (a2 and the sample's initial temperature) of the theory
@@ -11,7 +11,7 @@
 static void test_load_all(void **state) {
   (void)state;
   char dir[1024];
-  snprintf(dir, sizeof dir, "%s/scenes/seed002", gran_test_source_dir());
+  snprintf(dir, sizeof dir, "%s/scenes/outline", gran_test_source_dir());
   DIR *d = opendir(dir);
   assert_non_null(d);
   struct dirent *e;
@@ -54,7 +54,7 @@ static void test_load_all(void **state) {
 static void test_fig1_2(void **state) {
   (void)state;
   char path[2048], out[600];
-  snprintf(path, sizeof path, "%s/scenes/seed002/fig1-2.toml", gran_test_source_dir());
+  snprintf(path, sizeof path, "%s/scenes/outline/fig1-2.toml", gran_test_source_dir());
   snprintf(out, sizeof out, "%s", io_path("fig1-2.h5"));
   gran_scene *s = NULL;
   GRAN_ASSERT_OK(gran_scene_load(path, &s));
@@ -86,7 +86,7 @@ int main(void) {
       cmocka_unit_test(test_load_all),
       cmocka_unit_test(test_fig1_2),
   };
-  int rc = cmocka_run_group_tests_name("t525-seed002-scenes", tests, NULL, NULL);
+  int rc = cmocka_run_group_tests_name("t525-outline-scenes", tests, NULL, NULL);
   io_tmp_cleanup();
   return rc;
 }
