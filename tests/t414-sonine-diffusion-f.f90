@@ -2,7 +2,8 @@
 ! (bindings/granary.f90): gran_theory_diffusion_approx (elastic hard spheres: D2/D1 = 59/58),
 ! gran_theory_msd_hcs_approx and gran_theory_msd_approx (the closed form equals Eq. 4 from the HCS;
 ! the Maxwellian level equals gran_theory_msd_hcs), gran_theory_tamsd_approx (lag -> t_meas gives
-! the MSD; Maxwellian = gran_theory_tamsd) and a refusal.
+! the MSD; Maxwellian = gran_theory_tamsd), gran_theory_msd_sonine (from the Sonine HCS the closed
+! form) and refusals.
 ! Prints what it checks (tests/granary_test_f.f90); error stop 1 on failure.
 program t414_sonine_diffusion_f
   use, intrinsic :: iso_c_binding
@@ -43,6 +44,14 @@ program t414_sonine_diffusion_f
   call expect(all(ta == tb), 'TAMSD: Maxwellian level = gran_theory_tamsd')
   call gran_theory_msd_hcs_approx(mix, 4, t0, a2, tau0, t, mc, ierr=ierr)
   call expect(ierr == GRAN_ERR_ARG, 'approximation = 4 refused (GRAN_ERR_ARG)')
+  call gran_theory_hcs_approx(mix, int(GRAN_THEORY_SONINE), int(GRAN_HCS_NORM_MEAN), 1.0_c_double, t0, a2, tau0)
+  call gran_theory_msd_hcs_approx(mix, int(GRAN_THEORY_SONINE), t0, a2, tau0, t, mc)
+  call gran_theory_msd_sonine(mix, t0, t, 1e-9_c_double, md, a20=a2, correlation_a2=.true.)
+  call expect(all(abs(md / mc - 1) < 1e-6_c_double), 'gran_theory_msd_sonine from the Sonine HCS = the closed form')
+  call gran_theory_msd_sonine(mix, t0, t, 1e-9_c_double, ma, a20=a2)
+  call expect(all(abs(ma / md - 1) > 1e-4_c_double), 'gran_theory_msd_sonine: a2 out of the correlation changes it')
+  call gran_theory_msd_sonine(mix, t0, t, 1e-9_c_double, md, a20=[0.5_c_double, 1.5_c_double], ierr=ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'gran_theory_msd_sonine: a20 = 1.5 refused (GRAN_ERR_ARG)')
   call gran_mixture_destroy(mix)
 
   call test_finish('t414-sonine-diffusion-f')

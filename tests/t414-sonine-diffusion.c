@@ -3,7 +3,9 @@
  * D2/D1 = 59/58, a light tracer in a heavy elastic gas (sympy value), a tracer identical to the
  * gas equals the gas, the inelastic D2/D1 of one species, the HCS closed form against Eq. 4 in the
  * Sonine approximation, the TAMSD's limits, the Maxwellian level unchanged, the Fig. 3 set-up below the Maxwellian
- * level as granary's DSMC (docs/physics-sonine.md Sec. 5), and bad input refused. */
+ * level as granary's DSMC (docs/physics-sonine.md Sec. 5), Eq. 4 on the first Sonine trajectory
+ * (gran_theory_msd_sonine: from the Sonine HCS the closed form; elastic the Maxwellian trajectory),
+ * and bad input refused. */
 #include "granary_test.h"
 
 static double d_ratio(gran_mixture *mix, const double *T, int64_t k) {
@@ -96,7 +98,68 @@ static void test_msd(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* gran_theory_msd_sonine: Eq. 4 on the first Sonine trajectory, the modes at T(t1) with the Sonine
+ * zeta_k(t1) and (correlation_a2 = 1) a2_k(t1) */
+static void test_msd_sonine(void **state) {
+  (void)state;
+  const double m[3] = {1, 100, 500}, s[3] = {1, cbrt(100.0), cbrt(500.0)}, n[3] = {0.1, 0.1, 0.1};
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(3, m, s, n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.5));
+  const double t[3] = {10, 100, 1000};
+  double TS[3], a2[3], taus, c[9], d[9], e[9];
+  /* from the Sonine HCS with a2 in the correlation: the closed form of gran_theory_msd_hcs_approx */
+  GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_MEAN, 1.0, TS, a2, &taus));
+  GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, TS, a2, taus, 3, t, c, NULL));
+  GRAN_ASSERT_OK(gran_theory_msd_sonine(mix, TS, a2, 1, 3, t, 1e-9, d, NULL));
+  for (int j = 0; j < 9; j++) GRAN_ASSERT_REL(d[j], c[j], 1e-6);
+  /* from the Sonine HCS, either flag: at late times MSD_k grows as 6 D_k tau0 log(1 + t/tau0) with
+   * D_k = gran_theory_diffusion_approx at (TS, zeta = 2/tau0, a2 or 0) */
+  {
+    const double tl[2] = {1e6, 1e7};
+    const double zeta[3] = {2 / taus, 2 / taus, 2 / taus};
+    for (int flag = 0; flag < 2; flag++) {
+      double ml[6], D[3];
+      GRAN_ASSERT_OK(gran_theory_msd_sonine(mix, TS, a2, flag, 2, tl, 1e-9, ml, NULL));
+      GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, TS, flag ? a2 : NULL, zeta, D));
+      for (int k = 0; k < 3; k++)
+        GRAN_ASSERT_REL(ml[3 + k] - ml[k], 6 * D[k] * taus * (log1p(tl[1] / taus) - log1p(tl[0] / taus)), 1e-6);
+    }
+  }
+  /* from the Maxwellian HCS with a2 = 0 the trajectory relaxes to the Sonine HCS (T_k/T_1 +1.1 and
+   * +1.5 %): the heavy species move further relative to the light one than with the Maxwellian T_k(t) */
+  double T0[3], tau0;
+  GRAN_ASSERT_OK(gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T0, &tau0));
+  GRAN_ASSERT_OK(gran_theory_msd_approx(mix, GRAN_THEORY_SONINE, T0, 3, t, 1e-9, c, NULL));
+  GRAN_ASSERT_OK(gran_theory_msd_sonine(mix, T0, NULL, 0, 3, t, 1e-9, d, NULL));
+  for (int k = 1; k < 3; k++) assert_true(d[6 + k] / d[6] > c[6 + k] / c[6]);
+  const double zero[3] = {0, 0, 0};
+  GRAN_ASSERT_OK(gran_theory_msd_sonine(mix, T0, zero, 0, 3, t, 1e-9, e, NULL));
+  for (int j = 0; j < 9; j++) assert_true(e[j] == d[j]); /* a20 = NULL means 0 */
+  /* bad input */
+  const double bad[3] = {0.1, -1.0, 0};
+  assert_int_equal(gran_theory_msd_sonine(mix, T0, bad, 0, 3, t, 1e-9, d, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "a20"));
+  assert_int_equal(gran_theory_msd_sonine(mix, T0, NULL, 2, 3, t, 1e-9, d, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "correlation_a2"));
+  assert_int_equal(gran_theory_msd_sonine(mix, T0, NULL, 0, 3, t, 0.5, d, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "rtol"));
+  assert_int_equal(gran_theory_msd_sonine(mix, NULL, NULL, 0, 3, t, 1e-9, d, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 0.1));
+  assert_int_equal(gran_theory_msd_sonine(mix, T0, NULL, 0, 3, t, 1e-9, d, NULL), GRAN_ERR_DOMAIN);
+  assert_non_null(strstr(gran_last_error_message(), "viscoelastic"));
+  gran_mixture_destroy(&mix);
+  /* elastic at equipartition: the Sonine trajectory is the Maxwellian one (a2 = 0, zeta = xi = 0) */
+  GRAN_ASSERT_OK(gran_mixture_create(3, m, s, n, &mix));
+  const double Te[3] = {1, 1, 1};
+  GRAN_ASSERT_OK(gran_theory_msd_approx(mix, GRAN_THEORY_SONINE, Te, 3, t, 1e-9, c, NULL));
+  GRAN_ASSERT_OK(gran_theory_msd_sonine(mix, Te, NULL, 1, 3, t, 1e-9, d, NULL));
+  for (int j = 0; j < 9; j++) GRAN_ASSERT_REL(d[j], c[j], 1e-7);
+  gran_mixture_destroy(&mix);
+}
+
 int main(void) {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(test_limits), cmocka_unit_test(test_msd)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_limits), cmocka_unit_test(test_msd),
+                                     cmocka_unit_test(test_msd_sonine)};
   return cmocka_run_group_tests_name("t414-sonine-diffusion", tests, NULL, NULL);
 }

@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <string>
 
 namespace gran {
 
@@ -73,6 +74,11 @@ void total(const gran_mixture *mix, int64_t ntimes, const double *msd, double *m
 }
 
 /* ---- Eq. 4 ---------------------------------------------------------------------------------- */
+/* Eq. 4 levels: the Maxwellian tau_v,k; the two-moment correlation (sonine_modes) at the Maxwellian
+ * T(t1) with xi_k and a2 = 0; the first Sonine trajectory (z, u, a2) with the modes at T(t1) and
+ * the Sonine zeta_k(t1) (the scaling term -(1/2) dlog T_k/dt of that trajectory), a2_k(t1) in m(0)
+ * when correlation_a2. */
+enum { EQ4_MAXWELL = 0, EQ4_MODES = 1, EQ4_SONINE = 2 };
 struct Eq4 {
   const Traj *tr;
   const gran_mixture *mix;
@@ -80,7 +86,10 @@ struct Eq4 {
   double Ut; /* u_k at the output time */
   std::vector<double> T;
   int status;
-  bool modes = false; /* the two-moment correlation (sonine_modes) instead of one tau_v */
+  int mode = EQ4_MAXWELL;
+  std::vector<double> a2;      /* EQ4_SONINE: a2_i(t1) */
+  bool correlation_a2 = false; /* EQ4_SONINE: a2_k(t1) in the correlation's m(0) */
+  std::string message;         /* of the first failure of sonine_modes */
 };
 
 /* x(s1) and the integrand at s1 */
@@ -91,10 +100,17 @@ double eq4_x(Eq4 *c, double s1, double *val) {
     c->T[(size_t)i] = tr.T0[(size_t)i] * std::exp(traj_eval_at(tr, j, s1, (int)i) - 2.0 * s1);
   const double yk = traj_eval_at(tr, j, s1, (int)c->k) - 2.0 * s1; /* log(T_k/T_k(0)) */
   const double uk = traj_eval_at(tr, j, s1, (int)(tr.M + c->k));
-  if (c->modes) {
+  if (c->mode != EQ4_MAXWELL) {
     cd lam[2], cw[2];
-    const int st = sonine_modes(c->mix, c->T.data(), c->k, NAN, 0.0, lam, cw);
+    double zk = NAN, a2k = 0.0;
+    if (c->mode == EQ4_SONINE) {
+      for (int64_t i = 0; i < tr.M; i++) c->a2[(size_t)i] = traj_eval_at(tr, j, s1, (int)(2 * tr.M + i));
+      zk = sonine_zeta_one(c->mix, c->T.data(), c->a2.data(), c->k);
+      if (c->correlation_a2) a2k = c->a2[(size_t)c->k];
+    }
+    const int st = sonine_modes(c->mix, c->T.data(), c->k, zk, a2k, lam, cw);
     if (st) {
+      if (!c->status) c->message = gran_last_error_message(); /* before the quadrature reports its own */
       c->status = st;
       if (val) *val = NAN;
       return NAN;
@@ -111,6 +127,7 @@ double eq4_x(Eq4 *c, double s1, double *val) {
   double itv = 0.0;
   const int st = inv_tau_v_one(c->mix, c->T.data(), c->k, &itv);
   if (st) {
+    if (!c->status) c->message = gran_last_error_message();
     c->status = st;
     if (val) *val = NAN;
     return NAN;
@@ -228,12 +245,12 @@ GRAN_EXTERN int gran_theory_msd_mono(const gran_mixture *mix, double T1, int64_t
  */
 namespace {
 int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t, double rtol, double *msd,
-            double *msd_total, bool modes);
+            double *msd_total, int mode, const double *a20, bool correlation_a2);
 }
 
 GRAN_EXTERN int gran_theory_msd(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t,
                                 double rtol, double *msd, double *msd_total) {
-  return msd_eq4(mix, T0, ntimes, t, rtol, msd, msd_total, false);
+  return msd_eq4(mix, T0, ntimes, t, rtol, msd, msd_total, EQ4_MAXWELL, nullptr, false);
 }
 
 /**
@@ -251,14 +268,43 @@ GRAN_EXTERN int gran_theory_msd_approx(const gran_mixture *mix, int approximatio
                GRAN_ERR_DOMAIN,
                "mixture 'mix' has viscoelastic restitution: the Sonine MSD is implemented for constant or matrix "
                "restitution only");
-    return msd_eq4(mix, T0, ntimes, t, rtol, msd, msd_total, approximation == GRAN_THEORY_SONINE);
+    return msd_eq4(mix, T0, ntimes, t, rtol, msd, msd_total,
+                   approximation == GRAN_THEORY_SONINE ? EQ4_MODES : EQ4_MAXWELL, nullptr, false);
+  }
+  GRAN_CATCH
+}
+
+/**
+ * @brief MSD by Eq. 4 on the first Sonine trajectory: T_k(t) and a2_k(t) from (T0, a20) as
+ * gran_theory_temperatures_approx, the two-moment correlation at T(t1) with the Sonine zeta_k(t1)
+ * and, when correlation_a2 = 1, a2_k(t1) in its initial fourth moment (0: a2 = 0 there, the
+ * collision integrals of the correlation having Maxwellian partners in either case). From a Sonine
+ * HCS with correlation_a2 = 1 it equals gran_theory_msd_hcs_approx.
+ * @param[in] a20 M start values, |a2_k| < 1 (NULL: 0, a Maxwellian start)
+ * @param[in] correlation_a2 0 or 1
+ */
+GRAN_EXTERN int gran_theory_msd_sonine(const gran_mixture *mix, const double *T0, const double *a20,
+                                       int correlation_a2, int64_t ntimes, const double *t, double rtol, double *msd,
+                                       double *msd_total) {
+  GRAN_TRY {
+    GRAN_CALL(check_mixture(mix, "mix"));
+    GRAN_CHECK(correlation_a2 == 0 || correlation_a2 == 1, GRAN_ERR_ARG,
+               "argument 'correlation_a2' = %d must be 0 or 1", correlation_a2);
+    GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
+               "mixture 'mix' has viscoelastic restitution: the Sonine MSD is implemented for constant or matrix "
+               "restitution only");
+    if (a20)
+      for (int64_t k = 0; k < mix->M; k++)
+        GRAN_CHECK(std::isfinite(a20[k]) && std::fabs(a20[k]) < 1.0, GRAN_ERR_ARG,
+                   "argument 'a20'[%" PRId64 "] = %g: the first Sonine approximation needs |a2| < 1", k, a20[k]);
+    return msd_eq4(mix, T0, ntimes, t, rtol, msd, msd_total, EQ4_SONINE, a20, correlation_a2 == 1);
   }
   GRAN_CATCH
 }
 
 namespace {
 int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t, double rtol, double *msd,
-            double *msd_total, bool modes) {
+            double *msd_total, int mode, const double *a20, bool correlation_a2) {
   GRAN_TRY {
     gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
@@ -270,7 +316,16 @@ int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const dou
     GRAN_CHECK_PTR(msd);
     const int64_t M = mix->M;
     Traj tr;
-    GRAN_CALL(traj_init(tr, mix, T0, true));
+    if (mode == EQ4_SONINE) { /* the time scale of traj_init: the shortest collision time at T0 */
+      std::vector<double> nu((size_t)M);
+      collision_scale(mix, T0, nu.data());
+      const double numax = *std::max_element(nu.begin(), nu.end());
+      GRAN_CHECK(numax > 0.0 && std::isfinite(numax), GRAN_ERR_NUMERIC,
+                 "collision frequencies at T0 are not finite and positive");
+      tr.ts = 1.0 / numax;
+    } else {
+      GRAN_CALL(traj_init(tr, mix, T0, true));
+    }
     double smax = 0.0;
     for (int64_t j = 0; j < ntimes; j++) smax = std::max(smax, traj_s_of_t(tr, t[j]));
     /* step cap: cubic Hermite error ~ h^4/384 |y''''|; keep it ~ rtol/10 */
@@ -282,10 +337,12 @@ int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const dou
                        maxnodes, M, hmax);
     }
     const double ode_rtol = std::max(1e-14, 0.1 * rtol);
-    GRAN_CALL(traj_run(tr, 0, nullptr, nullptr, ode_rtol, true, hmax, smax));
+    if (mode == EQ4_SONINE) GRAN_CALL(sonine_traj_dense(tr, mix, T0, a20, tr.ts, ode_rtol, hmax, smax));
+    else GRAN_CALL(traj_run(tr, 0, nullptr, nullptr, ode_rtol, true, hmax, smax));
     gsl_integration_workspace *w = gsl_integration_workspace_alloc(2000);
     GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
-    Eq4 c{&tr, mix, 0, 0.0, std::vector<double>((size_t)M), 0, modes};
+    Eq4 c{&tr, mix, 0, 0.0, std::vector<double>((size_t)M), 0, mode, std::vector<double>((size_t)M, 0.0),
+          correlation_a2, std::string()};
     gsl_function F{eq4_integrand, &c};
     int ret = GRAN_SUCCESS;
     for (int64_t j = 0; j < ntimes && ret == GRAN_SUCCESS; j++) {
@@ -311,8 +368,8 @@ int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const dou
         }
         double r1 = 0.0, r2 = 0.0;
         ret = qag(&F, 0.0, sc, rtol, w, &r1);
-        if (ret == GRAN_SUCCESS) ret = qag(&F, sc, s, rtol, w, &r2);
-        if (ret == GRAN_SUCCESS && c.status) ret = c.status;
+        if (ret == GRAN_SUCCESS && !c.status) ret = qag(&F, sc, s, rtol, w, &r2);
+        if (c.status) ret = GRAN_ERROR(c.status, "%s (Eq. 4 at t = %g)", c.message.c_str(), t[j]);
         msd[j * M + k] = 6.0 * (r1 + r2);
         if (ret == GRAN_SUCCESS && !std::isfinite(msd[j * M + k]))
           ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "Eq. 4: non-finite MSD for species %" PRId64 " at t = %g", k, t[j]);

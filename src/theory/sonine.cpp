@@ -803,6 +803,28 @@ int traj_rhs(double s, const double y[], double f[], void *params) {
   return GSL_SUCCESS;
 }
 
+/* Dense trajectory for Eq. 4 at the first Sonine level: y = (z_k, u_k, a2_k), dim 3M, with
+ * u_k = int_0^t sqrt(T_k/T0_k) dt' (du_k/ds = ts exp(z_k/2)), the layout of Traj with_u plus a2. */
+int dense_rhs(double s, const double y[], double f[], void *params) {
+  STraj *tr = static_cast<STraj *>(params);
+  const int64_t M = tr->M;
+  for (int64_t k = 0; k < M; k++) {
+    if (!std::isfinite(y[k]) || !std::isfinite(y[2 * M + k])) return GSL_EBADFUNC;
+    tr->T[(size_t)k] = tr->T0[(size_t)k] * std::exp(y[k] - 2.0 * s);
+    tr->a2[(size_t)k] = y[2 * M + k];
+  }
+  spass(tr->mix, tr->T.data(), tr->a2.data(), tr->P);
+  const double g = tr->ts * std::exp(s);
+  for (int64_t k = 0; k < M; k++) {
+    const double z = tr->P.z0[(size_t)k] + tr->P.z1[(size_t)k], ph = tr->P.phi[(size_t)k];
+    if (!std::isfinite(z) || !std::isfinite(ph)) return GSL_EBADFUNC;
+    f[k] = 2.0 - g * z;
+    f[M + k] = tr->ts * std::exp(0.5 * y[k]);
+    f[2 * M + k] = g * ph;
+  }
+  return GSL_SUCCESS;
+}
+
 } // namespace
 
 /**
@@ -978,3 +1000,92 @@ GRAN_EXTERN int gran_theory_temperatures_approx(const gran_mixture *mix, int app
   }
   GRAN_CATCH
 }
+
+namespace gran {
+
+double sonine_zeta_one(const gran_mixture *mix, const double *T, const double *a2, int64_t k) {
+  const int64_t M = mix->M;
+  const double mk = mix->m[(size_t)k], Tk = T[k], ak = Tk / mk, sk = mix->sigma[(size_t)k];
+  double z = 0.0;
+  for (int64_t i = 0; i < M; i++) {
+    const double ni = mix->n[(size_t)i];
+    if (ni == 0.0) continue;
+    const double mi = mix->m[(size_t)i], Ti = T[i], ai = Ti / mi, sg = 0.5 * (sk + mix->sigma[(size_t)i]);
+    const double eps = mix_eps(mix, k, i), p = 0.5 * (1.0 + eps), q = 0.5 * (1.0 - eps);
+    const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv, s = std::sqrt(ak + ai);
+    const double w = SQ2PI * sg * sg * mix_g2(mix, k, i) * ni;
+    const PairOut<double> o = pair_terms<double>(w, p, q, mu, omu, Ti / Tk, (Tk - Ti) / Tk, ak, ai, 1.0 / ak, s, 1.0 / s);
+    z += o.zm + o.czo * a2[k] + o.czp * a2[i];
+  }
+  return z;
+}
+
+int sonine_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, const double *a20, double ts, double rtol,
+                      double hmax, double s_end) {
+  GRAN_CALL(check_sonine_model(mix));
+  const int64_t M = mix->M;
+  STraj tr;
+  tr.mix = mix;
+  tr.M = M;
+  tr.T0.assign(T0, T0 + M);
+  tr.T = tr.T0;
+  tr.a2.assign((size_t)M, 0.0);
+  if (a20) tr.a2.assign(a20, a20 + M);
+  tr.ts = ts;
+  out = Traj();
+  out.mix = mix;
+  out.M = M;
+  out.dim = (int)(3 * M);
+  out.with_u = true;
+  out.ts = tr.ts;
+  out.T0 = tr.T0;
+  const size_t dim = (size_t)(3 * M);
+  std::vector<double> y(dim, 0.0), f(dim), scale(dim, 1.0);
+  for (int64_t k = 0; k < M; k++) {
+    y[(size_t)(2 * M + k)] = tr.a2[(size_t)k];
+    scale[(size_t)(M + k)] = 1e-30 * tr.ts; /* u_k: relative error control (u -> 0 at s -> 0) */
+  }
+  gsl_odeiv2_system sys{dense_rhs, nullptr, dim, &tr};
+  gsl_odeiv2_step *stp = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, dim);
+  gsl_odeiv2_control *ctl = gsl_odeiv2_control_scaled_new(rtol, rtol, 1.0, 0.0, scale.data(), dim);
+  gsl_odeiv2_evolve *ev = gsl_odeiv2_evolve_alloc(dim);
+  int ret = GRAN_SUCCESS;
+  if (!stp || !ctl || !ev) ret = GRAN_ERROR(GRAN_ERR_NOMEM, "cannot allocate the ODE solver (M = %" PRId64 ")", M);
+  double s = 0.0, h = std::min(1e-6, hmax);
+  auto store = [&]() -> int {
+    const int st = dense_rhs(s, y.data(), f.data(), &tr);
+    if (st != GSL_SUCCESS) return st;
+    out.s.push_back(s);
+    out.Y.insert(out.Y.end(), y.begin(), y.end());
+    out.F.insert(out.F.end(), f.begin(), f.end());
+    return GSL_SUCCESS;
+  };
+  if (ret == GRAN_SUCCESS && store() != GSL_SUCCESS)
+    ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine trajectory: rates at the start are not finite");
+  while (ret == GRAN_SUCCESS && s < s_end) {
+    h = std::min(h, hmax);
+    int st = gsl_odeiv2_evolve_apply(ev, ctl, stp, &sys, &s, std::min(s_end, s + hmax), &h, y.data());
+    if (st == GSL_SUCCESS && !(h > 0.0 && std::isfinite(h))) st = GSL_FAILURE;
+    if (st == GSL_SUCCESS) st = store();
+    if (st == GSL_SUCCESS)
+      for (int64_t k = 0; k < M; k++)
+        if (!(std::fabs(y[(size_t)(2 * M + k)]) < 1.0)) {
+          ret = GRAN_ERROR(GRAN_ERR_DOMAIN,
+                           "Sonine trajectory: a2 of species %" PRId64 " reaches %g at t = %g (|a2| >= 1: the first "
+                           "Sonine approximation fails)",
+                           k, y[(size_t)(2 * M + k)], tr.ts * std::expm1(s));
+          break;
+        }
+    if (st != GSL_SUCCESS)
+      ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine trajectory (M = %" PRId64 ") failed at t = %g (GSL: %s)", M,
+                       tr.ts * std::expm1(s), gsl_strerror(st));
+    if (ret == GRAN_SUCCESS && ev->count > 50000000UL)
+      ret = GRAN_ERROR(GRAN_ERR_NOCONV, "Sonine trajectory: more than 5e7 steps (t = %g)", tr.ts * std::expm1(s));
+  }
+  if (ev) gsl_odeiv2_evolve_free(ev);
+  if (ctl) gsl_odeiv2_control_free(ctl);
+  if (stp) gsl_odeiv2_step_free(stp);
+  return ret;
+}
+
+} // namespace gran

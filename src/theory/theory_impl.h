@@ -140,6 +140,17 @@ int sonine_modes(const gran_mixture *mix, const double *T, int64_t k, double zet
 /* g_fun for complex y */
 cd g_cplx(cd y);
 
+/* ---- Eq. 4 at the first Sonine level (sonine.cpp) ---------------------------------------------
+ * zeta_k of the first Sonine approximation at (T, a2) for one species k, O(M) (the z0 + z1 of the
+ * pair pass). */
+double sonine_zeta_one(const gran_mixture *mix, const double *T, const double *a2, int64_t k);
+struct Traj;
+/* Dense output of the first Sonine trajectory from (T0, a20 or NULL: 0) up to s_end, steps <= hmax
+ * (GSL rk8pd, local tolerance rtol): out.dim = 3M, components z_k = log(T_k/T0_k) + 2 s, u_k (as
+ * Traj with_u) and a2_k; s = log(1 + t/ts), out.ts = ts. GRAN_ERR_DOMAIN when some |a2_k| reaches 1. */
+int sonine_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, const double *a20, double ts, double rtol,
+                      double hmax, double s_end);
+
 /* ---- HCS states (msd.cpp) ---------------------------------------------------------------------
  * Checks that (T0, tau0) is a homogeneous cooling state (|xi_k tau0/2 - 1| <= 1e-3; tau0 = inf:
  * elastic at equipartition) and returns D_k(0) (may be NULL) and tau_v,k(0). */
