@@ -184,6 +184,14 @@ static double attr_double(hid_t loc, const char *name) {
   return v;
 }
 
+/* the reference units of the root: mass, length, energy, time (energy and time to 1e-12: sums) */
+static void check_reference(hid_t f, double m, double l, double e, double t) {
+  GRAN_ASSERT_REL(attr_double(f, "reference_mass"), m, 1e-15);
+  GRAN_ASSERT_REL(attr_double(f, "reference_length"), l, 1e-15);
+  GRAN_ASSERT_REL(attr_double(f, "reference_energy"), e, 1e-12);
+  GRAN_ASSERT_REL(attr_double(f, "reference_time"), t, 1e-12);
+}
+
 /* 1 when dataset `scale` of group `g` is a dimension scale attached to axis `axis` of `ds` */
 static int attached(hid_t f, const char *g, const char *ds, const char *scale, unsigned axis) {
   char a[256], b[256];
@@ -254,10 +262,7 @@ static void test_units_and_scales(void **state) {
   assert_non_null(strstr(u, "energy k_B T0"));
   assert_non_null(strstr(u, "time unit: sigma_1 sqrt(m_1/(k_B T0))"));
   free(u);
-  GRAN_ASSERT_REL(attr_double(f, "reference_mass"), 1.0, 1e-15);
-  GRAN_ASSERT_REL(attr_double(f, "reference_length"), 1.0, 1e-15);
-  GRAN_ASSERT_REL(attr_double(f, "reference_energy"), 1.0, 1e-12);
-  GRAN_ASSERT_REL(attr_double(f, "reference_time"), 1.0, 1e-12);
+  check_reference(f, 1.0, 1.0, 1.0, 1.0);
   check_scales(f, 0);
   H5Fclose(f);
 
@@ -291,10 +296,7 @@ static void test_units_and_scales(void **state) {
   assert_non_null(strstr(u, "k_B T0 = 8,"));
   assert_non_null(strstr(u, "sigma_1 sqrt(m_1/(k_B T0)) = 0.25"));
   free(u);
-  GRAN_ASSERT_REL(attr_double(f, "reference_mass"), 2.0, 1e-15);
-  GRAN_ASSERT_REL(attr_double(f, "reference_length"), 0.5, 1e-15);
-  GRAN_ASSERT_REL(attr_double(f, "reference_energy"), 8.0, 1e-12);
-  GRAN_ASSERT_REL(attr_double(f, "reference_time"), 0.25, 1e-12);
+  check_reference(f, 2.0, 0.5, 8.0, 0.25);
   check_scales(f, 1);
   H5Fclose(f);
 
@@ -314,10 +316,7 @@ static void test_units_and_scales(void **state) {
   assert_non_null(strstr(u, "GSRD units:"));
   assert_non_null(strstr(u, "a sqrt(m/(k_B T0)) = 0.5"));
   free(u);
-  GRAN_ASSERT_REL(attr_double(f, "reference_mass"), 1.0, 1e-15);
-  GRAN_ASSERT_REL(attr_double(f, "reference_length"), 1.0, 1e-15);
-  GRAN_ASSERT_REL(attr_double(f, "reference_energy"), 4.0, 1e-15);
-  GRAN_ASSERT_REL(attr_double(f, "reference_time"), 0.5, 1e-15);
+  check_reference(f, 1.0, 1.0, 4.0, 0.5);
   assert_true(attached(f, "temperature", "T", "time", 0));
   H5Fclose(f);
 }

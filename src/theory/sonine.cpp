@@ -784,6 +784,15 @@ struct STraj {
   double ts;
   std::vector<double> T0, T, a2;
   SPass P;
+  /* the start: T0 (M), a20 (M; NULL: 0) */
+  void start(const gran_mixture *m, const double *T0_, const double *a20) {
+    mix = m;
+    M = m->M;
+    T0.assign(T0_, T0_ + M);
+    T = T0;
+    a2.assign((size_t)M, 0.0);
+    if (a20) a2.assign(a20, a20 + M);
+  }
 };
 
 int traj_rhs(double s, const double y[], double f[], void *params) {
@@ -955,12 +964,7 @@ GRAN_EXTERN int gran_theory_temperatures_approx(const gran_mixture *mix, int app
     GRAN_CALL(check_rtol(rtol, "rtol"));
     if (ntimes == 0) return GRAN_SUCCESS;
     STraj tr;
-    tr.mix = mix;
-    tr.M = M;
-    tr.T0.assign(T0, T0 + M);
-    tr.T = tr.T0;
-    tr.a2.assign((size_t)M, 0.0);
-    if (a20) tr.a2.assign(a20, a20 + M);
+    tr.start(mix, T0, a20);
     spass(mix, tr.T.data(), tr.a2.data(), tr.P);
     double numax = 0.0;
     for (double v : tr.P.nu) numax = std::max(numax, v);
@@ -1025,12 +1029,7 @@ int sonine_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, cons
   GRAN_CALL(check_sonine_model(mix));
   const int64_t M = mix->M;
   STraj tr;
-  tr.mix = mix;
-  tr.M = M;
-  tr.T0.assign(T0, T0 + M);
-  tr.T = tr.T0;
-  tr.a2.assign((size_t)M, 0.0);
-  if (a20) tr.a2.assign(a20, a20 + M);
+  tr.start(mix, T0, a20);
   tr.ts = ts;
   out = Traj();
   out.mix = mix;
