@@ -138,16 +138,17 @@ FMOD_OBJ := $(BUILD)/obj/bindings/granary.o
 # The raw layer of the Fortran module (constants, bind(C) types, interfaces), the gran_abi_query
 # table and t901-layout-f's list, generated from include/granary.h by bindings/gen_raw.py.
 GEN_RAW     := bindings/gen_raw.py
-GEN_RAW_OUT := bindings/granary_raw.inc src/core/abi_table.inc tests/t901-layout-f.inc
+GEN_RAW_OUT := bindings/granary_raw.inc src/core/abi_table.inc tests/t901-layout-f.inc include/granary.abi
 # the module the Fortran tests share (expect, require, test_finish)
 FTEST_OBJ := $(BUILD)/obj/tests/granary_test_f.o
 
 LIB_A    := $(BUILD)/libgranary.a
-# Shared library: SONAME libgranary.so.MAJOR, file libgranary.so.MAJOR.MINOR.PATCH, and the links
-# libgranary.so -> libgranary.so.MAJOR -> the file (ldconfig style), in $(BUILD) as in the
-# installation, so that a program linked with -L$(BUILD) -lgranary finds its SONAME there.
+# Shared library: SONAME libgranary.so.ABI (GRAN_ABI_VERSION: the rules in docs/developers/abi.md),
+# file libgranary.so.MAJOR.MINOR.PATCH (the release), and the links libgranary.so ->
+# libgranary.so.ABI -> the file (ldconfig style), in $(BUILD) as in the installation, so that a
+# program linked with -L$(BUILD) -lgranary finds its SONAME there.
 VERSION  := $(shell sed -n 's/^\#define GRAN_VERSION_STRING "\(.*\)"/\1/p' include/granary.h)
-SOMAJOR  := $(firstword $(subst ., ,$(VERSION)))
+SOMAJOR  := $(shell sed -n 's/^\#define GRAN_ABI_VERSION \([0-9]*\)$$/\1/p' include/granary.h)
 SONAME   := libgranary.so.$(SOMAJOR)
 LIB_SO   := $(BUILD)/libgranary.so
 LIB_SO_FILE := $(BUILD)/libgranary.so.$(VERSION)
@@ -386,11 +387,12 @@ install-docs:
 	else echo "install: no HTML manual in $(DOCS_OUT)/html (make docs builds it); not installed"; fi
 
 # ---- figures ----------------------------------------------------------------------------------
-# `make figures` regenerates seed 000 Figs. 1-8 and Table I as PNG in build/figures/ (QUICK=1: the
-# reduced scenes of scenes/quick/, a few minutes). Plotting needs Debian's python3-matplotlib and
-# python3-h5py (FIG_DEB_PKGS, installed by `make deps` when possible and by `make figures`); they
-# are not needed to build or test granary (the reader test skips without h5py). Debian's
-# /usr/bin/python3 is used on purpose: another python3 on PATH may lack Debian's modules.
+# `make figures` regenerates Figs. 1-8 and Table I of Bodrova & Osinsky (2024) as PNG in
+# build/figures/ (QUICK=1: the reduced scenes of scenes/quick/, a few minutes). Plotting needs
+# Debian's python3-matplotlib and python3-h5py (FIG_DEB_PKGS, installed by `make deps` when
+# possible and by `make figures`); they are not needed to build or test granary (the reader test
+# skips without h5py). Debian's /usr/bin/python3 is used on purpose: another python3 on PATH may
+# lack Debian's modules.
 FIG_DEB_PKGS := python3-matplotlib python3-h5py python3-numpy
 FIG_PYTHON   ?= /usr/bin/python3
 FIG_OUT      ?= $(BUILD)/figures
@@ -411,7 +413,7 @@ deps: figures-deps-soft
 figures-deps-soft:
 	@if ! ( $(FIG_OK) ); then ( $(FIG_INSTALL) ) || echo "deps: plotting packages not installed (only make figures needs them)"; fi
 
-# ---- MPI block (owner: replicas over MPI, issue 9) ---------------------------------------------
+# ---- MPI block (owner: replicas over MPI) ------------------------------------------------------
 # build/granary-mpi: the same driver compiled by mpicxx with -DGRAN_MPI (src/cli/mpi.cpp), built
 # when an MPI compiler wrapper is found (Debian: libopenmpi-dev openmpi-bin; `make deps` tries
 # them). `mpirun -n P build/granary-mpi run SCENE` spreads the replicas over P processes. The
@@ -457,6 +459,10 @@ install: all
 	ln -sf $(SONAME) $(DESTDIR)$(prefix)/lib/libgranary.so
 	install -m 644 $(BUILD)/mod/granary.mod $(DESTDIR)$(prefix)/include/granary/
 	install -m 755 $(CLI) $(DESTDIR)$(prefix)/bin/
+	install -d $(DESTDIR)$(prefix)/share/granary/python
+	cp -R scenes $(DESTDIR)$(prefix)/share/granary/
+	install -m 644 include/granary.abi $(DESTDIR)$(prefix)/share/granary/
+	install -m 644 figures/granary_h5.py $(DESTDIR)$(prefix)/share/granary/python/
 	sed -e 's|@prefix@|$(prefix)|' -e 's|@version@|$(VERSION)|' \
 	  -e 's|@libs@|$(PKG_LIBS) $(CUDA_LIBS) $(OMP_FLAG)|' granary.pc.in > $(DESTDIR)$(prefix)/lib/pkgconfig/granary.pc
 

@@ -1,9 +1,9 @@
-/* b501-dsmc.c - DSMC engine: speed on seed 000 Table I, low-rank against Bird, the cost of
- * displacement tracking, memory per particle, accuracy versus cost.
+/* b501-dsmc.c - DSMC engine: speed on Bodrova & Osinsky Table I, low-rank against Bird, the cost
+ * of displacement tracking, memory per particle, accuracy versus cost.
  *   BENCH_QUICK=1     N_1 = 1e5 instead of 1e6 (Table I), accuracy table up to N_1 = 1e5
  *   BENCH_DSMC_BIRD=f run Bird to the fraction f of Table I's time (default 1: the whole run; the
  *                     paper variant of Bird always runs to t = 25)
- *   BENCH_DSMC_ONLY=speed  only the speed tables of the three systems (issue 11)
+ *   BENCH_DSMC_ONLY=speed  only the speed tables of the three systems
  * Times: wall clock and CPU time of the advance call (the CPU time is the steadier number on a
  * shared machine). Speeds are compared as collisions per CPU second of rows measured in this same
  * run (a partial run is reported as what it measured, never extrapolated), against no typed-in
@@ -44,7 +44,7 @@ typedef struct {
   int selector, observe;
   double t_end;   /* simulated */
   double frac;    /* fraction of Table I's t = 100 simulated (reported as measured, never extrapolated) */
-  int classes;    /* opt.speed_classes (issue 11) */
+  int classes;    /* opt.speed_classes */
 } variant;
 
 static void table1(double N1) {
@@ -63,17 +63,17 @@ static void table1(double N1) {
       {"low-rank + MSD + counts", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT | GRAN_OBSERVE_COLLISION_COUNTS,
        100.0, 1.0, 0},
       {"low-rank, paper's rule", GRAN_SELECTOR_LOWRANK_PAPER, 0, 100.0, 1.0, 0},
-      /* speed classes (issue 11): rows 4, 5 */
+      /* speed classes: rows 4, 5 */
       {"low-rank + classes", GRAN_SELECTOR_LOWRANK, 0, 100.0, 1.0, 1},
       {"low-rank + classes + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, 100.0, 1.0, 1},
       {"Bird", GRAN_SELECTOR_BIRD, 0, 100.0 * fbird, fbird, 0},
       {"Bird + MSD", GRAN_SELECTOR_BIRD, GRAN_OBSERVE_DISPLACEMENT, 100.0 * fbird, fbird, 0},
       {"Bird, paper's rule", GRAN_SELECTOR_BIRD_PAPER, 0, 25.0, 0.25, 0},
-      /* the default (speed_classes = GRAN_SPEED_CLASSES_AUTO, issue 11): row 9 */
+      /* the default (speed_classes = GRAN_SPEED_CLASSES_AUTO): row 9 */
       {"low-rank default (auto)", GRAN_SELECTOR_LOWRANK, 0, 100.0, 1.0, GRAN_SPEED_CLASSES_AUTO},
   };
   const int nv = (int)(sizeof vs / sizeof vs[0]);
-  printf("\nTable I (seed 000): N_1 = %.0e, n_k = 0.1 k^-3, N_k = round(N_1 k^-3) >= 1 -> %d species, ", N1, M);
+  printf("\nTable I (Bodrova & Osinsky): N_1 = %.0e, n_k = 0.1 k^-3, N_k = round(N_1 k^-3) >= 1 -> %d species, ", N1, M);
   {
     gran_dsmc_options o;
     BENCH_CHECK(gran_dsmc_options_default(&o));
@@ -122,7 +122,7 @@ static void table1(double N1) {
   }
   /* "x paper" of the low-rank rows, now that the paper-rule row (q = 3) is measured */
   printf("speed in collisions per CPU second, measured side by side in this run:\n");
-  printf("  low-rank / low-rank paper's rule: %.2f without displacements, %.2f with (issue 11 targets 5.3 and 4.2)\n",
+  printf("  low-rank / low-rank paper's rule: %.2f without displacements, %.2f with (targets 5.3 and 4.2)\n",
          rate[0] / rate[3], rate[1] / rate[3]);
   printf("  low-rank + speed classes / paper's rule: %.2f without displacements, %.2f with; classes / without: %.2f, %.2f\n",
          rate[4] / rate[3], rate[5] / rate[3], rate[4] / rate[0], rate[5] / rate[1]);
@@ -144,7 +144,7 @@ static void memory(double N1) {
   printf("%-22s %12s %16s %16s %16s\n", "observables", "N", "arrays B/part", "RSS B/part", "peak RSS B/part");
   fflush(stdout);
   for (int row = 0; row < 4; row++) {
-    const int disp = row & 1, classes = row >> 1; /* rows 2, 3: speed classes (issue 11) */
+    const int disp = row & 1, classes = row >> 1; /* rows 2, 3: speed classes */
     const pid_t pid = fork();
     if (pid == 0) {
       gran_mixture *mix;
@@ -178,8 +178,8 @@ static void memory(double N1) {
   }
 }
 
-/* Accuracy versus cost on seed 000 Fig. 2 (binary HCS, eps = 0.5, N_2 = N_1/100): at t = 100 the
- * temperature ratio T_2/T_1 against the HCS value of the theory and MSD_1, MSD_2 against
+/* Accuracy versus cost on Bodrova & Osinsky Fig. 2 (binary HCS, eps = 0.5, N_2 = N_1/100): at
+ * t = 100 the temperature ratio T_2/T_1 against the HCS value of the theory and MSD_1, MSD_2 against
  * gran_theory_msd_hcs. One run per N: the errors are one realisation (statistical + model). */
 static void accuracy(double N1max) {
   double m[2] = {1.0, 100.0}, s[2] = {1.0, cbrt(100.0)}, n[2] = {0.1, 0.001};
@@ -190,7 +190,7 @@ static void accuracy(double N1max) {
   const double t = 100.0;
   BENCH_CHECK(gran_theory_hcs(mix, GRAN_HCS_NORM_T1, 0.554, T0, &tau0));
   BENCH_CHECK(gran_theory_msd_hcs(mix, T0, tau0, 1, &t, th, &tot));
-  printf("\nAccuracy versus cost: seed 000 Fig. 2 (binary, eps = 0.5, m = (1, 100), T(0) = HCS), t = 100 = 5.2 tau0\n");
+  printf("\nAccuracy versus cost: Bodrova & Osinsky Fig. 2 (binary, eps = 0.5, m = (1, 100), T(0) = HCS), t = 100 = 5.2 tau0\n");
   printf("%10s %8s %12s %10s %10s %10s %10s %10s\n", "N_1", "N_2", "collisions", "cpu [s]", "T2/T1 err",
          "MSD_1 err", "MSD_2 err", "MSD err");
   for (double N1 = 1e3; N1 <= N1max * 1.01; N1 *= 10) {
@@ -220,7 +220,7 @@ static void accuracy(double N1max) {
   gran_mixture_destroy(&mix);
 }
 
-/* ---- speed branch (issue 11, issue 7 item 15): three systems, interleaved repetitions ----
+/* ---- speed branch: three systems, interleaved repetitions --------------------------------
  * For each system the methods run one after the other, REPS times in turn (the machine may be
  * shared: the minimum CPU time of the advance call per method is reported, and the ratios are of
  * those minima, all from this run). A method that cannot finish the system in reasonable time
@@ -240,10 +240,10 @@ static void speed_system(const speed_sys *sy, int reps) {
       {"low-rank, paper's rule", GRAN_SELECTOR_LOWRANK_PAPER, 0, 0},
       {"low-rank paper + MSD", GRAN_SELECTOR_LOWRANK_PAPER, GRAN_OBSERVE_DISPLACEMENT, 0},
       {"Bird", GRAN_SELECTOR_BIRD, 0, 0},
-      /* speed classes (issue 11) */
+      /* speed classes */
       {"low-rank + classes", GRAN_SELECTOR_LOWRANK, 0, 1},
       {"low-rank + classes + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, 1},
-      /* the default: speed_classes = GRAN_SPEED_CLASSES_AUTO (issue 11), rows 7, 8 */
+      /* the default: speed_classes = GRAN_SPEED_CLASSES_AUTO, rows 7, 8 */
       {"default (auto)", GRAN_SELECTOR_LOWRANK, 0, GRAN_SPEED_CLASSES_AUTO},
       {"default (auto) + MSD", GRAN_SELECTOR_LOWRANK, GRAN_OBSERVE_DISPLACEMENT, GRAN_SPEED_CLASSES_AUTO},
       {"Bird + MSD", GRAN_SELECTOR_BIRD, GRAN_OBSERVE_DISPLACEMENT, 0},
@@ -296,12 +296,12 @@ static void speed_system(const speed_sys *sy, int reps) {
       printf("  moves/coll %.2f, overflow re-sorts %lld", (double)moves[q] / (double)coll[q], rebuilds[q]);
     printf("\n");
   }
-  printf("  low-rank / paper's rule: %.2f without displacements, %.2f with (issue 11 targets 5.3 and 4.2); "
+  printf("  low-rank / paper's rule: %.2f without displacements, %.2f with (targets 5.3 and 4.2); "
          "low-rank / Bird: %.2f (rates)\n",
          rate[0] / rate[2], rate[1] / rate[3], rate[0] / rate[4]);
   printf("  with speed classes: / paper's rule %.2f without displacements, %.2f with; / without classes %.2f, %.2f\n",
          rate[5] / rate[2], rate[6] / rate[3], rate[5] / rate[0], rate[6] / rate[1]);
-  printf("  default (auto: classes %s): / paper's rule %.2f without displacements, %.2f with (issue 11 targets 5.3 "
+  printf("  default (auto: classes %s): / paper's rule %.2f without displacements, %.2f with (targets 5.3 "
          "and 4.2); / the faster of off and on %.2f, %.2f\n",
          moves[7] > 0 ? "on" : "off", rate[7] / rate[2], rate[8] / rate[3],
          rate[7] / (rate[0] > rate[5] ? rate[0] : rate[5]), rate[8] / (rate[1] > rate[6] ? rate[1] : rate[6]));

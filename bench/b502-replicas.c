@@ -1,6 +1,6 @@
 /* b502-replicas.c - replicas: accuracy against cost, and replica scaling over threads.
  *
- * Accuracy versus cost, for two scenes of seed 000, outputs at t = 1, 10, 100:
+ * Accuracy versus cost, for two scenes of Bodrova & Osinsky, outputs at t = 1, 10, 100:
  *   fig2:   the Fig. 2 binary mixture (m = (1, 100), n = (0.1, 0.001), eps = 0.5, HCS start);
  *           k = 2 (the heavy species);
  *   table1: the Table I mixture (n_k = 0.1 k^-3, m_k = k, 125 species, eps = 0.5, T(0) = 1);
@@ -134,7 +134,7 @@ int main(void) {
   } grid[] = {{1e4, 1}, {1e4, 10}, {1e4, 100}, {1e5, 1}, {1e5, 10}, {1e5, 100}, {1e6, 1}, {1e6, 10}, {1e6, 100}};
   const int ng = 9;
   printf("accuracy versus cost, t = 1, 10, 100; se relative, from the replicas; CPU s of all threads; machine shared\n"
-         "fig2: seed 000 Fig. 2 mixture (k = 2: the heavy species); table1: the Table I mixture, 125 species (k = 2)\n");
+         "fig2: Bodrova & Osinsky Fig. 2 mixture (k = 2: the heavy species); table1: the Table I mixture, 125 species (k = 2)\n");
   printf("%-6s %6s %4s %8s | %5s | %12s %10s %10s | %12s | %s\n", "scene", "N1", "R", "CPU s", "t", "se(Tk/T1)", "se(MSD1)",
          "se(MSDk)", "se(Tk/T1)*", "model error");
   printf("%-6s %6s %4s %8s | %5s | %12s %10s %10s | %12s | %s\n", "", "", "", "", "", "", "", "", "sqrt(N1 R)",

@@ -1,7 +1,7 @@
-/* b503-cell.c - the time-step/cell selector (seed 002) against the low-rank event selector:
+/* b503-cell.c - the time-step/cell selector (the DSMC outline) against the low-rank event selector:
  *   1. collisions per CPU second on a monodisperse gas (N = 1e5 and 1e6; BENCH_QUICK: 1e5), eps = 0.8,
  *      about 20 particles per cell, dt = tau/10, tau/4 and tau/2 (tau the mean free time), to t = 5 tau;
- *   2. the same on seed 000's Table I system (N_1 = 1e6; quick 1e5), to t = 5 (Table I runs to 100);
+ *   2. the same on Bodrova & Osinsky's Table I system (N_1 = 1e6; quick 1e5), to t = 5 (Table I runs to 100);
  *   3. the cost of aggregation and fragmentation on (e_agg, e_frag set so that a few % of the
  *      collisions merge or shatter; the mixture holds k-mers) against off, per collision;
  *   4. accuracy versus cost: an elastic gas to t = 10 tau (N = 1e5; quick 2e4), dt from tau to tau/16

@@ -3,8 +3,8 @@
  * the bytes rank 0 gathers per output time (measured: the driver's count; model: R x row bytes),
  * and a model of the wall time on P machines.
  *
- * Scene: the seed 000 Fig. 2 mixture (m = (1, 100), n = (0.1, 0.001), eps = 0.5, HCS start) at
- * N_1 = 1e4, R = 64 replicas (16 with BENCH_QUICK=1), outputs at t = 1, 10, 100. Every output time
+ * Scene: the Bodrova & Osinsky Fig. 2 mixture (m = (1, 100), n = (0.1, 0.001), eps = 0.5, HCS
+ * start) at N_1 = 1e4, R = 64 replicas (16 with BENCH_QUICK=1), outputs at t = 1, 10, 100. Every output time
  * each rank sends rank 0 its replicas' rows (T[2], msd[2], msd_total, collisions, trials: 56
  * bytes a replica here); rank 0 reduces them in replica order (bit for bit the threaded run: test
  * t611). Model on P machines: wall(P) = ceil(R/P) t_rep + n_out [(P-1) alpha + R b / beta] with

@@ -1,4 +1,4 @@
-/* b505-agg-event.c - the cost of aggregation and fragmentation in the event selectors (issue 10):
+/* b505-agg-event.c - the cost of aggregation and fragmentation in the event selectors:
  * per collision, the low-rank and Bird selectors with the processes on (gran_dsmc_create_agg,
  * the loop of src/dsmc/agg_event.cpp) against off (gran_dsmc_create_agg with both off is
  * gran_dsmc_create: the hot loop of dsmc_loop.h). Monomers (k-mer mixture of 8 sizes), eps = 0.8,

@@ -5,6 +5,8 @@
                                           or anywhere: paths are relative to this script)
     python3 bindings/gen_raw.py --check   exit 1, naming the stale files, when a committed file
                                           differs from what the current header gives
+    python3 bindings/gen_raw.py --release mark the manifest's ABI as released (the release step:
+                                          from then on it may only grow)
 
 The model is FFTW's api/genf03.pl: the C declarations are parsed, a type table maps each C type to
 its Fortran kind, and a few annotations (the table ANNOTATIONS below) say what a pointer parameter
@@ -16,6 +18,12 @@ is where the default rule does not. Three files come out of one parse:
                              function. The idiomatic wrappers of granary.f90 call these.
   src/core/abi_table.inc     the X-macro list of gran_abi_query: sizeof of every struct, offsetof
                              of every field, the value of every constant.
+  include/granary.abi        the ABI manifest: one line per constant (with its value), struct
+                             (every field with its type, in order) and function (its prototype),
+                             headed by `abi GRAN_ABI_VERSION released|unreleased`. Once an ABI
+                             is released (--release), a change that can break a program built
+                             against it (a line gone or changed) under the same number is
+                             refused and nothing is written (docs/developers/abi.md).
   tests/t901-layout-f.inc    t901-layout-f's side: the same names from the Fortran mirrors
                              (c_sizeof, c_loc differences, the parameters), compared with
                              gran_abi_query.
@@ -52,6 +60,7 @@ HEADER = 'include/granary.h'
 OUT_RAW = 'bindings/granary_raw.inc'
 OUT_ABI = 'src/core/abi_table.inc'
 OUT_T901 = 'tests/t901-layout-f.inc'
+OUT_MANIFEST = 'include/granary.abi'
 REGEN = 'python3 bindings/gen_raw.py'
 
 # ---- type table: C scalar type -> Fortran type -----------------------------------------------
@@ -151,6 +160,10 @@ FIELD_INIT = {
 
 
 # public functions without a wrapper of their own in granary.f90 (no note about them)
+# constants the manifest lists elsewhere or not at all: the release version (the ABI number, its
+# `abi` line, says what is compatible)
+ABI_FREE = {'GRAN_VERSION_MAJOR', 'GRAN_VERSION_MINOR', 'GRAN_VERSION_PATCH', 'GRAN_ABI_VERSION'}
+
 NOT_WRAPPED = {
     'gran_last_error_message',  # gran_last_error_message() of the module copies with gran_last_error_copy
 }
@@ -169,10 +182,10 @@ def strip_comments(text):
 def parse_header(text):
     """Constants, structs, opaque handles, function-pointer types and prototypes of the header."""
     consts = []  # (name, value)
-    for name in ('MAJOR', 'MINOR', 'PATCH'):
-        m = re.search(r'^#define (GRAN_VERSION_%s) (-?\d+)\s*$' % name, text, re.M)
+    for name in ('VERSION_MAJOR', 'VERSION_MINOR', 'VERSION_PATCH', 'ABI_VERSION'):
+        m = re.search(r'^#define (GRAN_%s) (-?\d+)\s*$' % name, text, re.M)
         if not m:
-            raise GenError('%s: no #define GRAN_VERSION_%s' % (HEADER, name))
+            raise GenError('%s: no #define GRAN_%s' % (HEADER, name))
         consts.append((m.group(1), int(m.group(2))))
     m = re.search(r'#define GRAN_ERROR_LIST\(X\)(.*?)\n\s*\n', text, re.S)
     if not m:
@@ -468,6 +481,36 @@ def gen_abi(consts, structs):
     return '\n'.join(L) + '\n'
 
 
+def c_decl(d):
+    """A parsed declaration back in canonical C."""
+    return '%s%s %s%s%s' % ('const ' if d['const'] else '', d['type'], '*' * d['ptr'], d['name'],
+                            '[%d]' % d['len'] if d['len'] is not None else '')
+
+
+def gen_manifest(consts, structs, opaque, funptrs, funcs, status):
+    abi = dict(consts)['GRAN_ABI_VERSION']
+    L = ['# granary.abi - GENERATED from include/granary.h by bindings/gen_raw.py: do not edit.',
+         '# The public ABI of libgranary.so.%d: what a program built against this header relies on.' % abi,
+         '# Once released, a line that goes or changes needs a higher GRAN_ABI_VERSION (docs/developers/abi.md).',
+         'abi %d %s' % (abi, status)]
+    L += ['const %s %d' % (n, v) for n, v in consts if n not in ABI_FREE]
+    L += ['opaque %s' % n for n in sorted(opaque)]
+    L += ['callback %s' % n for n in sorted(funptrs)]
+    L += ['struct %s { %s; }' % (name, '; '.join(c_decl(f) for f in fields)) for name, fields in structs]
+    L += ['function %s %s(%s)' % (ret, name, ', '.join(c_decl(p) for p in params) or 'void')
+          for name, ret, params in funcs]
+    return '\n'.join(L) + '\n'
+
+
+def manifest_parts(text):
+    """(ABI number, 'released' or 'unreleased', the other lines) of a manifest."""
+    lines = [x for x in text.splitlines() if x and not x.startswith('#')]
+    m = re.match(r'abi (\d+) (released|unreleased)$', lines[0]) if lines else None
+    if not m:
+        raise GenError('%s: the first line is not "abi N released|unreleased"' % OUT_MANIFEST)
+    return int(m.group(1)), m.group(2), lines[1:]
+
+
 def gen_t901(consts, structs):
     L = ['! t901-layout-f.inc - GENERATED from include/granary.h by bindings/gen_raw.py: do not edit.',
          '! Regenerate with `%s`. Included after `contains` by tests/t901-layout-f.f90, which' % REGEN,
@@ -501,7 +544,8 @@ def generate():
         raise GenError('gen_raw.py: FIELD_INIT names structs the header lacks: %s' % ', '.join(stale))
     return {OUT_RAW: gen_raw(consts, structs, opaque, funptrs, funcs, ann),
             OUT_ABI: gen_abi(consts, structs),
-            OUT_T901: gen_t901(consts, structs)}, funcs
+            OUT_T901: gen_t901(consts, structs),
+            OUT_MANIFEST: (consts, structs, opaque, funptrs, funcs)}, funcs
 
 
 def unwrapped(funcs):
@@ -516,11 +560,42 @@ def unwrapped(funcs):
 
 def main(argv):
     check = '--check' in argv[1:]
+    release = '--release' in argv[1:]
     try:
         files, funcs = generate()
     except GenError as e:
         print('gen_raw.py: ' + str(e), file=sys.stderr)
         return 2
+    # the manifest: its status carried over while the ABI number stays; a released ABI may only grow
+    try:
+        with open(os.path.join(ROOT, OUT_MANIFEST)) as f:
+            old_manifest = f.read()
+    except OSError:
+        old_manifest = None
+    abi = dict(files[OUT_MANIFEST][0])['GRAN_ABI_VERSION']
+    try:
+        n_old, st_old, l_old = manifest_parts(old_manifest) if old_manifest is not None else (None, None, [])
+    except GenError as e:
+        print('gen_raw.py: ' + str(e), file=sys.stderr)
+        return 2
+    if n_old is not None and abi < n_old:
+        print('gen_raw.py: GRAN_ABI_VERSION %d in %s is lower than the %d of %s' % (abi, HEADER, n_old, OUT_MANIFEST),
+              file=sys.stderr)
+        return 1
+    status = st_old if abi == n_old else 'unreleased'
+    if release:
+        status = 'released'
+    files[OUT_MANIFEST] = gen_manifest(*files[OUT_MANIFEST], status)
+    if abi == n_old and st_old == 'released':
+        have = set(manifest_parts(files[OUT_MANIFEST])[2])
+        gone = [x for x in l_old if x not in have]
+        if gone:
+            print('gen_raw.py: the public ABI %d is released and changed: these lines of %s are gone or'
+                  ' changed:\n  %s\n  a program built against the released header would break: raise'
+                  ' GRAN_ABI_VERSION in %s (see docs/developers/abi.md), or restore them; nothing was written'
+                  % (abi, OUT_MANIFEST, '\n  '.join(gone[:20]) + ('\n  ...' if len(gone) > 20 else ''), HEADER),
+                  file=sys.stderr)
+            return 1
     bad = []
     for rel, content in files.items():
         path = os.path.join(ROOT, rel)

@@ -1192,7 +1192,7 @@ contains
     call gran_check(c_gran_theory_tracer_tau_v_hat(mix, tracer - 1, gamma, tau_v_hat), ierr)
   end subroutine gran_theory_tracer_tau_v_hat
 
-  ! ---- theory: collisions (seed 002) ----------------------------------------------------------------
+  ! ---- theory: collisions (the DSMC outline) ------------------------------------------------------
   !> <|g_ij|> (Eq. 60) as g(M, M).
   subroutine gran_theory_mean_relative_speed(mix, temp, g, ierr)
     type(c_ptr), intent(in) :: mix

@@ -1,6 +1,6 @@
 """figure_driver.py - what every `make figures` script shares: the command line (--quick, --granary,
 --out, --only, --replot, --dpi), running a scene once per invocation with `granary run`, and the
-loop over the requested figures. The figure scripts (make_figures.py: seed 000; make_srd_figures.py:
+loop over the requested figures. The figure scripts (make_figures.py: Bodrova & Osinsky 2024; make_srd_figures.py:
 GSRD) keep only their scenes and their plots. Not part of the reader module users import
 (granary_h5.py)."""
 

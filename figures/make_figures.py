@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Regenerate seed 000 Figs. 1-8 and Table I as PNG files (`make figures`).
+"""Regenerate Figs. 1-8 and Table I of Bodrova & Osinsky (2024) as PNG files (`make figures`).
 
 Each figure runs one scene of scenes/ with `granary run` (scenes/quick/ with --quick,
 scenes/reduced/ otherwise: the shipped scene split into replicas, e.g. N/4 particles x 4
@@ -34,13 +34,14 @@ SCENES = {
 FULL_DIR = "scenes/reduced"
 COLORS = ["C0", "C3", "C2", "C1", "C4", "C5", "C6"]
 
-THEORY_OFF = ("Maxwellian theory known to be off (PHYSICS-NOTES): ")
+THEORY_OFF = ("Maxwellian theory known to be off (physics notes, \"Where the Maxwellian theory is "
+              "known to be off\"): ")
 
-# Why the DSMC MSD lies below Eq. 4 / Eq. 22 (issue 9 follow-up; README: Figures). Measured with
-# single runs of scenes/quick/figN.toml (one replica) and with the displacements integrated again
-# from the velocities sampled on a fine grid (they agree with the engine's to 4e-4: t517), and
-# Eq. 4 evaluated again with the *measured* T_k(t) (so the temperature part of the difference
-# and the velocity-correlation part separate).
+# Why the DSMC MSD lies below Eq. 4 / Eq. 22 (docs/physics.md, "Why the DSMC MSD lies below
+# Eq. 4"). Measured with single runs of scenes/quick/figN.toml (one replica) and with the
+# displacements integrated again from the velocities sampled on a fine grid (they agree with the
+# engine's to 4e-4: t517), and Eq. 4 evaluated again with the *measured* T_k(t) (so the
+# temperature part of the difference and the velocity-correlation part separate).
 MSD_BELOW = ("DSMC below the line: the theory's Maxwellian (first Sonine) velocity correlation, "
              "not bookkeeping (engine displacements = integral of the sampled velocities to 4e-4; "
              "Eq. 11 = Maxwellian momentum-transfer rate - cooling rate/2, exactly: t517). %s")
@@ -197,7 +198,7 @@ def msd_figure(args, o, fname, title, caption, total=False, species_names=None):
 
 def fig1(args, f):
     with Output(f["fig1"]) as o:
-        msd_figure(args, o, "fig1.png", "seed 000 Fig. 1: binary mixture from equipartition",
+        msd_figure(args, o, "fig1.png", "Bodrova & Osinsky 2024, Fig. 1: binary mixture from equipartition",
                    "Partial MSDs, eps = 0.5, n_1 = n_2 = 0.1, m = (1, 100), sigma_1 = sigma_2 = 1, "
                    "T_1(0) = T_2(0) = 1; plotted against t (the paper uses tau_1). Ballistic "
                    "(~t^2) at short, diffusive at long times. " + THEORY_OFF +
@@ -207,7 +208,7 @@ def fig1(args, f):
 
 def fig2(args, f):
     with Output(f["fig2"]) as o:
-        msd_figure(args, o, "fig2.png", "seed 000 Fig. 2: binary mixture in the HCS, eps = 0.5",
+        msd_figure(args, o, "fig2.png", "Bodrova & Osinsky 2024, Fig. 2: binary mixture in the HCS, eps = 0.5",
                    "n = (0.1, 0.001), m = (1, 100), sigma_2 = 100^(1/3), T(0) = (0.554, 45.58755), "
                    "tau0 = %.4g (caption: 19.258). " % o.tau0 + THEORY_OFF +
                    "heavy intruders among light particles run a few % hotter than the Maxwellian "
@@ -217,7 +218,7 @@ def fig2(args, f):
 
 def fig3(args, f):
     with Output(f["fig3"]) as o:
-        msd_figure(args, o, "fig3.png", "seed 000 Fig. 3: ternary mixture in the HCS, eps = 0.5",
+        msd_figure(args, o, "fig3.png", "Bodrova & Osinsky 2024, Fig. 3: ternary mixture in the HCS, eps = 0.5",
                    "m = (1, 100, 500), sigma_k = m_k^(1/3), n_k = 0.1, HCS start (caption: "
                    "T(0) = (0.048, 1.1, 1.845) at <T> = 1); tau0 = %.4g (caption: 1.83). Dashed: "
                    "total MSD, Eq. 3. " % o.tau0 + THEORY_OFF +
@@ -251,7 +252,7 @@ def fig4(args, f):
         ax.set_yscale("log")
         rx.set_xlabel("t [%s]" % o.units("msd/time"))
         ax.set_ylabel("<R_k^2> / <R_1^2>")
-        fig.suptitle("seed 000 Fig. 4: n_k = 0.1 k^-3, 100 species, MSD ratios", fontsize=10)
+        fig.suptitle("Bodrova & Osinsky 2024, Fig. 4: n_k = 0.1 k^-3, 100 species, MSD ratios", fontsize=10)
         ax.legend(fontsize=7, loc="lower right")
         finish(fig, ax, o, "fig4.png", args,
                "m_k = k, sigma_k = k^(1/3), eps = 0.5, equal initial temperatures. The ratio first "
@@ -294,7 +295,7 @@ def fig5(args, f):
             ax.legend(fontsize=7, loc="lower right")
         axs[1].set_title("TAMSD, t_meas = %g, %d tracers/species"
                          % (o.attr("t_meas", 0, "tamsd"), o.get("tamsd/tracers")[1]), fontsize=9)
-        fig.suptitle("seed 000 Fig. 5: tracer limit n_2 = 0, MSD and TAMSD", fontsize=10)
+        fig.suptitle("Bodrova & Osinsky 2024, Fig. 5: tracer limit n_2 = 0, MSD and TAMSD", fontsize=10)
         axs[0].set_title("MSD", fontsize=9)
         finish(fig, axs[0], o, "fig5.png", args,
                "n = (0.1, 0), m = (1, 100), T(0) = (1, 412.93), tau0 = %.4g (caption: 11.3). TAMSD "
@@ -340,7 +341,7 @@ def fig6(args, f):
         rx.set_xlabel("k = m_k / m_1")
         ax.set_ylabel("T_k(t = %g) [%s]" % (lo.times("temperatures")[-1],
                                              lo.units("temperatures/T")))
-        fig.suptitle("seed 000 Fig. 6: T_k at t = 100, low-rank and Bird's DSMC", fontsize=10)
+        fig.suptitle("Bodrova & Osinsky 2024, Fig. 6: T_k at t = 100, low-rank and Bird's DSMC", fontsize=10)
         ax.legend(fontsize=8, loc="lower right")
         finish(fig, ax, lo, "fig6.png", args,
                "n_k = 0.1 k^-3 (125 species, N_k = round(n_k V)), eps = 0.5, T(0) = 1. Species with "
@@ -382,10 +383,10 @@ def table1(args, f, walls):
     tab.set_fontsize(8)
     tab.scale(1, 2.0)
     fig.text(0.5, 0.8, size, ha="center", fontsize=8, color="0.25")
-    ax.set_title("seed 000 Table I: low-rank against Bird's DSMC, n_k = 0.1 k^-3, eps = 0.5, t = 100",
+    ax.set_title("Bodrova & Osinsky 2024, Table I: low-rank against Bird's DSMC, n_k = 0.1 k^-3, eps = 0.5, t = 100",
                  fontsize=10)
     cap = ("The paper's energy column is corrected: its 1.233e5 is a misprinted exponent "
-           "(E_kin = (1/2) sum m v^2 = 1.233e4 at N_1 = 1e6, PHYSICS-NOTES Sec. 1). Paper values "
+           "(E_kin = (1/2) sum m v^2 = 1.233e4 at N_1 = 1e6; physics notes, \"Corrections to the sources\"). Paper values "
            "are scaled by N_1/1e6 = %g (N_1 of one replica) for comparison; +- is one standard "
            "error over the replicas. Its run times were measured on the authors' machine, ours "
            "on a loaded 2-core machine (wall time of `granary run` for all replicas, "
@@ -401,7 +402,7 @@ def table1(args, f, walls):
 
 def fig7(args, f):
     with Output(f["fig7"]) as o:
-        msd_figure(args, o, "fig7.png", "seed 000 Fig. 7: binary mixture, viscoelastic restitution",
+        msd_figure(args, o, "fig7.png", "Bodrova & Osinsky 2024, Fig. 7: binary mixture, viscoelastic restitution",
                    "A kappa^(2/5) = 0.09, m = (1, 100), sigma_2 = 100^(1/3), n_1 = n_2 = 0.1, "
                    "equipartition at t = 0; ballistic at short times, ~t^(1/6) at long times. " +
                    THEORY_OFF + "the light species among heavy ones diffuses 10-14 % faster than "
@@ -410,7 +411,7 @@ def fig7(args, f):
 
 def fig8(args, f):
     with Output(f["fig8"]) as o:
-        msd_figure(args, o, "fig8.png", "seed 000 Fig. 8: ternary mixture, viscoelastic restitution",
+        msd_figure(args, o, "fig8.png", "Bodrova & Osinsky 2024, Fig. 8: ternary mixture, viscoelastic restitution",
                    "A kappa^(2/5) = 0.09, m = (1, 100, 500), sigma_k = m_k^(1/3), n_k = 0.1, "
                    "equipartition at t = 0. " + THEORY_OFF + "the light species among heavy ones "
                    "diffuses 10-14 % faster than Eq. 4 predicts (Lorentz-gas ratio 32/(9 pi) = "

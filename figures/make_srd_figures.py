@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Regenerate the GSRD seed figures (seed 004) as PNG files (`make figures`).
+"""Regenerate the GSRD figures of Zantop (2017) as PNG files (`make figures`).
 
 Each figure runs the scenes of scenes/srd/ with `granary run` (reduced sizes, stated in each scene
 file; every scene takes seconds), reads the HDF5 output through granary_h5 only, and draws GSRD
@@ -199,7 +199,7 @@ def srd_a2(args, f):
            "the thesis, the minima are lower for higher eps_eff(t0), and the strongly dissipating runs turn positive "
            "later. The scenes keep the thesis' n0 = 25, T0 = 100, dt = 0.01 (streaming length dt sqrt(T0) = 0.1 a); "
            "with dt sqrt(T0) = a the order reverses (README, GSRD Sonine a2). a2 is that of the thermal velocities, "
-           "corrected for the cell-mean subtraction (0 for a Maxwellian). No theory is drawn (PHYSICS-NOTES: GSRD "
+           "corrected for the cell-mean subtraction (0 for a Maxwellian). No theory is drawn (physics notes, \"Oracles for tests\": GSRD "
            "a2 is an observable, not a test). eps differs between the four runs, the line above names the first." % "; ".join(mins))
     o0.close()
 

@@ -36,6 +36,12 @@
 #define GRAN_VERSION_MINOR 1
 #define GRAN_VERSION_PATCH 0
 #define GRAN_VERSION_STRING "0.1.0"
+/* The ABI number: the shared library's SONAME is libgranary.so.GRAN_ABI_VERSION. It rises with
+ * every change that can break a program built against an older header (a struct's fields, a
+ * function's parameters, a constant's value, a removed name); additions leave it. The rules are in
+ * the developers' pages (abi.md); include/granary.abi records the ABI it names. At run time,
+ * gran_abi_query("GRAN_ABI_VERSION", &v) gives the library's number. */
+#define GRAN_ABI_VERSION 1
 
 GRAN_EXTERN int gran_get_version(int *major, int *minor, int *patch);
 /* Build configuration, e.g. "cxx=g++ 12.2 flags=-O3 -march=native cuda=yes". Static storage. */
@@ -316,7 +322,7 @@ GRAN_EXTERN int gran_theory_reduced_time(const gran_mixture *mix, const double *
 GRAN_EXTERN int gran_theory_tracer_gamma_approx(const gran_mixture *mix, int64_t tracer, double *gamma);
 GRAN_EXTERN int gran_theory_tracer_tau_v_hat(const gran_mixture *mix, int64_t tracer, double gamma,
                                              double *tau_v_hat);
-/* Seed 002: mean relative speeds <|g_ij|> = sqrt(8/pi (T_i/m_i + T_j/m_j)) (Eq. 60), M*M. */
+/* The DSMC outline: mean relative speeds <|g_ij|> = sqrt(8/pi (T_i/m_i + T_j/m_j)) (Eq. 60), M*M. */
 GRAN_EXTERN int gran_theory_mean_relative_speed(const gran_mixture *mix, const double *T, double *g);
 /* Collisions per unit volume and time between species i and j (the DSMC outline Eq. 57, cross-section
  * pi sigma_ij^2 g2_ij): rates[i*M+j] = n_i n_j pi sigma_ij^2 g2_ij <|g_ij|> / (1 + delta_ij). Symmetric;
@@ -463,7 +469,7 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
                                           gran_dsmc **sim);
 
 /* ---- Time-step/cell DSMC, aggregation, fragmentation, thermostat (src/dsmc/cell.cpp, agg.cpp) ---
- * Seed 002: particles at positions in a cubic periodic box of side L = (F_N V)^(1/3) (V the volume
+ * The DSMC outline: particles in a cubic periodic box of side L = (F_N V)^(1/3) (V the volume
  * per simulated particle of the event selectors: rates are the same), nc^3 cells; every step dt
  * all particles stream (r += v dt), then in each cell N_p = F_N N_c^2 (sigma g)_max dt / (2 V_c)
  * candidate pairs (Eq. 8; the fractional part carried to the next step) are drawn with

@@ -57,10 +57,14 @@ void gran_warning_add(const char *fmt, ...) __attribute__((format(printf, 1, 2))
 /* DSMC engine state into / from a group of an HDF5 file that is already open (the run driver
  * builds its files in memory: src/io/h5.cpp); `path` names the file in messages. Read: with
  * `expect` (the run driver: the options of its scene with the replica's seed), the stored options
- * must equal it (refused naming the option). */
+ * must equal it, and so must the stored cell options (`expect_cell`, the scene's [cell] table,
+ * for the cell selector) and aggregation options (`expect_agg`, the scene's processes: a stored
+ * state with aggregation for a scene without, or the reverse, is refused too); refused naming the
+ * option. */
 int gran_dsmc_checkpoint_write_h5_(const gran_dsmc *sim, int64_t file_id, const char *group, const char *path);
 int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran_mixture *mix,
-                                  const gran_dsmc_options *expect, gran_dsmc **sim, const char *path);
+                                  const gran_dsmc_options *expect, const gran_dsmc_cell_options *expect_cell,
+                                  const gran_dsmc_agg_options *expect_agg, gran_dsmc **sim, const char *path);
 /* GSRD engine state likewise (src/srd/checkpoint.cpp); read: with `expect` (the options the run's
  * scene gives), every stored physics option must equal the expected one (refused naming it). */
 int gran_srd_checkpoint_write_h5_(const gran_srd *srd, int64_t file_id, const char *group, const char *path);

@@ -1,4 +1,4 @@
-/* srd_device_body.h - GSRD test bodies run on every device (STYLE rule 13, SUNDIALS test_nvector.h):
+/* srd_device_body.h - GSRD test bodies run on every device (as SUNDIALS' test_nvector.h):
  * tests/t890-srd-device.c runs them on the host reference of the device algorithm (device =
  * GRAN_SRD_DEVICE_REFERENCE) in `make test`, tests/gpu/t850-srd-gpu.c on the GPU (CUDA) in
  * `make test-gpu`, each against the CPU engine or the reference.

@@ -79,7 +79,7 @@ with Output(path) as o:
     ek, ei, ed = o.energy(), o.energy("e_initial"), o.energy("e_dissipated")
     check(np.allclose(ek + ed, ei, rtol=1e-9), "e_kin + e_dissipated = e_initial")
 
-# The replica layout (issue 9): X beside X_se and X_replicas, root attribute nreplicas; strings
+# The replica layout: X beside X_se and X_replicas, root attribute nreplicas; strings
 # written as bytes (fixed-length ASCII) must come back as str.
 rep = os.path.join(tmp, "replicas.h5")
 shutil.copy(path, rep)

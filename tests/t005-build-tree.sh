@@ -10,7 +10,7 @@ case "$build" in /*) ;; *) build="$src/$build" ;; esac
 tmp=$(mktemp -d /tmp/granary-t005-XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 ver=$(sed -n 's/^#define GRAN_VERSION_STRING "\(.*\)"/\1/p' "$src/include/granary.h")
-major=${ver%%.*}
+major=$(sed -n 's/^#define GRAN_ABI_VERSION \([0-9]*\)$/\1/p' "$src/include/granary.h") # the SONAME's number
 [ -f "$build/libgranary.so.$ver" ] && [ ! -L "$build/libgranary.so.$ver" ] ||
   { echo "FAIL: $build/libgranary.so.$ver is not the library file"; ls -l "$build"/libgranary.so*; exit 1; }
 [ "$(readlink "$build/libgranary.so.$major")" = "libgranary.so.$ver" ] ||

@@ -1,5 +1,5 @@
-/* t401-mixture.c - the mixture object and the viscoelastic restitution eps(x) (seed 000 App. A,
- * PHYSICS-NOTES Sec. 2). */
+/* t401-mixture.c - the mixture object and the viscoelastic restitution eps(x) (Bodrova & Osinsky App. A;
+ * docs/physics.md, "Viscoelastic restitution"). */
 #include "granary_test.h"
 
 
@@ -196,9 +196,9 @@ static void test_bad_inputs(void **state) {
 
 /* ---- viscoelastic eps(x) ------------------------------------------------------------------ */
 
-/* PHYSICS-NOTES Sec. 2 exact values; tolerance = achieved accuracy of the scheme at that x
- * (series below 0.4266: 1e-15 at 0.1, 1e-12 at 0.3; Pade beyond: 1e-6 at 0.5, 4e-5 at 0.8,
- * 1.2e-4 at 1.0, 5e-4 at 1.5, 7e-4 at 2.0: the Pade's own error, PHYSICS-NOTES). */
+/* The exact values of docs/physics.md, "Viscoelastic restitution"; tolerance = achieved accuracy of
+ * the scheme at that x (series below 0.4266: 1e-15 at 0.1, 1e-12 at 0.3; Pade beyond: 1e-6 at 0.5,
+ * 4e-5 at 0.8, 1.2e-4 at 1.0, 5e-4 at 1.5, 7e-4 at 2.0: the Pade's own error). */
 static void test_visco_exact_values(void **state) {
   (void)state;
   const double x[7] = {0.1, 0.3, 0.5, 0.8, 1.0, 1.5, 2.0};

@@ -1,5 +1,5 @@
 ! t401-theory-f.f90 - every Fortran binding of the theory section (bindings/granary.f90), with the
-! values of seed 000 Fig. 2 and Fig. 5 and the C-side oracles. Prints what it checks; error stop 1
+! values of Bodrova & Osinsky Fig. 2 and Fig. 5 and the C-side oracles. Prints what it checks; error stop 1
 ! on failure.
 program t401_theory_f
   use, intrinsic :: iso_c_binding

@@ -1,6 +1,6 @@
-/* t402-cooling-hcs.c - cooling rates (seed 000 Eq. 14-15, A7), tau_v and D (Eq. 8-11), and the
- * homogeneous cooling state (Eq. 16-21, 25) against analytic oracles (PHYSICS-NOTES Sec. 3) and
- * the published values of Figs. 2, 3, 5. */
+/* t402-cooling-hcs.c - cooling rates (Bodrova & Osinsky Eq. 14-15, A7), tau_v and D (Eq. 8-11), and
+ * the homogeneous cooling state (Eq. 16-21, 25) against analytic oracles (docs/physics.md, "Oracles
+ * for tests") and the published values of Figs. 2, 3, 5. */
 #include "granary_test.h"
 
 static const double SQRT_PI = 1.7724538509055160273;
@@ -21,8 +21,9 @@ static double hcs_defect(const gran_mixture *mix, int M, const double *T, double
   return d;
 }
 
-/* Haff (PHYSICS-NOTES): 1/tau0 = (2/3) sqrt(pi)(1-eps^2) n sigma^2 g2 sqrt(T0/m), a2 = 0 here;
- * D = 3 sqrt(T/m)/(2 sqrt(pi)(1+eps)^2 n sigma^2 g2); Eq. 7. Closed forms: 1e-14. */
+/* Haff (docs/physics.md, "Oracles for tests"): 1/tau0 = (2/3) sqrt(pi)(1-eps^2) n sigma^2 g2
+ * sqrt(T0/m), a2 = 0 here; D = 3 sqrt(T/m)/(2 sqrt(pi)(1+eps)^2 n sigma^2 g2); Eq. 7. Closed forms:
+ * 1e-14. */
 static void test_monodisperse_oracles(void **state) {
   (void)state;
   const double m = 2.5, s = 0.7, n = 0.3, g2 = 1.3, T = 1.7;
@@ -80,7 +81,8 @@ static void test_fast_equals_general(void **state) {
   gran_mixture_destroy(&b);
 }
 
-/* Garzo & Dufty 1999 (PHYSICS-NOTES): x1 = 1/2, equal sizes; the quoted 8 digits: 5e-8 absolute. */
+/* Garzo & Dufty 1999 (docs/physics.md, "Oracles for tests"): x1 = 1/2, equal sizes; the quoted 8
+ * digits: 5e-8 absolute. */
 static void test_garzo_dufty(void **state) {
   (void)state;
   const double mr[4] = {2, 4, 2, 10}, e[4] = {0.9, 0.9, 0.5, 0.9}, n1[4] = {0.5, 0.5, 0.5, 0.0};
@@ -273,8 +275,8 @@ static void test_viscoelastic_rates(void **state) {
     GRAN_ASSERT_ERR(gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, &T0, &t0), GRAN_ERR_DOMAIN);
     gran_mixture_destroy(&mix);
   }
-  /* leading order (PHYSICS-NOTES): xi = B T^(3/5), B = 6.5536217 beta n g2 sigma^2 m^(-3/5); at
-   * beta = 1e-8 the next order is ~1e-7 relative: 1e-6 */
+  /* leading order (docs/physics.md, "Oracles for tests"): xi = B T^(3/5), B = 6.5536217 beta n g2
+   * sigma^2 m^(-3/5); at beta = 1e-8 the next order is ~1e-7 relative: 1e-6 */
   gran_mixture *mix = NULL;
   GRAN_ASSERT_OK(gran_mixture_create(1, &m, &s, &n, &mix));
   GRAN_ASSERT_OK(gran_mixture_set_g2(mix, g2));

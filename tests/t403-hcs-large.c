@@ -1,4 +1,4 @@
-/* t403-hcs-large.c - HCS of highly polydisperse mixtures (seed 000 Sec. II D, Fig. 4):
+/* t403-hcs-large.c - HCS of highly polydisperse mixtures (Bodrova & Osinsky Sec. II D, Fig. 4):
  * n_k = n_1 k^-theta, m_k = k, sigma_k = k^(1/3), M up to 1e4 (structured Newton with ACA). */
 #define _POSIX_C_SOURCE 200809L
 #include "granary_test.h"

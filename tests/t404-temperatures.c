@@ -1,5 +1,5 @@
-/* t404-temperatures.c - partial temperatures T_k(t) by the ODE of seed 000 Eq. 13 (GSL odeiv2 in
- * log-time) against Haff's law, the HCS, the tracer limit and the viscoelastic cooling law. */
+/* t404-temperatures.c - partial temperatures T_k(t) by the ODE of Bodrova & Osinsky Eq. 13 (GSL
+ * odeiv2 in log-time) against Haff's law, the HCS, the tracer limit and the viscoelastic cooling law. */
 #include "granary_test.h"
 
 static const double SQRT_PI = 1.7724538509055160273;
@@ -97,10 +97,10 @@ static void test_hard_odes(void **state) {
   gran_mixture_destroy(&mix);
 }
 
-/* Viscoelastic monodisperse gas (PHYSICS-NOTES): dT/dt = -B T^(8/5), T = T0 [1 + (3/5) B T0^(3/5) t]^(-5/3),
- * B = (8/3) sqrt(pi) C1 Gamma(2.1) 4^(1/10) beta n g2 sigma^2 m^(-3/5) (= 6.5536217 beta n g2 sigma^2 m^-3/5).
- * This is the leading order in beta; at beta = 1e-6 the next order is 1e-6 relative at T0 = 1 and
- * shrinks as T^(1/10): 1e-5 up to t = 1e12 (T drops by 1e9). */
+/* Viscoelastic monodisperse gas (docs/physics.md, "Oracles for tests"): dT/dt = -B T^(8/5),
+ * T = T0 [1 + (3/5) B T0^(3/5) t]^(-5/3), B = (8/3) sqrt(pi) C1 Gamma(2.1) 4^(1/10) beta n g2 sigma^2 m^(-3/5)
+ * (= 6.5536217 beta n g2 sigma^2 m^-3/5). This is the leading order in beta; at beta = 1e-6 the next
+ * order is 1e-6 relative at T0 = 1 and shrinks as T^(1/10): 1e-5 up to t = 1e12 (T drops by 1e9). */
 static void test_viscoelastic_law(void **state) {
   (void)state;
   const double m = 1.0, s = 1.0, n = 0.1, beta = 1e-6;

@@ -1,6 +1,6 @@
 /* t405-msd.c - mean-squared displacements: closed form Eq. 22 against the numerical Eq. 4, Eq. 31,
  * the elastic limit, the ballistic limit, huge beta, the total Eq. 3, reduced times Eq. 6/18,
- * viscoelastic MSD (seed 000 Sec. II A-D, F, App. A). */
+ * viscoelastic MSD (Bodrova & Osinsky Sec. II A-D, F, App. A). */
 #include "granary_test.h"
 
 static gran_mixture *make(int M, const double *m, const double *s, const double *n, double eps) {

@@ -1,4 +1,4 @@
-/* t406-tamsd.c - time-averaged MSD (seed 000 Eq. 26-28) and the tracer limit (Eq. 29-35). */
+/* t406-tamsd.c - time-averaged MSD (Bodrova & Osinsky Eq. 26-28) and the tracer limit (Eq. 29-35). */
 #define _POSIX_C_SOURCE 200809L
 #include "granary_test.h"
 
@@ -19,11 +19,12 @@ static gran_mixture *fig5(double *T0, double *tau0) {
   return mix;
 }
 
-/* delta0 (closed form, cancellation-free) against (a) the printed formula of PHYSICS-NOTES at
- * moderate lags, where it is accurate to ~1e-15 t/lag: 1e-11; (b) Simpson quadrature of its
- * integrand 6 D tau0 log(1 + lag/(tau0 + t')) in v = log(1 + t'/tau0) (4000 intervals: 1e-11);
- * (c) the expansion K lag (L(t) - lag/(2B) - lag/(2 tau0))/(t - lag) at lag = 1e-12 t (third order
- * 1e-24 relative): 1e-13; (d) Eq. 28 for tau0 << lag << t: 1e-5 (its own accuracy ~ tau0/lag). */
+/* delta0 (closed form, cancellation-free) against (a) the printed formula of docs/physics.md,
+ * "Oracles for tests" at moderate lags, where it is accurate to ~1e-15 t/lag: 1e-11; (b) Simpson
+ * quadrature of its integrand 6 D tau0 log(1 + lag/(tau0 + t')) in v = log(1 + t'/tau0) (4000
+ * intervals: 1e-11); (c) the expansion K lag (L(t) - lag/(2B) - lag/(2 tau0))/(t - lag) at
+ * lag = 1e-12 t (third order 1e-24 relative): 1e-13; (d) Eq. 28 for tau0 << lag << t: 1e-5 (its own
+ * accuracy ~ tau0/lag). */
 static void test_delta0(void **state) {
   (void)state;
   double T0[2], tau0, D[2];

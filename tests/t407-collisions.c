@@ -1,5 +1,5 @@
-/* t407-collisions.c - seed 002 collision statistics: mean relative speeds (Eq. 60), collision rates
- * per species pair (Eq. 57-58, 61) and expected collision counts along the cooling. */
+/* t407-collisions.c - collision statistics of the DSMC outline: mean relative speeds (Eq. 60),
+ * collision rates per species pair (Eq. 57-58, 61) and expected collision counts along the cooling. */
 #include "granary_test.h"
 
 static const double PI = 3.14159265358979323846;
@@ -12,10 +12,11 @@ static gran_mixture *make(int M, const double *m, const double *s, const double 
 }
 
 /* Eq. 60 and Eq. 34 (monodisperse: 4 sqrt(T/(pi m))); per-particle collision frequency of a
- * monodisperse gas 2 rate/n = 4 sqrt(pi) n sigma^2 g2 sqrt(T/m) (PHYSICS-NOTES, and seed 002 Eq. 35);
- * the total sum_{i<=j} rate_ij is TWICE seed 002 Eq. 61 as printed: Eqs. 57 and 58 each halve the
- * sum over ordered pairs, so Eq. 61 reduces for one species to half of Eq. 35 (a slip of the
- * source; Eq. 35 and the PHYSICS-NOTES frequency fix the factor). All 1e-14. */
+ * monodisperse gas 2 rate/n = 4 sqrt(pi) n sigma^2 g2 sqrt(T/m) (docs/physics.md, "Oracles for
+ * tests", and the DSMC outline Eq. 35); the total sum_{i<=j} rate_ij is TWICE the outline's Eq. 61 as
+ * printed: Eqs. 57 and 58 each halve the sum over ordered pairs, so Eq. 61 reduces for one species to
+ * half of Eq. 35 (a slip of the source, docs/physics.md, "Corrections to the sources"; Eq. 35 and the
+ * collision frequency of "Oracles for tests" fix the factor). All 1e-14. */
 static void test_rates(void **state) {
   (void)state;
   const double m = 2.0, s = 0.6, n = 0.3, T = 1.7;
@@ -48,9 +49,9 @@ static void test_rates(void **state) {
 }
 
 /* Counts along the cooling. (a) HCS: rate_ij ~ 1/(1 + t/tau0), so
- * counts = V rate_ij(0) tau0 log(1 + t/tau0): 1e-9 at rtol 1e-10. (b) Haff in collisions per
- * particle c = 2 N_coll/N (PHYSICS-NOTES): ln(T/T0) = -(1 - eps^2) c/3 (a2 = 0), from an
- * equipartition start in a 1-species gas: 1e-9. (c) the MSD is linear in c: Eq. 23 =
+ * counts = V rate_ij(0) tau0 log(1 + t/tau0): 1e-9 at rtol 1e-10. (b) Haff in collisions per particle
+ * c = 2 N_coll/N (docs/physics.md, "Oracles for tests"): ln(T/T0) = -(1 - eps^2) c/3 (a2 = 0), from
+ * an equipartition start in a 1-species gas: 1e-9. (c) the MSD is linear in c: Eq. 23 =
  * 9 c/(4 pi (1+eps)^2 (n sigma^2 g2)^2) (1e-9). */
 static void test_counts(void **state) {
   (void)state;

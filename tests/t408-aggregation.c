@@ -7,8 +7,9 @@
 
 static const double PI = 3.14159265358979323846;
 
-/* Closed forms (PHYSICS-NOTES): P(E < W) = 1 - (1 + q) e^-q, P(E_n > W) = e^-w (w >= q);
- * overlapping thresholds (E_frag < E_agg): (1 + q - w) e^-q. 1e-14. */
+/* Closed forms (docs/physics.md, "Aggregation and fragmentation: fractions and energy carried"):
+ * P(E < W) = 1 - (1 + q) e^-q, P(E_n > W) = e^-w (w >= q); overlapping thresholds
+ * (E_frag < E_agg): (1 + q - w) e^-q. 1e-14. */
 static void test_fractions_closed(void **state) {
   (void)state;
   double fs, ff;

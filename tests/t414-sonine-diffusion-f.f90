@@ -3,23 +3,23 @@
 ! gran_theory_msd_hcs_approx and gran_theory_msd_approx (the closed form equals Eq. 4 from the HCS;
 ! the Maxwellian level equals gran_theory_msd_hcs), gran_theory_tamsd_approx (lag -> t_meas gives
 ! the MSD; Maxwellian = gran_theory_tamsd) and a refusal.
-! Prints what it checks; error stop 1 on failure.
+! Prints what it checks (tests/granary_test_f.f90); error stop 1 on failure.
 program t414_sonine_diffusion_f
   use, intrinsic :: iso_c_binding
   use granary
+  use granary_test_f
   implicit none
   type(c_ptr) :: mix
   real(c_double) :: one(1), dm(1), ds(1), z(1), t0(2), a2(2), tau0, t(2), ma(2, 2), mb(2, 2), mc(2, 2), md(2, 2)
   real(c_double) :: ta(2, 1), tb(2, 1), lag(1)
   integer :: ierr
-  integer :: nfail = 0
 
   one = 1
   z = 0
   call gran_mixture_create(mix, one, mass=one, sigma=one)
   call gran_theory_diffusion_approx(mix, int(GRAN_THEORY_MAXWELLIAN), [1.0_c_double], [0.0_c_double], z, dm)
   call gran_theory_diffusion_approx(mix, int(GRAN_THEORY_SONINE), [1.0_c_double], [0.0_c_double], z, ds)
-  call check('elastic: D2/D1 = 59/58', abs(ds(1) / dm(1) - 59.0_c_double / 58) < 1e-12_c_double)
+  call expect(abs(ds(1) / dm(1) - 59.0_c_double / 58) < 1e-12_c_double, 'elastic: D2/D1 = 59/58')
   call gran_mixture_destroy(mix)
 
   call gran_mixture_create(mix, [1.0_c_double, 0.5_c_double], mass=[1.0_c_double, 10.0_c_double], &
@@ -29,36 +29,22 @@ program t414_sonine_diffusion_f
   t = [10.0_c_double, 1000.0_c_double]
   call gran_theory_msd_hcs(mix, t0, tau0, t, ma)
   call gran_theory_msd_hcs_approx(mix, int(GRAN_THEORY_MAXWELLIAN), t0, a2, tau0, t, mb)
-  call check('Maxwellian level = gran_theory_msd_hcs', all(ma == mb))
+  call expect(all(ma == mb), 'Maxwellian level = gran_theory_msd_hcs')
   call gran_theory_msd_hcs_approx(mix, int(GRAN_THEORY_SONINE), t0, a2, tau0, t, mc)
   call gran_theory_msd_approx(mix, int(GRAN_THEORY_SONINE), t0, t, 1e-9_c_double, md)
-  call check('Sonine: HCS closed form = Eq. 4', all(abs(md / mc - 1) < 1e-6_c_double))
-  call check('Sonine MSD differs from the Maxwellian', all(abs(mc / ma - 1) > 1e-3_c_double))
+  call expect(all(abs(md / mc - 1) < 1e-6_c_double), 'Sonine: HCS closed form = Eq. 4')
+  call expect(all(abs(mc / ma - 1) > 1e-3_c_double), 'Sonine MSD differs from the Maxwellian')
   lag = 0.999999999_c_double * t(2)
   call gran_theory_tamsd_approx(mix, int(GRAN_THEORY_SONINE), t0, a2, tau0, t(2), lag, 1e-10_c_double, ta)
-  call check('Sonine TAMSD at lag -> t_meas = the Sonine MSD', all(abs(ta(:, 1) / mc(:, 2) - 1) < 1e-6_c_double))
+  call expect(all(abs(ta(:, 1) / mc(:, 2) - 1) < 1e-6_c_double), 'Sonine TAMSD at lag -> t_meas = the Sonine MSD')
   call gran_theory_tamsd(mix, t0, tau0, t(2), [10.0_c_double], 1e-10_c_double, ta)
   call gran_theory_tamsd_approx(mix, int(GRAN_THEORY_MAXWELLIAN), t0, a2, tau0, t(2), [10.0_c_double], &
                                 1e-10_c_double, tb)
-  call check('TAMSD: Maxwellian level = gran_theory_tamsd', all(ta == tb))
+  call expect(all(ta == tb), 'TAMSD: Maxwellian level = gran_theory_tamsd')
   call gran_theory_msd_hcs_approx(mix, 4, t0, a2, tau0, t, mc, ierr=ierr)
-  call check('approximation = 4 refused (GRAN_ERR_ARG)', ierr == GRAN_ERR_ARG)
+  call expect(ierr == GRAN_ERR_ARG, 'approximation = 4 refused (GRAN_ERR_ARG)')
   call gran_mixture_destroy(mix)
 
-  if (nfail > 0) error stop 1
-  print '(a)', 'all passed'
-
-contains
-
-  subroutine check(what, ok)
-    character(len=*), intent(in) :: what
-    logical, intent(in) :: ok
-    if (ok) then
-      print '(a, a)', '  ok    ', what
-    else
-      print '(a, a)', '  FAIL  ', what
-      nfail = nfail + 1
-    end if
-  end subroutine check
+  call test_finish('t414-sonine-diffusion-f')
 
 end program t414_sonine_diffusion_f

@@ -1,14 +1,14 @@
-/* t503-dsmc-rates.c - DSMC collision statistics against kinetic theory (PHYSICS-NOTES Sec. 3):
- * collision frequency of an elastic gas (exact oracle), collisions per species pair of an elastic
- * mixture, Haff's law in the time-step-free form ln T versus c = 2 N_coll / N, MSD linear in c.
- * Every selector (low-rank, Bird, and their paper variants) runs the rate tests.
- * Standard errors come from batch means over consecutive windows (they include the Poisson noise
- * and the fluctuations of the velocity distribution). Under ASan the samples shrink (dsmc_scale). */
+/* t503-dsmc-rates.c - DSMC collision statistics against kinetic theory (docs/physics.md, "Oracles for
+ * tests"): collision frequency of an elastic gas (exact oracle), collisions per species pair of an
+ * elastic mixture, Haff's law in the time-step-free form ln T versus c = 2 N_coll / N, MSD linear in
+ * c. Every selector (low-rank, Bird, and their paper variants) runs the rate tests. Standard errors
+ * come from batch means over consecutive windows (they include the Poisson noise and the fluctuations
+ * of the velocity distribution). Under ASan the samples shrink (dsmc_scale). */
 #include "dsmc_util.h"
 
 static const char *sel_name[4] = {"lowrank", "bird", "lowrank-paper", "bird-paper"};
 
-/* Speed classes (issue 11): the *_classes tests rerun a test with opt.speed_classes = 1 (only the
+/* Speed classes: the *_classes tests rerun a test with opt.speed_classes = 1 (only the
  * low-rank selectors: Bird ignores the option). */
 static int g_classes = 0;
 static int skip_sel(int sel) { return g_classes && (sel == GRAN_SELECTOR_BIRD || sel == GRAN_SELECTOR_BIRD_PAPER); }
@@ -244,7 +244,7 @@ static void test_msd_linear_in_c(void **state) {
   msd_linear(0.9);
 }
 
-/* speed classes (issue 11): the same tests and tolerances with opt.speed_classes = 1 */
+/* speed classes: the same tests and tolerances with opt.speed_classes = 1 */
 static int classes_on(void **state) {
   (void)state;
   g_classes = 1;

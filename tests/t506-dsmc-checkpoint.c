@@ -43,7 +43,7 @@ static void test_restart_bit_for_bit(void **state) {
                            GRAN_OBSERVE_TRAJECTORIES | GRAN_OBSERVE_COLLISION_COUNTS};
   for (int visco = 0; visco < 2; visco++) {
     gran_mixture *mix = five_species(visco);
-    for (int sel = 0; sel < 6; sel++) /* 4, 5: the low-rank selectors with speed classes (issue 11) */
+    for (int sel = 0; sel < 6; sel++) /* 4, 5: the low-rank selectors with speed classes */
       for (int q = 0; q < 3; q++) {
         gran_dsmc_options o = dsmc_opts(sel < 4 ? sel : sel == 4 ? GRAN_SELECTOR_LOWRANK : GRAN_SELECTOR_LOWRANK_PAPER,
                                         77 + (uint64_t)sel, 2e4, observes[q]);

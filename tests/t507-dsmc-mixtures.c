@@ -1,8 +1,8 @@
-/* t507-dsmc-mixtures.c - DSMC of mixtures in the homogeneous cooling state against the theory
- * module: HCS temperature ratios (PHYSICS-NOTES Sec. 3, Garzo & Dufty), and the partial MSDs and
- * temperature ratios of seed 000 Figs. 2 and 3 (gran_theory_hcs, gran_theory_msd_hcs), with the
- * particle numbers scaled down (Fig. 2: N_1 = 1e5, N_2 = 1e3; Fig. 3: 1e4 per species as in the
- * paper; 10x fewer under ASan for Fig. 2).
+/* t507-dsmc-mixtures.c - DSMC of mixtures in the homogeneous cooling state against the theory module:
+ * HCS temperature ratios (docs/physics.md, "Oracles for tests", Garzo & Dufty), and the partial MSDs
+ * and temperature ratios of Bodrova & Osinsky Figs. 2 and 3 (gran_theory_hcs, gran_theory_msd_hcs),
+ * with the particle numbers scaled down (Fig. 2: N_1 = 1e5, N_2 = 1e3; Fig. 3: 1e4 per species as in
+ * the paper; 10x fewer under ASan for Fig. 2).
  *
  * Tolerances: statistical part 4 standard errors, plus a stated model allowance where the theory
  * is an approximation (Maxwellian velocity distributions, first Sonine / Chapman-Enskog order):
@@ -24,11 +24,11 @@ static void binary_ratio(double mratio, double eps, double gamma, uint64_t seed)
   GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, eps));
   double T0[2], tau0;
   GRAN_ASSERT_OK(gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T0, &tau0));
-  GRAN_ASSERT_REL(T0[0] / T0[1], gamma, 1e-6); /* the theory module reproduces PHYSICS-NOTES */
+  GRAN_ASSERT_REL(T0[0] / T0[1], gamma, 1e-6); /* the theory module reproduces the oracle */
   const int64_t N = DSMC_ASAN ? 4000 : 20000;
   gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, seed, (double)N / 0.1, 0);
-  /* the seeds' samples as before the auto default of speed classes (issue 11): the power check
-   * below needs se < 2e-3, which the class engine's sample for seed 1 misses by 5% (t510 compares
+  /* speed classes off, so that the seeds' samples are those the tolerances were set on: the power
+   * check below needs se < 2e-3, which the class engine's sample for seed 1 misses by 5% (t510 compares
    * the class engine's statistics) */
   o.speed_classes = GRAN_SPEED_CLASSES_OFF;
   gran_dsmc *sim;

@@ -1,5 +1,5 @@
-/* t508-dsmc-restitution.c - restitution models and pair parameters in the DSMC engine:
- * viscoelastic cooling against PHYSICS-NOTES Sec. 3 and the theory module, the per-pair formula
+/* t508-dsmc-restitution.c - restitution models and pair parameters in the DSMC engine: viscoelastic
+ * cooling against docs/physics.md, "Oracles for tests" and the theory module, the per-pair formula
  * path used for many species, restitution matrices, contact values g2 per pair. */
 #include "dsmc_util.h"
 

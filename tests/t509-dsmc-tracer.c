@@ -1,6 +1,6 @@
-/* t509-dsmc-tracer.c - tracer species (seed 000 Sec. II F): a species with n_k = 0 and particles
- * collides with the gas at the physical rate, only the tracer's velocity changes, tracer-tracer
- * pairs never collide.
+/* t509-dsmc-tracer.c - tracer species (Bodrova & Osinsky Sec. II F): a species with n_k = 0 and
+ * particles collides with the gas at the physical rate, only the tracer's velocity changes,
+ * tracer-tracer pairs never collide.
  *  - the gas is unaffected: its momentum stays 0 to rounding while the total one does not, and its
  *    temperature follows Haff's law with and without hot tracers (replica means, k se);
  *  - Fig. 5 scaled down: T_2/T_1 stays near the HCS value, tracer MSD near gran_theory_msd_hcs;
@@ -46,9 +46,9 @@ static void gas_momentum(const gran_dsmc *sim, int64_t gas_end, const double *ma
  * energy per particle if it could flow into the gas). R replicas (seeds) each with and without
  * tracers; per replica y = T_1(t) / T_Haff(t) at t = 2 tau0 with T_Haff = T_1(0)/(1 + t/tau0)^2,
  * 1/tau0 = (2/3) sqrt(pi) (1 - eps^2) n sigma^2 sqrt(T_1(0)) (1 + 3 a2/16), a2 = -0.0145604
- * (PHYSICS-NOTES 3; T_1(0) measured). Asserts: mean y within 4 se of 1 for both (se: the spread of
- * the replicas / sqrt(R)), the two means within 4 combined se of each other; the gas momentum is
- * 0 to 1e-12 of sum |m v| in every run while the total momentum with tracers is not. */
+ * (docs/physics.md, "Oracles for tests"; T_1(0) measured). Asserts: mean y within 4 se of 1 for both
+ * (se: the spread of the replicas / sqrt(R)), the two means within 4 combined se of each other; the
+ * gas momentum is 0 to 1e-12 of sum |m v| in every run while the total momentum with tracers is not. */
 static void test_gas_unaffected(void **state) {
   (void)state;
   const int R = 8;
@@ -117,9 +117,9 @@ static void test_fig5_ratio_msd(void **state) {
   double ratio[4][2], msd2[4][2];
   for (int sel = 0; sel < 2; sel++) {
     gran_dsmc_options o = dsmc_opts(sel ? GRAN_SELECTOR_BIRD : GRAN_SELECTOR_LOWRANK, 55, 0, GRAN_OBSERVE_DISPLACEMENT);
-    /* this seed's samples as before the auto default of speed classes (issue 11): under ASan (1e3
-     * tracers) the 4% allowance at 0.5 tau0 is 1.6 standard errors of T_2, and the class engine's
-     * sample lands at +4.2% (t510 compares the class engine's statistics) */
+    /* speed classes off, so that this seed's samples are those the tolerances were set on: under ASan
+     * (1e3 tracers) the 4% allowance at 0.5 tau0 is 1.6 standard errors of T_2, and the class
+     * engine's sample lands at +4.2% (t510 compares the class engine's statistics) */
     o.speed_classes = GRAN_SPEED_CLASSES_OFF;
     gran_dsmc *sim;
     GRAN_ASSERT_OK(gran_dsmc_create(mix, counts, T0, &o, &sim));
@@ -179,7 +179,7 @@ static void test_fig5_ratio_msd(void **state) {
  * Gas n = 0.1, m = sigma = 1; tracer m = 10, eps = 0.9. Unlike Fig. 5 (mu = 100, eps = 0.5, past
  * the Santos-Dufty transition, where the DSMC ratio drifts +31% above the Maxwellian value by
  * 10 tau0 and the tracer a2 falls to -0.35) the tracer stays near a Maxwellian here. Two cases:
- *  A: sigma_2 = 1, the Garzo-Dufty tracer ratio 1.5645836 (PHYSICS-NOTES, t402);
+ *  A: sigma_2 = 1, the Garzo-Dufty tracer ratio 1.5645836 (docs/physics.md, "Oracles for tests"; t402);
  *  B: sigma_2 = 10^(1/3) (the size law of Fig. 5), ratio from gran_theory_hcs (1.12829).
  * From the HCS start, R = 8 replicas (both selectors); per replica y = the mean of
  * (T_2/T_1)/theory over 16 times log-spaced in ln(1 + t/tau0) = 0.3 .. 2.25 (the HCS is stationary

@@ -1,7 +1,7 @@
 /* t510-dsmc-fast-vs-paper.c - the default low-rank selector (acceptance |g| against a bound half as
  * large, e drawn from its |g.e|-weighted law, pipeline, buffered streams) and `lowrank_paper` (the
  * paper's literal rule: e uniform, accept |g.e|) simulate the same process on the three systems of
- * the speed table in b501 (issue 11), scaled down; and so does the low-rank selector with speed
+ * the speed table in b501, scaled down; and so does the low-rank selector with speed
  * classes (opt.speed_classes = 1, the *_classes cases; other seeds):
  *   table1: n_k = 0.1 k^-3, N_k = round(N_1 k^-3) >= 1 with N_1 = 1e4 (22 species, eps = 0.5,
  *           T_k(0) = 1, t = 10);
@@ -13,8 +13,8 @@
  * uses the variance pooled over both selectors (2(R-1) degrees of freedom): tolerance 4.5 standard
  * errors per quantity (the t504 convention), and each quantity resolved to better than 3% (6%
  * under ASan) so that the comparison has teeth.
- * test_auto_choice: the default speed_classes = GRAN_SPEED_CLASSES_AUTO decides at creation
- * (issue 11): on for the two mixtures (with and without displacements), off for the monodisperse
+ * test_auto_choice: the default speed_classes = GRAN_SPEED_CLASSES_AUTO decides at creation:
+ * on for the two mixtures (with and without displacements), off for the monodisperse
  * gas, the paper's rule, Bird, with trajectories and for a mixture without a species of 256 particles; an auto engine runs bit for bit as the engine with
  * the setting it chose (so the statistics above cover it). */
 #include "dsmc_util.h"

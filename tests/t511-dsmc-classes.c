@@ -1,4 +1,4 @@
-/* t511-dsmc-classes.c - speed classes (issue 11, opt.speed_classes = 1): the low-rank selector
+/* t511-dsmc-classes.c - speed classes (opt.speed_classes = 1): the low-rank selector
  * over (species, speed class) leaves with fixed capacities. (Its statistics against `lowrank_paper`
  * on the three systems of b501: t510; rates per pair, Haff's law and the MSD with classes: t503;
  * bit-for-bit restarts: t506.)
@@ -127,7 +127,7 @@ static void test_option_and_identity(void **state) {
 }
 
 /* The scene key `[engine] speed_classes` (true, false or "auto"; default "auto" =
- * GRAN_SPEED_CLASSES_AUTO since the auto mode of issue 11) sets the option; another value is refused
+ * GRAN_SPEED_CLASSES_AUTO) sets the option; another value is refused
  * naming the key. */
 static void test_scene_key(void **state) {
   (void)state;

@@ -9,7 +9,7 @@
 #include "dsmc_util.h"
 
 /* Haff's law in collisions per particle c = 2 N_coll / N: ln(T/T0) = -(1 - eps^2)(1 + 3 a2/16) c / 3
- * (PHYSICS-NOTES Sec. 3), a2 of the HCS (van Noije & Ernst) for eps = 0.5. */
+ * (docs/physics.md, "Oracles for tests"), a2 of the HCS (van Noije & Ernst) for eps = 0.5. */
 static void test_to_1e30_tau0(void **state) {
   (void)state;
   const double eps = 0.5, n = 0.1;

@@ -1,4 +1,5 @@
-/* t517-dsmc-msd-bookkeeping.c - where the DSMC MSD of the figures comes from (issue 9 follow-up).
+/* t517-dsmc-msd-bookkeeping.c - where the DSMC MSD of the figures comes from (docs/physics.md,
+ * "Why the DSMC MSD lies below Eq. 4").
  *  - The engine's displacements (Eq. 45 with the reference time fixed at t_start, corrected at
  *    every velocity change and at every removal of the gas's mean flow when the speed bounds are
  *    tightened) equal the displacements integrated independently from the velocities, sampled on
@@ -18,7 +19,7 @@
  * ~1 s at -O3; sizes cut under AddressSanitizer (DSMC_ASAN). */
 #include "dsmc_util.h"
 
-/* Fig. 1 of seed 000: n = (0.1, 0.1), m = (1, 100), sigma = (1, 1), eps = 0.5, T(0) = (1, 1) */
+/* Fig. 1 of Bodrova & Osinsky: n = (0.1, 0.1), m = (1, 100), sigma = (1, 1), eps = 0.5, T(0) = (1, 1) */
 static void test_msd_equals_velocity_integral(void **state) {
   (void)state;
   const int64_t Nk = DSMC_ASAN ? 300 : 1500;

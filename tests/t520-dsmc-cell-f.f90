@@ -1,7 +1,7 @@
 ! t520-dsmc-cell-f.f90 - the time-step/cell selector from Fortran: every wrapper of the cell block
 ! (gran_dsmc_cell_options_default, gran_dsmc_create_cell, gran_dsmc_cell_info,
 ! gran_scene_dsmc_cell_options) with physics checks: an elastic gas keeps its energy and collides
-! at the rate of seed 002 Eq. 35 (4 standard errors), positions lie in the box of side (F_N V)^(1/3),
+! at the rate of the DSMC outline's Eq. 35 (4 standard errors), positions lie in the box of side (F_N V)^(1/3),
 ! the steps done are t/dt; bad options return their code through ierr.
 program t520_dsmc_cell_f
   use, intrinsic :: iso_c_binding

@@ -1,15 +1,15 @@
-/* t520-dsmc-cell.c - the time-step/cell selector (GRAN_SELECTOR_CELL, seed 002) against the kinetic
- * theory and the low-rank event selector:
- *  - elastic gas: collisions in time t against seed 002 Eq. 35 (N/2 omega t, omega = 4 sqrt(pi)
+/* t520-dsmc-cell.c - the time-step/cell selector (GRAN_SELECTOR_CELL, the DSMC outline) against the
+ * kinetic theory and the low-rank event selector:
+ *  - elastic gas: collisions in time t against the outline's Eq. 35 (N/2 omega t, omega = 4 sqrt(pi)
  *    n sigma^2 sqrt(T/m)); the count is a sum of nearly independent Bernoulli trials, so its
  *    standard error is at most sqrt(count) (stated below as 4 sqrt(count));
  *  - Haff cooling, eps = 0.8: T(t) of the cell selector against the low-rank selector (4 seeds
  *    each, 4 standard errors of the difference) and against Haff's law with the HCS a2 correction
- *    (1 %: the a2 of the start relaxes, PHYSICS-NOTES Sec. 3); collision counts against the
+ *    (1 %: the a2 of the start relaxes, docs/physics.md, "Oracles for tests"); collision counts against the
  *    low-rank selector's;
  *  - binary mixture m = (1, 2), eps = 0.9: the time-averaged T_1/T_2 against the low-rank selector
  *    (4 standard errors, batch means over seeds) and the Maxwellian theory 1.0595724 (1.5 %, the
- *    first-Sonine error of PHYSICS-NOTES);
+ *    first-Sonine error: docs/physics.md, "Where the Maxwellian theory is known to be off");
  *  - dt -> 0: the MSD of an elastic gas at t = 10 tau (tau the mean free time) converges to the
  *    low-rank selector's as dt -> 0: the error of dt = tau is about half of tau's O(dt) estimate
  *    omega dt / 2, halving dt halves it, and dt = tau/16 agrees within 4 standard errors;

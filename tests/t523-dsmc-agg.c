@@ -1,5 +1,6 @@
-/* t523-dsmc-agg.c - aggregation and fragmentation in the cell selector (seed 002 steps 10a-10d,
- * PHYSICS-NOTES corrections) against the kinetic theory and the conservation laws:
+/* t523-dsmc-agg.c - aggregation and fragmentation in the cell selector (the DSMC outline steps
+ * 10a-10d with the corrections of docs/physics.md, "Corrections to the sources") against the kinetic
+ * theory and the conservation laws:
  *  - first steps from Maxwellian monomers: the fractions of collisions that merge and that shatter
  *    against gran_theory_agg_fractions (4 binomial standard errors);
  *  - n_1, n_2, n_3 at t = 40 (n_1 down to 54 %) against gran_theory_aggregation, with and without

@@ -128,7 +128,7 @@ static void test_bath(void **state) {
 }
 
 /* The bath's rate: a monodisperse elastic gas (gas-gas collisions keep T) in a bath of equal
- * particles (m = m_b, sigma = sigma_b) at T_b = 2, from T = 1. Seed 002 Eq. 76 with the bath as the
+ * particles (m = m_b, sigma = sigma_b) at T_b = 2, from T = 1. The outline's Eq. 76 with the bath as the
  * second species held at T_b, dT/dt = R(T) = (4/3) sqrt(2 pi) n_b sigma^2 sqrt((T + T_b)/m)(T_b - T),
  * assumes a Maxwellian gas; this one is not: the particles that met the bath are hotter than those
  * that did not (a superposition of temperatures), so a2 rises to ~0.11 by t = 2 (the bath collides

@@ -1,8 +1,9 @@
-/* t525-seed002-scenes.c - the scenes of scenes/seed002 (seed 002 Figs. 1-6, aggregation in the cell
- * and the low-rank selectors, an aggregation-fragmentation steady state) load, build their mixture
- * and engine and advance; Figs. 1-2 (N = 2000) run through the driver to the end: T(t) within 4 standard errors
- * (sqrt(2/(3N)) T) plus 1 % (a2 and the sample's initial temperature) of the theory written beside
- * it, and the collision count at the end within 3 % of Eq. 35 integrated along that theory. */
+/* t525-seed002-scenes.c - the scenes of scenes/seed002 (the DSMC outline's Figs. 1-6, aggregation in
+ * the cell and the low-rank selectors, an aggregation-fragmentation steady state) load, build their
+ * mixture and engine and advance; Figs. 1-2 (N = 2000) run through the driver to the end: T(t) within
+ * 4 standard errors (sqrt(2/(3N)) T) plus 1 % (a2 and the sample's initial temperature) of the theory
+ * written beside it, and the collision count at the end within 3 % of Eq. 35 integrated along that
+ * theory. */
 #include "io_test_util.h"
 
 #include <dirent.h>

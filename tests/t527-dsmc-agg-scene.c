@@ -5,7 +5,8 @@
  * drive the cell selector (e_agg, e_frag, eps_f, frag_law into gran_dsmc_cell_options);
  * gran_scene_dsmc equals gran_dsmc_create_agg with gran_scene_dsmc_agg_options; bad keys named;
  * checkpoint files: a format 3 file of the cell selector (no fragment law) still reads and continues
- * bit for bit; damaged aggregation blocks of the event selectors are refused. */
+ * bit for bit; damaged aggregation blocks of the event selectors are refused; a run checkpoint whose
+ * stored [cell] or [aggregation] options were edited is refused on resume naming the option. */
 #include "io_test_util.h"
 #include "agg_test_util.h"
 
@@ -112,6 +113,41 @@ static void test_bad_keys(void **state) {
   agg_expect_parse_error(scene("bird", "", "frag_law = \"dust\"", "x.h5"), "aggregation.frag_law");
   agg_expect_parse_error(scene("bird", "", "nonsense = 1", "x.h5"), "aggregation.nonsense");
   agg_expect_parse_error(scene("cell", "[cell]\ndt = 0.5\ne_agg = 1.0", "e_agg = 1.0", "x.h5"), "aggregation.e_agg");
+}
+
+/* a run checkpoint whose stored engine options were edited (checksum recomputed) is refused on
+ * resume naming the option: the options of the [cell] table and of [aggregation] are compared with
+ * the scene stored beside them, as the engine options are */
+static void resume_edited(const char *selector, const char *cell, const char *dataset, int64_t index, double value,
+                          int is_int, const char *want) {
+  char ck[600], ed[600];
+  snprintf(ck, sizeof ck, "%s", io_path("edit.ckpt"));
+  snprintf(ed, sizeof ed, "%s", io_path("edited.ckpt"));
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(scene(selector, cell, "e_agg = 1.0\ne_frag = 3.0\neps_f = 0.7", io_path("edit.h5")),
+                                  "agg.toml", &s));
+  gran_run_control ctl = {1, NULL, NULL};
+  gran_run_result res;
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, ck, &ctl, &res));
+  assert_int_equal(res.finished, 0);
+  gran_scene_destroy(&s);
+  io_edit_copy(ck, ed, dataset, index, value, is_int);
+  GRAN_ASSERT_ERR(gran_scene_resume(ed, io_path("edited.h5"), NULL, NULL), GRAN_ERR_IO);
+  const char *msg = gran_last_error_message();
+  if (!strstr(msg, want) || !strstr(msg, "does not match the scene")) fail_msg("%s: message '%s' lacks '%s'", dataset, msg, want);
+  GRAN_ASSERT_OK(gran_scene_resume(ck, NULL, NULL, &res)); /* the unedited file resumes */
+  assert_int_equal(res.finished, 1);
+}
+
+static void test_edited_options(void **state) {
+  (void)state;
+  const char *cell = "[cell]\ncells = 3\ndt = 0.5";
+  resume_edited("bird", "", "/engine/agg_options_real", 0, 1.25, 0, "'agg_options.e_agg'");
+  resume_edited("lowrank", "", "/engine/agg_options_real", 2, 0.5, 0, "'agg_options.eps_f'");
+  resume_edited("cell", cell, "/engine/cell_options_real", 0, 0.25, 0, "'cell_options.dt'");
+  resume_edited("cell", cell, "/engine/cell_options_real", 2, 1.5, 0, "'cell_options.e_agg'");
+  resume_edited("cell", cell, "/engine/cell_options_real", 5, 0.1, 0, "'cell_options.heat_rate'");
+  resume_edited("cell", cell, "/engine/cell_options_int", 2, GRAN_FRAG_BINARY, 1, "'cell_options.frag_law'");
 }
 
 /* ---- checkpoint files of aggregating engines ---- */
@@ -278,6 +314,7 @@ int main(void) {
       cmocka_unit_test(test_scene_engine),
       cmocka_unit_test(test_lowrank),
       cmocka_unit_test(test_bird),
+      cmocka_unit_test(test_edited_options),
       cmocka_unit_test(test_format3),
       cmocka_unit_test(test_damaged),
   };

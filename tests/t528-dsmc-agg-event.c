@@ -1,5 +1,5 @@
 /* t528-dsmc-agg-event.c - aggregation and fragmentation in the event selectors (low-rank and Bird,
- * gran_dsmc_create_agg; issue 10) against the cell selector, the kinetic theory and the
+ * gran_dsmc_create_agg) against the cell selector, the kinetic theory and the
  * conservation laws:
  *  - the first collisions from Maxwellian monomers: fractions that merge and shatter against
  *    gran_theory_agg_fractions (4 binomial standard errors), the collision count against Eq. 35;

@@ -284,7 +284,7 @@ static void test_shipped_scenes(void **state) {
   assert_true(nloaded >= 10);
 }
 
-/* The parameters of the figure scenes, as the seed's captions give them. */
+/* The parameters of the figure scenes, as the captions of Bodrova & Osinsky give them. */
 static void test_figure_parameters(void **state) {
   (void)state;
   char path[1024];

@@ -2,7 +2,8 @@
  * every option run parses; `run` writes its output and prints where; --stop-after-checkpoints +
  * --resume give the same file as a straight run; --set overrides scene keys and the run log
  * records the run; `info` names the compiler and the CUDA code; bad scenes exit 1 naming file,
- * line and key; `theory --json` is valid JSON (parsed back here) with the seed-000 Fig. 2 numbers. */
+ * line and key; `theory --json` is valid JSON (parsed back here) with the numbers of Bodrova &
+ * Osinsky Fig. 2. */
 #include "io_test_util.h"
 #include "io_tiny_scene.h"
 
@@ -445,7 +446,7 @@ static void test_theory_json(void **state) {
   assert_non_null(sp);
   assert_int_equal(sp->type, 4);
   assert_int_equal(sp->n, 2);
-  /* seed 000 Fig. 2 caption: T_1(0) = 0.554, T_2(0) = 45.58755, tau0 = 19.258 (printed digits) */
+  /* Bodrova & Osinsky Fig. 2 caption: T_1(0) = 0.554, T_2(0) = 45.58755, tau0 = 19.258 (printed digits) */
   const double T1 = jnum(jget(&sp->items[0], "T0")), T2 = jnum(jget(&sp->items[1], "T0"));
   const double tau0 = jnum(jget(&root, "tau0"));
   GRAN_ASSERT_ABS(T1, 0.554, 0.0005);

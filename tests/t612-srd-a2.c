@@ -1,4 +1,4 @@
-/* t612-srd-a2.c - Sonine a2 of the GSRD gas (gran_srd_observe, issue 8: thesis Fig. 3.15).
+/* t612-srd-a2.c - Sonine a2 of the GSRD gas (gran_srd_observe; Zantop 2017, Fig. 3.15).
  *  - Estimator: a2 = (d/(d+2)) <c^4>/<c^2>^2 - 1 of the thermal velocities v - V_cell, corrected for
  *    the cell-mean subtraction. Checked in 2-D and 3-D, at n0 = 3 (many cells of 2-4 particles,
  *    where the correction is large) and n0 = 20, against samples of known a2:

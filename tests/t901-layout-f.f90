@@ -1,4 +1,4 @@
-! t901-layout-f.f90 - the Fortran mirrors against the compiled C library (STYLE rule 10): c_sizeof of
+! t901-layout-f.f90 - the Fortran mirrors against the compiled C library: c_sizeof of
 ! every bind(C) type of the module, the offset of every component (c_loc differences) and every
 ! constant the module defines, each compared with gran_abi_query by name. The complete list is
 ! t901-layout-f.inc, generated from include/granary.h with the module's raw layer

@@ -330,12 +330,12 @@ void summary(const OutData &d, const std::string &path, FILE *o) {
       std::fprintf(o, "  b: light species among heavy ones diffuse 10-14 %% faster than Eq. 4 predicts (Lorentz gas: 32/(9 pi))\n");
     if (used[2]) {
       if (c_hot > 0 && c_cold == 0)
-        std::fprintf(o, "  c: a heavy, dilute species (tracer limit, Eq. 35) runs hotter than the Maxwellian theory:\n"
+        std::fprintf(o, "  c: a heavy, dilute species (tracer limit, Bodrova & Osinsky Eq. 35) runs hotter than the Maxwellian theory:\n"
                         "     near or in the ordered phase of Santos and Dufty (b > 1) T_k/T_1 is well above it (physics, not noise)\n");
       else if (c_cold > 0 && c_hot == 0)
-        std::fprintf(o, "  c: a heavy, dilute species (tracer limit, Eq. 35) runs colder than the Maxwellian theory here\n");
+        std::fprintf(o, "  c: a heavy, dilute species (tracer limit, Bodrova & Osinsky Eq. 35) runs colder than the Maxwellian theory here\n");
       else
-        std::fprintf(o, "  c: a heavy, dilute species (tracer limit, Eq. 35): the Maxwellian theory of it is least accurate\n");
+        std::fprintf(o, "  c: a heavy, dilute species (tracer limit, Bodrova & Osinsky Eq. 35): the Maxwellian theory of it is least accurate\n");
     }
   }
   const auto &ek = d.ek, &e0 = d.e0;

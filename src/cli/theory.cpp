@@ -2,7 +2,9 @@
  * kinetic theory of the scene's mixture (HCS temperatures, relaxation and correlation times,
  * diffusion coefficients; T_k(t), MSD_k(t) and TAMSD at requested times and lags; with
  * --approximation sonine also the first Sonine HCS (T_k, a2_k, tau0) and T_k(t), a2_k(t), and the
- * MSD_k(t) and D_k(0) of the two-moment velocity correlation). */
+ * MSD_k(t) and D_k(0) of the two-moment velocity correlation). Aggregating DSMC scenes, GSRD scenes
+ * and engines without a theory go to theory_engines.cpp. */
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -12,12 +14,13 @@
 
 #include "cli.h"
 #include "io/io_impl.h"
+#include "theory_util.h"
 
 namespace {
 
 void theory_usage(FILE *f) {
   std::fprintf(f,
-               "usage: granary theory SCENE [--times t1,t2,...] [--lags l1,l2,...] [--approximation A] [--json]\n"
+               "usage: granary theory SCENE [--times t1,t2,...|scene] [--lags l1,l2,...] [--approximation A] [--json]\n"
                "  Prints, per species, n_k, m_k, sigma_k, T_k(0), gamma_k1 = T_k(0)/T_1(0), tau_v,k(0), D_k(0),\n"
                "  and tau0 of the homogeneous cooling state. Times are measured from the scene's t_start.\n"
                "  --times  also T_k(t) and MSD_k(t) at these times\n"
@@ -26,7 +29,12 @@ void theory_usage(FILE *f) {
                "           Sonine HCS (T_k, T_k/T_1, a2_k, tau0) and, with --times, T_k(t) and a2_k(t) from the\n"
                "           scene's start (a2 = the Sonine HCS's when it starts in the HCS, else 0); constant or\n"
                "           matrix restitution only. MSD and TAMSD stay at the Maxwellian level.\n"
-               "  --json   the same as one JSON object on stdout (numbers %%.17g, inf/nan as null)\n");
+               "  --json   the same as one JSON object on stdout (numbers %%.17g, inf/nan as null)\n"
+               "  --times scene: the scene's own output times (from t_start), the times of the run driver's theory\n"
+               "  Aggregating scenes (e_agg > 0 or a finite e_frag): the Smoluchowski kinetics n_k(t), T_k(t), the\n"
+               "  total density and mean temperature instead. GSRD scenes: Haff's law T(t) when the gas cools freely\n"
+               "  and the shear viscosity under Lees-Edwards shear. What the engine has no theory for is named in\n"
+               "  one line; a scene without any theory says so and exits 0.\n");
 }
 
 /* comma-separated list of finite numbers */
@@ -47,51 +55,11 @@ bool parse_list(const char *s, std::vector<double> &out) {
   return !out.empty();
 }
 
-void jnum(std::string &o, double x) {
-  if (!std::isfinite(x)) {
-    o += "null";
-    return;
-  }
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  o += b;
-}
-
-void jstr(std::string &o, const std::string &s) {
-  o += '"';
-  for (unsigned char c : s) {
-    if (c == '"') o += "\\\"";
-    else if (c == '\\') o += "\\\\";
-    else if (c == '\n') o += "\\n";
-    else if (c == '\t') o += "\\t";
-    else if (c == '\r') o += "\\r";
-    else if (c < 0x20) {
-      char b[8];
-      std::snprintf(b, sizeof b, "\\u%04x", c);
-      o += b;
-    } else o += (char)c;
-  }
-  o += '"';
-}
-
-void jarr(std::string &o, const double *x, int64_t n) {
-  o += '[';
-  for (int64_t i = 0; i < n; i++) {
-    if (i) o += ", ";
-    jnum(o, x[i]);
-  }
-  o += ']';
-}
-
-/* rows x cols row-major as an array of arrays */
-void jmat(std::string &o, const double *x, int64_t rows, int64_t cols) {
-  o += '[';
-  for (int64_t i = 0; i < rows; i++) {
-    if (i) o += ", ";
-    jarr(o, x + i * cols, cols);
-  }
-  o += ']';
-}
+/* the JSON writers of theory_util.h */
+void jnum(std::string &o, double x) { cli_json::num(o, x); }
+void jstr(std::string &o, const std::string &x) { cli_json::str(o, x); }
+void jarr(std::string &o, const double *x, int64_t n) { cli_json::arr(o, x, n); }
+void jmat(std::string &o, const double *x, int64_t rows, int64_t cols) { cli_json::mat(o, x, rows, cols); }
 
 int fail(const char *what) {
   std::fprintf(stderr, "granary theory: %s: %s\n", what, cli_error());
@@ -103,7 +71,7 @@ int fail(const char *what) {
 int cli_theory(int argc, char **argv) {
   const char *scene_path = nullptr;
   std::vector<double> times, lags;
-  bool json = false;
+  bool json = false, times_scene = false, approx_given = false;
   int approx = GRAN_THEORY_MAXWELLIAN;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -118,6 +86,7 @@ int cli_theory(int argc, char **argv) {
         return 2;
       }
       const char *v = argv[++i];
+      approx_given = true;
       if (!std::strcmp(v, "maxwellian")) approx = GRAN_THEORY_MAXWELLIAN;
       else if (!std::strcmp(v, "sonine")) approx = GRAN_THEORY_SONINE;
       else {
@@ -130,6 +99,13 @@ int cli_theory(int argc, char **argv) {
         return 2;
       }
       std::vector<double> &v = !std::strcmp(a, "--times") ? times : lags;
+      if (!std::strcmp(a, "--times") && !std::strcmp(argv[i + 1], "scene")) {
+        times_scene = true; /* filled in from the scene below */
+        times.clear();
+        ++i;
+        continue;
+      }
+      if (!std::strcmp(a, "--times")) times_scene = false;
       if (!parse_list(argv[++i], v)) {
         std::fprintf(stderr, "granary theory: %s '%s': expected comma-separated finite numbers\n", a, argv[i]);
         return 2;
@@ -154,7 +130,7 @@ int cli_theory(int argc, char **argv) {
     theory_usage(stderr);
     return 2;
   }
-  if (!lags.empty() && times.empty()) {
+  if (!lags.empty() && times.empty() && !times_scene) {
     std::fprintf(stderr, "granary theory: --lags needs --times (the measurement times of the TAMSD)\n");
     return 2;
   }
@@ -170,6 +146,23 @@ int cli_theory(int argc, char **argv) {
       gran_scene_destroy(s);
     }
   } guard{&scene, &mix};
+  if (times_scene) /* the run driver's theory times: the output times from t_start */
+    for (double t : scene->times) times.push_back(std::max(0.0, t - scene->t_start));
+
+  /* the engines and processes the cooling-mixture theory below does not describe */
+  cli_theory_request req;
+  req.scene_path = scene_path;
+  req.times = times;
+  req.times_scene = times_scene;
+  req.lags = lags;
+  req.json = json;
+  req.approx = approx;
+  req.approx_given = approx_given;
+  if (scene->engine_type == "srd") return cli_theory_srd(scene, req);
+  if (scene->engine_type != "dsmc")
+    return cli_theory_none(scene, req, "granary has a kinetic theory for the DSMC and GSRD engines only");
+  if (scene->agg.e_agg > 0 || std::isfinite(scene->agg.e_frag)) return cli_theory_aggregation(scene, req);
+
   if (gran_scene_mixture(scene, &mix)) return fail("cannot build the mixture");
   int64_t M = 0;
   gran_mixture_nspecies(mix, &M);
@@ -192,6 +185,12 @@ int cli_theory(int argc, char **argv) {
   double t_start = 0;
   gran_scene_sizes(scene, nullptr, nullptr, nullptr, &t_start, nullptr);
   const bool hcs_start = scene->init == SCENE_INIT_HCS;
+  /* driving of the cell selector: the theory below cools freely */
+  std::vector<std::string> not_covered;
+  if (scene->selector == GRAN_SELECTOR_CELL && scene->cell.heat_rate > 0)
+    not_covered.push_back("the white-noise thermostat (heat_rate): the theory cools freely");
+  if (scene->selector == GRAN_SELECTOR_CELL && scene->cell.bath_density > 0)
+    not_covered.push_back("the molecular-gas bath: the theory has no bath collisions");
 
   const int64_t nt = (int64_t)times.size(), nl = (int64_t)lags.size();
   std::vector<double> T((size_t)(nt * M)), msd((size_t)(nt * M)), msd_tot((size_t)nt), ta((size_t)(nt * nl * M), NAN);
@@ -260,6 +259,7 @@ int cli_theory(int argc, char **argv) {
     std::string o = "{";
     o += "\"scene\": ";
     jstr(o, scene_path);
+    o += ", \"engine\": \"dsmc\", \"theory\": \"mixture\"";
     o += ", \"nspecies\": " + std::to_string(M);
     o += ", \"restitution\": ";
     jstr(o, model_name);
@@ -345,7 +345,12 @@ int cli_theory(int argc, char **argv) {
       }
       o += "]";
     }
-    o += "}\n";
+    o += ", \"not_covered\": [";
+    for (size_t i = 0; i < not_covered.size(); i++) {
+      if (i) o += ", ";
+      jstr(o, not_covered[i]);
+    }
+    o += "]}\n";
     std::fputs(o.c_str(), stdout);
     return 0;
   }
@@ -410,6 +415,11 @@ int cli_theory(int argc, char **argv) {
           std::printf("%14.8g %14.8g %4" PRId64 " %16.10g\n", times[(size_t)i], lags[(size_t)j], k + 1,
                       ta[(size_t)((i * nl + j) * M + k)]);
       }
+  }
+  if (!not_covered.empty()) {
+    std::printf("\nno theory here for:");
+    for (size_t i = 0; i < not_covered.size(); i++) std::printf("%s %s", i ? ";" : "", not_covered[i].c_str());
+    std::printf("\n");
   }
   (void)text;
   return 0;

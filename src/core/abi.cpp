@@ -1,5 +1,5 @@
 /* abi.cpp - the ABI described by name, so bindings can check their mirrors against the compiled
- * library (STYLE rule 10): sizeof of every struct of granary.h, offsetof of every field and the
+ * library: sizeof of every struct of granary.h, offsetof of every field and the
  * value of every integer constant. The list is src/core/abi_table.inc, generated from the header
  * by bindings/gen_raw.py (make checks that it is current). */
 #include "granary_impl.h"

@@ -396,6 +396,43 @@ int counters_validate(const gran_dsmc *s, const char *path) {
   return GRAN_SUCCESS;
 }
 
+/* A stored option against the scene's, for the cell and aggregation blocks. */
+int option_differs(const char *group, const char *path, const char *name, double stored, double scene) {
+  return GRAN_ERROR(GRAN_ERR_IO,
+                    "checkpoint '%s': the DSMC state in '%s' does not match the scene: option '%s' differs (stored "
+                    "%.17g, scene %.17g; a checkpoint resumes the run of its own scene)", path, group, name, stored, scene);
+}
+bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+/* The stored cell options (the scene's [cell] table and its aggregation keys) against the scene's. */
+int cell_options_match(const gran_dsmc_cell_options &c, const gran_dsmc_cell_options &o, const char *group,
+                       const char *path) {
+  const struct {
+    const char *name;
+    double stored, scene;
+  } f[] = {{"cell_options.cells", (double)c.cells, (double)o.cells}, {"cell_options.dt", c.dt, o.dt}, {"cell_options.fn", c.fn, o.fn},
+           {"cell_options.e_agg", c.e_agg, o.e_agg}, {"cell_options.e_frag", c.e_frag, o.e_frag}, {"cell_options.eps_f", c.eps_f, o.eps_f},
+           {"cell_options.heat_rate", c.heat_rate, o.heat_rate}, {"cell_options.bath_density", c.bath_density, o.bath_density},
+           {"cell_options.bath_mass", c.bath_mass, o.bath_mass}, {"cell_options.bath_T", c.bath_T, o.bath_T},
+           {"cell_options.bath_sigma", c.bath_sigma, o.bath_sigma}, {"cell_options.placement", (double)c.placement, (double)o.placement},
+           {"cell_options.frag_law", (double)c.frag_law, (double)o.frag_law}};
+  for (const auto &x : f)
+    if (!same(x.stored, x.scene)) return option_differs(group, path, x.name, x.stored, x.scene);
+  return GRAN_SUCCESS;
+}
+
+/* The stored aggregation options of an event selector against the scene's (aggregation off: e_agg
+ * 0 and e_frag infinite on the side without the block). */
+int agg_options_match(const gran_dsmc_agg_options &c, const gran_dsmc_agg_options &o, const char *group,
+                      const char *path) {
+  if (!same(c.e_agg, o.e_agg)) return option_differs(group, path, "agg_options.e_agg", c.e_agg, o.e_agg);
+  if (!same(c.e_frag, o.e_frag)) return option_differs(group, path, "agg_options.e_frag", c.e_frag, o.e_frag);
+  if (!same(c.eps_f, o.eps_f)) return option_differs(group, path, "agg_options.eps_f", c.eps_f, o.eps_f);
+  if (c.frag_law != o.frag_law)
+    return option_differs(group, path, "agg_options.frag_law", (double)c.frag_law, (double)o.frag_law);
+  return GRAN_SUCCESS;
+}
+
 /* ---- time-step/cell selector (cell.cpp): options, positions, carried fractions, step ----
  * Options first (the reader sets the cell state up from them), then the state. */
 int cell_options_io(Writer &w, const gran_dsmc *s) {
@@ -560,7 +597,7 @@ int aggev_write(Writer &w, const gran_dsmc *s) {
   }
   return GRAN_SUCCESS;
 }
-int aggev_read(Reader &r, gran_dsmc *s) {
+int aggev_read(Reader &r, gran_dsmc *s, const gran_dsmc_agg_options *expect, const char *group) {
   double od[3];
   int64_t oi[2];
   GRAN_CALL(r.d("agg_options_real", 3, od));
@@ -574,6 +611,7 @@ int aggev_read(Reader &r, gran_dsmc *s) {
   GRAN_CHECK(dsmc_agg_check_options(&o) == GRAN_SUCCESS && (o.e_agg > 0 || std::isfinite(o.e_frag)) &&
                  oi[1] == (s->selector == GRAN_SELECTOR_LOWRANK),
              GRAN_ERR_IO, "checkpoint '%s' holds invalid aggregation options (damaged or edited file?)", r.path);
+  if (expect) GRAN_CALL(agg_options_match(o, *expect, group, r.path));
   /* the particles: as many as stored (they were allocated for the stored velocities) */
   /* sizes and slots of the mixture layout, overwritten below; the refresh counters as stored */
   const double acc = s->acc_last, cmax = s->cmax;
@@ -779,7 +817,8 @@ GRAN_EXTERN int gran_dsmc_checkpoint_write(const gran_dsmc *sim, const char *pat
 
 /* A new engine from group `group` of the open HDF5 file `file_id` (`path` names it in messages). */
 int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran_mixture *mix,
-                                  const gran_dsmc_options *expect, gran_dsmc **sim, const char *path) {
+                                  const gran_dsmc_options *expect, const gran_dsmc_cell_options *expect_cell,
+                                  const gran_dsmc_agg_options *expect_agg, gran_dsmc **sim, const char *path) {
   GRAN_TRY {
     GRAN_CHECK_PTR(sim);
     *sim = nullptr;
@@ -888,6 +927,7 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
     if (ierr == GRAN_SUCCESS && o.selector == GRAN_SELECTOR_CELL) { /* cell selector block */
       gran_dsmc_cell_options co;
       ierr = cell_options_read(rd, &co);
+      if (ierr == GRAN_SUCCESS && expect_cell) ierr = cell_options_match(co, *expect_cell, group, path);
       if (ierr == GRAN_SUCCESS) ierr = dsmc_cell_setup(s, &co);
       if (ierr == GRAN_SUCCESS) ierr = cell_state_io(rd, s);
       if (ierr == GRAN_SUCCESS && s->cell->agg) ierr = cell_agg_read(rd, s);
@@ -895,7 +935,12 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
       if (ierr == GRAN_SUCCESS) ierr = dsmc_cell_check_bath(s);
     }
     const bool aggev = o.selector != GRAN_SELECTOR_CELL && rd.has("agg_options_real");
-    if (ierr == GRAN_SUCCESS && aggev) ierr = aggev_read(rd, s); /* event selectors with aggregation */
+    if (ierr == GRAN_SUCCESS && aggev) ierr = aggev_read(rd, s, expect_agg, group); /* event selectors with aggregation */
+    if (ierr == GRAN_SUCCESS && !aggev && o.selector != GRAN_SELECTOR_CELL && expect_agg) { /* stored without */
+      gran_dsmc_agg_options none;
+      gran_dsmc_agg_options_default(&none);
+      ierr = agg_options_match(none, *expect_agg, group, path);
+    }
     if (ierr == GRAN_SUCCESS && s->classes) dsmc_class_read_done(s); /* alias tables, identities' slots */
     if (ierr == GRAN_SUCCESS) ierr = counters_validate(s, path);
     if (ierr == GRAN_SUCCESS && s->selector == GRAN_SELECTOR_LOWRANK && !s->classes && !aggev)
@@ -925,7 +970,7 @@ GRAN_EXTERN int gran_dsmc_checkpoint_read(const char *path, const char *group, c
     GRAN_CALL(check_mixture(mix, "mix"));
     gran_state::File f;
     GRAN_CALL(f.open_read(path, "checkpoint"));
-    return gran_dsmc_checkpoint_read_h5_(f.id(), group, mix, nullptr, sim, path);
+    return gran_dsmc_checkpoint_read_h5_(f.id(), group, mix, nullptr, nullptr, nullptr, sim, path);
   }
   GRAN_CATCH
 }

@@ -272,7 +272,12 @@ class DsmcEngine : public gran_engine {
     gran_dsmc_options expect;
     GRAN_CALL(gran_scene_dsmc_options(s_, &expect, nullptr, nullptr));
     expect.seed = seed;
-    return gran_dsmc_checkpoint_read_h5_(file, group, mix_, &expect, &sim_, fname);
+    gran_dsmc_cell_options cell;
+    GRAN_CALL(gran_scene_dsmc_cell_options(s_, &cell));
+    gran_dsmc_agg_options agg;
+    GRAN_CALL(gran_scene_dsmc_agg_options(s_, &agg));
+    return gran_dsmc_checkpoint_read_h5_(file, group, mix_, &expect, expect.selector == GRAN_SELECTOR_CELL ? &cell : nullptr,
+                                         expect.selector == GRAN_SELECTOR_CELL ? nullptr : &agg, &sim_, fname);
   }
 
   std::vector<gran_summary_column> summary_columns() const override {

@@ -23,6 +23,7 @@
 
 #include "io/engine.h"
 #include "srd/fields.h"
+#include "srd/srd_theory.h"
 
 namespace {
 
@@ -433,15 +434,10 @@ class SrdEngine : public gran_engine {
   int64_t next_ = 0; /* next output index of a resumed checkpoint */
   std::vector<Snap> snaps_;
 
-  /* homogeneous cooling: dissipation and nothing else acting on the gas */
-  bool haff_applies() const {
-    return o_.eps < 1.0 && o_.sigma > 0 && !o_.thermostat && o_.shear_rate == 0 && o_.wall_axis < 0 &&
-           o_.accel[0] == 0 && o_.accel[1] == 0 && o_.accel[2] == 0;
-  }
-  double haff_rate() const {
-    const double vol = o_.dim == 3 ? o_.a * o_.a * o_.a : o_.a * o_.a;
-    return (o_.dim == 3 ? 2.0 / 3.0 : 1.0) * (1.0 - o_.eps * o_.eps) * o_.sigma * o_.sigma * (o_.n0 / vol) * std::sqrt(o_.T0);
-  }
+  /* homogeneous cooling: dissipation and nothing else acting on the gas; the mean-field rate
+   * (src/srd/theory.cpp, which `granary theory` prints too) */
+  bool haff_applies() const { return gran_srd_haff_applies_(&o_) != 0; }
+  double haff_rate() const { return gran_srd_haff_rate_(&o_); }
 
   /* mean velocity of the particles in each y layer from the cell fields */
   void profile(const std::vector<double> &cnt, const std::vector<double> &vel, double *row) const {

@@ -190,6 +190,40 @@ int report_nonfinite(int64_t step, double code) {
                     (long long)step + 1, (long long)i, names[comp < 6 ? comp : 0], kinds[kind < 3 ? kind : 0]);
 }
 
+/* The particles in the order of their cell of the grid gm shifted by sh (counting sort, stable):
+ * the cell sums and the rotation then read them nearly in order. Done every sort_every steps
+ * under that step's shift, and once at creation under no shift (an unsorted step costs several
+ * sorted ones: the particles of a cell are scattered over the whole arrays). */
+void sort_by_cell(gran_srd *s, const srd_geom *gm, const double sh[3], int nth) {
+  const int64_t n = s->n, ncell = s->ncell;
+  const int dim = s->opt.dim;
+  const double *px = s->x.data(), *py = s->y.data(), *pz = dim == 3 ? s->z.data() : nullptr;
+  std::vector<uint32_t> perm((size_t)n); /* first the cell of each particle, then the order */
+#pragma omp parallel for schedule(static) num_threads(nth)
+  for (int64_t i = 0; i < n; ++i) {
+    const double p[3] = {px[i], py[i], dim == 3 ? pz[i] : 0.0};
+    double dvx;
+    perm[i] = (uint32_t)srd_bin(gm, sh, p, &dvx);
+  }
+  std::vector<int64_t> start((size_t)ncell + 1, 0);
+  for (int64_t i = 0; i < n; ++i) start[perm[i] + 1]++;
+  for (int64_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
+  std::vector<uint32_t> order((size_t)n);
+  for (int64_t i = 0; i < n; ++i) order[start[perm[i]]++] = (uint32_t)i;
+  perm.swap(order);
+  std::vector<uint32_t>().swap(order); /* the cells: not needed now (peak 4 B per particle less) */
+  std::vector<int64_t>().swap(start);
+  std::vector<double> tmp((size_t)n);
+  std::vector<double> *arr[6] = {&s->x, &s->y, &s->z, &s->vx, &s->vy, &s->vz};
+  for (int q = 0; q < 6; ++q) {
+    if (dim == 2 && (q == 2 || q == 5)) continue;
+    std::vector<double> &A = *arr[q];
+#pragma omp parallel for schedule(static) num_threads(nth)
+    for (int64_t i = 0; i < n; ++i) tmp[i] = A[perm[i]];
+    A.swap(tmp);
+  }
+}
+
 template <int DIM, bool DISSIP, bool LE, bool WALL, bool ACCEL>
 int do_steps(gran_srd *s, int64_t nsteps) {
   const int64_t n = s->n, ncell = s->ncell;
@@ -476,31 +510,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
     }
     s->step += 1;
     if (o.sort_every > 0 && s->step % o.sort_every == 0) {
-      /* sort by the (last) cell index: counting sort, stable */
-      std::vector<uint32_t> perm((size_t)n); /* first the cell of each particle, then the order */
-#pragma omp parallel for schedule(static) num_threads(nth)
-      for (int64_t i = 0; i < n; ++i) {
-        const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-        double dvx;
-        perm[i] = (uint32_t)srd_bin(&gm, sh, p, &dvx);
-      }
-      std::vector<int64_t> start((size_t)ncell + 1, 0);
-      for (int64_t i = 0; i < n; ++i) start[perm[i] + 1]++;
-      for (int64_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
-      std::vector<uint32_t> order((size_t)n);
-      for (int64_t i = 0; i < n; ++i) order[start[perm[i]]++] = (uint32_t)i;
-      perm.swap(order);
-      std::vector<uint32_t>().swap(order); /* the cells: not needed now (peak 4 B per particle less) */
-      std::vector<int64_t>().swap(start);
-      std::vector<double> tmp((size_t)n);
-      std::vector<double> *arr[6] = {&s->x, &s->y, &s->z, &s->vx, &s->vy, &s->vz};
-      for (int q = 0; q < 6; ++q) {
-        if (DIM == 2 && (q == 2 || q == 5)) continue;
-        std::vector<double> &A = *arr[q];
-#pragma omp parallel for schedule(static) num_threads(nth)
-        for (int64_t i = 0; i < n; ++i) tmp[i] = A[perm[i]];
-        A.swap(tmp);
-      }
+      sort_by_cell(s, &gm, sh, nth);
       px = s->x.data();
       py = s->y.data();
       pz = DIM == 3 ? s->z.data() : nullptr;
@@ -703,6 +713,10 @@ GRAN_EXTERN int gran_srd_create(const gran_srd_options *opt, gran_srd **srd) {
       if (opt->shear_rate != 0) s->vx[i] += opt->shear_rate * (s->y[i] - 0.5 * s->gm.box[1]);
     }
     s->e_initial = energy_of(s);
+    if (opt->sort_every > 0) { /* in cell order from the start (the grid unshifted) */
+      const double sh0[3] = {0.0, 0.0, 0.0};
+      sort_by_cell(s, &s->gm, sh0, nthreads_of(s));
+    }
     /* ---- device hook (owner: CUDA backend, src/srd/device_cuda.cpp) ---- */
     if ((e = gran_srd_dev_attach(s, 0)) != GRAN_SUCCESS) {
       delete s;

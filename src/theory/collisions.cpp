@@ -10,8 +10,8 @@
  * i <= j; the collision frequency per particle of species k is sum_j (1 + delta_kj) rate_kj / n_k,
  * for one species 2 rate/n = 4 sqrt(pi) n sigma^2 g2 sqrt(T/m) (the DSMC outline Eq. 35;
  * docs/physics.md, "Oracles for tests").
- * Seed 002 Eqs. 58 and 61 as printed are half of this total: Eq. 57 already halves the sum over
- * ordered pairs and Eq. 58 halves it again (for one species they contradict Eq. 35).
+ * The DSMC outline's Eqs. 58 and 61 as printed are half of this total: Eq. 57 already halves the
+ * sum over ordered pairs and Eq. 58 halves it again (for one species they contradict Eq. 35).
  *  counts_ij(t) = V int_0^t rate_ij(T(t')) dt'  along the cooling from T0 (ode.cpp dense output,
  * GSL fixed Gauss-Legendre, 8 points, on every node interval: all pairs share the nodes). */
 #include "theory/theory_impl.h"
