@@ -170,7 +170,7 @@ BENCH_BIN:= $(BENCH_C:bench/%.c=$(BUILD)/bench/%)
 GPU_TEST_C := $(sort $(wildcard tests/gpu/t*.c))
 GPU_TEST_BIN := $(GPU_TEST_C:tests/gpu/%.c=$(BUILD)/tests/gpu/%)
 
-.PHONY: all lib run test test-asan test-gpu bench-gpu bench install deps info clean help check-header fuzz doc-numbers \
+.PHONY: all lib so-links run test test-asan test-gpu bench-gpu bench install deps info clean help check-header fuzz doc-numbers \
         check-generated
 .DEFAULT_GOAL := all
 
@@ -199,9 +199,12 @@ $(LIB_A): $(LIB_OBJ)
 $(LIB_SO_FILE): $(LIB_OBJ)
 	$(CXX) -shared $(SAN) -Wl,-soname,$(SONAME) -o $@ $^ $(LDLIBS)
 
-$(LIB_SO): $(LIB_SO_FILE)
-	ln -sf $(notdir $(LIB_SO_FILE)) $(BUILD)/$(SONAME)
-	ln -sf $(SONAME) $@
+# The links are checked on every make, not only when the library file is relinked: a build folder
+# that holds links of another version (or none) gets them right without a relink.
+$(LIB_SO): $(LIB_SO_FILE) so-links
+so-links: $(LIB_SO_FILE)
+	@[ "$$(readlink $(BUILD)/$(SONAME))" = "$(notdir $(LIB_SO_FILE))" ] || ln -sfn $(notdir $(LIB_SO_FILE)) $(BUILD)/$(SONAME)
+	@[ "$$(readlink $(LIB_SO))" = "$(SONAME)" ] || ln -sfn $(SONAME) $(LIB_SO)
 
 $(LIBF_A): $(FMOD_OBJ)
 	@rm -f $@

@@ -12,6 +12,7 @@
 ! add a function or a field.
 module granary
   use, intrinsic :: iso_c_binding
+  use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
   private
 
@@ -28,6 +29,7 @@ module granary
 
   public :: gran_get_version, gran_strerror, gran_last_error_message, gran_last_error_location, gran_check
   public :: gran_get_build_config, gran_clear_error, gran_warning_count, gran_last_warning
+  public :: gran_set_error_message
   public :: gran_cuda_compiled, gran_cuda_device_count
 
   ! ---- foundation (rng, segtree, particles, abi) ----
@@ -96,7 +98,7 @@ module granary
   ! Scenes and runs. Handles (gran_scene, gran_mixture, gran_dsmc) are type(c_ptr).
   ! gran_run_control%progress: c_funloc of `integer(c_int) function f(p, params) bind(C)` with
   ! `type(gran_run_progress), intent(in) :: p` and `type(c_ptr), value :: params`.
-  public :: gran_scene_load, gran_scene_parse, gran_scene_destroy, gran_scene_text, gran_scene_output_path, &
+  public :: gran_scene_load, gran_scene_parse, gran_scene_set, gran_scene_destroy, gran_scene_text, gran_scene_output_path, &
             gran_scene_sizes, gran_scene_times, gran_scene_lags, gran_scene_mixture, &
             gran_scene_initial_temperatures, gran_scene_dsmc_options, gran_scene_dsmc, gran_scene_run, &
             gran_scene_resume
@@ -243,10 +245,37 @@ contains
     if (present(ierr)) then
       ierr = int(status)
     else if (status /= GRAN_SUCCESS) then
-      write(*, '(a)') 'granary: ' // gran_strerror(int(status)) // ': ' // gran_last_error_message()
+      write(error_unit, '(a)') 'granary: ' // gran_strerror(int(status)) // ': ' // gran_last_error_message()
       error stop 1
     end if
   end subroutine gran_check
+
+  !> Record a failure a wrapper found itself (wrong array sizes): gran_last_error_message() returns
+  !> `message` afterwards; ierr = code, or (without ierr) stop with the message on stderr.
+  subroutine gran_set_error_message(code, message, ierr)
+    integer, intent(in) :: code
+    character(len=*), intent(in) :: message
+    integer, intent(out), optional :: ierr
+    character(kind=c_char), allocatable :: cmsg(:)
+    integer :: i
+    allocate(cmsg(len(message) + 1))
+    do i = 1, len(message)
+      cmsg(i) = message(i:i)
+    end do
+    cmsg(len(message) + 1) = c_null_char
+    call gran_check(c_gran_set_error_message(int(code, c_int), cmsg), ierr)
+  end subroutine gran_set_error_message
+
+  !> "NAME has N elements, expected M" (the sizes of a wrapper's array check)
+  function gran_size_text(name, n, need) result(s)
+    character(len=*), intent(in) :: name
+    integer(c_int64_t), intent(in) :: n, need
+    character(len=:), allocatable :: s
+    character(len=24) :: a, b
+    write(a, '(i0)') n
+    write(b, '(i0)') need
+    s = name // ' has ' // trim(a) // ' elements, expected ' // trim(b)
+  end function gran_size_text
 
   ! ---- foundation (rng, segtree, particles, abi) ----
   !> A wrapper found arrays of inconsistent shapes before calling C: ierr = GRAN_ERR_ARG, or (without
@@ -254,12 +283,7 @@ contains
   subroutine gran_core_shape_error(what, ierr)
     character(len=*), intent(in) :: what
     integer, intent(out), optional :: ierr
-    if (present(ierr)) then
-      ierr = GRAN_ERR_ARG
-    else
-      write(*, '(a)') 'granary: ' // gran_strerror(int(GRAN_ERR_ARG)) // ': ' // what
-      error stop 1
-    end if
+    call gran_set_error_message(int(GRAN_ERR_ARG), what, ierr)
   end subroutine gran_core_shape_error
 
   ! ---- rng ---------------------------------------------------------------------------------------
@@ -570,12 +594,7 @@ contains
   subroutine gran_theory_shape_error(what, ierr)
     character(len=*), intent(in) :: what
     integer, intent(out), optional :: ierr
-    if (present(ierr)) then
-      ierr = GRAN_ERR_ARG
-    else
-      write(*, '(a)') 'granary: ' // gran_strerror(int(GRAN_ERR_ARG)) // ': ' // what
-      error stop 1
-    end if
+    call gran_set_error_message(int(GRAN_ERR_ARG), what, ierr)
   end subroutine gran_theory_shape_error
 
   !> .true. (and the error handled) when size(a) < need for a valid mixture.
@@ -585,7 +604,8 @@ contains
     character(len=*), intent(in) :: what
     integer, intent(out), optional :: ierr
     gran_theory_short = need > 0 .and. int(a_size, c_int64_t) < need
-    if (gran_theory_short) call gran_theory_shape_error(what, ierr)
+    if (gran_theory_short) call gran_theory_shape_error(what // ' (' // gran_size_text('it', int(a_size, c_int64_t), need) &
+                                                        // ')', ierr)
   end function gran_theory_short
 
   ! ---- theory: mixture ---------------------------------------------------------------------------
@@ -1340,12 +1360,7 @@ contains
   subroutine gran_dsmc_shape_error(what, ierr)
     character(len=*), intent(in) :: what
     integer, intent(out), optional :: ierr
-    if (present(ierr)) then
-      ierr = GRAN_ERR_ARG
-    else
-      write(*, '(a)') 'granary: ' // gran_strerror(int(GRAN_ERR_ARG)) // ': ' // what
-      error stop 1
-    end if
+    call gran_set_error_message(int(GRAN_ERR_ARG), what, ierr)
   end subroutine gran_dsmc_shape_error
 
   !> Number of species of an engine (0 when sim is not valid; the C call then reports it).
@@ -1765,6 +1780,18 @@ contains
     call gran_check(c_gran_scene_parse(ctext, cname, scene), ierr)
   end subroutine gran_scene_parse
 
+  !> Override one scene key as if the file said `key = value` (key "table.key", value TOML text:
+  !> '7', '"x.h5"', '[1.0, 2.0]'); the scene is validated again and is unchanged on failure.
+  subroutine gran_scene_set(scene, key, value, ierr)
+    type(c_ptr), intent(in) :: scene
+    character(len=*), intent(in) :: key, value
+    integer, intent(out), optional :: ierr
+    character(kind=c_char), allocatable :: ckey(:), cvalue(:)
+    call io_to_c(key, ckey)
+    call io_to_c(value, cvalue)
+    call gran_check(c_gran_scene_set(scene, ckey, cvalue), ierr)
+  end subroutine gran_scene_set
+
   !> Release a scene (safe on a released one).
   subroutine gran_scene_destroy(scene, ierr)
     type(c_ptr), intent(inout) :: scene
@@ -1815,7 +1842,11 @@ contains
     real(c_double) :: a, b
     integer(c_int) :: status
     status = c_gran_scene_sizes(scene, m, nt, nl, a, b)
-    if (status == GRAN_SUCCESS .and. size(times) < nt) status = GRAN_ERR_ARG
+    if (status == GRAN_SUCCESS .and. size(times) < nt) then
+      call gran_set_error_message(int(GRAN_ERR_ARG), &
+                                  'gran_scene_times: ' // gran_size_text('times', size(times, kind=c_int64_t), nt), ierr)
+      return
+    end if
     if (status == GRAN_SUCCESS) status = c_gran_scene_times(scene, times)
     call gran_check(status, ierr)
   end subroutine gran_scene_times
@@ -1829,7 +1860,11 @@ contains
     real(c_double) :: a, b
     integer(c_int) :: status
     status = c_gran_scene_sizes(scene, m, nt, nl, a, b)
-    if (status == GRAN_SUCCESS .and. size(lags) < nl) status = GRAN_ERR_ARG
+    if (status == GRAN_SUCCESS .and. size(lags) < nl) then
+      call gran_set_error_message(int(GRAN_ERR_ARG), &
+                                  'gran_scene_lags: ' // gran_size_text('lags', size(lags, kind=c_int64_t), nl), ierr)
+      return
+    end if
     if (status == GRAN_SUCCESS) status = c_gran_scene_lags(scene, lags)
     call gran_check(status, ierr)
   end subroutine gran_scene_lags

@@ -84,6 +84,9 @@ GRAN_EXTERN int gran_last_error_copy(char *buf, int64_t len);
  * for bug reports and `granary --verbose`, kept out of the message itself. */
 GRAN_EXTERN int gran_last_error_location_copy(char *buf, int64_t len);
 GRAN_EXTERN int gran_clear_error(void);
+/* Set the thread's last error message (a check made outside the library, e.g. a Fortran wrapper's
+ * array sizes); returns code, a negative GRAN_ERR_* (else GRAN_ERR_ARG and its own message). */
+GRAN_EXTERN int gran_set_error_message(int code, const char *message);
 /* Warnings (e.g. a clamped value) are collected per thread; 0 disables printing them to stderr
  * from the command-line driver. The library itself never prints. */
 GRAN_EXTERN int gran_warning_count(int64_t *count);
@@ -620,12 +623,20 @@ GRAN_EXTERN int gran_speed_histogram(int64_t n, const double *v, double scale, i
  * Output and checkpoint files are written to PATH.tmp, fsync'ed and renamed: a killed run never
  * leaves a half-written file under the final name.
  * ------------------------------------------------------------------------------------------- */
-typedef struct gran_scene gran_scene; /* opaque, immutable once loaded */
+typedef struct gran_scene gran_scene; /* opaque; changed only by gran_scene_set and gran_scene_set_replicas */
 
 GRAN_EXTERN int gran_scene_load(const char *path, gran_scene **scene);
 /* The same from text in memory; `name` (may be NULL) is the file name used in messages. */
 GRAN_EXTERN int gran_scene_parse(const char *text, const char *name, gran_scene **scene);
 GRAN_EXTERN int gran_scene_destroy(gran_scene **scene);
+/* Override one key of a loaded scene, as if its file said `key = value`: key "table.key"
+ * ("engine.seed", "output.path", "observables.msd"; a top-level key alone: "title"), value one line
+ * of TOML ("7", "\"x.h5\"", "[1.0, 2.0]", "false"). The key's line in the scene text is replaced
+ * (or the line is added to its table) and the whole scene is validated again: an unknown key, a
+ * wrong type or a value out of bounds fails (GRAN_ERR_PARSE, the message names the key) and leaves
+ * the scene as it was. gran_scene_text returns the edited text; a checkpoint stores it, so a resume
+ * continues the overridden run. Replicas set by gran_scene_set_replicas are kept. */
+GRAN_EXTERN int gran_scene_set(gran_scene *scene, const char *key, const char *value);
 /* Borrowed, NUL-terminated, valid while the scene lives: the scene text / the output path. */
 GRAN_EXTERN int gran_scene_text(const gran_scene *scene, const char **text);
 GRAN_EXTERN int gran_scene_output_path(const gran_scene *scene, const char **path);

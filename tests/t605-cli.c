@@ -1,7 +1,9 @@
-/* t605-cli.c - the command-line driver ($GRAN_CLI): --help lists run and theory; `run` writes
- * its output and prints where; --stop-after-checkpoints + --resume give the same file as a
- * straight run; bad scenes exit 1 naming file, line and key; `theory --json` is valid JSON
- * (parsed back here) with the numbers of Bodrova & Osinsky Fig. 2. */
+/* t605-cli.c - the command-line driver ($GRAN_CLI): --help lists run and theory, and run --help
+ * every option run parses; `run` writes its output and prints where; --stop-after-checkpoints +
+ * --resume give the same file as a straight run; --set overrides scene keys and the run log
+ * records the run; `info` names the compiler and the CUDA code; bad scenes exit 1 naming file,
+ * line and key; `theory --json` is valid JSON (parsed back here) with the numbers of Bodrova &
+ * Osinsky Fig. 2. */
 #include "io_test_util.h"
 #include "io_tiny_scene.h"
 
@@ -254,6 +256,158 @@ static void test_run_and_resume(void **state) {
   assert_int_equal(sh(cmd, NULL, 0, 0), 2);
 }
 
+/* every option `granary run` parses (each strcmp against "-..." in src/cli/run.cpp) is in its --help */
+static void test_run_help_complete(void **state) {
+  (void)state;
+  const char *src = getenv("GRAN_SOURCE_DIR") ? getenv("GRAN_SOURCE_DIR") : ".";
+  char path[1024], cmd[1024];
+  snprintf(path, sizeof path, "%s/src/cli/run.cpp", src);
+  char *code = io_read_file(path);
+  assert_non_null(code);
+  snprintf(cmd, sizeof cmd, "%s run --help", cli());
+  assert_int_equal(sh(cmd, outbuf, sizeof outbuf, 0), 0);
+  int n = 0;
+  for (const char *c = code; (c = strstr(c, "strcmp(a, \"-")) != NULL; c++) {
+    const char *b = c + strlen("strcmp(a, \""), *e = strchr(b, '"');
+    assert_non_null(e);
+    char opt[64], want[80];
+    snprintf(opt, sizeof opt, "%.*s", (int)(e - b), b);
+    /* the option as a word of the help text: followed by a space, a comma or a bracket */
+    int found = 0;
+    for (const char *after = " ,]"; *after && !found; after++) {
+      snprintf(want, sizeof want, "%s%c", opt, *after);
+      found = strstr(outbuf, want) != NULL;
+    }
+    if (!found) fail_msg("granary run parses '%s' but run --help does not list it", opt);
+    n++;
+  }
+  assert_true(n >= 18); /* -o --output --checkpoint ... -h --help */
+  free(code);
+}
+
+/* --set overrides scene keys (checked like the file, stored in the output's scene text); the run
+ * log OUTPUT.log holds the input echo, the thermo table and the summary; --log / --no-log; a log
+ * that is another file of the run is refused; the first ETA waits for 1 % and 2 s */
+static void test_set_and_log(void **state) {
+  (void)state;
+  const char *scene = io_path("set.toml"), *out = io_path("set.h5");
+  char out_s[600], log_s[700], cmd[4096];
+  snprintf(out_s, sizeof out_s, "%s", out);
+  snprintf(log_s, sizeof log_s, "%s.log", out_s);
+  io_write_file(scene, io_tiny_text("lowrank", io_path("never.h5")));
+  snprintf(cmd, sizeof cmd, "%s run %s --no-checkpoint --set engine.seed=4242 --set 'output.path=\"%s\"'", cli(), scene,
+           out_s);
+  int st = sh(cmd, outbuf, sizeof outbuf, 1);
+  if (st) fail_msg("%s exited %d: %s", cmd, st, outbuf);
+  assert_true(io_exists(out_s));
+  assert_false(io_exists(io_path("never.h5")));
+  /* progress on a pipe: the first lines (under 1 %% of the work, under 2 s) have no ETA, the last 0:00 */
+  const char *first = strstr(outbuf, "[  ");
+  assert_non_null(first);
+  const char *eol = strchr(first, '\n');
+  assert_non_null(eol);
+  assert_true(eol - first > 5 && strncmp(eol - 5, "ETA ?", 5) == 0);
+  assert_non_null(strstr(outbuf, "[100.0%]"));
+  assert_non_null(strstr(strstr(outbuf, "[100.0%]"), "ETA 0:00"));
+  assert_non_null(strstr(outbuf, log_s));
+  /* the output holds the overridden scene */
+  hid_t f = H5Fopen(out_s, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  char *text = io_h5_attr_string(f, "scene");
+  assert_non_null(text);
+  assert_non_null(strstr(text, "seed = 4242"));
+  free(text);
+  H5Fclose(f);
+  /* the log */
+  char *log = io_read_file(log_s);
+  assert_non_null(log);
+  assert_non_null(strstr(log, "command:   granary run"));
+  assert_non_null(strstr(log, "--set engine.seed=4242"));
+  assert_non_null(strstr(log, "version:   granary " GRAN_VERSION_STRING));
+  assert_non_null(strstr(log, "threads:"));
+  assert_non_null(strstr(log, "----- scene text (as run) -----\ntitle = \"tiny\""));
+  assert_non_null(strstr(log, "seed = 4242"));
+  assert_non_null(strstr(log, "   index             t      collisions"));
+  assert_non_null(strstr(log, "# thermo of the run (from the output file)"));
+  assert_non_null(strstr(log, "T_1"));
+  assert_non_null(strstr(log, "T_2"));
+  assert_non_null(strstr(log, "granary run: wrote"));
+  assert_non_null(strstr(log, "T_theory")); /* the summary */
+  /* the thermo rows: every output time of the 8 (one row each), index 1..8, t increasing */
+  const char *rows = strstr(log, "# thermo of the run");
+  rows = strchr(strchr(rows, '\n') + 1, '\n') + 1;
+  double tprev = -1;
+  for (int i = 1; i <= IO_TINY_NT; i++) {
+    int idx = 0;
+    double t = 0, T1 = 0, T2 = 0;
+    assert_int_equal(sscanf(rows, "%d %lf %lf %lf", &idx, &t, &T1, &T2), 4);
+    assert_int_equal(idx, i);
+    assert_true(t > tprev && T1 > 0 && T2 > 0);
+    tprev = t;
+    rows = strchr(rows, '\n') + 1;
+  }
+  free(log);
+
+  /* --no-log and --log none: no log; --log FILE: there */
+  const char *out2 = io_path("set2.h5"), *mylog = io_path("my.log");
+  char log2[700];
+  snprintf(log2, sizeof log2, "%s.log", out2);
+  for (int k = 0; k < 3; k++) {
+    snprintf(cmd, sizeof cmd, "%s run %s -o %s --no-checkpoint --force --quiet %s%s", cli(), scene, out2,
+             k == 0 ? "--no-log" : k == 1 ? "--log none" : "--log ", k == 2 ? mylog : "");
+    st = sh(cmd, outbuf, sizeof outbuf, 1);
+    if (st) fail_msg("%s exited %d: %s", cmd, st, outbuf);
+    assert_false(io_exists(log2));
+  }
+  assert_true(io_exists(mylog));
+
+  /* a log that is the output, the scene or the checkpoint: refused before the run */
+  const char *same[] = {out2, scene, "ck.h5"};
+  for (int k = 0; k < 3; k++) {
+    char extra[800] = "";
+    if (k == 2) snprintf(extra, sizeof extra, "--checkpoint %s/ck.h5 --log %s/./ck.h5", io_tmpdir, io_tmpdir);
+    else snprintf(extra, sizeof extra, "--log %s", same[k]);
+    snprintf(cmd, sizeof cmd, "%s run %s -o %s --force %s", cli(), scene, out2, extra);
+    assert_int_equal(sh(cmd, outbuf, sizeof outbuf, 1), 1);
+    assert_non_null(strstr(outbuf, "are the same file"));
+  }
+
+  /* --set errors: the key named; a missing '=' is a usage error; not with --resume */
+  struct {
+    const char *arg, *want;
+    int code;
+  } bad[] = {
+      {"engine.seed='\"x\"'", "--set engine.seed", 1},
+      {"engine.sed=7", "engine.sed", 1},
+      {"restitution.eps=1.5", "--set restitution.eps", 1},
+      {"engine.seed", "expected KEY=VALUE", 2},
+      {"=7", "expected KEY=VALUE", 2},
+  };
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    snprintf(cmd, sizeof cmd, "%s run %s -o %s --force --set %s", cli(), scene, out2, bad[i].arg);
+    st = sh(cmd, outbuf, sizeof outbuf, 1);
+    if (st != bad[i].code || !strstr(outbuf, bad[i].want)) fail_msg("%s: exit %d: %s", cmd, st, outbuf);
+  }
+  snprintf(cmd, sizeof cmd, "%s run --resume x.ckpt --set engine.seed=1", cli());
+  assert_int_equal(sh(cmd, NULL, 0, 0), 2);
+}
+
+/* granary info: the compiler with its __VERSION__, the flags, the CUDA code built */
+static void test_info(void **state) {
+  (void)state;
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "%s info", cli());
+  assert_int_equal(sh(cmd, outbuf, sizeof outbuf, 0), 0);
+  assert_non_null(strstr(outbuf, "compiler:     "));
+  assert_non_null(strstr(outbuf, "(__VERSION__ \"" __VERSION__ "\")"));
+  assert_non_null(strstr(outbuf, "flags:        "));
+  assert_non_null(strstr(outbuf, "CUDA code:    "));
+  int compiled = 0;
+  GRAN_ASSERT_OK(gran_cuda_compiled(&compiled));
+  if (compiled) assert_true(strstr(outbuf, "sm_") || strstr(outbuf, "compute_"));
+  else assert_non_null(strstr(outbuf, "CUDA code:    none"));
+}
+
 static void test_bad_scene_message(void **state) {
   (void)state;
   const char *bad = io_path("bad.toml");
@@ -360,6 +514,9 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_help),
       cmocka_unit_test(test_run_and_resume),
+      cmocka_unit_test(test_run_help_complete),
+      cmocka_unit_test(test_set_and_log),
+      cmocka_unit_test(test_info),
       cmocka_unit_test(test_bad_scene_message),
       cmocka_unit_test(test_theory_json),
       cmocka_unit_test(test_json_of_every_scene),

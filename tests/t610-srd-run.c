@@ -19,7 +19,8 @@
  *    to twice the kinetic energy;
  *  - a vibrated bed (walls, gravity, vibrating bottom wall) runs with its ledger closed;
  *  - every shipped scene of scenes/srd/ parses, and scenes/srd/vibrated-bed.toml runs in full;
- *  - `granary run` prints the GSRD header and the summary (T beside Haff's law, Mach).
+ *  - `granary run` prints the GSRD header and the summary (T beside Haff's law, Mach; no species
+ *    column and no theory columns where there is none).
  * Sizes are reduced under the sanitizers. */
 #include "io_test_util.h"
 
@@ -699,6 +700,11 @@ static void test_cli(void **state) {
   assert_non_null(strstr(buf, "engine srd (cpu), 2-D, 64 cells of a = 1, 320 particles"));
   assert_non_null(strstr(buf, "T_theory")); /* the summary: T beside Haff's law */
   assert_non_null(strstr(buf, "Mach_sim"));
+  /* one species, Mach without theory: no species column, no Mach_theory, no nan anywhere */
+  assert_null(strstr(buf, "Mach_theory"));
+  assert_null(strstr(buf, "nan"));
+  assert_null(strstr(buf, "    k |"));
+  assert_non_null(strstr(buf, "        time |        T_sim"));
   assert_true(io_exists(out));
 }
 

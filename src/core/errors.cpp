@@ -61,6 +61,16 @@ GRAN_EXTERN const char *gran_strerror(int code) {
 GRAN_EXTERN const char *gran_last_error_message(void) { return g_message; }
 GRAN_EXTERN int gran_last_error_copy(char *buf, int64_t len) { return copy_out(g_message, buf, len); }
 GRAN_EXTERN int gran_last_error_location_copy(char *buf, int64_t len) { return copy_out(g_location, buf, len); }
+/** @brief Record a failure found outside the library (a binding's argument check): the thread's
+ *  last error message becomes `message`; returns `code`. */
+GRAN_EXTERN int gran_set_error_message(int code, const char *message) {
+  if (code >= 0 || code <= GRAN_ERROR_LIST_END_)
+    return GRAN_ERROR(GRAN_ERR_ARG, "argument 'code' must be a negative GRAN_ERR_* code, got %d", code);
+  if (!message) return GRAN_ERROR(GRAN_ERR_ARG, "argument 'message' is NULL");
+  std::snprintf(g_message, sizeof g_message, "%s", message);
+  std::snprintf(g_location, sizeof g_location, "the caller of gran_set_error_message, %s", gran_strerror(code));
+  return code;
+}
 GRAN_EXTERN int gran_clear_error(void) {
   g_message[0] = '\0';
   g_location[0] = '\0';

@@ -9,6 +9,7 @@
  * carry toml11's own line). */
 #include "io/scene_impl.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -582,6 +583,175 @@ GRAN_EXTERN int gran_scene_parse(const char *text, const char *name, gran_scene 
   GRAN_TRY {
     *scene = nullptr;
     return gran_scene_parse_text_(text, name ? name : "scene", scene);
+  }
+  GRAN_CATCH
+}
+
+namespace {
+
+/* ---- gran_scene_set: one key of the scene text replaced (or added), then the whole text parsed
+ * again, so that the override passes the schema's checks and is part of the stored text. ------- */
+bool bare_key(const std::string &k) {
+  if (k.empty()) return false;
+  for (char c : k)
+    if (!(std::isalnum((unsigned char)c) || c == '_' || c == '-')) return false;
+  return true;
+}
+
+/* the text of the scene with `key = value` in place of the key's present value (or added) */
+std::string scene_text_with(const std::string &text, const std::string &name, const std::vector<std::string> &path,
+                            const std::string &shown, const std::string &value) {
+  const std::string &k = path.back();
+  const std::string table = shown.substr(0, shown.size() - k.size() - (path.size() > 1 ? 1 : 0));
+  const std::string mark = "  # set by gran_scene_set";
+  std::string prepared;
+  std::vector<unsigned> line_map;
+  prepass(text, name, prepared, line_map);
+  std::istringstream is(prepared);
+  const toml::value root = toml::parse(is, name);
+  /* the original text by lines */
+  std::vector<size_t> start(1, 0);
+  for (size_t i = 0; i < text.size(); i++)
+    if (text[i] == '\n') start.push_back(i + 1);
+  auto line_text = [&](unsigned l) {  /* 1-based, without its '\n' */
+    const size_t a = start[l - 1], b = l < start.size() ? start[l] - 1 : text.size();
+    return text.substr(a, b - a);
+  };
+  auto orig_line = [&](unsigned pl) { return pl >= 1 && pl <= line_map.size() ? line_map[pl - 1] : pl; };
+  const toml::value *t = &root;
+  bool have_table = true;
+  for (size_t i = 0; i + 1 < path.size(); i++) {
+    const toml::table &tab = t->as_table();
+    if (!tab.count(path[i])) {
+      have_table = false;
+      break;
+    }
+    t = &tab.at(path[i]);
+    if (!t->is_table())
+      throw scene_error{"'" + table + "' is " + (t->is_array() ? "an array of tables or an array" : "not a table") +
+                        " in " + name + "; only keys of tables can be set"};
+  }
+  if (have_table && t->as_table().count(k)) {
+    /* replace: the lines of the key's value become one line, padded so that later lines keep their numbers */
+    const toml::source_location loc = t->as_table().at(k).location();
+    size_t pstart = 0; /* offset of the value's line in the prepared text */
+    for (unsigned l = 1; l < loc.line(); l++) pstart = prepared.find('\n', pstart) + 1;
+    const size_t vbeg = pstart + loc.column() - 1, vend = vbeg + loc.region();
+    unsigned pl_end = loc.line();
+    for (size_t i = vbeg; i + 1 < vend && i < prepared.size(); i++) pl_end += prepared[i] == '\n';
+    const unsigned L1 = orig_line(loc.line()), L2 = orig_line(pl_end);
+    const std::string prefix = prepared.substr(pstart, loc.column() - 1);
+    /* the prefix must be "key =" (the key on its own line, not inside an inline table) */
+    size_t eq = prefix.find_last_not_of(" \t");
+    std::string lhs = eq == std::string::npos || prefix[eq] != '=' ? "" : prefix.substr(0, eq);
+    while (!lhs.empty() && (lhs.back() == ' ' || lhs.back() == '\t')) lhs.pop_back();
+    if (prefix.find_first_not_of(" \t") == std::string::npos && t->as_table().at(k).is_table())
+      throw scene_error{"'" + shown + "' is a table; set its keys ('" + shown + ".KEY')"};
+    if (lhs.size() < k.size() || lhs.compare(lhs.size() - k.size(), k.size(), k) != 0 ||
+        lhs.find_first_of("{,") != std::string::npos)
+      throw scene_error{fmt_line(name, L1) + ": '" + shown + "' is inside an inline table; only keys written as " +
+                        "'key = value' on their own line can be set"};
+    std::string was;
+    for (unsigned l = L1; l <= L2; l++) was += (l > L1 ? " " : "") + line_text(l);
+    const size_t a = was.find_first_not_of(" \t");
+    was = a == std::string::npos ? "" : was.substr(a);
+    if (was.size() > 72) was = was.substr(0, 69) + "...";
+    std::string out = text.substr(0, start[L1 - 1]) + prefix + value + mark + " (was: " + was + ")";
+    out.append(L2 - L1, '\n');
+    const size_t after = L2 < start.size() ? start[L2] - 1 : text.size();
+    return out + text.substr(after);
+  }
+  const std::string line = k + " = " + value + mark + "\n";
+  if (path.size() == 1) return line + text; /* a top-level key: before the first table */
+  if (have_table) {
+    /* after the table's header [table], when it has one */
+    const unsigned L = orig_line(t->location().line());
+    const std::string h = line_text(L);
+    const size_t a = h.find_first_not_of(" \t"), z = h.find(']');
+    std::string named; /* the header's table name without blanks: [ a . b ] -> a.b */
+    if (a != std::string::npos && z != std::string::npos && z > a)
+      for (size_t i = a + 1; i < z; i++)
+        if (h[i] != ' ' && h[i] != '\t') named += h[i];
+    if (a != std::string::npos && h[a] == '[' && h.compare(a, 2, "[[") != 0 && named == table) {
+      const size_t at = L < start.size() ? start[L] : text.size();
+      return text.substr(0, at) + (at == text.size() && !text.empty() && text.back() != '\n' ? "\n" : "") + line +
+             text.substr(at);
+    }
+  }
+  /* a new table at the end */
+  return text + (!text.empty() && text.back() != '\n' ? "\n" : "") + "\n[" + table + "]\n" + line;
+}
+
+}  // namespace
+
+/** @brief Override one key of a loaded scene (`key = value` in the scene text, then the whole
+ *  scene validated again; on failure the scene is unchanged).
+ *  @param[in] key "table.key" (a top-level key alone)  @param[in] value TOML value text */
+GRAN_EXTERN int gran_scene_set(gran_scene *scene, const char *key, const char *value) {
+  GRAN_CHECK_PTR(scene);
+  GRAN_CHECK_PTR(key);
+  GRAN_CHECK_PTR(value);
+  GRAN_TRY {
+    const std::string K = key, V = value;
+    std::vector<std::string> path;
+    for (size_t at = 0;;) {
+      const size_t dot = K.find('.', at);
+      path.push_back(K.substr(at, dot == std::string::npos ? std::string::npos : dot - at));
+      if (dot == std::string::npos) break;
+      at = dot + 1;
+    }
+    for (const std::string &c : path)
+      GRAN_CHECK(bare_key(c), GRAN_ERR_ARG,
+                 "key '%s': expected table.key (TOML bare keys: letters, digits, '_' and '-', joined by '.')", key);
+    GRAN_CHECK(V.find_first_of("\r\n") == std::string::npos, GRAN_ERR_ARG,
+               "key '%s': the value must be one line of TOML", key);
+    /* the value alone must be one TOML value */
+    try {
+      std::string prepared;
+      std::vector<unsigned> lm;
+      prepass("v = " + V + "\n", "value", prepared, lm);
+      std::istringstream is(prepared);
+      const toml::value one = toml::parse(is, "value");
+      GRAN_CHECK(one.is_table() && one.as_table().size() == 1 && one.as_table().count("v"), GRAN_ERR_PARSE,
+                 "key '%s': the value '%s' is not one TOML value", key, value);
+    } catch (const scene_error &e) {
+      return GRAN_ERROR(GRAN_ERR_PARSE, "key '%s': %s", key, e.msg.c_str());
+    } catch (const toml::exception &) {
+      return GRAN_ERROR(GRAN_ERR_PARSE,
+                        "key '%s': the value '%s' is not a TOML value (strings are quoted: \"x.h5\"; arrays: [1, 2])",
+                        key, value);
+    }
+    std::string text;
+    try {
+      text = scene_text_with(scene->text, scene->name, path, K, V);
+    } catch (const scene_error &e) {
+      return GRAN_ERROR(GRAN_ERR_ARG, "key '%s': %s", key, e.msg.c_str());
+    } catch (const toml::exception &e) {
+      std::string first = e.what();
+      const size_t nl = first.find('\n');
+      if (nl != std::string::npos) first = first.substr(0, nl);
+      return GRAN_ERROR(GRAN_ERR_PARSE, "key '%s': the scene text does not parse: %s", key, first.c_str());
+    }
+    gran_scene *fresh = nullptr;
+    const int st = gran_scene_parse_text_(text, scene->name, &fresh);
+    if (st != GRAN_SUCCESS) {
+      const std::string msg = gran_last_error_message();
+      return GRAN_ERROR(st, "key '%s' = %s: %s", key, value, msg.c_str());
+    }
+    /* replicas given through gran_scene_set_replicas stay, unless this sets them */
+    if (K != "engine.replicas") fresh->replicas = scene->replicas;
+    if (K != "engine.keep_replicas") fresh->keep_replicas = scene->keep_replicas;
+    if (fresh->replicas > 1) {
+      const int mst = gran_scene_check_memory_(fresh, "the scene's replicas");
+      if (mst != GRAN_SUCCESS) {
+        const std::string msg = gran_last_error_message();
+        delete fresh;
+        return GRAN_ERROR(mst, "key '%s' = %s: %s", key, value, msg.c_str());
+      }
+    }
+    *scene = std::move(*fresh);
+    delete fresh;
+    return GRAN_SUCCESS;
   }
   GRAN_CATCH
 }
