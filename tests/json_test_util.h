@@ -8,7 +8,7 @@
 #include "granary_test.h"
 
 /* runs a shell command, captures stdout (and stderr when merge), returns the exit status */
-static int sh(const char *cmd, char *out, size_t len, int merge) {
+static inline int sh(const char *cmd, char *out, size_t len, int merge) {
   char full[4096];
   snprintf(full, sizeof full, "%s%s", cmd, merge ? " 2>&1" : " 2>/dev/null");
   FILE *p = popen(full, "r");
@@ -39,11 +39,11 @@ typedef struct jv {
 static const char *jp;
 static int jerr;
 
-static void jws(void) {
+static inline void jws(void) {
   while (*jp == ' ' || *jp == '\n' || *jp == '\t' || *jp == '\r') jp++;
 }
 
-static char *jstring(void) {
+static inline char *jstring(void) {
   if (*jp != '"') {
     jerr = 1;
     return NULL;
@@ -75,7 +75,7 @@ static char *jstring(void) {
   return s;
 }
 
-static void jparse(jv *v) {
+static inline void jparse(jv *v) {
   memset(v, 0, sizeof *v);
   jws();
   if (*jp == '{' || *jp == '[') {
@@ -150,7 +150,7 @@ static void jparse(jv *v) {
   }
 }
 
-static int json_parse(const char *text, jv *root) {
+static inline int json_parse(const char *text, jv *root) {
   jp = text;
   jerr = 0;
   jparse(root);
@@ -158,19 +158,19 @@ static int json_parse(const char *text, jv *root) {
   return !jerr && *jp == '\0';
 }
 
-static const jv *jget(const jv *o, const char *key) {
+static inline const jv *jget(const jv *o, const char *key) {
   if (!o || o->type != 5) return NULL;
   for (int i = 0; i < o->n; i++)
     if (o->keys[i] && !strcmp(o->keys[i], key)) return &o->items[i];
   return NULL;
 }
 
-static double jnum(const jv *v) {
+static inline double jnum(const jv *v) {
   if (!v || v->type != 2) fail_msg("expected a JSON number");
   return v->num;
 }
 
-static void jfree(jv *v) {
+static inline void jfree(jv *v) {
   for (int i = 0; i < v->n; i++) {
     jfree(&v->items[i]);
     free(v->keys[i]);
@@ -181,7 +181,7 @@ static void jfree(jv *v) {
 }
 
 /* element i of a JSON array (NULL when not an array or out of range) */
-static const jv *jat(const jv *a, int i) {
+static inline const jv *jat(const jv *a, int i) {
   if (!a || a->type != 4 || i < 0 || i >= a->n) return NULL;
   return &a->items[i];
 }
