@@ -10,7 +10,8 @@
 /* runs a shell command, captures stdout (and stderr when merge), returns the exit status */
 static inline int sh(const char *cmd, char *out, size_t len, int merge) {
   char full[4096];
-  snprintf(full, sizeof full, "%s%s", cmd, merge ? " 2>&1" : " 2>/dev/null");
+  const int w = snprintf(full, sizeof full, "%s%s", cmd, merge ? " 2>&1" : " 2>/dev/null");
+  if (w < 0 || (size_t)w >= sizeof full) fail_msg("command longer than %zu bytes: %.80s...", sizeof full, cmd);
   FILE *p = popen(full, "r");
   if (!p) return -1;
   size_t n = 0;

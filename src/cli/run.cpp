@@ -464,20 +464,6 @@ int fail_here(const char *what) {
   return 1;
 }
 
-/* Identity of a file, as the run driver compares its files: "dev:inode" when it exists, else the
- * real path of its folder plus its name (two spellings of one file compare equal). */
-std::string file_identity(const std::string &path) {
-  struct stat sb;
-  if (stat(path.c_str(), &sb) == 0)
-    return "inode " + std::to_string((unsigned long long)sb.st_dev) + ":" + std::to_string((unsigned long long)sb.st_ino);
-  size_t sl = path.find_last_of('/');
-  std::string dir = sl == std::string::npos ? "." : (sl == 0 ? "/" : path.substr(0, sl));
-  std::string base = sl == std::string::npos ? path : path.substr(sl + 1);
-  char buf[PATH_MAX];
-  if (realpath(dir.c_str(), buf)) return std::string("path ") + buf + "/" + base;
-  return "path " + path;
-}
-
 /* The log must be a file of its own: not the scene, the output, the checkpoint or their .tmp. */
 bool log_path_ok(const std::string &log, const std::vector<std::pair<std::string, std::string>> &roles) {
   struct stat sb;
@@ -485,11 +471,11 @@ bool log_path_ok(const std::string &log, const std::vector<std::pair<std::string
     std::fprintf(stderr, "granary run: --log '%s' is a folder\n", log.c_str());
     return false;
   }
-  const std::string id = file_identity(log);
+  const std::string id = gran_file_identity_(log);
   for (const auto &r : roles) {
     if (r.second.empty()) continue;
     for (const std::string &q : {r.second, r.second + ".tmp"})
-      if (file_identity(q) == id) {
+      if (gran_file_identity_(q) == id) {
         std::fprintf(stderr, "granary run: the log '%s' and the %s%s '%s' are the same file; give --log another file\n",
                      log.c_str(), q == r.second ? "" : "temporary file of the ", r.first.c_str(), q.c_str());
         return false;

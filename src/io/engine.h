@@ -204,6 +204,9 @@ int gran_engine_srd_create_(const gran_scene *s, std::unique_ptr<gran_engine> &o
 /* run_files.cpp: where a stopped run writes what it recorded (OUT.h5 -> OUT.partial.h5), and the
  * checkpoint path of a run (NULL checkpoint: the scene's; its default OUTPUT.ckpt follows output). */
 std::string gran_partial_path_(const std::string &out);
+/* A file's identity as the run driver compares its files ("inode dev:ino" when it exists, else the
+ * real path of its folder and its name): the CLI's log check uses the same rule. */
+std::string gran_file_identity_(const std::string &path);
 std::string gran_run_checkpoint_path_(const gran_scene *s, const char *output, const char *checkpoint);
 
 #endif

@@ -112,3 +112,5 @@ std::string gran_run_checkpoint_path_(const gran_scene *s, const char *output, c
   if (output && s->checkpoint_path == s->output_path + ".ckpt") return std::string(output) + ".ckpt";
   return s->checkpoint_path;
 }
+
+std::string gran_file_identity_(const std::string &path) { return gran_run::file_identity(path); }
