@@ -246,6 +246,7 @@ contains
       ierr = int(status)
     else if (status /= GRAN_SUCCESS) then
       write(error_unit, '(a)') 'granary: ' // gran_strerror(int(status)) // ': ' // gran_last_error_message()
+      flush(error_unit) ! before the stop: an exit handler (a leak checker, MPI) may end the process unflushed
       error stop 1
     end if
   end subroutine gran_check

@@ -49,6 +49,7 @@ contains
       print '(a)', 'FAILED: ' // what
       nfailed = nfailed + 1
     end if
+    flush(output_unit) ! every line reaches the log, even if an exit handler ends the process
   end subroutine expect
 
   subroutine require(ok, what)
@@ -66,6 +67,7 @@ contains
     finished = .true.
     if (nfailed > 0) then
       print '(a, a, i0, a, i0, a)', name, ': ', nfailed, ' of ', nchecks, ' checks failed'
+      flush(output_unit)
       error stop 1
     end if
     print '(a, a, i0, a)', name, ': all ', nchecks, ' checks passed'

@@ -96,5 +96,6 @@ program t608_scene_set_f
   call expect(in_err .and. .not. in_out, 'without ierr the message goes to stderr, not stdout')
 
   call gran_scene_destroy(scene)
+  deallocate(text, msg) ! a main program's allocatables are not freed at its end (LeakSanitizer)
   call test_finish('t608-scene-set-f')
 end program t608_scene_set_f
