@@ -665,6 +665,11 @@ GRAN_EXTERN int gran_scene_dsmc_cell_options(const gran_scene *scene, gran_dsmc_
  * cell selector), for any selector; defaults of gran_dsmc_agg_options_default when off. */
 GRAN_EXTERN int gran_scene_dsmc_agg_options(const gran_scene *scene, gran_dsmc_agg_options *agg);
 
+/* What gran_run_progress.collisions counts (work_unit): DSMC accepted collisions, or GSRD
+ * particle-steps (particles x collision steps). */
+#define GRAN_WORK_COLLISIONS 0
+#define GRAN_WORK_PARTICLE_STEPS 1
+
 /* Progress of a run, handed to the optional callback after every output time. */
 typedef struct gran_run_progress {
   double time;           /* simulated time reached */
@@ -674,10 +679,16 @@ typedef struct gran_run_progress {
   double wall_seconds;   /* since this process started the run */
   double collisions_per_second; /* in this process */
   double eta_seconds;    /* wall time per unit of that work so far x the work left; < 0 when unknown */
-  int64_t collisions;    /* total, including those before a resume */
+  int64_t collisions;    /* total work events, including those before a resume (work_unit) */
   int64_t output_index;  /* output times recorded so far */
   int64_t noutputs;
   int64_t checkpoints;   /* written in this process */
+  double temperature;    /* the gas temperature at `time` in replica 0 (DSMC: 2 E_kin / (3 N), the
+                          * number-weighted mean of the T_k; GSRD: gran_srd_obs.temperature); NaN
+                          * before the first output time */
+  int32_t work_unit;     /* GRAN_WORK_COLLISIONS or GRAN_WORK_PARTICLE_STEPS: what `collisions`
+                          * and `collisions_per_second` count */
+  int32_t pad_;
 } gran_run_progress;
 /* Return 0 to continue; anything else stops the run there: a checkpoint is written (when the run
  * has a checkpoint path) and the run returns GRAN_SUCCESS with result->finished = 0. */

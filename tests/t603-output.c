@@ -233,6 +233,17 @@ static void check_scales(hid_t f, int replicas) {
   assert_true(attached(f, "velocity_distribution", "pdf", "species", 1));
   assert_false(attached(f, "velocity_distribution", "pdf", "species", 2)); /* the bins */
   assert_false(attached(f, "momentum", "p", "time", 1));                  /* x, y, z */
+  /* the theory beside the rows, and the TAMSD's lag and species axes */
+  assert_true(attached(f, "temperatures", "T_theory", "time", 0));
+  assert_true(attached(f, "temperatures", "T_theory", "species", 1));
+  assert_true(attached(f, "msd", "msd_theory", "time", 0));
+  assert_true(attached(f, "msd", "msd_theory", "species", 1));
+  assert_true(attached(f, "msd", "msd_total_theory", "time", 0));
+  assert_true(attached(f, "tamsd", "tamsd", "lag", 0));
+  assert_true(attached(f, "tamsd", "tamsd", "species", 1));
+  assert_true(attached(f, "tamsd", "tamsd_theory", "lag", 0));
+  assert_true(attached(f, "tamsd", "tamsd_theory", "species", 1));
+  assert_true(attached(f, "tamsd", "tracers", "species", 0));
   if (replicas) {                                                          /* [replica][time][k] */
     assert_true(attached(f, "temperatures", "T_replicas", "time", 1));
     assert_true(attached(f, "temperatures", "T_replicas", "species", 2));
@@ -318,6 +329,18 @@ static void test_units_and_scales(void **state) {
   free(u);
   check_reference(f, 1.0, 1.0, 4.0, 0.5);
   assert_true(attached(f, "temperature", "T", "time", 0));
+  H5Fclose(f);
+  /* Haff's law beside T (a cooling gas) on the same time axis */
+  snprintf(text, sizeof text,
+           "[engine]\ntype = \"srd\"\ndimension = 2\ncells = 6\nn0 = 5\ndt = 0.1\nT0 = 4\nsteps = 20\neps = 0.9\n"
+           "sigma = 0.1\n[observables]\nevery = 5\n[output]\npath = \"%s\"\n",
+           out);
+  GRAN_ASSERT_OK(gran_scene_parse(text, "srd.toml", &s));
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, "", NULL, NULL));
+  gran_scene_destroy(&s);
+  f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  assert_true(attached(f, "temperature", "T_theory", "time", 0));
   H5Fclose(f);
 }
 

@@ -154,7 +154,16 @@ static void test_set_and_log(void **state) {
   assert_non_null(strstr(log, "threads:"));
   assert_non_null(strstr(log, "----- scene text (as run) -----\ntitle = \"tiny\""));
   assert_non_null(strstr(log, "seed = 4242"));
-  assert_non_null(strstr(log, "   index             t      collisions"));
+  /* the live thermo table: index, t, T (the gas temperature of that output time), the work */
+  const char *live = strstr(log, "   index             t             T      collisions      coll/s");
+  assert_non_null(live);
+  {
+    int idx = 0;
+    double t = 0, T = 0;
+    assert_int_equal(sscanf(strchr(live, '\n') + 1, "%d %lf %lf", &idx, &t, &T), 3);
+    assert_true(idx == 1 && t > 0 && T > 0 && isfinite(T));
+  }
+  assert_non_null(strstr(outbuf, " T = ")); /* the progress line */
   assert_non_null(strstr(log, "# thermo of the run (from the output file)"));
   assert_non_null(strstr(log, "T_1"));
   assert_non_null(strstr(log, "T_2"));
@@ -187,6 +196,17 @@ static void test_set_and_log(void **state) {
     assert_false(io_exists(log2));
   }
   assert_true(io_exists(mylog));
+  /* an output in a folder that does not exist yet (out/ of a fresh checkout): the log goes there too */
+  {
+    char nout[700], nlog[720];
+    snprintf(nout, sizeof nout, "%s/newdir/sub/o.h5", io_tmpdir);
+    snprintf(nlog, sizeof nlog, "%s.log", nout);
+    snprintf(cmd, sizeof cmd, "%s run %s -o %s --no-checkpoint --quiet", cli(), scene, nout);
+    st = sh(cmd, outbuf, sizeof outbuf, 1);
+    if (st || strstr(outbuf, "no log")) fail_msg("%s exited %d: %s", cmd, st, outbuf);
+    assert_true(io_exists(nout));
+    assert_true(io_exists(nlog));
+  }
 
   /* a log that is the output, the scene or the checkpoint: refused before the run */
   const char *same[] = {out2, scene, "ck.h5"};

@@ -194,17 +194,74 @@ static void test_units_and_utf8(void **state) {
 
 typedef struct {
   int n;
-  double frac[16];
+  double frac[16], T[16];
   int64_t coll[16];
+  int32_t unit[16];
 } prog_log;
 static int log_progress(const gran_run_progress *p, void *params) {
   prog_log *l = params;
   if (l->n < 16) {
     l->frac[l->n] = p->fraction;
     l->coll[l->n] = p->collisions;
+    l->T[l->n] = p->temperature;
+    l->unit[l->n] = p->work_unit;
     l->n++;
   }
   return 0;
+}
+
+/* The progress report's temperature is the gas temperature of the row just recorded: DSMC
+ * 2 E_kin / (3 N) of the output's energy/e_kin (N = 2400), GSRD the output's temperature/T; its
+ * work unit names what `collisions` counts. */
+static void test_progress_temperature(void **state) {
+  (void)state;
+  const char *out = io_path("progT.h5");
+  gran_scene *s = NULL;
+  GRAN_ASSERT_OK(gran_scene_parse(io_tiny_text("lowrank", out), "tiny.toml", &s));
+  prog_log l = {0};
+  gran_run_control ctl = {0};
+  ctl.progress = log_progress;
+  ctl.progress_params = &l;
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, "", &ctl, NULL));
+  gran_scene_destroy(&s);
+  assert_int_equal(l.n, IO_TINY_NT);
+  hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  size_t ne = 0;
+  double *e = io_h5_read_double(f, "energy/e_kin", &ne);
+  assert_int_equal(ne, IO_TINY_NT);
+  for (int i = 0; i < l.n; i++) {
+    const double T = 2.0 * e[i] / (3.0 * 2400.0);
+    if (!(fabs(l.T[i] - T) <= 1e-12 * T)) fail_msg("output %d: progress T %.17g, 2 E_kin / 3N %.17g", i, l.T[i], T);
+    assert_int_equal(l.unit[i], GRAN_WORK_COLLISIONS);
+    if (i) assert_true(l.T[i] < l.T[i - 1]); /* a cooling gas */
+  }
+  free(e);
+  H5Fclose(f);
+
+  const char *out2 = io_path("progT-srd.h5");
+  char text[1024];
+  snprintf(text, sizeof text,
+           "[engine]\ntype = \"srd\"\ndimension = 2\ncells = 8\nn0 = 5\ndt = 0.5\nsteps = 40\neps = 0.8\n"
+           "sigma = 0.1\nseed = 3\n[observables]\ntimes = [1, 5, 10, 20]\n[output]\npath = \"%s\"\n",
+           out2);
+  GRAN_ASSERT_OK(gran_scene_parse(text, "srd.toml", &s));
+  prog_log m = {0};
+  ctl.progress_params = &m;
+  GRAN_ASSERT_OK(gran_scene_run(s, NULL, "", &ctl, NULL));
+  gran_scene_destroy(&s);
+  assert_int_equal(m.n, 4);
+  f = H5Fopen(out2, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  double *T = io_h5_read_double(f, "temperature/T", &ne);
+  assert_int_equal(ne, 4);
+  for (int i = 0; i < m.n; i++) {
+    assert_true(m.T[i] == T[i]);
+    assert_int_equal(m.unit[i], GRAN_WORK_PARTICLE_STEPS);
+  }
+  assert_true(m.coll[3] == 40 * 320); /* particle-steps: 40 steps x 8^2 cells x 5 */
+  free(T);
+  H5Fclose(f);
 }
 
 /* fraction done = expected collisions so far / expected in all (theory), not output times done */
@@ -271,6 +328,7 @@ int main(void) {
       cmocka_unit_test(test_partial_without_checkpoint),
       cmocka_unit_test(test_units_and_utf8),
       cmocka_unit_test(test_progress_by_work),
+      cmocka_unit_test(test_progress_temperature),
       cmocka_unit_test(test_cli),
   };
   int r = cmocka_run_group_tests(tests, NULL, NULL);

@@ -109,9 +109,18 @@ std::string eta_text(const gran_run_progress *p) {
   return hms(p->eta_seconds);
 }
 
+/* the work the engine counts (gran_run_progress.work_unit): its name and the name of its rate */
+const char *work_name(const gran_run_progress *p) {
+  return p->work_unit == GRAN_WORK_PARTICLE_STEPS ? "particle-steps" : "collisions";
+}
+const char *rate_name(const gran_run_progress *p) {
+  return p->work_unit == GRAN_WORK_PARTICLE_STEPS ? "psteps/s" : "coll/s";
+}
+
 void progress_line(const gran_run_progress *p, char *line, size_t len, int *n) {
-  *n = std::snprintf(line, len, "[%5.1f%%] t = %-11.5g collisions %-11" PRId64 " %9.3g coll/s  ETA %s",
-                     100.0 * p->fraction, p->time, p->collisions, p->collisions_per_second, eta_text(p).c_str());
+  *n = std::snprintf(line, len, "[%5.1f%%] t = %-11.5g T = %-11.5g %s %-11" PRId64 " %9.3g %s  ETA %s",
+                     100.0 * p->fraction, p->time, p->temperature, work_name(p), p->collisions,
+                     p->collisions_per_second, rate_name(p), eta_text(p).c_str());
 }
 
 void log_progress(RunLog &lg, const gran_run_progress *p) {
@@ -125,14 +134,14 @@ void log_progress(RunLog &lg, const gran_run_progress *p) {
     if (lg.every <= 0) lg.every = std::max<int64_t>(1, (N + 49) / 50);
     std::fprintf(lg.f, "\n# thermo: a row every %" PRId64 " output time(s); lines starting with # are progress\n",
                  lg.every);
-    std::fprintf(lg.f, "%8s %13s %15s %11s %9s %7s %8s\n", "index", "t", "collisions", "coll/s", "wall_s", "done%",
-                 "ETA");
+    std::fprintf(lg.f, "%8s %13s %13s %15s %11s %9s %7s %8s\n", "index", "t", "T", work_name(p), rate_name(p),
+                 "wall_s", "done%", "ETA");
     lg.header = true;
   }
   const bool last = i == N;
   if (last || i == 1 || i % lg.every == 0)
-    std::fprintf(lg.f, "%8" PRId64 " %13.6g %15" PRId64 " %11.4g %9.2f %7.2f %8s\n", i, p->time, p->collisions,
-                 p->collisions_per_second, p->wall_seconds, 100.0 * p->fraction, eta_text(p).c_str());
+    std::fprintf(lg.f, "%8" PRId64 " %13.6g %13.6g %15" PRId64 " %11.4g %9.2f %7.2f %8s\n", i, p->time, p->temperature,
+                 p->collisions, p->collisions_per_second, p->wall_seconds, 100.0 * p->fraction, eta_text(p).c_str());
   if (p->wall_seconds - lg.last_line >= 10.0 && !last) {
     char line[256];
     int n = 0;
@@ -669,6 +678,8 @@ int cli_run(int argc, char **argv) {
       lg.path = log_opt ? log_opt : out + ".log";
       ok = log_path_ok(lg.path, roles);
       if (ok) {
+        /* the folder of the output (out/ of a fresh checkout) is made before the run makes it */
+        if (gran_make_parent_(lg.path) != GRAN_SUCCESS) gran_clear_error();
         lg.f = std::fopen(lg.path.c_str(), append ? "a" : "w");
         if (!lg.f && log_opt) {
           std::fprintf(stderr, "granary run: cannot open the log '%s': %s\n", lg.path.c_str(), std::strerror(errno));

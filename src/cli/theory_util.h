@@ -83,6 +83,12 @@ inline void key(std::string &o, const char *k) {
   o += "\": ";
 }
 
+/* , "key": x */
+inline void field(std::string &o, const char *k, double x) {
+  key(o, k);
+  num(o, x);
+}
+
 }  // namespace cli_json
 
 #endif

@@ -34,6 +34,7 @@
 #ifndef GRANARY_IO_ENGINE_H
 #define GRANARY_IO_ENGINE_H
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -76,6 +77,13 @@ gran_row_buf *gran_row_buf_find(std::vector<gran_row_buf> &bufs, const char *gro
 
 /* `units` and `description` attributes of dataset `name` in group `loc` (every dataset has both). */
 int gran_describe_(int64_t loc, const char *name, const char *units, const char *description, const char *file);
+/* Dimension scales beside the driver's (`time` and `species` of each row group): dataset `name` of
+ * `loc` made a scale of that name; a `species` scale (k = 1..M) in `loc` unless it has one; the
+ * scales named in `axes` (one per axis of dataset `name`, "" for none) attached to it. Engines call
+ * them for what they write themselves (theory beside the rows, lag and k axes). */
+int gran_make_scale_(int64_t loc, const char *name, const char *file);
+int gran_species_scale_(int64_t loc, int64_t M, const char *file);
+int gran_attach_scales_(int64_t loc, const char *name, const std::vector<std::string> &axes, const char *file);
 /* The root attributes naming the units of a run (docs/units.md): `unit_system`, a sentence, and
  * the scene's values of the quantities that set them, `reference_mass`, `reference_length`,
  * `reference_energy` and `reference_time` = length sqrt(mass / energy), in the scene's units.
@@ -88,6 +96,8 @@ int gran_write_unit_system_(int64_t file, const char *fname, const char *engine,
 struct gran_engine_state {
   double time = 0.0;   /* simulated time reached */
   int64_t events = 0;  /* engine events so far (DSMC: accepted collisions), including before a resume */
+  double temperature = NAN; /* the gas temperature at the last recorded output time (NaN before one) */
+  int32_t work_unit = GRAN_WORK_COLLISIONS; /* what `events` counts */
 };
 
 /* One column pair of the end-of-run summary: simulated dataset beside its theory ([ntimes x M]). */
@@ -207,6 +217,8 @@ std::string gran_partial_path_(const std::string &out);
 /* A file's identity as the run driver compares its files ("inode dev:ino" when it exists, else the
  * real path of its folder and its name): the CLI's log check uses the same rule. */
 std::string gran_file_identity_(const std::string &path);
+/* mkdir -p of the folder holding `path` (as the run driver does for its output and checkpoint). */
+int gran_make_parent_(const std::string &path);
 std::string gran_run_checkpoint_path_(const gran_scene *s, const char *output, const char *checkpoint);
 
 #endif

@@ -109,6 +109,7 @@ class DsmcEngine : public gran_engine {
     GRAN_CALL(gran_dsmc_get_stats(sim_, &x));
     st->time = x.time;
     st->events = x.collisions;
+    st->temperature = last_T_;
     return GRAN_SUCCESS;
   }
 
@@ -148,6 +149,11 @@ class DsmcEngine : public gran_engine {
   int record(std::vector<gran_row_buf> &bufs, int64_t i) override {
     gran_dsmc_stats st;
     GRAN_CALL(gran_dsmc_get_stats(sim_, &st));
+    {
+      double e, e0, ed;
+      GRAN_CALL(gran_dsmc_energy(sim_, &e, &e0, &ed));
+      last_T_ = st.nparticles > 0 ? 2.0 * e / (3.0 * (double)st.nparticles) : NAN;
+    }
     for (auto &b : bufs) {
       double *d = b.is_int ? nullptr : b.d.data() + i * b.row;
       int64_t *n = b.is_int ? b.n.data() + i * b.row : nullptr;
@@ -311,6 +317,7 @@ class DsmcEngine : public gran_engine {
   gran_dsmc *sim_ = nullptr;
   std::vector<double> T0_;
   double tau0_ = NAN;
+  double last_T_ = NAN; /* 2 E_kin / (3 N) at the last recorded output time (the progress report) */
 
   /* Speed histogram of c = |v - u_k| / sqrt(2 T_k / m_k) per species (gran_speed_histogram),
    * normalised by N_k dc. The velocities one species at a time (gran_dsmc_species_velocities): with
@@ -350,9 +357,11 @@ class DsmcEngine : public gran_engine {
     GRAN_CALL(gran_describe_(gid, "T_theory_sonine", "energy",
                              "partial temperatures in the first Sonine approximation, from a2 = 0 at the start "
                              "(gran_theory_temperatures_approx) [time][k]", file));
+    GRAN_CALL(gran_attach_scales_(gid, "T_theory_sonine", {"time", "species"}, file));
     GRAN_CALL(gran_h5::write_double(gid, "a2_theory_sonine", {nt, M}, a2.data(), file));
     GRAN_CALL(gran_describe_(gid, "a2_theory_sonine", "1",
                              "Sonine coefficients a2_k in the first Sonine approximation [time][k]", file));
+    GRAN_CALL(gran_attach_scales_(gid, "a2_theory_sonine", {"time", "species"}, file));
     return GRAN_SUCCESS;
   }
 
@@ -370,6 +379,7 @@ class DsmcEngine : public gran_engine {
       if (st == GRAN_SUCCESS) {
         GRAN_CALL(gran_h5::write_double(g.id, "T_theory", dims, T.data(), file));
         GRAN_CALL(gran_describe_(g.id, "T_theory", "energy", "partial temperatures from the kinetic theory (Eq. 13) [time][k]", file));
+        GRAN_CALL(gran_attach_scales_(g.id, "T_theory", {"time", "species"}, file));
       } else {
         gran_warning_add("no T_theory in the output: %s", gran_last_error_message());
         GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
@@ -386,8 +396,10 @@ class DsmcEngine : public gran_engine {
       if (st == GRAN_SUCCESS) {
         GRAN_CALL(gran_h5::write_double(g.id, "msd_theory", dims, m.data(), file));
         GRAN_CALL(gran_describe_(g.id, "msd_theory", "length^2", "mean-squared displacement from the kinetic theory [time][k]", file));
+        GRAN_CALL(gran_attach_scales_(g.id, "msd_theory", {"time", "species"}, file));
         GRAN_CALL(gran_h5::write_double(g.id, "msd_total_theory", {nt}, mt.data(), file));
         GRAN_CALL(gran_describe_(g.id, "msd_total_theory", "length^2", "total mean-squared displacement from the kinetic theory", file));
+        GRAN_CALL(gran_attach_scales_(g.id, "msd_total_theory", {"time"}, file));
         GRAN_CALL(gran_h5::attr_string(g.id, "theory", hcs ? "gran_theory_msd_hcs (Eq. 22)" : "gran_theory_msd (Eq. 4)", file));
       } else {
         gran_warning_add("no msd_theory in the output: %s", gran_last_error_message());
@@ -404,9 +416,11 @@ class DsmcEngine : public gran_engine {
           GRAN_CALL(gran_describe_(g.id, "msd_theory_sonine", "length^2",
                                    "mean-squared displacement with the two-moment (second Sonine) velocity correlation "
                                    "(gran_theory_msd_hcs_approx / gran_theory_msd_approx) [time][k]", file));
+          GRAN_CALL(gran_attach_scales_(g.id, "msd_theory_sonine", {"time", "species"}, file));
           GRAN_CALL(gran_h5::write_double(g.id, "msd_total_theory_sonine", {nt}, mt.data(), file));
           GRAN_CALL(gran_describe_(g.id, "msd_total_theory_sonine", "length^2",
                                    "total mean-squared displacement with the two-moment velocity correlation", file));
+          GRAN_CALL(gran_attach_scales_(g.id, "msd_total_theory_sonine", {"time"}, file));
         } else {
           gran_warning_add("no msd_theory_sonine in the output: %s", gran_last_error_message());
           GRAN_CALL(gran_h5::attr_string(g.id, "theory_sonine_error", gran_last_error_message(), file));
@@ -435,6 +449,7 @@ class DsmcEngine : public gran_engine {
                              "expected clusters of size k from the temperature-dependent Smoluchowski equations "
                              "(gran_theory_aggregation; sizes above nspecies leave the system) [time][k]",
                              file));
+    GRAN_CALL(gran_attach_scales_(g.id, "n_theory", {"time", "species"}, file));
     return GRAN_SUCCESS;
   }
 
@@ -491,16 +506,21 @@ class DsmcEngine : public gran_engine {
     const double t_meas = s->tamsd_dt * (double)(ns - 1);
     GRAN_CALL(gran_h5::write_double(g.id, "lag", {nl}, lag.data(), file));
     GRAN_CALL(gran_describe_(g.id, "lag", "time", "lag times used (whole sampling intervals)", file));
+    GRAN_CALL(gran_make_scale_(g.id, "lag", file));
+    GRAN_CALL(gran_species_scale_(g.id, M, file));
     GRAN_CALL(gran_h5::write_double(g.id, "tamsd", {nl, M}, ta.data(), file));
     GRAN_CALL(gran_describe_(g.id, "tamsd", "length^2", "time-averaged MSD of the tracers, averaged over the tracers of each species [lag][k]", file));
+    GRAN_CALL(gran_attach_scales_(g.id, "tamsd", {"lag", "species"}, file));
     bool have_se = true; /* a species with one tracer has no spread: then no tamsd_se at all */
     for (int64_t k = 0; k < M; k++) have_se = have_se && ntr[(size_t)k] != 1;
     if (have_se) {
       GRAN_CALL(gran_h5::write_double(g.id, "tamsd_se", {nl, M}, se.data(), file));
       GRAN_CALL(gran_describe_(g.id, "tamsd_se", "length^2", "standard error of tamsd from the spread over the tracers of each species [lag][k]", file));
+      GRAN_CALL(gran_attach_scales_(g.id, "tamsd_se", {"lag", "species"}, file));
     }
     GRAN_CALL(gran_h5::write_int64(g.id, "tracers", {M}, ntr.data(), file));
     GRAN_CALL(gran_describe_(g.id, "tracers", "1", "tracers per species in the TAMSD average", file));
+    GRAN_CALL(gran_attach_scales_(g.id, "tracers", {"species"}, file));
     GRAN_CALL(gran_h5::attr_double(g.id, "t_meas", t_meas, file));
     GRAN_CALL(gran_h5::attr_double(g.id, "dt", s->tamsd_dt, file));
     GRAN_CALL(gran_h5::attr_int64(g.id, "samples", ns, file));
@@ -513,6 +533,7 @@ class DsmcEngine : public gran_engine {
       if (st == GRAN_SUCCESS) {
         GRAN_CALL(gran_h5::write_double(g.id, "tamsd_theory", {nl, M}, th.data(), file));
         GRAN_CALL(gran_describe_(g.id, "tamsd_theory", "length^2", "TAMSD from the kinetic theory: Eq. 26 summed over the simulation's sample times (gran_theory_tamsd_sampled) [lag][k]", file));
+        GRAN_CALL(gran_attach_scales_(g.id, "tamsd_theory", {"lag", "species"}, file));
       } else {
         gran_warning_add("no tamsd_theory in the output: %s", gran_last_error_message());
         GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));

@@ -175,6 +175,8 @@ class SrdEngine : public gran_engine {
     const int64_t k = gran_srd_steps_(srd_);
     st->time = (double)k * o_.dt;
     st->events = N_ > 0 && k > INT64_MAX / N_ ? INT64_MAX : k * N_;
+    st->temperature = last_T_;
+    st->work_unit = GRAN_WORK_PARTICLE_STEPS;
     return GRAN_SUCCESS;
   }
 
@@ -189,6 +191,7 @@ class SrdEngine : public gran_engine {
     const auto &q = s_->srd;
     gran_srd_obs ob;
     GRAN_CALL(gran_srd_observe(srd_, &ob));
+    last_T_ = ob.temperature;
     std::vector<double> sk_k, sk_s;
     std::vector<int64_t> sk_c;
     if (q.obs_sk) {
@@ -310,6 +313,7 @@ class SrdEngine : public gran_engine {
                                "Haff's law T0 / (1 + t / tau)^2 with the mean-field rate of Eq. 2.1: 1/tau = k (1 - eps^2) "
                                "sigma^2 (n0 / a^d) sqrt(T0), k = 1 in 2-D, 2/3 in 3-D (only the components perpendicular "
                                "to the axis are scaled)", file));
+      GRAN_CALL(gran_attach_scales_(g.id, "T_theory", {"time"}, file));
       GRAN_CALL(gran_h5::attr_double(g.id, "haff_rate", rate, file));
     }
     return write_snapshots(f, file, nrec);
@@ -429,6 +433,7 @@ class SrdEngine : public gran_engine {
   const gran_scene *s_;
   gran_srd_options o_;
   gran_srd *srd_ = nullptr;
+  double last_T_ = NAN; /* T at the last recorded output time (the progress report) */
   int64_t cells_ = 1, N_ = 0;
   bool rep0_ = true;
   double stress_t0_ = 0.0;

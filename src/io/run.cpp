@@ -224,6 +224,8 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
         p.output_index = r.next;
         p.noutputs = nt;
         p.checkpoints = nckpt;
+        p.temperature = x.temperature;
+        p.work_unit = x.work_unit;
         stop = ctl->progress(&p, ctl->progress_params) != 0;
       }
       if (r.next >= nt || r.ckpt.empty()) {

@@ -114,3 +114,4 @@ std::string gran_run_checkpoint_path_(const gran_scene *s, const char *output, c
 }
 
 std::string gran_file_identity_(const std::string &path) { return gran_run::file_identity(path); }
+int gran_make_parent_(const std::string &path) { return gran_run::make_parent(path); }

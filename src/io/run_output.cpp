@@ -302,3 +302,29 @@ int write_output_file(Run &r, const std::string &path, int64_t nrec) {
 }  // namespace
 
 }  // namespace gran_run
+
+int gran_make_scale_(int64_t loc, const char *name, const char *file) { return gran_run::make_scale(loc, name, file); }
+
+int gran_species_scale_(int64_t loc, int64_t M, const char *file) {
+  if (gran_h5::exists(loc, "species")) return GRAN_SUCCESS;
+  std::vector<int64_t> k((size_t)M);
+  for (int64_t i = 0; i < M; i++) k[(size_t)i] = i + 1;
+  GRAN_CALL(gran_h5::write_int64(loc, "species", {M}, k.data(), file));
+  GRAN_CALL(gran_describe_(loc, "species", "1", "species index k = 1..M (the species axis of this group's datasets)", file));
+  return gran_run::make_scale(loc, "species", file);
+}
+
+int gran_attach_scales_(int64_t loc, const char *name, const std::vector<std::string> &axes, const char *file) {
+  hid_t d = H5Dopen2((hid_t)loc, name, H5P_DEFAULT);
+  GRAN_CHECK(d >= 0, GRAN_ERR_IO, "cannot open dataset '%s' in '%s'", name, file);
+  herr_t e = 0;
+  for (size_t a = 0; a < axes.size() && e >= 0; a++) {
+    if (axes[a].empty()) continue;
+    hid_t sc = H5Dopen2((hid_t)loc, axes[a].c_str(), H5P_DEFAULT);
+    e = sc >= 0 ? H5DSattach_scale(d, sc, (unsigned)a) : -1;
+    if (sc >= 0) H5Dclose(sc);
+  }
+  H5Dclose(d);
+  GRAN_CHECK(e >= 0, GRAN_ERR_IO, "HDF5: cannot attach the dimension scales of '%s' in '%s'", name, file);
+  return GRAN_SUCCESS;
+}
