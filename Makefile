@@ -142,7 +142,10 @@ endif
 LIB_SRC  := $(sort $(wildcard src/core/*.cpp src/theory/*.cpp src/dsmc/*.cpp src/analysis/*.cpp src/io/*.cpp src/srd/*.cpp))
 CLI_SRC  := $(sort $(wildcard src/cli/*.cpp))
 CU_SRC   := $(if $(NVCC),$(sort $(wildcard cuda/*.cu)),cuda/stub.cpp)
-LIB_OBJ  := $(LIB_SRC:%.cpp=$(BUILD)/obj/%.o) $(patsubst %,$(BUILD)/obj/%.o,$(basename $(CU_SRC)))
+# Built longest first (the CUDA objects, then the sources by size), so that a parallel build does not
+# end on one long compile while the other cores idle; the order of the archive does not matter.
+LIB_OBJ  := $(patsubst %,$(BUILD)/obj/%.o,$(basename $(shell ls -S $(CU_SRC)))) \
+            $(patsubst %.cpp,$(BUILD)/obj/%.o,$(shell ls -S $(LIB_SRC)))
 CLI_OBJ  := $(CLI_SRC:%.cpp=$(BUILD)/obj/%.o)
 FMOD_SRC := bindings/granary.f90
 FMOD_OBJ := $(BUILD)/obj/bindings/granary.o
