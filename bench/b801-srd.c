@@ -1,12 +1,18 @@
-/* b801-srd.c - GSRD speed: particle-steps per second for 3-D, n0 = 10, boxes of 32^3 .. 128^3
- * cells (BENCH_QUICK: 32^3 only), on 1 thread and on all threads; bytes moved per particle-step
+/* b801-srd.c - GSRD speed: particle-steps per second for 3-D, n0 = 10, dt = 0.1, kT = 1, boxes of
+ * 32^3 and 64^3 cells (BENCH_QUICK: 32^3 only), on 1 thread (per wall and per CPU second) and on all
+ * threads; bytes moved per particle-step
  * (a model count of the passes, stated below) against a memory-copy roofline measured in the same
  * run; the cost of each effect on/off (32^3); memory per particle; the set-up time of the per-cell
  * RNG streams; a whole run (creation + 100 steps, one thread) with the particles in cell order from
  * creation against the same run with them shuffled back to creation order (what every run did
- * before the creation sort). HOOMD-blue 4.8 MPCD (CPU, Release) measured side by side on this kind
- * of machine: 1.6-2.2e7 particle-steps per CPU second at 32^3 and 64^3 (not a dependency; the
- * ratio below is against that range's midpoint, 1.9e7, so it is a reading, not a measurement).
+ * before the creation sort). HOOMD-blue MPCD (not a dependency) runs side by side in the same
+ * process tree when `python3 -c "import hoomd"` works: the same set-up (3-D, n0 = 10, dt = 0.1,
+ * kT = 1, SRD angle 130 degrees, cell size 1 with the random grid shift, sort every 50 steps, one
+ * CPU thread, the 51 steps through its first sort untimed), and the ratio of the two rates measured
+ * in this run is printed; otherwise b801 says so and prints granary's numbers only (the external
+ * reference measurement is printed as a line of text, with no ratio computed against it).
+ * GRAN_SRD_PHASES=1 in the environment makes the engine print the time of each phase of every
+ * gran_srd_advance to stderr (ns per particle-step: streaming, cell sums, cell rules, rotation, sort).
  * Bytes per particle-step of the model (the passes of src/srd/engine.cpp): stream r+w 48+48 and
  * the block's slab list w 2; per slab: sums r 2 (list) + 48 (positions and velocities), rotation
  * r 2 + 48, w 24 (velocities) -> 222 B (the rotation's second read of a slab's particles, 2 MB at
@@ -34,7 +40,8 @@ static double copy_bw(size_t bytes) {
   return 2.0 * (double)bytes * reps / t; /* read + write */
 }
 
-static double rate(gran_srd_options o, int threads, int steps, double *setup) {
+/* particle-steps per wall second; *cpu_rate (when not NULL): per CPU second of the process */
+static double rate_cpu(gran_srd_options o, int threads, int steps, double *setup, double *cpu_rate) {
   o.threads = threads;
   gran_srd *s = NULL;
   double t0 = bench_now();
@@ -43,12 +50,72 @@ static double rate(gran_srd_options o, int threads, int steps, double *setup) {
   BENCH_CHECK(gran_srd_advance(s, o.sort_every + 1)); /* through the first sort by cell: the
                                                          particles of a long run are sorted */
   t0 = bench_now();
+  const double c0 = bench_cpu_now();
   BENCH_CHECK(gran_srd_advance(s, steps));
-  double t = bench_now() - t0;
+  const double t = bench_now() - t0, c = bench_cpu_now() - c0;
   gran_srd_obs ob;
   BENCH_CHECK(gran_srd_observe(s, &ob));
   BENCH_CHECK(gran_srd_destroy(&s));
+  if (cpu_rate) *cpu_rate = c > 0 ? (double)ob.n * steps / c : 0.0;
   return (double)ob.n * steps / t;
+}
+static double rate(gran_srd_options o, int threads, int steps, double *setup) {
+  return rate_cpu(o, threads, steps, setup, NULL);
+}
+
+/* HOOMD-blue's MPCD with the set-up of the rate rows (3-D, L^3 cells, n0 = 10, dt = 0.1, kT = 1,
+ * SRD angle 130 degrees, no thermostat, sort every 50 steps, one CPU thread): particle-steps per CPU
+ * second of `steps` steps after 51 untimed ones; -1 when the script fails. */
+static const char *const hoomd_script =
+    "import sys, time\n"
+    "import numpy as np\n"
+    "import hoomd\n"
+    "L, steps = int(sys.argv[1]), int(sys.argv[2])\n"
+    "sim = hoomd.Simulation(device=hoomd.device.CPU(num_cpu_threads=1), seed=1)\n"
+    "snap = hoomd.Snapshot()\n"
+    "N = 10 * L ** 3\n"
+    "if snap.communicator.rank == 0:\n"
+    "    snap.configuration.box = [L, L, L, 0, 0, 0]\n"
+    "    snap.particles.types = ['A']\n"
+    "    snap.mpcd.types = ['S']\n"
+    "    snap.mpcd.N = N\n"
+    "    rng = np.random.default_rng(1)\n"
+    "    snap.mpcd.position[:] = rng.uniform(-L / 2, L / 2, (N, 3))\n"
+    "    v = rng.normal(0.0, 1.0, (N, 3))\n"
+    "    snap.mpcd.velocity[:] = v - v.mean(axis=0)\n"
+    "sim.create_state_from_snapshot(snap)\n"
+    "ig = hoomd.mpcd.Integrator(dt=0.1)\n"
+    "ig.collision_method = hoomd.mpcd.collide.StochasticRotationDynamics(period=1, angle=130)\n"
+    "ig.streaming_method = hoomd.mpcd.stream.Bulk(period=1)\n"
+    "ig.mpcd_particle_sorter = hoomd.mpcd.tune.ParticleSorter(trigger=50)\n"
+    "sim.operations.integrator = ig\n"
+    "sim.run(51)\n"
+    "t0 = time.process_time()\n"
+    "sim.run(steps)\n"
+    "print(N * steps / (time.process_time() - t0))\n";
+static int hoomd_available(void) { return system("python3 -c 'import hoomd' >/dev/null 2>&1") == 0; }
+static double hoomd_rate(int L, int steps) {
+  char path[] = "/tmp/b801-hoomd-XXXXXX";
+  const int fd = mkstemp(path);
+  if (fd < 0) return -1.0;
+  FILE *f = fdopen(fd, "w");
+  if (!f) return -1.0;
+  fputs(hoomd_script, f);
+  fclose(f);
+  char cmd[256];
+  snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 python3 %s %d %d 2>&1", path, L, steps);
+  FILE *p = popen(cmd, "r");
+  double r = -1.0;
+  char line[512];
+  while (p && fgets(line, sizeof line, p)) {
+    char *end;
+    const double x = strtod(line, &end);
+    if (end != line && x > 0) r = x;
+    else fprintf(stderr, "b801 (hoomd): %s", line);
+  }
+  if (p) pclose(p);
+  remove(path);
+  return r;
 }
 
 /* heap bytes in use now (malloc'ed incl. mmapped chunks), glibc mallinfo2 */
@@ -244,15 +311,31 @@ int main(void) {
   printf("memory copy: %.3g GB/s (read + write); roofline at %.0f B/particle-step: %.3g particle-steps/s\n",
          bw * 1e-9, model_bytes, bw / model_bytes);
   const int nmax = 0; /* 0: all threads (OpenMP default) */
-  const int sizes[3] = {32, 64, 128};
+  const int sizes[2] = {32, 64};
+  const int hoomd = hoomd_available();
+  if (!hoomd)
+    printf("HOOMD-blue: `python3 -c \"import hoomd\"` fails here, no side-by-side run (reference measured "
+           "elsewhere, not in this run: HOOMD-blue 4.8 MPCD, CPU, 1.6-2.2e7 particle-steps per CPU second at "
+           "32^3 and 64^3, same set-up, 2026-12-02, AMD EPYC (Zen 4) 2-core machine of the project)\n");
   for (int k = 0; k < (quick ? 1 : 2); ++k) {
-    o.cells[0] = o.cells[1] = o.cells[2] = sizes[k];
-    const int steps = sizes[k] == 32 ? 10 : 3;
-    double setup;
-    const double r1 = rate(o, 1, steps, &setup), rn = rate(o, nmax, steps, NULL);
-    printf("%4d^3: set-up %.3f s; 1 thread %.3g, all threads %.3g particle-steps/s (%.2f of roofline); "
-           "1 thread vs HOOMD's 1.9e7: %.2f\n",
-           sizes[k], setup, r1, rn, rn / (bw / model_bytes), r1 / 1.9e7);
+    gran_srd_options r = o;
+    r.cells[0] = r.cells[1] = r.cells[2] = sizes[k];
+    r.dt = 0.1; /* the set-up of the HOOMD comparison */
+    const int steps = sizes[k] == 32 ? 20 : 5;
+    double setup, c1;
+    const double r1 = rate_cpu(r, 1, steps, &setup, &c1), rn = rate(r, nmax, steps, NULL);
+    printf("%4d^3 (dt = 0.1): set-up %.3f s; 1 thread %.3g particle-steps/s (%.3g per CPU second, %.2f of "
+           "roofline); all threads %.3g (%.2f of roofline)\n",
+           sizes[k], setup, r1, c1, r1 / (bw / model_bytes), rn, rn / (bw / model_bytes));
+    if (hoomd) {
+      const double h = hoomd_rate(sizes[k], steps);
+      if (h > 0)
+        printf("%4d^3 HOOMD-blue MPCD, same set-up, 1 CPU thread: %.3g particle-steps per CPU second; granary "
+               "1 thread / HOOMD (both per CPU second, this run): %.2f\n",
+               sizes[k], h, c1 / h);
+      else
+        printf("%4d^3 HOOMD-blue MPCD: the script failed (its output above), no ratio\n", sizes[k]);
+    }
   }
   {
     gran_srd_options w = o;

@@ -24,7 +24,9 @@
 #include "../cuda/srd_cuda.h" /* srd_rule_const_of: the rules' constants, as the devices make them */
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <cerrno>
 #include <cfloat>
@@ -149,6 +151,24 @@ int setup_streams(gran_srd *s) {
   return gran_rng_stream(s->opt.seed, 0, &s->shift_rng);
 }
 
+/* Developer phase timers: with GRAN_SRD_PHASES=1 in the environment every gran_srd_advance of the CPU
+ * engine prints to stderr the time of its phases per particle-step: the streaming pass with the
+ * blocks' slab lists, the global thermostat's pass, the cell sums (binning included), the cell
+ * rules, the rotation, the sort by cell. The three slab phases are thread-seconds summed over the
+ * threads; on one thread the phases add up to the step. Off (the default): one test per phase and
+ * step, no clock read. */
+bool phase_timing() {
+  static const bool on = [] {
+    const char *e = std::getenv("GRAN_SRD_PHASES");
+    return e && e[0] == '1';
+  }();
+  return on;
+}
+inline double clock_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+enum { PH_STREAM, PH_THERMO, PH_SUMS, PH_CELLS, PH_ROT, PH_SORT, PH_N };
+
 /* deterministic sum of per-block partials */
 inline double sum_blocks(const double *p, int64_t nb) {
   double t = 0.0;
@@ -224,6 +244,24 @@ void sort_by_cell(gran_srd *s, const srd_geom *gm, const double sh[3], int nth) 
   }
 }
 
+/* srd_bin_layer with the step loop's template flags (DIM, WALL: gm->dim, gm->wall_axis >= 0) as
+ * constants: the same operations on the same values, without the run-time tests of the generic form.
+ * (The cell sums keep the generic srd_bin: with a templated copy there GCC fuses the multiply-adds of
+ * the 3-D rotation with dissipation differently, which moved some velocities by an ulp.) */
+template <bool WALL>
+inline int64_t bin_axis(const srd_geom &g, int k, double x) {
+  if (WALL && k == g.wall_axis) return srd_clamp_bin(x * g.inv_a, g.L[k] + 1); /* layers 0 .. L */
+  return srd_clamp_bin(srd_wrap_shifted(x, g.box[k]) * g.inv_a, g.L[k]);
+}
+template <int DIM, bool WALL>
+inline int64_t bin_layer(const srd_geom &g, const double sh[3], const double p[3]) {
+  if (DIM == 2) {
+    int w;
+    return srd_bin_y(&g, sh, p, &w);
+  }
+  return bin_axis<WALL>(g, 2, p[2] + sh[2]);
+}
+
 template <int DIM, bool DISSIP, bool LE, bool WALL, bool ACCEL>
 int do_steps(gran_srd *s, int64_t nsteps) {
   const int64_t n = s->n, ncell = s->ncell;
@@ -286,9 +324,10 @@ int do_steps(gran_srd *s, int64_t nsteps) {
    * particle order, so the sums are bit for bit those of one serial pass, for any thread count.
    * The cells of a chunk are computed first (no dependence between them), then the additions
    * (whose chain through a cell's sums is what the core waits for). */
-  auto slab_sums = [&](int64_t sl, int64_t c0, int64_t mc, srd_slab_cell *W, const srd_geom *g, const double *sh,
+  auto slab_sums = [&](int64_t sl, int64_t c0, int64_t mc, srd_slab_cell *W, const srd_geom *gp, const double *sh,
                        uint32_t *pc) {
     for (int64_t c = 0; c < mc; ++c) srd_sum_clear(&W[c].s);
+    const srd_geom g = *gp; /* a local copy: its fields stay in registers */
     int64_t done = 0;
     slab_chunks(sl, [&](const int64_t *ib, int64_t m) {
       uint32_t cidx[SRD_CHUNK];
@@ -296,7 +335,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       for (int64_t j = 0; j < m; ++j) {
         const int64_t i = ib[j];
         const double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-        cidx[j] = (uint32_t)(srd_bin(g, sh, p, &cdv[j]) - c0);
+        cidx[j] = (uint32_t)(srd_bin(&g, sh, p, &cdv[j]) - c0);
       }
       for (int64_t j = 0; j < m; ++j) {
         const int64_t i = ib[j];
@@ -316,6 +355,13 @@ int do_steps(gran_srd *s, int64_t nsteps) {
     return k;
   };
   std::vector<std::vector<uint32_t>> pcell((size_t)nth); /* per thread: the slab's particles' cells */
+  const bool prof = phase_timing();
+  double ph[PH_N] = {0, 0, 0, 0, 0, 0}, tq = prof ? clock_s() : 0.0;
+  auto lap = [&](int k) { /* the time since the previous lap goes to phase k */
+    const double t = clock_s();
+    ph[k] += t - tq;
+    tq = t;
+  };
 
   for (int64_t st = 0; st < nsteps; ++st) {
     srd_geom gm = s->gm;
@@ -331,6 +377,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
      * before the streaming so that the streaming pass can bin under it) */
     for (int k = 0; k < 3; ++k) s->shift[k] = k < DIM ? srd_rng_uniform(&s->shift_rng) * o.a : 0.0;
     const double sh[3] = {s->shift[0], s->shift[1], s->shift[2]};
+    if (prof) tq = clock_s();
     /* (2) stream; each fixed block of SRD_BLOCK particles then lists its particles by slab of the
      * shifted binning grid (a counting sort inside the block, increasing order in each slab) */
     {
@@ -338,6 +385,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       for (int64_t b = 0; b < nb; ++b) {
         FtzScope ftz;
         const int32_t fx = srd_rule_fx_fold(FX_FIXED, K.fx);
+        const srd_geom g = gm; /* a local copy: its fields stay in registers across the stores */
         const int64_t lo = b * SRD_BLOCK, hi = std::min(n, lo + SRD_BLOCK);
         double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0}; /* the block's kinetic flux, external work, wall impulse */
         double chk = 0.0;
@@ -347,7 +395,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
         for (int64_t i = lo; i < hi; ++i) {
           double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
           double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-          srd_rule_move(fx, DIM, &K, &gm, p, v, acc);
+          srd_rule_move(fx, DIM, &K, &g, p, v, acc);
           /* the per-step finiteness check, branch-free: the positions after the move are in the
            * box when finite (sum <= 3e290), and a non-finite position or velocity leaves a
            * non-finite position (x += v dt; the wrap and the walls keep it so) */
@@ -360,7 +408,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
             pz[i] = p[2];
             vz[i] = v[2];
           }
-          const uint32_t sl = layer_slab[srd_bin_layer(&gm, sh, p)];
+          const uint32_t sl = layer_slab[bin_layer<DIM, WALL>(g, sh, p)];
           sid[i - lo] = sl;
           row[sl + 1] += 1;
         }
@@ -383,6 +431,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
         if (WALL) s->wall_impulse[gm.wall_axis] += t[2];
       }
     }
+    if (prof) lap(PH_STREAM);
     s->time += dt;
     /* (3) global profile-unbiased thermostat (thermostat = 2): one factor for the thermal
      * velocities of every cell, relative to the cell means (so the shear profile is not heated or
@@ -420,6 +469,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
         dof += tp[2 * sl + 1];
       }
       gscale = srd_rule_gscale(e, dof, K.T0);
+      if (prof) lap(PH_THERMO);
     }
     /* (4) collision, slab by slab (parallel over slabs): the slab's cell sums relative to the
      * reference velocities, then per cell the moments, eps_eff, random axis (the cell's own RNG
@@ -428,9 +478,12 @@ int do_steps(gran_srd *s, int64_t nsteps) {
      * reference velocities and the RNG states persist per cell. */
     int64_t nclamp = 0;
     double dtmax = INFINITY;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nth) reduction(+ : nclamp) reduction(min : dtmax)
+    double ph_sums = 0.0, ph_cells = 0.0, ph_rot = 0.0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nth) reduction(+ : nclamp, ph_sums, ph_cells, ph_rot) \
+    reduction(min : dtmax)
     for (int64_t sl = 0; sl < nslab; ++sl) {
       FtzScope ftz;
+      double t0 = prof ? clock_s() : 0.0;
 #ifdef _OPENMP
       std::vector<srd_slab_cell> &Wv = work[(size_t)omp_get_thread_num()];
 #else
@@ -448,6 +501,11 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       if ((int64_t)pcv.size() < np) pcv.resize((size_t)np);
       uint32_t *pc = pcv.data();
       slab_sums(sl, c0, mc, W, &gm, sh, pc);
+      if (prof) {
+        const double t1 = clock_s();
+        ph_sums += t1 - t0;
+        t0 = t1;
+      }
       const int32_t fx = srd_rule_fx_fold(FX_FIXED, K.fx);
       for (int64_t lc = 0; lc < mc; ++lc) {
         /* the sums are read into locals, then the same slot receives the collision record; its
@@ -462,6 +520,11 @@ int do_steps(gran_srd *s, int64_t nsteps) {
           dtmax = std::min(dtmax, dtm);
         }
         W[lc].rot = cr;
+      }
+      if (prof) {
+        const double t1 = clock_s();
+        ph_cells += t1 - t0;
+        t0 = t1;
       }
       /* the collisions of the slab's particles (in the same order: their cells from slab_sums) */
       double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0}; /* the slab's energy change, virial, Lees-Edwards work */
@@ -498,6 +561,13 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       spart[(size_t)(4 * sl)] = acc[SRD_ACC_DE];
       spart[(size_t)(4 * sl + 1)] = acc[SRD_ACC_VIR];
       spart[(size_t)(4 * sl + 2)] = acc[SRD_ACC_LEW];
+      if (prof) ph_rot += clock_s() - t0;
+    }
+    if (prof) {
+      ph[PH_SUMS] += ph_sums;
+      ph[PH_CELLS] += ph_cells;
+      ph[PH_ROT] += ph_rot;
+      tq = clock_s();
     }
     s->clamped += nclamp;
     s->dt_max = std::min(s->dt_max, dtmax);
@@ -517,7 +587,17 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       vx = s->vx.data();
       vy = s->vy.data();
       vz = DIM == 3 ? s->vz.data() : nullptr;
+      if (prof) lap(PH_SORT);
     }
+  }
+  if (prof && nsteps > 0) {
+    const double u = 1e9 / ((double)n * (double)nsteps);
+    std::fprintf(stderr,
+                 "GSRD phases, ns per particle-step (%lld steps, %lld particles, %d threads): stream + slab lists %.2f, "
+                 "thermostat pass %.2f, cell sums %.2f, cell rules %.2f, rotation %.2f, sort %.2f (slab phases in "
+                 "thread-seconds)\n",
+                 (long long)nsteps, (long long)n, nth, ph[PH_STREAM] * u, ph[PH_THERMO] * u, ph[PH_SUMS] * u,
+                 ph[PH_CELLS] * u, ph[PH_ROT] * u, ph[PH_SORT] * u);
   }
   return GRAN_SUCCESS;
 }

@@ -110,7 +110,7 @@ SRD_RULE void srd_rule_move(int fx, int dim, const srd_rule_const *k, const srd_
     double dpw[3];
     if (srd_wall_reflect(gm, p, v, dpw)) acc[SRD_ACC_IMP] += dpw[gm->wall_axis];
   }
-  srd_wrap(gm, p, v);
+  srd_wrap_fx(gm, dim, fx & SRD_FX_LE, fx & SRD_FX_WALL, p, v);
   if (ledger) acc[SRD_ACC_EXT] += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - e0;
 }
 

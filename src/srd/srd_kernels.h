@@ -175,11 +175,14 @@ GRAN_HD static inline double srd_wrap1(double x, double b) {
 }
 
 /* Bin index of the scaled coordinate q = x / a: floor(q) clamped into [0, n - 1], decided in double
- * before any conversion (a NaN, an infinity or a value beyond int64 is never converted). */
+ * before any conversion (a NaN, an infinity or a value beyond int64 is never converted). Branch-free:
+ * q < 1 or NaN selects 0 (truncation gives 0 for q in [0, 1)), then the minimum with n - 1 (exact for
+ * n < 2^53; truncating any q in [n - 1, n) gives n - 1 too), then the truncation. */
 GRAN_HD static inline int64_t srd_clamp_bin(double q, int64_t n) {
-  if (!(q >= 1.0)) return 0;               /* q < 1 (truncation gives 0 for q in (-1, 1)), or NaN */
-  if (q >= (double)n) return n - 1;        /* n < 2^53: exact */
-  return (int64_t)q;
+  const double top = (double)(n - 1);
+  double r = q >= 1.0 ? q : 0.0;
+  r = r < top ? r : top;
+  return (int64_t)r;
 }
 
 /* 0 when the three components of p and of v are finite, else NaN (x - x is 0 for every finite x):
@@ -188,9 +191,11 @@ GRAN_HD static inline double srd_nonfinite(const double p[3], const double v[3])
   return ((p[0] - p[0]) + (p[1] - p[1]) + (p[2] - p[2])) + ((v[0] - v[0]) + (v[1] - v[1]) + (v[2] - v[2]));
 }
 
-/* Periodic wrap of the periodic axes, with the Lees-Edwards rule across y. */
-GRAN_HD static inline void srd_wrap(const srd_geom *gm, double p[3], double v[3]) {
-  if (gm->le_on && (p[1] >= gm->box[1] || p[1] < 0.0)) {
+/* Periodic wrap of the periodic axes, with the Lees-Edwards rule across y; dim, le (gm->le_on) and
+ * walls (gm->wall_axis >= 0) as arguments, so that a caller with constants gets the loop unrolled
+ * and p kept in registers (srd_wrap below takes them from gm). */
+GRAN_HD static inline void srd_wrap_fx(const srd_geom *gm, int dim, int le, int walls, double p[3], double v[3]) {
+  if (le && (p[1] >= gm->box[1] || p[1] < 0.0)) {
     /* m images crossed (m = +-1 in an ordinary step; any m when a step moves more than Ly): each
      * shifts x by le_dx and vx by le_dv */
     const double m = floor(p[1] / gm->box[1]);
@@ -198,8 +203,8 @@ GRAN_HD static inline void srd_wrap(const srd_geom *gm, double p[3], double v[3]
     p[0] -= m * gm->le_dx;
     v[0] -= m * gm->le_dv;
   }
-  for (int k = 0; k < gm->dim; ++k) {
-    if (k == gm->wall_axis) continue;
+  for (int k = 0; k < dim; ++k) {
+    if (walls && k == gm->wall_axis) continue;
     const double b = gm->box[k];
     if (p[k] >= b || p[k] < 0.0) {
       const double r = p[k] - b * floor(p[k] / b);
@@ -207,14 +212,23 @@ GRAN_HD static inline void srd_wrap(const srd_geom *gm, double p[3], double v[3]
     }
   }
 }
+GRAN_HD static inline void srd_wrap(const srd_geom *gm, double p[3], double v[3]) {
+  srd_wrap_fx(gm, gm->dim, gm->le_on, gm->wall_axis >= 0, p, v);
+}
 
+/* A shifted coordinate x taken into [0, b) for binning: x - b floor(x / b) outside [0, b), else x
+ * (no repair: srd_clamp_bin takes what rounding leaves). A position in [0, b) shifted by less than
+ * b lies in [0, 2 b), where floor(x / b) is 1 beyond b (x / b < 2 rounds below 2) and the result is
+ * x - b (exact): that select is the fast path, the division only for what is still outside. */
+GRAN_HD static inline double srd_wrap_shifted(double x, double b) {
+  const double r = x >= b ? x - b : x;
+  return r >= 0.0 && r < b ? r : x - b * floor(x / b);
+}
 /* Index along a periodic axis or the wall axis k of the shifted cell that holds coordinate x
  * (already shifted: x = p[k] + s[k], Lees-Edwards correction applied on x). */
 GRAN_HD static inline int64_t srd_bin_index(const srd_geom *gm, int k, double x) {
   if (k == gm->wall_axis) return srd_clamp_bin(x * gm->inv_a, gm->L[k] + 1); /* layers 0 .. L */
-  const double b = gm->box[k];
-  if (x >= b || x < 0.0) x -= b * floor(x / b);
-  return srd_clamp_bin(x * gm->inv_a, gm->L[k]);
+  return srd_clamp_bin(srd_wrap_shifted(x, gm->box[k]) * gm->inv_a, gm->L[k]);
 }
 
 /* Index along y (k = 1) of the shifted cell that holds p; *wrapped = 1 when the shifted y lay
@@ -226,10 +240,9 @@ GRAN_HD static inline int64_t srd_bin_y(const srd_geom *gm, const double s[3], c
   if (gm->wall_axis == 1) {
     cy = srd_clamp_bin(y * gm->inv_a, gm->L[1] + 1); /* layers 0 .. L */
   } else {
-    if (y >= gm->box[1]) {
-      y -= gm->box[1];
-      *wrapped = 1;
-    }
+    const int w = y >= gm->box[1];
+    y = w ? y - gm->box[1] : y;
+    *wrapped = w;
     cy = srd_clamp_bin(y * gm->inv_a, gm->L[1]);
   }
   return cy;
