@@ -59,6 +59,7 @@ module granary
   public :: gran_viscoelastic_eps, gran_viscoelastic_eps_vn
   public :: gran_theory_cooling_rates, gran_theory_tau_v, gran_theory_diffusion, gran_theory_collision_rate1
   public :: gran_theory_hcs, gran_theory_temperatures, gran_theory_msd_hcs, gran_theory_msd
+  public :: gran_theory_temperatures_driven
   ! GRAN_THEORY_MAXWELLIAN (reference) or GRAN_THEORY_SONINE (first Sonine level, docs/physics-sonine.md)
   public :: gran_theory_hcs_approx, gran_theory_sonine_rates, gran_theory_temperatures_approx
   public :: gran_theory_diffusion_approx, gran_theory_msd_hcs_approx, gran_theory_msd_approx
@@ -975,6 +976,32 @@ contains
     end if
     call gran_check(c_gran_theory_temperatures(mix, t0, size(t, kind=c_int64_t), t, rtol, temp), ierr)
   end subroutine gran_theory_temperatures
+
+  !> temp(M, size(t)) of a driven mixture from t0(M): Eq. 13 with heating(M) (optional, dT_k/dt of
+  !> the white-noise thermostat) and a Maxwellian bath (bath_density > 0; 0: none).
+  subroutine gran_theory_temperatures_driven(mix, t0, bath_density, bath_mass, bath_t, bath_sigma, t, rtol, temp, &
+                                             heating, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), bath_density, bath_mass, bath_t, bath_sigma, t(:), rtol
+    real(c_double), intent(out) :: temp(:, :)
+    real(c_double), intent(in), target, contiguous, optional :: heating(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    type(c_ptr) :: ph
+    m = gran_theory_m(mix)
+    ph = c_null_ptr
+    if (gran_theory_short(size(t0), m, 'gran_theory_temperatures_driven: size(t0) < M', ierr)) return
+    if (present(heating)) then
+      if (gran_theory_short(size(heating), m, 'gran_theory_temperatures_driven: size(heating) < M', ierr)) return
+      if (size(heating) > 0) ph = c_loc(heating(1))
+    end if
+    if (m > 0 .and. (size(temp, 1, kind=c_int64_t) /= m .or. size(temp, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_temperatures_driven: temp must be (M, size(t))', ierr)
+      return
+    end if
+    call gran_check(c_gran_theory_temperatures_driven(mix, t0, ph, bath_density, bath_mass, bath_t, bath_sigma, &
+                    size(t, kind=c_int64_t), t, rtol, temp), ierr)
+  end subroutine gran_theory_temperatures_driven
 
   ! ---- theory: MSD, TAMSD --------------------------------------------------------------------------
   !> Eq. 22: msd(M, size(t)), optional msd_total(size(t)) (Eq. 3).

@@ -299,6 +299,15 @@ GRAN_EXTERN int gran_theory_msd_sonine(const gran_mixture *mix, const double *T0
 /* T_k(t) from T0 by Eq. 13 (GSL odeiv2, relative tolerance rtol); T is ntimes*M. */
 GRAN_EXTERN int gran_theory_temperatures(const gran_mixture *mix, const double *T0, int64_t ntimes,
                                          const double *t, double rtol, double *T);
+/* T_k(t) of a driven mixture (Maxwellian level): Eq. 13 plus heating rates dT_k/dt (heating: M
+ * values >= 0, the white-noise thermostat, or NULL) and the energy exchanged in elastic collisions
+ * with a Maxwellian bath (bath_density n_b > 0, bath_mass, bath_T, bath_sigma: contact at
+ * (sigma_k + sigma_b)/2; n_b = 0: no bath) that does not change; T is ntimes*M. docs/physics.md,
+ * "Bath heating and its first Sonine correction". */
+GRAN_EXTERN int gran_theory_temperatures_driven(const gran_mixture *mix, const double *T0, const double *heating,
+                                                double bath_density, double bath_mass, double bath_T,
+                                                double bath_sigma, int64_t ntimes, const double *t, double rtol,
+                                                double *T);
 /* MSD in the HCS, closed form Eq. 22 (msd ntimes*M; msd_total Eq. 3, ntimes, may be NULL). */
 GRAN_EXTERN int gran_theory_msd_hcs(const gran_mixture *mix, const double *T0, double tau0,
                                     int64_t ntimes, const double *t, double *msd, double *msd_total);

@@ -185,18 +185,20 @@ int cli_theory(int argc, char **argv) {
   double t_start = 0;
   gran_scene_sizes(scene, nullptr, nullptr, nullptr, &t_start, nullptr);
   const bool hcs_start = scene->init == SCENE_INIT_HCS;
-  /* driving of the cell selector: the theory below cools freely */
+  /* driving of the cell selector: T(t) with it (gran_theory_temperatures_driven); the MSD and TAMSD
+   * below are those of a freely cooling gas */
   std::vector<std::string> not_covered;
-  if (scene->selector == GRAN_SELECTOR_CELL && scene->cell.heat_rate > 0)
-    not_covered.push_back("the white-noise thermostat (heat_rate): the theory cools freely");
-  if (scene->selector == GRAN_SELECTOR_CELL && scene->cell.bath_density > 0)
-    not_covered.push_back("the molecular-gas bath: the theory has no bath collisions");
+  const bool driven = gran_scene_driven_(scene);
+  if (driven)
+    not_covered.push_back("the MSD and TAMSD of the driven gas (thermostat or bath): those below cool freely");
 
   const int64_t nt = (int64_t)times.size(), nl = (int64_t)lags.size();
   std::vector<double> T((size_t)(nt * M)), msd((size_t)(nt * M)), msd_tot((size_t)nt), ta((size_t)(nt * nl * M), NAN);
   const char *msd_formula = "";
   if (nt) {
-    if (gran_theory_temperatures(mix, T0.data(), nt, times.data(), 1e-10, T.data())) return fail("gran_theory_temperatures failed");
+    if (driven ? gran_scene_driven_temperatures_(scene, mix, T0.data(), nt, times.data(), 1e-10, T.data())
+               : gran_theory_temperatures(mix, T0.data(), nt, times.data(), 1e-10, T.data()))
+      return fail(driven ? "gran_theory_temperatures_driven failed" : "gran_theory_temperatures failed");
     const bool closed = hcs_start && model != GRAN_RESTITUTION_VISCOELASTIC && std::isfinite(tau0);
     msd_formula = closed ? "Eq. 22 (HCS, closed form)" : "Eq. 4 (numerical integration)";
     int st = closed ? gran_theory_msd_hcs(mix, T0.data(), tau0, nt, times.data(), msd.data(), msd_tot.data())

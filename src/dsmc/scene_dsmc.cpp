@@ -832,3 +832,26 @@ GRAN_EXTERN int gran_scene_dsmc_cell_options(const gran_scene *scene, gran_dsmc_
   }
   GRAN_CATCH
 }
+
+bool gran_scene_driven_(const gran_scene *s) {
+  return s->engine_type == "dsmc" && s->selector == GRAN_SELECTOR_CELL &&
+         (s->cell.heat_rate > 0 || s->cell.bath_density > 0);
+}
+
+int gran_scene_driven_temperatures_(const gran_scene *s, const gran_mixture *mix, const double *T0, int64_t ntimes,
+                                    const double *t, double rtol, double *T) {
+  const gran_dsmc_cell_options &c = s->cell;
+  const int64_t M = s->nspecies;
+  std::vector<double> H((size_t)M, 0.0);
+  if (c.heat_rate > 0) {
+    double mass = 0; /* of the simulated particles: the thermostat removes their mass-weighted mean kick */
+    for (int64_t k = 0; k < M; k++) {
+      const double nk = s->counts_kind == 0 ? (double)s->counts[(size_t)k]
+                                            : std::nearbyint(s->density[(size_t)k] * s->volume / c.fn);
+      mass += nk * s->mass[(size_t)k];
+    }
+    for (int64_t k = 0; k < M; k++) H[(size_t)k] = mass > 0 ? c.heat_rate * (1.0 - s->mass[(size_t)k] / mass) : 0.0;
+  }
+  return gran_theory_temperatures_driven(mix, T0, H.data(), c.bath_density, c.bath_mass, c.bath_T, c.bath_sigma, ntimes,
+                                         t, rtol, T);
+}

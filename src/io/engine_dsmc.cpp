@@ -305,7 +305,7 @@ class DsmcEngine : public gran_engine {
     std::vector<gran_summary_column> c;
     const bool th = s_->obs_theory;
     if (s_->obs_temperatures) c.push_back({"T", "temperatures/T", th ? "temperatures/T_theory" : ""});
-    if (s_->obs_msd) c.push_back({"MSD", "msd/msd", th ? "msd/msd_theory" : ""});
+    if (s_->obs_msd) c.push_back({"MSD", "msd/msd", th && !gran_scene_driven_(s_) ? "msd/msd_theory" : ""});
     return c;
   }
 
@@ -374,19 +374,45 @@ class DsmcEngine : public gran_engine {
       H5Group g;
       g.id = H5Gopen2((hid_t)f, "temperatures", H5P_DEFAULT);
       std::vector<double> T((size_t)(nt * M));
-      int st = agg() ? write_agg_theory(f, file, tt, T.data()) /* cell selector: Smoluchowski */
-                     : gran_theory_temperatures(mix_, T0_.data(), nt, tt.data(), s->theory_rtol, T.data());
+      /* a driven cell gas (thermostat, bath): Eq. 13 with the driving; aggregation: the Smoluchowski
+       * kinetics, which has no driving (written, and said so: the drift from it shows the drive) */
+      const bool driven = gran_scene_driven_(s);
+      if (driven && agg()) {
+        gran_warning_add("T_theory and clusters/n_theory are the Smoluchowski kinetics without the thermostat's "
+                         "heating or the bath (the library has no driven aggregation kinetics)");
+        GRAN_CALL(gran_h5::attr_string(g.id, "theory_note", "Smoluchowski kinetics without the driving", file));
+      }
+      int st = agg()    ? write_agg_theory(f, file, tt, T.data()) /* cell selector: Smoluchowski */
+               : driven ? gran_scene_driven_temperatures_(s, mix_, T0_.data(), nt, tt.data(), s->theory_rtol, T.data())
+                        : gran_theory_temperatures(mix_, T0_.data(), nt, tt.data(), s->theory_rtol, T.data());
       if (st == GRAN_SUCCESS) {
         GRAN_CALL(gran_h5::write_double(g.id, "T_theory", dims, T.data(), file));
-        GRAN_CALL(gran_describe_(g.id, "T_theory", "energy", "partial temperatures from the kinetic theory (Eq. 13) [time][k]", file));
+        GRAN_CALL(gran_describe_(g.id, "T_theory", "energy",
+                                 driven && agg() ? "partial temperatures of the Smoluchowski kinetics WITHOUT the "
+                                                   "thermostat's heating or the bath [time][k]"
+                                 : driven ? "partial temperatures of the driven gas from the kinetic theory (Eq. 13 "
+                                            "with the thermostat's heating and the bath, "
+                                            "gran_theory_temperatures_driven) [time][k]"
+                                          : "partial temperatures from the kinetic theory (Eq. 13) [time][k]",
+                                 file));
         GRAN_CALL(gran_attach_scales_(g.id, "T_theory", {"time", "species"}, file));
       } else {
         gran_warning_add("no T_theory in the output: %s", gran_last_error_message());
         GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
       }
-      if (s->obs_theory_sonine) GRAN_CALL(write_sonine_theory(g.id, file, tt));
+      if (s->obs_theory_sonine && !driven) GRAN_CALL(write_sonine_theory(g.id, file, tt));
+      if (s->obs_theory_sonine && driven) {
+        gran_warning_add("no T_theory_sonine in the output: the first Sonine theory of a driven gas is not in the library");
+        GRAN_CALL(gran_h5::attr_string(g.id, "theory_sonine_error", "no first Sonine theory of a driven gas", file));
+      }
     }
-    if (s->obs_msd) {
+    if (s->obs_msd && gran_scene_driven_(s)) {
+      H5Group g;
+      g.id = H5Gopen2((hid_t)f, "msd", H5P_DEFAULT);
+      gran_warning_add("no msd_theory in the output: the MSD theory (Eq. 4) is that of a freely cooling gas");
+      GRAN_CALL(gran_h5::attr_string(g.id, "theory_error",
+                                     "no MSD theory of a driven gas (Eq. 4 is that of a freely cooling gas)", file));
+    } else if (s->obs_msd) {
       H5Group g;
       g.id = H5Gopen2((hid_t)f, "msd", H5P_DEFAULT);
       std::vector<double> m((size_t)(nt * M)), mt((size_t)nt);
@@ -449,6 +475,8 @@ class DsmcEngine : public gran_engine {
                              "expected clusters of size k from the temperature-dependent Smoluchowski equations "
                              "(gran_theory_aggregation; sizes above nspecies leave the system) [time][k]",
                              file));
+    if (gran_scene_driven_(s))
+      GRAN_CALL(gran_h5::attr_string(g.id, "theory_note", "Smoluchowski kinetics without the driving", file));
     GRAN_CALL(gran_attach_scales_(g.id, "n_theory", {"time", "species"}, file));
     return GRAN_SUCCESS;
   }
@@ -527,9 +555,11 @@ class DsmcEngine : public gran_engine {
     if (s->obs_theory) {
       std::vector<double> th((size_t)(nl * M));
       /* the theory averaged over the same sample grid as the simulation (Eq. 27 is its dt -> 0 limit) */
-      int st = std::isfinite(tau0_) ? gran_theory_tamsd_sampled(mix_, T0_.data(), tau0_, s->tamsd_dt, ns, nl, L.data(),
-                                                                 s->theory_rtol, th.data())
-                                    : GRAN_ERROR(GRAN_ERR_DOMAIN, "tau0 of the HCS is not finite");
+      int st = gran_scene_driven_(s) ? GRAN_ERROR(GRAN_ERR_DOMAIN, "no TAMSD theory of a driven gas (Eq. 27 is that of "
+                                                                    "the homogeneous cooling state)")
+               : std::isfinite(tau0_) ? gran_theory_tamsd_sampled(mix_, T0_.data(), tau0_, s->tamsd_dt, ns, nl, L.data(),
+                                                                  s->theory_rtol, th.data())
+                                      : GRAN_ERROR(GRAN_ERR_DOMAIN, "tau0 of the HCS is not finite");
       if (st == GRAN_SUCCESS) {
         GRAN_CALL(gran_h5::write_double(g.id, "tamsd_theory", {nl, M}, th.data(), file));
         GRAN_CALL(gran_describe_(g.id, "tamsd_theory", "length^2", "TAMSD from the kinetic theory: Eq. 26 summed over the simulation's sample times (gran_theory_tamsd_sampled) [lag][k]", file));

@@ -136,6 +136,13 @@ bool gran_scene_bounds_(const char *b, double v, bool *ok);
 int gran_scene_parse_text_(const std::string &text, const std::string &name, gran_scene **scene);
 /* Initial temperatures of the scene (HCS solved with the theory module when asked) and tau0. */
 int gran_scene_T0_(const gran_scene *s, const gran_mixture *mix, double *T0, double *tau0);
+/* Whether the cell selector's scene is driven (white-noise thermostat or molecular-gas bath), and
+ * its temperatures T (ntimes*M) at times t from T0 by gran_theory_temperatures_driven: the heating
+ * of species k is heat_rate (1 - m_k / sum_j N_j m_j) (the thermostat's mean kick removed), the
+ * bath that of [cell]. */
+bool gran_scene_driven_(const gran_scene *s);
+int gran_scene_driven_temperatures_(const gran_scene *s, const gran_mixture *mix, const double *T0, int64_t ntimes,
+                                    const double *t, double rtol, double *T);
 /* The memory model of an engine (src/<engine>/memory.cpp), by part: what it is, the scene key that
  * sets it (named when the run does not fit), and its bytes. The engine adapter's
  * gran_engine::memory is the sum of `engine`; the scene check (load time, and again when the
