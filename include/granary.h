@@ -775,7 +775,14 @@ typedef struct gran_srd_options {
   /* ---- device (CUDA backend, src/srd/device_cuda.cpp) ---- */
   int32_t device;       /* GRAN_SRD_DEVICE_*: 0 CPU engine (default), 1 CUDA, 2 auto, 3 host reference */
   int32_t precision;    /* particle storage on the device: 0 double, 1 float (CPU engine: double) */
+  /* ---- creation of the initial particles ---- */
+  int32_t creation;     /* GRAN_SRD_CREATE_*: 0 serial (one stream draws every particle; default), 1 by
+                           cells (a multinomial split of N over the cells, then each cell's particles
+                           from its own generator: the same particles however the cells are split) */
+  int32_t pad_;
 } gran_srd_options;
+/* gran_srd_options.creation */
+enum { GRAN_SRD_CREATE_SERIAL = 0, GRAN_SRD_CREATE_CELLS = 1 };
 
 typedef struct gran_srd_obs {
   double time;          /* simulated time */

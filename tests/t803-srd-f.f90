@@ -73,6 +73,22 @@ program t803_srd_f
   open(unit=11, file=ckpt, status='old')
   close(11, status='delete')
 
+  opt%creation = GRAN_SRD_CREATE_CELLS
+  call gran_srd_create(opt, srd)
+  call gran_srd_particles(srd, x, y, z, vx, vy, vz)
+  call expect(size(x) == 2160 .and. abs(sum(vx)) < 1e-12_c_double * sum(abs(vx)), 'creation by cells: N and momentum')
+  call expect(all(int(x(2:)) + 6 * int(y(2:)) + 36 * int(z(2:)) >= &
+                  int(x(:size(x) - 1)) + 6 * int(y(:size(x) - 1)) + 36 * int(z(:size(x) - 1))), &
+              'creation by cells: in cell order')
+  call gran_srd_advance(srd, 5_c_int64_t)
+  call gran_srd_observe(srd, ob)
+  call expect(ob%n == 2160 .and. abs(ob%ledger_error) < 1e-12_c_double, 'creation by cells: runs')
+  call gran_srd_destroy(srd)
+  opt%creation = 2
+  call gran_srd_create(opt, srd, ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'creation = 2 rejected')
+  opt%creation = GRAN_SRD_CREATE_SERIAL
+
   opt%alpha_deg = 0
   call gran_srd_create(opt, srd, ierr)
   call expect(ierr == GRAN_ERR_ARG, 'alpha = 0 rejected')

@@ -158,6 +158,7 @@ static void test_reader_edits(void **state) {
   edit_i32(path, bad, "options/wall_axis", 7, "'wall_axis'");
   edit_i32(path, bad, "options/threads", -3, "'threads'");
   edit_i32(path, bad, "options/sort_every", -1, "'sort_every'");
+  edit_i32(path, bad, "options/creation", 7, "'creation'");
   edit_i64(path, bad, "options/cells", 1, 0, "'cells[1]'");
   edit_d(path, bad, "options/n0", 0, -5.0, "'n0'");
   edit_d(path, bad, "options/a", 0, 0.0, "'a'");
@@ -213,7 +214,7 @@ static void test_reader_edits(void **state) {
   /* every stored field: removed, one value more, one fewer, another type: refused naming it */
   {
     const ds_list l = datasets(path);
-    assert_int_equal(l.n, 22 + 21); /* the 22 options and 21 state fields of a 3-D run */
+    assert_int_equal(l.n, 23 + 21); /* the 23 options and 21 state fields of a 3-D run */
     for (int k = 0; k < l.n; k++) {
       char d[128], field[64];
       snprintf(d, sizeof d, "/srd/%s", l.name[k]);
@@ -335,6 +336,7 @@ static void test_resume_edits(void **state) {
       {"options/vib_amp", 0, 0.1, 0, "'vib_amp'"},
       {"options/vib_omega", 0, 0.2, 0, "'vib_omega'"},
       {"options/precision", 0, 1, 1, "'precision'"},
+      {"options/creation", 0, 1, 1, "'creation'"},
       {"options/seed", 0, 4, 3, "'seed'"},
   };
   for (size_t k = 0; k < sizeof e / sizeof e[0]; k++) {

@@ -6,7 +6,7 @@
  *   options/<name>  every field of gran_srd_options under its own name (kOptions below: dim,
  *                   wall_axis, wall_rule, thermostat, cells[3], a, n0, dt, alpha, eps, sigma, T0,
  *                   shear_rate, accel[3], vib_amp, vib_omega, wall_T, seed, sort_every, threads,
- *                   device, precision)
+ *                   device, precision, creation)
  *   counters        step, clamped, n (int64 each, one dataset per name)
  *   energies        e_initial, e_collisions, e_external; time, dt_max, flux_kin, flux_coll,
  *                   stress_t0, wall_impulse[3] (double)
@@ -66,6 +66,7 @@ constexpr OptField kOptions[] = {
     SRD_OPT(threads, "threads", kI32, 1, false),
     SRD_OPT(device, "device", kI32, 1, false),
     SRD_OPT(precision, "precision", kI32, 1, true),
+    SRD_OPT(creation, "creation", kI32, 1, true),
 };
 #undef SRD_OPT
 constexpr size_t opt_size(OptType t) { return t == kI32 ? 4 : 8; }
@@ -74,7 +75,8 @@ constexpr size_t options_bytes() {
   for (const OptField &f : kOptions) b += opt_size(f.type) * (size_t)f.count;
   return b;
 }
-static_assert(options_bytes() == sizeof(gran_srd_options),
+/* every field but pad_ is stored */
+static_assert(options_bytes() + sizeof(int32_t) == sizeof(gran_srd_options),
               "gran_srd_options changed: add the new field to kOptions (src/srd/checkpoint.cpp)");
 
 const char *kScalarName[11] = {"time",      "e_initial", "e_collisions", "e_external",      "dt_max",         "flux_kin",

@@ -18,6 +18,7 @@
  * a compile-time constant (srd_rule_fx_fold), so an effect that is off is compiled out of the loops.
  */
 #include "srd/srd_impl.h"
+#include "srd/create.h"
 #include "srd/srd_limits.h"
 #include "srd/rules.h"
 #include "core/run_bounds.h"
@@ -653,6 +654,9 @@ int check_options(const gran_srd_options *o) {
              "option 'thermostat' must be 0 (off), 1 (cell-level) or 2 (global, profile-unbiased) (got %d)",
              (int)o->thermostat);
   GRAN_CHECK(o->sort_every >= 0, GRAN_ERR_ARG, "option 'sort_every' must be >= 0");
+  GRAN_CHECK(o->creation == GRAN_SRD_CREATE_SERIAL || o->creation == GRAN_SRD_CREATE_CELLS, GRAN_ERR_ARG,
+             "option 'creation' must be 0 (GRAN_SRD_CREATE_SERIAL) or 1 (GRAN_SRD_CREATE_CELLS) (got %d)",
+             (int)o->creation);
   GRAN_CHECK(o->threads >= 0 && o->threads <= SRD_MAX_THREADS, GRAN_ERR_ARG,
              "option 'threads' must be in 0..%d (0: all processors; got %d)", SRD_MAX_THREADS, (int)o->threads);
   /* derived values (srd_limits.h): displacements per step, energies, densities, kappa, float range */
@@ -767,33 +771,13 @@ GRAN_EXTERN int gran_srd_create(const gran_srd_options *opt, gran_srd **srd) {
       delete s;
       return e;
     }
-    /* initial state: stream long_jump of the seed, serial */
-    gran_rng r;
-    gran_rng_seed(&r, opt->seed);
-    gran_rng_long_jump(&r);
-    const int d = opt->dim;
-    const double sd = std::sqrt(opt->T0);
-    double m[3] = {0, 0, 0};
-    for (int64_t i = 0; i < s->n; ++i) {
-      s->x[i] = srd_rng_uniform(&r) * s->gm.box[0];
-      s->y[i] = srd_rng_uniform(&r) * s->gm.box[1];
-      if (d == 3) s->z[i] = srd_rng_uniform(&r) * s->gm.box[2];
-      s->vx[i] = sd * srd_rng_normal(&r);
-      s->vy[i] = sd * srd_rng_normal(&r);
-      if (d == 3) s->vz[i] = sd * srd_rng_normal(&r);
-      m[0] += s->vx[i];
-      m[1] += s->vy[i];
-      if (d == 3) m[2] += s->vz[i];
-    }
-    for (int k = 0; k < 3; ++k) m[k] /= (double)s->n;
-    for (int64_t i = 0; i < s->n; ++i) {
-      s->vx[i] -= m[0];
-      s->vy[i] -= m[1];
-      if (d == 3) s->vz[i] -= m[2];
-      if (opt->shear_rate != 0) s->vx[i] += opt->shear_rate * (s->y[i] - 0.5 * s->gm.box[1]);
+    /* initial state (src/srd/create.cpp): serial, or by cells (then already in cell order) */
+    if ((e = gran_srd_initial_state_(s)) != GRAN_SUCCESS) {
+      delete s;
+      return e;
     }
     s->e_initial = energy_of(s);
-    if (opt->sort_every > 0) { /* in cell order from the start (the grid unshifted) */
+    if (opt->sort_every > 0 && opt->creation == GRAN_SRD_CREATE_SERIAL) { /* in cell order from the start (the grid unshifted) */
       const double sh0[3] = {0.0, 0.0, 0.0};
       sort_by_cell(s, &s->gm, sh0, nthreads_of(s));
     }

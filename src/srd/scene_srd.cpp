@@ -58,6 +58,9 @@ const gran_scene_key gran_srd_scene_keys_[] = {
      "where the engine runs", "gran_srd_options.device", ""},
     {"engine", "precision", "string", "\"double\"", "\"double\" | \"float\"", "", "particle storage on a device",
      "gran_srd_options.precision", ""},
+    {"engine", "creation", "string", "\"serial\"", "\"serial\" | \"cells\"", "",
+     "initial particles: one stream (serial) or a multinomial split over the cells, each cell its own generator",
+     "gran_srd_options.creation", ""},
     {"engine", "thermostat", "boolean | string", "false", "false | true | \"off\" | \"cell\" | \"global\"", "",
      "cell-level Maxwell-Boltzmann thermostat (true, \"cell\") or one global factor (\"global\") at T0",
      "gran_srd_options.thermostat", ""},
@@ -261,6 +264,10 @@ void parse_engine(Ctx &c) {
   if (prec != "double" && prec != "float")
     en.fail("precision", "expected \"double\" or \"float\" (particle storage on a device), got \"" + prec + "\"");
   o.precision = prec == "float" ? 1 : 0;
+  const std::string cre = en.word("creation");
+  if (cre != "serial" && cre != "cells")
+    en.fail("creation", "expected \"serial\" or \"cells\" (how the initial particles are drawn), got \"" + cre + "\"");
+  o.creation = cre == "cells" ? GRAN_SRD_CREATE_CELLS : GRAN_SRD_CREATE_SERIAL;
   if (en.has("steps") && en.has("t_end")) en.fail("t_end", "give either 'steps' or 't_end', not both");
   int64_t &steps = c.steps;
   if (en.has("steps")) {
