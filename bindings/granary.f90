@@ -1084,7 +1084,7 @@ contains
   end subroutine gran_theory_msd_approx
 
   !> Eq. 4 on the first Sonine trajectory from t0(M) and a20(M) (absent: 0); correlation_a2
-  !> (absent: .false.) puts a2_k(t1) into the two-moment correlation.
+  !> (absent: .false.) puts the a2(t1) of all species into the two-moment correlation.
   subroutine gran_theory_msd_sonine(mix, t0, t, rtol, msd, a20, correlation_a2, msd_total, ierr)
     type(c_ptr), intent(in) :: mix
     real(c_double), intent(in) :: t0(:), t(:), rtol

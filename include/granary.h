@@ -289,9 +289,9 @@ GRAN_EXTERN int gran_theory_msd_approx(const gran_mixture *mix, int approximatio
                                        const double *t, double rtol, double *msd, double *msd_total);
 /* MSD by Eq. 4 on the first Sonine trajectory (constant or matrix restitution): T_k(t), a2_k(t) of
  * gran_theory_temperatures_approx (GRAN_THEORY_SONINE) from T0 and a20 (M, abs(a2_k) < 1; NULL: 0),
- * the two-moment correlation at T(t1) with the Sonine cooling rate zeta_k(t1), and a2_k(t1) in its
- * initial fourth moment when correlation_a2 = 1 (0: a2 = 0 there; its collision integrals have
- * Maxwellian partners either way). From a Sonine HCS, correlation_a2 = 1 gives
+ * the two-moment correlation at T(t1) with the Sonine cooling rate zeta_k(t1), and the a2_i(t1) of all
+ * species in it when correlation_a2 = 1 (collision integrals and initial fourth moment; 0: a2 = 0
+ * in the correlation). From a Sonine HCS, correlation_a2 = 1 gives
  * gran_theory_msd_hcs_approx. msd ntimes*M, msd_total ntimes or NULL. docs/physics-sonine.md Sec. 5. */
 GRAN_EXTERN int gran_theory_msd_sonine(const gran_mixture *mix, const double *T0, const double *a20,
                                        int correlation_a2, int64_t ntimes, const double *t, double rtol, double *msd,

@@ -5,8 +5,13 @@
  * Sonine approximation, the TAMSD's limits, the Maxwellian level unchanged, the Fig. 3 set-up below the Maxwellian
  * level as granary's DSMC (docs/physics-sonine.md Sec. 5), Eq. 4 on the first Sonine trajectory
  * (gran_theory_msd_sonine: from the Sonine HCS the closed form; elastic the Maxwellian trajectory),
- * and bad input refused. */
+ * the a2 terms of the collision matrix (a2 -> 0, sympy values, the initial decay rate of the Sonine
+ * gas), and bad input refused. */
 #include "granary_test.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
 
 static double d_ratio(gran_mixture *mix, const double *T, int64_t k) {
   double Dm[3], Ds[3];
@@ -158,8 +163,83 @@ static void test_msd_sonine(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* The a2 terms of the collision matrix (partners' Sonine f_i, the weight f_k of the trial functions,
+ * docs/physics-sonine.md Sec. 5; values from docs/tools/sonine_diffusion_a2.py): a2 = 0 is the
+ * Maxwellian-partner K; the sympy D at an unequal binary state and for one species; the initial
+ * decay rate of the correlation is the Sonine gas's, (1 + 3 a2/16) times the Maxwellian rate. */
+static void test_a2(void **state) {
+  (void)state;
+  /* a2 = 0 (array) is a2 = NULL, bit for bit; a small a2 changes D linearly */
+  {
+    const double m[3] = {1, 100, 500}, s[3] = {1, cbrt(100.0), cbrt(500.0)}, n[3] = {0.1, 0.1, 0.1};
+    gran_mixture *mix = NULL;
+    GRAN_ASSERT_OK(gran_mixture_create(3, m, s, n, &mix));
+    GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.5));
+    double T0[3], tau0;
+    GRAN_ASSERT_OK(gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T0, &tau0));
+    const double zero[3] = {0, 0, 0}, zeta[3] = {2 / tau0, 2 / tau0, 2 / tau0};
+    const double d1[3] = {1e-7, -2e-7, 3e-7}, d2[3] = {2e-7, -4e-7, 6e-7};
+    double D0[3], Dz[3], Dn[3], Dz2[3], Da[3], Db[3];
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T0, NULL, NULL, D0));
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T0, zero, NULL, Dz));
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T0, NULL, zeta, Dn));
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T0, zero, zeta, Dz2));
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T0, d1, zeta, Da));
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T0, d2, zeta, Db));
+    for (int k = 0; k < 3; k++) {
+      assert_true(Dz[k] == D0[k] && Dz2[k] == Dn[k]);
+      GRAN_ASSERT_REL(Db[k] - Dn[k], 2 * (Da[k] - Dn[k]), 1e-5); /* first order in a2 */
+      assert_true(fabs(Da[k] / Dn[k] - 1) < 1e-6);
+    }
+    gran_mixture_destroy(&mix);
+  }
+  /* binary, m = 1, 10; sigma = 1, 2; n = 1, 0.5; eps = 0.7; T = 1.3, 2.9; a2 = 0.03, -0.05;
+   * zeta = 0.4, 0.9 (any rates): sympy */
+  {
+    const double m[2] = {1, 10}, s[2] = {1, 2}, n[2] = {1, 0.5}, T[2] = {1.3, 2.9}, a2[2] = {0.03, -0.05};
+    const double zeta[2] = {0.4, 0.9};
+    gran_mixture *mix = NULL;
+    GRAN_ASSERT_OK(gran_mixture_create(2, m, s, n, &mix));
+    GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.7));
+    double D[2];
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T, a2, zeta, D));
+    GRAN_ASSERT_REL(D[0], 0.11493578453166177, 1e-12);
+    GRAN_ASSERT_REL(D[1], 0.05668433309362666, 1e-12);
+    gran_mixture_destroy(&mix);
+  }
+  /* one species, eps = 0.5, n sigma^2 = 1, T = 1: van Noije & Ernst a2 = 16/305 and
+   * zeta = xi (1 + 3 a2/16): D/D_M = 0.96228040369445 (sympy; 0.95789 = 91/95 with a2 = 0) */
+  {
+    const double one[1] = {1}, T[1] = {1}, e = 0.5;
+    gran_mixture *mix = NULL;
+    GRAN_ASSERT_OK(gran_mixture_create(1, one, one, one, &mix));
+    GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, e));
+    const double a2 = 16.0 / 305.0, zeta = 4.0 / 3.0 * sqrt(M_PI) * (1 - e * e) * (1 + 3 * a2 / 16);
+    double Dm, D;
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_MAXWELLIAN, T, NULL, NULL, &Dm));
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T, &a2, &zeta, &D));
+    GRAN_ASSERT_REL(D / Dm, 0.96228040369444977, 1e-12);
+    /* the Sonine HCS: MSD = 3 a x^2 - a x^3 sum_j c_j lam_j + ... (x the reduced time), and
+     * sum_j c_j lam_j, the initial decay rate of the correlation, is (1 + 3 a2/16)/tau_v of the
+     * Maxwellian level (the momentum transfer and the cooling of the Sonine gas carry the same
+     * factor, Brey et al. 2000 and van Noije & Ernst 1998) */
+    double TS, A2, taus;
+    GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_MEAN, 1.0, &TS, &A2, &taus));
+    GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_MAXWELLIAN, &TS, NULL, NULL, &Dm));
+    const double tv = Dm / TS; /* tau_v of the Maxwellian level at TS (m = 1) */
+    double t[2] = {1e-4 * tv, 2e-4 * tv}, msd[2], F[2];
+    GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, &TS, &A2, taus, 2, t, msd, NULL));
+    for (int j = 0; j < 2; j++) {
+      const double x = taus * log1p(t[j] / taus);
+      F[j] = (3 * TS * x * x - msd[j]) / (TS * x * x * x);
+    }
+    GRAN_ASSERT_REL((2 * F[0] - F[1]) * tv, 1 + 3 * A2 / 16, 1e-6); /* Richardson: the x^4 term removed */
+    gran_mixture_destroy(&mix);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {cmocka_unit_test(test_limits), cmocka_unit_test(test_msd),
-                                     cmocka_unit_test(test_msd_sonine)};
+                                     cmocka_unit_test(test_msd_sonine), cmocka_unit_test(test_a2)};
   return cmocka_run_group_tests_name("t414-sonine-diffusion", tests, NULL, NULL);
 }

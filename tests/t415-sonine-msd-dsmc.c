@@ -11,7 +11,9 @@
  * phase, where both Sonine levels refuse the tracer and the Maxwellian gap is bounded). Standard
  * errors: the MSD of N particles has relative sd sqrt(2/(3N)) (Gaussian displacements), the TAMSD's
  * from the spread over the tracers. Asserted: the Sonine levels within 4 se + the model tolerance
- * stated, and at least halving the Maxwellian gap where that gap exceeds 4 se. */
+ * stated, and at least halving the Maxwellian gap where that gap exceeds 4 se; the same for the first
+ * Sonine trajectory with a2 in the correlation (correlation_a2 = 1; one species: the Sonine HCS),
+ * which is closer than a2 = 0 for the Fig. 1 light species. */
 #include "dsmc_util.h"
 
 static double slope_mono(double eps, int64_t N, uint64_t seed) {
@@ -46,8 +48,17 @@ static void mono(double eps, uint64_t seed) {
   double Dm, Ds;
   GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_MAXWELLIAN, T, NULL, NULL, &Dm));
   GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T, NULL, NULL, &Ds));
+  /* the Sonine HCS (a2, zeta) in the correlation; per collision the rate 1 - a2/16 of the Sonine gas */
+  double TS, a2, taus, DmS, DA;
+  GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_MEAN, 1.0, &TS, &a2, &taus));
+  const double zeta = 2.0 / taus;
+  GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_MAXWELLIAN, &TS, NULL, NULL, &DmS));
+  GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, &TS, &a2, &zeta, &DA));
   gran_mixture_destroy(&mix);
   const double thM = 9.0 / (4.0 * M_PI * (1 + eps) * (1 + eps) * 0.01), thS = thM * Ds / Dm;
+  const double thA = thM * DA / DmS / (1 - a2 / 16);
+  print_message("eps %.1f: DSMC slope / Sonine HCS with a2 in the correlation - 1 = %+.4f (a2 %.4f, D/D_M %.5f)\n", eps,
+                slope / thA - 1, a2, DA / DmS);
   /* the slope's relative se: about that of one MSD over the 60 collisions fitted */
   const double se = 1.5 * sqrt(2.0 / (3.0 * (double)N));
   const double gM = slope / thM - 1, gS = slope / thS - 1;
@@ -56,6 +67,10 @@ static void mono(double eps, uint64_t seed) {
   /* model tolerance 0.01: the collision frequency and cooling corrections of a2 are not in D2/D1 */
   assert_true(fabs(gS) < 4 * se + 0.01);
   if (fabs(gM) > 4 * se) assert_true(fabs(gS) <= 0.5 * fabs(gM));
+  /* the Sonine HCS in the correlation (partners, weight, m(0), zeta) and the collision rate */
+  const double gA = slope / thA - 1;
+  assert_true(fabs(gA) < 4 * se + 0.01);
+  if (fabs(gM) > 4 * se) assert_true(fabs(gA) <= 0.5 * fabs(gM));
 }
 
 static void test_mono(void **state) {
@@ -111,17 +126,22 @@ static void test_fig3(void **state) {
   GRAN_ASSERT_OK(gran_theory_msd_hcs(mix, T0, tau0, 1, &t, mM, NULL));
   GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, T0, NULL, tau0, 1, &t, mS, NULL));
   GRAN_ASSERT_OK(gran_theory_msd_sonine(mix, T0, NULL, 0, 1, &t, 1e-8, mT, NULL));
+  double mA[3];
+  GRAN_ASSERT_OK(gran_theory_msd_sonine(mix, T0, NULL, 1, 1, &t, 1e-8, mA, NULL));
   const double se = sqrt(2.0 / (3.0 * (double)Nk));
   for (int k = 0; k < 3; k++) {
-    const double gM = md[k] / mM[k] - 1, gS = md[k] / mS[k] - 1, gT = md[k] / mT[k] - 1;
+    const double gM = md[k] / mM[k] - 1, gS = md[k] / mS[k] - 1, gT = md[k] / mT[k] - 1, gA = md[k] / mA[k] - 1;
     print_message("Fig. 3, m = %g, t = %g: DSMC / Maxwellian - 1 = %+.4f, / two moments - 1 = %+.4f, / Sonine "
-                  "trajectory - 1 = %+.4f (se %.4f)\n",
-                  m[k], t, gM, gS, gT, se);
+                  "trajectory - 1 = %+.4f, with a2 in the correlation %+.4f (se %.4f)\n",
+                  m[k], t, gM, gS, gT, gA, se);
     /* model tolerance 0.025: the temperature part (the DSMC gas cools ~1 % faster than the
-     * Maxwellian level, ~2 % slower than the first Sonine level) and the O(a2) terms left out */
+     * Maxwellian level, ~2 % slower than the first Sonine level) and, without a2 in the
+     * correlation, its O(a2) terms */
     assert_true(fabs(gS) < 4 * se + 0.025);
     assert_true(fabs(gT) < 4 * se + 0.025);
+    assert_true(fabs(gA) < 4 * se + 0.025);
     if (fabs(gM) > 4 * se) assert_true(fabs(gS) <= 0.5 * fabs(gM));
+    if (fabs(gM) > 4 * se && dsmc_scale() >= 1) assert_true(fabs(gA) <= 0.5 * fabs(gM));
   }
   /* TAMSD at lags 1, 10, 50 (t_meas = 100): DSMC on the sample grid against the Maxwellian Eq. 26 on
    * that grid (gran_theory_tamsd_sampled) and the two-moment Eq. 27 times the same grid factor
@@ -188,11 +208,16 @@ static void test_fig1(void **state) {
                     m[k], t[j], gM, gS, gT, gA, se);
       assert_true(fabs(gS) < 4 * se + 0.025);
       assert_true(fabs(gT) < 4 * se + 0.025);
+      assert_true(fabs(gA) < 4 * se + 0.025);
       /* at the peak the gap is the correlation's (halved); at t = 1000 the light species keeps
        * a temperature part with the Maxwellian T_k(t) (-1.6 %), which the Sonine T_k(t) removes
-       * (-0.6 %) */
+       * (-0.6 %); a2 in the correlation (partners in K, the weight f_k) halves the Maxwellian gap
+       * at both times and brings the light species closer than a2 = 0 (+0.4, -0.4 % against
+       * +0.9, -0.6 %) */
       if (j == 0 && fabs(gM) > 4 * se) assert_true(fabs(gS) <= 0.5 * fabs(gM));
+      if (fabs(gM) > 4 * se && dsmc_scale() >= 1) assert_true(fabs(gA) <= 0.5 * fabs(gM));
       if (j == 1 && k == 0 && dsmc_scale() >= 1) assert_true(fabs(gT) < fabs(gS));
+      if (k == 0 && dsmc_scale() >= 1) assert_true(fabs(gA) < fabs(gT));
     }
   gran_mixture_destroy(&mix);
 }
@@ -200,8 +225,9 @@ static void test_fig1(void **state) {
 /* Figs. 2 and 5: m = 1, 100; sigma_2 = 100^(1/3); eps = 0.5; n_2 = 0.001 (Fig. 2) or 0 (Fig. 5, the
  * tracer limit, the ordered phase), from the Maxwellian HCS; MSD of both species at t against the
  * Maxwellian closed form, the two-moment correlation (Maxwellian temperatures) and Eq. 4 on the
- * first Sonine trajectory (Fig. 2: T_2/T_1 relaxes from the Maxwellian 82.3 to 89.1). g[3k + level]
- * = DSMC / theory - 1 (NaN where the level refuses). */
+ * first Sonine trajectory (Fig. 2: T_2/T_1 relaxes from the Maxwellian 82.3 to 89.1), with a2 out of
+ * and in the correlation. g[3k + level] (and g[6 + k], a2 in the correlation) = DSMC / theory - 1
+ * (NaN where the level refuses). */
 static void heavy_msd(double n2, int64_t N1, int64_t N2, double t, uint64_t seed, double *g, double *se) {
   const double m[2] = {1, 100}, s[2] = {1, cbrt(100.0)}, n[2] = {0.1, n2};
   gran_mixture *mix = NULL;
@@ -214,13 +240,14 @@ static void heavy_msd(double n2, int64_t N1, int64_t N2, double t, uint64_t seed
   gran_dsmc *sim;
   GRAN_ASSERT_OK(gran_dsmc_create(mix, counts, T0, &o, &sim));
   GRAN_ASSERT_OK(gran_dsmc_advance(sim, t));
-  double md[2], mM[2], mS[2] = {NAN, NAN}, mT[2] = {NAN, NAN};
+  double md[2], mM[2], mS[2] = {NAN, NAN}, mT[2] = {NAN, NAN}, mA[2] = {NAN, NAN};
   GRAN_ASSERT_OK(gran_dsmc_msd(sim, md, NULL));
   gran_dsmc_destroy(&sim);
   GRAN_ASSERT_OK(gran_theory_msd_hcs(mix, T0, tau0, 1, &t, mM, NULL));
   if (n2 > 0) {
     GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(mix, GRAN_THEORY_SONINE, T0, NULL, tau0, 1, &t, mS, NULL));
     GRAN_ASSERT_OK(gran_theory_msd_sonine(mix, T0, NULL, 0, 1, &t, 1e-8, mT, NULL));
+    GRAN_ASSERT_OK(gran_theory_msd_sonine(mix, T0, NULL, 1, 1, &t, 1e-8, mA, NULL));
   } else {
     /* the heavy tracer at T_2/T_1 = 413 (Maxwellian) to 505 (Sonine): its two-moment correlation has
      * a growing mode (determinant < 0), refused in both; the gas is the one-species gas */
@@ -232,17 +259,19 @@ static void heavy_msd(double n2, int64_t N1, int64_t N2, double t, uint64_t seed
     gran_mixture *gas = dsmc_mono(0.1, 0.5);
     GRAN_ASSERT_OK(gran_theory_msd_hcs_approx(gas, GRAN_THEORY_SONINE, T0, NULL, tau0, 1, &t, mS, NULL));
     GRAN_ASSERT_OK(gran_theory_msd_sonine(gas, T0, NULL, 0, 1, &t, 1e-8, mT, NULL));
+    GRAN_ASSERT_OK(gran_theory_msd_sonine(gas, T0, NULL, 1, 1, &t, 1e-8, mA, NULL));
     gran_mixture_destroy(&gas);
-    mS[1] = mT[1] = NAN; /* refused */
+    mS[1] = mT[1] = mA[1] = NAN; /* refused */
   }
   for (int k = 0; k < 2; k++) {
     g[3 * k] = md[k] / mM[k] - 1;
     g[3 * k + 1] = md[k] / mS[k] - 1;
     g[3 * k + 2] = md[k] / mT[k] - 1;
+    g[6 + k] = md[k] / mA[k] - 1;
     se[k] = sqrt(2.0 / (3.0 * (double)counts[k]));
     print_message("Fig. %s, m = %g, t = %g: DSMC / Maxwellian - 1 = %+.4f, / two moments - 1 = %+.4f, / Sonine "
-                  "trajectory - 1 = %+.4f (se %.4f)\n",
-                  n2 > 0 ? "2" : "5", m[k], t, g[3 * k], g[3 * k + 1], g[3 * k + 2], se[k]);
+                  "trajectory - 1 = %+.4f, with a2 in the correlation %+.4f (se %.4f)\n",
+                  n2 > 0 ? "2" : "5", m[k], t, g[3 * k], g[3 * k + 1], g[3 * k + 2], g[6 + k], se[k]);
   }
   gran_mixture_destroy(&mix);
 }
@@ -250,16 +279,20 @@ static void heavy_msd(double n2, int64_t N1, int64_t N2, double t, uint64_t seed
 static void test_fig2_fig5(void **state) {
   (void)state;
   const int small = dsmc_scale() < 1;
-  double g[6], se[2];
+  double g[8], se[2];
   heavy_msd(0.001, small ? 20000 : 100000, small ? 200 : 1000, 1000.0, 4154, g, se);
   for (int k = 0; k < 2; k++) {
     /* the Sonine trajectory within 4 se + 1.5 %, halving the Maxwellian gap where that exceeds 4 se
      * (the light species: -2.3 % -> -1.1 %, the two-moment correlation alone -2.0 %) */
     assert_true(fabs(g[3 * k + 2]) < 4 * se[k] + 0.015);
     if (!small && fabs(g[3 * k]) > 4 * se[k]) assert_true(fabs(g[3 * k + 2]) <= 0.5 * fabs(g[3 * k]));
+    /* with a2 in the correlation: the light species -2.3 % -> -0.4 % */
+    assert_true(fabs(g[6 + k]) < 4 * se[k] + 0.015);
+    if (!small && fabs(g[3 * k]) > 4 * se[k]) assert_true(fabs(g[6 + k]) <= 0.5 * fabs(g[3 * k]));
   }
   heavy_msd(0.0, small ? 20000 : 100000, small ? 400 : 2000, 1000.0, 4155, g, se);
   assert_true(fabs(g[1]) < 4 * se[0] + 0.025 && fabs(g[2]) < 4 * se[0] + 0.025); /* the gas */
+  assert_true(fabs(g[6]) < 4 * se[0] + 0.025);
   /* the tracer in the ordered phase: only the Maxwellian level gives an MSD, and DSMC's is larger
    * by 15-35 % (measured +24.6 %, se 1.8 %: the tracer is hotter, T_2/T_1 ~ 620 against 413) */
   if (!small) assert_true(g[3] > 0.15 && g[3] < 0.35);

@@ -76,8 +76,8 @@ void total(const gran_mixture *mix, int64_t ntimes, const double *msd, double *m
 /* ---- Eq. 4 ---------------------------------------------------------------------------------- */
 /* Eq. 4 levels: the Maxwellian tau_v,k; the two-moment correlation (sonine_modes) at the Maxwellian
  * T(t1) with xi_k and a2 = 0; the first Sonine trajectory (z, u, a2) with the modes at T(t1) and
- * the Sonine zeta_k(t1) (the scaling term -(1/2) dlog T_k/dt of that trajectory), a2_k(t1) in m(0)
- * when correlation_a2. */
+ * the Sonine zeta_k(t1) (the scaling term -(1/2) dlog T_k/dt of that trajectory), the a2_i(t1) in
+ * the correlation (collision integrals and m(0)) when correlation_a2. */
 enum { EQ4_MAXWELL = 0, EQ4_MODES = 1, EQ4_SONINE = 2 };
 struct Eq4 {
   const Traj *tr;
@@ -88,7 +88,7 @@ struct Eq4 {
   int status;
   int mode = EQ4_MAXWELL;
   std::vector<double> a2;      /* EQ4_SONINE: a2_i(t1) */
-  bool correlation_a2 = false; /* EQ4_SONINE: a2_k(t1) in the correlation's m(0) */
+  bool correlation_a2 = false; /* EQ4_SONINE: a2_i(t1) in the correlation */
   std::string message;         /* of the first failure of sonine_modes */
 };
 
@@ -102,13 +102,14 @@ double eq4_x(Eq4 *c, double s1, double *val) {
   const double uk = traj_eval_at(tr, j, s1, (int)(tr.M + c->k));
   if (c->mode != EQ4_MAXWELL) {
     cd lam[2], cw[2];
-    double zk = NAN, a2k = 0.0;
+    double zk = NAN;
+    const double *a2c = nullptr; /* the a2_i(t1) in the correlation (K and m(0)) */
     if (c->mode == EQ4_SONINE) {
       for (int64_t i = 0; i < tr.M; i++) c->a2[(size_t)i] = traj_eval_at(tr, j, s1, (int)(2 * tr.M + i));
       zk = sonine_zeta_one(c->mix, c->T.data(), c->a2.data(), c->k);
-      if (c->correlation_a2) a2k = c->a2[(size_t)c->k];
+      if (c->correlation_a2) a2c = c->a2.data();
     }
-    const int st = sonine_modes(c->mix, c->T.data(), c->k, zk, a2k, lam, cw);
+    const int st = sonine_modes(c->mix, c->T.data(), c->k, zk, a2c, lam, cw);
     if (st) {
       if (!c->status) c->message = gran_last_error_message(); /* before the quadrature reports its own */
       c->status = st;
@@ -277,9 +278,9 @@ GRAN_EXTERN int gran_theory_msd_approx(const gran_mixture *mix, int approximatio
 /**
  * @brief MSD by Eq. 4 on the first Sonine trajectory: T_k(t) and a2_k(t) from (T0, a20) as
  * gran_theory_temperatures_approx, the two-moment correlation at T(t1) with the Sonine zeta_k(t1)
- * and, when correlation_a2 = 1, a2_k(t1) in its initial fourth moment (0: a2 = 0 there, the
- * collision integrals of the correlation having Maxwellian partners in either case). From a Sonine
- * HCS with correlation_a2 = 1 it equals gran_theory_msd_hcs_approx.
+ * and, when correlation_a2 = 1, the a2_i(t1) of all species in it (the partners' Sonine f_i and the
+ * weight f_k in its collision integrals, a2_k(t1) in its initial fourth moment; 0: a2 = 0 in the
+ * correlation). From a Sonine HCS with correlation_a2 = 1 it equals gran_theory_msd_hcs_approx.
  * @param[in] a20 M start values, |a2_k| < 1 (NULL: 0, a Maxwellian start)
  * @param[in] correlation_a2 0 or 1
  */

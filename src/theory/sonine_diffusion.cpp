@@ -3,21 +3,24 @@
  * Boltzmann-Lorentz operator. Derivation, sources and checks: docs/physics-sonine.md, Sec. 5.
  *
  * In the thermal units w = v/sqrt(T_k/m_k) the conditional moments m = (<w0_x w_x>, <w0_x w_x w^2>)
- * of a tagged particle of species k obey, projected on span{w f_M, w w^2 f_M} (the same span as the
- * second Sonine trial function w [1, S_3/2(w^2/2)] of V. Garzo and J. M. Montanero, Phys. Rev. E 69,
- * 021301 (2004)),
+ * of a tagged particle of species k obey, projected on span{w f_k, w w^2 f_k} (the span of the second
+ * Sonine trial function w [1, S_3/2(w^2/2)] of V. Garzo and J. M. Montanero, Phys. Rev. E 69, 021301
+ * (2004), with the first Sonine f_k of the species as the weight),
  *   dm/dt = -Lam m,   Lam = -K G^-1 - (zeta_k/2) diag(1, 3),
- * with K_ba = int phi_b J_ki[f_M,k phi_a] (phi_1 = v, phi_2 = v v^2; partners Maxwellian at T_i),
- * G the Gram matrix [[a, 5a^2], [5a^2, 35a^3]] (a = a_k = T_k/m_k) and the cooling term from the
- * scaling of w (degrees 1 and 3). Per partner i, with A = mu (1 + eps_ki), s^2 = a_k + a_i and
- * pre = -(4/3) sqrt(2 pi) n_i sigma_ki^2 g2 A (sympy, Gaussian moments as in sonine.cpp):
+ * with K_ba = int phi_b J_ki[f_k phi_a] (phi_1 = v, phi_2 = v v^2; the partners' Sonine f_i at T_i),
+ * G_ab = int phi_a phi_b f_k = [[a, 5a^2 (1 + a2_k)], [5a^2 (1 + a2_k), 35a^3 (1 + 3 a2_k)]]
+ * (a = a_k = T_k/m_k) and the cooling term from the scaling of w (degrees 1 and 3). Per partner i,
+ * with A = mu (1 + eps_ki), s^2 = a_k + a_i and pre = -(4/3) sqrt(2 pi) n_i sigma_ki^2 g2 A (sympy,
+ * Gaussian moments as in sonine.cpp), K = K^(0) + a2_i K^(i) + a2_k K^(k) to first order in a2
+ * (K^(i), K^(k) in the loop below; derivation and quadrature check: docs/tools/sonine_diffusion_a2.py); K^(0):
  *   K11 = pre a_k s
  *   K12 = pre a_k^2 (5 a_i + 6 a_k)/s
  *   K21 = pre a_k [4 A^2 s^4 - A (5 a_i^2 + 19 a_i a_k + 14 a_k^2) + 15 a_i a_k + 18 a_k^2]/s
  *   K22 = pre a_k^2 [4 A^2 s^4 (5 a_i + 8 a_k) - A (25 a_i^3 + 153 a_i^2 a_k + 240 a_i a_k^2 + 112 a_k^3)
  *                    + a_k (105 a_i^2 + 252 a_i a_k + 144 a_k^2)]/s^3.
  * K11/G11 = -nu_k, the momentum-transfer rate: one mode gives the Maxwellian Eq. 11, 1/tau_v = nu - xi/2.
- * With m(0) = (1, 5 (1 + a2_k)) the correlation is m_1(tau) = c_1 e^(-lam_1 tau) + c_2 e^(-lam_2 tau)
+ * The start h(0) = v_x f_k is in the span (alpha(0) = (1, 0)): m(0) = G e_1 = (1, 5 (1 + a2_k)) in
+ * thermal units; the correlation is m_1(tau) = c_1 e^(-lam_1 tau) + c_2 e^(-lam_2 tau)
  * (lam_j the eigenvalues of Lam, c_1 + c_2 = 1), and every result of Eq. 4 is the c-weighted sum of
  * the Maxwellian result with 1/tau_v -> lam_j. */
 #include "theory/theory_impl.h"
@@ -41,9 +44,10 @@ cd g_cplx(cd y) {
   return sum;
 }
 
-int sonine_modes(const gran_mixture *mix, const double *T, int64_t k, double zeta_k, double a2_k, cd lam[2], cd c[2]) {
+int sonine_modes(const gran_mixture *mix, const double *T, int64_t k, double zeta_k, const double *a2, cd lam[2],
+                 cd c[2]) {
   const int64_t M = mix->M;
-  const double mk = mix->m[(size_t)k], ak = T[k] / mk, sk = mix->sigma[(size_t)k];
+  const double mk = mix->m[(size_t)k], ak = T[k] / mk, sk = mix->sigma[(size_t)k], a2k = a2 ? a2[k] : 0.0;
   const double SQ2PI = 2.5066282746310002;
   double K11 = 0.0, K12 = 0.0, K21 = 0.0, K22 = 0.0, xi = 0.0;
   for (int64_t i = 0; i < M; i++) {
@@ -61,15 +65,45 @@ int sonine_modes(const gran_mixture *mix, const double *T, int64_t k, double zet
             A * (((25.0 * ai + 153.0 * ak) * ai + 240.0 * ak * ak) * ai + 112.0 * ak * ak * ak) +
             ak * ((105.0 * ai + 252.0 * ak) * ai + 144.0 * ak * ak)) /
            (s2 * s);
+    const double a2i = a2 ? a2[i] : 0.0;
+    if (a2i != 0.0) { /* the partner's Sonine f_i, first order in a2_i */
+      const double ai2 = ai * ai, s3 = s2 * s, s5 = s3 * s2, q = 2.0 * ak + 5.0 * ai, pa = pre * a2i * ai2 / 8.0;
+      K11 -= pa * ak / s3;
+      K12 -= pa * ak * ak * (5.0 * ai + 2.0 * ak) / s5;
+      K21 += 3.0 * pa * ak * (4.0 * A * A * s4 - A * s2 * q - ak * q) / s5;
+      K22 += 3.0 * pa * ak * ak *
+             (4.0 * A * A * s4 * (4.0 * ak + 5.0 * ai) - A * s2 * ((8.0 * ak + 24.0 * ai) * ak + 25.0 * ai * ai) -
+              ak * ((8.0 * ak + 28.0 * ai) * ak + 35.0 * ai * ai)) /
+             (s5 * s2);
+    }
+    if (a2k != 0.0) { /* the weight f_k of the trial functions, first order in a2_k */
+      const double s3 = s2 * s, s5 = s3 * s2, pb = pre * a2k * ak * ak / 8.0;
+      const double c0 = ((90.0 * ak + 231.0 * ai) * ak + 184.0 * ai * ai) * ak + 40.0 * ai * ai * ai;
+      K11 += pb * (3.0 * ak + 4.0 * ai) / s3;
+      K12 += pb * c0 / s5;
+      K21 += 3.0 * pb *
+             (4.0 * A * A * s4 * (5.0 * ak + 4.0 * ai) - A * s2 * (7.0 * ak + 4.0 * ai) * (10.0 * ak + 11.0 * ai) + c0) /
+             s5;
+      K22 += pb *
+             (4.0 * A * A * s4 * (((280.0 * ak + 555.0 * ai) * ak + 312.0 * ai * ai) * ak + 40.0 * ai * ai * ai) -
+              A * s2 *
+                  ((((3920.0 * ak + 10880.0 * ai) * ak + 10059.0 * ai * ai) * ak + 3272.0 * ai * ai * ai) * ak +
+                   200.0 * ai * ai * ai * ai) +
+              9.0 * ak *
+                  ((((560.0 * ak + 2020.0 * ai) * ak + 2659.0 * ai * ai) * ak + 1484.0 * ai * ai * ai) * ak +
+                   280.0 * ai * ai * ai * ai)) /
+             (s5 * s2);
+    }
     if (std::isnan(zeta_k)) { /* Maxwellian xi_k (cooling.cpp's form, cancellation-free) */
       const double r = T[i] / T[k], Bm = omu * (1.0 - r) + 0.5 * (1.0 - eps) * (mu + r * omu);
       xi += (8.0 / 3.0) * SQ2PI * w * A * s * Bm;
     }
   }
   const double z = std::isnan(zeta_k) ? xi : zeta_k;
-  /* G^-1 = [[35 a^3, -5 a^2], [-5 a^2, a]] / (10 a^4) */
-  const double det = 10.0 * ak * ak * ak * ak;
-  const double g11 = 35.0 * ak * ak * ak / det, g12 = -5.0 * ak * ak / det, g22 = ak / det;
+  /* the Gram matrix of the weight f_k: <c^6>_k = (105/8)(1 + 3 a2_k) */
+  const double G12 = 5.0 * ak * ak * (1.0 + a2k), G22 = 35.0 * ak * ak * ak * (1.0 + 3.0 * a2k);
+  const double det = a2k == 0.0 ? 10.0 * ak * ak * ak * ak : ak * G22 - G12 * G12;
+  const double g11 = G22 / det, g12 = -G12 / det, g22 = ak / det;
   const double L11 = -(K11 * g11 + K12 * g12) - 0.5 * z, L12 = -(K11 * g12 + K12 * g22);
   const double L21 = -(K21 * g11 + K22 * g12), L22 = -(K21 * g12 + K22 * g22) - 1.5 * z;
   const double tr = L11 + L22, dt = L11 * L22 - L12 * L21, disc = 0.25 * tr * tr - dt;
@@ -82,8 +116,8 @@ int sonine_modes(const gran_mixture *mix, const double *T, int64_t k, double zet
   if (std::abs(sq) < 1e-6 * tr) sq = cd(1e-6 * tr, 0.0);
   lam[1] = 0.5 * tr + sq;
   lam[0] = dt / lam[1]; /* the smaller root without cancellation */
-  /* m(0) = (a, 5 a^2 (1 + a2)) in v units; (Lam m0)_1 / a = L11 + L12 5 a (1 + a2) */
-  const double Lm = L11 + L12 * 5.0 * ak * (1.0 + a2_k);
+  /* m(0) = (a, 5 a^2 (1 + a2_k)) in v units (alpha(0) = (1, 0)); (Lam m0)_1 / a = L11 + L12 5 a (1 + a2_k) */
+  const double Lm = L11 + L12 * 5.0 * ak * (1.0 + a2k);
   c[0] = (Lm - lam[1]) / (lam[0] - lam[1]);
   c[1] = 1.0 - c[0];
   GRAN_CHECK(std::isfinite(std::abs(c[0])) && std::isfinite(std::abs(lam[0])), GRAN_ERR_NUMERIC,
@@ -115,7 +149,7 @@ int sonine_hcs_modes(const gran_mixture *mix, const double *T0, const double *a2
   c.assign((size_t)(2 * M), 0.0);
   for (int64_t k = 0; k < M; k++) {
     if (std::isinf(tau0)) {
-      GRAN_CALL(sonine_modes(mix, T0, k, 0.0, b[(size_t)k], &lam[(size_t)(2 * k)], &c[(size_t)(2 * k)]));
+      GRAN_CALL(sonine_modes(mix, T0, k, 0.0, a2 ? b.data() : nullptr, &lam[(size_t)(2 * k)], &c[(size_t)(2 * k)]));
       GRAN_CHECK(std::fabs(zeta[(size_t)k]) <= 1e-3 * std::abs(lam[(size_t)(2 * k)]), GRAN_ERR_DOMAIN,
                  "tau0 = inf needs an elastic mixture at equipartition, but species %" PRId64
                  " has zeta tau_v = %g (use gran_theory_hcs_approx)",
@@ -125,7 +159,8 @@ int sonine_hcs_modes(const gran_mixture *mix, const double *T0, const double *a2
                  "T0, a2, tau0 are not a homogeneous cooling state of the Sonine rates: species %" PRId64
                  " has zeta tau0/2 = %.6g (tolerance 1e-3; use gran_theory_hcs_approx)",
                  k, 0.5 * zeta[(size_t)k] * tau0);
-      GRAN_CALL(sonine_modes(mix, T0, k, zeta[(size_t)k], b[(size_t)k], &lam[(size_t)(2 * k)], &c[(size_t)(2 * k)]));
+      GRAN_CALL(sonine_modes(mix, T0, k, zeta[(size_t)k], a2 ? b.data() : nullptr, &lam[(size_t)(2 * k)],
+                             &c[(size_t)(2 * k)]));
     }
   }
   return GRAN_SUCCESS;
@@ -231,7 +266,7 @@ GRAN_EXTERN int gran_theory_diffusion_approx(const gran_mixture *mix, int approx
     }
     for (int64_t k = 0; k < M; k++) {
       cd lam[2], c[2];
-      GRAN_CALL(sonine_modes(mix, T, k, zeta ? zeta[k] : NAN, a2 ? a2[k] : 0.0, lam, c));
+      GRAN_CALL(sonine_modes(mix, T, k, zeta ? zeta[k] : NAN, a2, lam, c));
       D[k] = T[k] / mix->m[(size_t)k] * (c[0] / lam[0] + c[1] / lam[1]).real();
     }
     return GRAN_SUCCESS;

@@ -132,11 +132,13 @@ int hcs_solve_scaled(const gran_mixture *mix, const double *scale, const HcsPass
 int hcs_solve_start(const gran_mixture *mix, std::vector<double> &u, double tol, int *passes);
 
 /* ---- two-moment velocity correlation (sonine_diffusion.cpp) -----------------------------------
- * Species k at temperatures T with cooling rate zeta_k (NaN: the Maxwellian xi_k at T) and Sonine
- * coefficient a2_k: <v(t0).v(t0 + tau)> = (3 T_k/m_k) Re(c_0 e^(-lam_0 tau) + c_1 e^(-lam_1 tau)),
+ * Species k at temperatures T with cooling rate zeta_k (NaN: the Maxwellian xi_k at T) and the Sonine
+ * coefficients a2 of all species (NULL: 0; the partners' a2_i and the weight f_k in the collision
+ * matrix, a2_k also in the initial moments): <v(t0).v(t0 + tau)> = (3 T_k/m_k) Re(c_0 e^(-lam_0 tau) + c_1 e^(-lam_1 tau)),
  * c_0 + c_1 = 1; both rates real and positive, or a complex-conjugate pair with Re > 0. */
 typedef std::complex<double> cd;
-int sonine_modes(const gran_mixture *mix, const double *T, int64_t k, double zeta_k, double a2_k, cd lam[2], cd c[2]);
+int sonine_modes(const gran_mixture *mix, const double *T, int64_t k, double zeta_k, const double *a2, cd lam[2],
+                 cd c[2]);
 /* g_fun for complex y */
 cd g_cplx(cd y);
 
