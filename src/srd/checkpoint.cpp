@@ -101,6 +101,12 @@ int options_read(const gran_state::Group &g, gran_srd_options *o) {
   unsigned char *b = (unsigned char *)o;
   for (const OptField &f : kOptions) {
     void *p = b + f.off;
+    /* a state written before the option existed: creation was serial (the only one then); it
+     * matters only at creation, so the state is the same */
+    if (p == (void *)&o->creation && !g.has(f.name)) {
+      o->creation = GRAN_SRD_CREATE_SERIAL;
+      continue;
+    }
     switch (f.type) {
       case kI32: GRAN_CALL(g.get(f.name, f.count, (int32_t *)p)); break;
       case kI64: GRAN_CALL(g.get(f.name, f.count, (int64_t *)p)); break;
