@@ -251,10 +251,12 @@ GRAN_EXTERN int gran_theory_hcs(const gran_mixture *mix, int norm, double value,
 /* Level of the kinetic theory (the `approximation` argument): Maxwellian velocity distributions
  * (the reference level above), or the first Sonine approximation f_k = Maxwellian (1 + a2_k S2),
  * with zeta_k corrected linearly in a2 and a2_k from the fourth-moment balance (3-D hard spheres,
- * constant or matrix restitution; viscoelastic: GRAN_ERR_DOMAIN). docs/physics-sonine.md. */
+ * constant or matrix restitution; viscoelastic: rates and trajectories, with eps(v_n) inside the
+ * collision integrals, but no HCS: GRAN_ERR_DOMAIN). docs/physics-sonine.md. */
 enum gran_theory_approximation { GRAN_THEORY_MAXWELLIAN = 0, GRAN_THEORY_SONINE = 1 };
 /* HCS in either approximation: T0 (M), a2 (M, may be NULL; zeros at the Maxwellian level), tau0 =
- * 2/zeta (may be NULL). One species at constant eps gives van Noije & Ernst's a2. */
+ * 2/zeta (may be NULL). One species at constant eps gives van Noije & Ernst's a2. Viscoelastic
+ * restitution has no HCS: GRAN_ERR_DOMAIN at the Sonine level. */
 GRAN_EXTERN int gran_theory_hcs_approx(const gran_mixture *mix, int approximation, int norm, double value, double *T0,
                                        double *a2, double *tau0);
 /* First Sonine rates at (T, a2), |a2_k| < 1: zeta_k (dT_k/dt = -zeta_k T_k) and da2_k/dt (M each,
@@ -262,7 +264,8 @@ GRAN_EXTERN int gran_theory_hcs_approx(const gran_mixture *mix, int approximatio
 GRAN_EXTERN int gran_theory_sonine_rates(const gran_mixture *mix, const double *T, const double *a2, double *zeta,
                                          double *da2dt);
 /* T_k(t) and a2_k(t) (ntimes*M each; a2 may be NULL) from T0 and a20 (NULL: 0) in either
- * approximation (Maxwellian: gran_theory_temperatures, a2 = 0). */
+ * approximation (Maxwellian: gran_theory_temperatures, a2 = 0); any restitution model (for
+ * viscoelastic restitution a2_k depends on time even at long times). */
 GRAN_EXTERN int gran_theory_temperatures_approx(const gran_mixture *mix, int approximation, const double *T0,
                                                 const double *a20, int64_t ntimes, const double *t, double rtol,
                                                 double *T, double *a2);

@@ -1,5 +1,5 @@
 /* sonine.cpp - first Sonine approximation of a polydisperse granular gas of inelastic hard spheres
- * (3-D, constant or matrix restitution): cooling rates zeta_k corrected by the Sonine coefficients
+ * (3-D, constant, matrix or viscoelastic restitution): cooling rates zeta_k corrected by the Sonine coefficients
  * a2_k, the fourth-moment balance that fixes a2_k, the homogeneous cooling state and the
  * trajectories T_k(t), a2_k(t). Derivation, sources and checks: docs/physics-sonine.md.
  *
@@ -18,7 +18,10 @@
  * One species gives van Noije & Ernst's a2 (Granular Matter 1, 57 (1998), Eq. 16) and
  * zeta = zeta_0 (1 + 3 a2/16) (Brilliantov & Poeschel, Kinetic Theory of Granular Gases (2004), Eq. 7.27).
  * The factor A s^2 - 2 a_k = -2 a_k [(1 - mu)(1 - T_i/T_k) + (1 - eps)/2 Gamma] is written without
- * cancellation, Gamma = mu + (1 - mu) T_i/T_k, as in cooling.cpp: eps -> 1 stays exact. */
+ * cancellation, Gamma = mu + (1 - mu) T_i/T_k, as in cooling.cpp: eps -> 1 stays exact.
+ * Viscoelastic restitution (rates and trajectories only; no HCS): the elastic pair terms plus
+ * corrections linear in the moments <p^j - 1>_k of p = (1 + eps(g_n))/2 (pair_terms_visco,
+ * docs/physics-sonine.md Sec. 6). */
 #include "theory/theory_impl.h"
 
 #include <gsl/gsl_errno.h>
@@ -52,6 +55,7 @@ struct SPass {
   /* the Maxwellian pass of hcs.cpp at the same T (cooling_pass: xi_k = z0_k, d_k, l_k, nu_k =
    * (8/3) nu above), so that the temperature step needs no pass of its own */
   std::vector<double> d, l;
+  int status = GRAN_SUCCESS; /* viscoelastic pass: the moments' quadrature may fail */
 };
 
 /* Contributions of partner i to the sums of species k (own): w = sqrt(2 pi) n_i sigma_ki^2 g2,
@@ -93,6 +97,77 @@ static inline PairOut<V> pair_terms(V w, S p, S q, V mu, V omu, V r, V omr, V ak
 }
 
 using namespace gran_theory_simd;
+
+/* Viscoelastic pair: the elastic pair terms (eps = 1) plus the corrections linear in the moments
+ * D_jk = <p^j - 1>_k of viscoelastic.cpp (p = (1 + eps(g_n))/2): R = R(eps = 1) + w sum_jk C_jk D_jk,
+ * C_jk per unit w = sqrt(2 pi) n_i sigma_ki^2 g2 from docs/tools/sonine_visco.py (split into the
+ * a2-free, a2_k and a2_i parts; s^2 = a_k + a_i, mu = m_i/(m_k + m_i)). */
+static PairOut<double> pair_terms_visco(double w, double mu, double omu, double r, double omr, double ak, double ai,
+                                        double s, const double D[5][10]) {
+  PairOut<double> o = pair_terms<double>(w, 1.0, 0.0, mu, omu, r, omr, ak, ai, 1.0 / ak, s, 1.0 / s);
+  const double is = 1.0 / s, is3 = is * is * is, is5 = is3 * is * is, s2 = ak + ai;
+  const double ak2 = ak * ak, ak3 = ak2 * ak, ak4 = ak3 * ak, ak5 = ak4 * ak, ai2 = ai * ai;
+  const double m1 = mu, m2 = mu * mu, m3 = m2 * mu, m4 = m2 * m2;
+  double R20 = 0, R2k = 0, R2i = 0, R40 = 0, R4k = 0, R4i = 0;
+  R20 += D[1][3] * (-16 * ak * m1 * s);
+  R2k += D[1][3] * ((24 * ai * ak2 - 6 * ak3) * m1 * is3);
+  R2i += D[1][3] * (-30 * ai2 * ak * m1 * is3);
+  R2k += D[1][5] * ((-32 * ai * ak2 + 48 * ak3) * m1 * is3);
+  R2i += D[1][5] * (80 * ai2 * ak * m1 * is3);
+  R2k += D[1][7] * (-48 * ak3 * m1 * is3);
+  R2i += D[1][7] * (-48 * ai2 * ak * m1 * is3);
+  R20 += D[2][3] * (16 * s2 * s2 * m2 * is);
+  R2k += D[2][3] * (6 * ak2 * m2 * is);
+  R2i += D[2][3] * (6 * ai2 * m2 * is);
+  R2k += D[2][5] * (-48 * ak2 * m2 * is);
+  R2i += D[2][5] * (-48 * ai2 * m2 * is);
+  R2k += D[2][7] * (48 * ak2 * m2 * is);
+  R2i += D[2][7] * (48 * ai2 * m2 * is);
+  R40 += D[1][3] * ((-160 * ai * ak2 - 64 * ak3) * m1 * is);
+  R4k += D[1][3] * ((ai * (ai * (-160 * ai * ak2 + 288 * ak3) + 36 * ak4) + 8 * ak5) * m1 * is5);
+  R4i += D[1][3] * (ai2 * (-300 * ai * ak2 + 120 * ak3) * m1 * is5);
+  R40 += D[1][5] * (-128 * ak3 * m1 * is);
+  R4k += D[1][5] * ((ai * (-1024 * ai * ak3 + 672 * ak4) + 16 * ak5) * m1 * is5);
+  R4i += D[1][5] * (ai2 * (800 * ai * ak2 - 880 * ak3) * m1 * is5);
+  R4k += D[1][7] * ((-1632 * ai * ak4 + 384 * ak5) * m1 * is5);
+  R4i += D[1][7] * (ai2 * (-480 * ai * ak2 + 1536 * ak3) * m1 * is5);
+  R4k += D[1][9] * (-768 * ak5 * m1 * is5);
+  R4i += D[1][9] * (-768 * ai2 * ak3 * m1 * is5);
+  R40 += D[2][3] * ((ai * (160 * ai * ak + 224 * ak2) + 64 * ak3) * m2 * is);
+  R4k += D[2][3] * ((ai * (-176 * ai * ak2 - 4 * ak3) - 8 * ak4) * m2 * is3);
+  R4i += D[2][3] * (ai2 * (60 * ai * ak - 120 * ak2) * m2 * is3);
+  R40 += D[2][5] * (384 * ak2 * m2 * s);
+  R4k += D[2][5] * ((ai * (704 * ai * ak2 - 1376 * ak3) + 80 * ak4) * m2 * is3);
+  R4i += D[2][5] * (ai2 * (-480 * ai * ak + 1680 * ak2) * m2 * is3);
+  R4k += D[2][7] * ((2784 * ai * ak3 - 1536 * ak4) * m2 * is3);
+  R4i += D[2][7] * (ai2 * (480 * ai * ak - 3840 * ak2) * m2 * is3);
+  R4k += D[2][9] * (2304 * ak4 * m2 * is3);
+  R4i += D[2][9] * (2304 * ai2 * ak2 * m2 * is3);
+  R40 += D[3][5] * (-512 * s2 * s2 * ak * m3 * is);
+  R4k += D[3][5] * ((768 * ai * ak2 - 192 * ak3) * m3 * is);
+  R4i += D[3][5] * (-960 * ai2 * ak * m3 * is);
+  R4k += D[3][7] * ((-1536 * ai * ak2 + 2304 * ak3) * m3 * is);
+  R4i += D[3][7] * (3840 * ai2 * ak * m3 * is);
+  R4k += D[3][9] * (-3072 * ak3 * m3 * is);
+  R4i += D[3][9] * (-3072 * ai2 * ak * m3 * is);
+  R40 += D[4][5] * (256 * s2 * s2 * m4 * s);
+  R4k += D[4][5] * (96 * ak2 * m4 * s);
+  R4i += D[4][5] * (96 * ai2 * m4 * s);
+  R4k += D[4][7] * (-1152 * ak2 * m4 * s);
+  R4i += D[4][7] * (-1152 * ai2 * m4 * s);
+  R4k += D[4][9] * (1536 * ak2 * m4 * s);
+  R4i += D[4][9] * (1536 * ai2 * m4 * s);
+  /* zeta = -R2/(3 a_k) (the a2_i part per unit a2_i); Phi = R4/(15 a_k^2) + 2 zeta (1 + a2_k), linear */
+  const double i3 = -w / (3.0 * ak), i15 = w / (15.0 * ak2);
+  const double dzm = i3 * R20, dzo = i3 * R2k, dzp = i3 * R2i;
+  o.zm += dzm;
+  o.czo += dzo;
+  o.czp += dzp;
+  o.pm += i15 * R40 + 2.0 * dzm;
+  o.cpo += i15 * R4k + 2.0 * dzo + 2.0 * dzm;
+  o.cpp += i15 * R4i + 2.0 * dzp;
+  return o;
+}
 
 void spass_general(const gran_mixture *mix, const double *T, const double *a2, SPass &P);
 
@@ -242,9 +317,59 @@ bool spass_lo_ok(const gran_mixture *mix, const double *T) {
   return true;
 }
 
+void spass_visco(const gran_mixture *mix, const double *T, const double *a2, SPass &P);
+
 void spass(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
-  if (mix->model == GRAN_RESTITUTION_CONSTANT && mix->g2_mat.empty()) spass_fast(mix, T, a2, P);
+  P.status = GRAN_SUCCESS;
+  if (mix->model == GRAN_RESTITUTION_VISCOELASTIC) spass_visco(mix, T, a2, P);
+  else if (mix->model == GRAN_RESTITUTION_CONSTANT && mix->g2_mat.empty()) spass_fast(mix, T, a2, P);
   else spass_general(mix, T, a2, P);
+}
+
+/* Viscoelastic restitution: each unordered pair once, the moments D_jk at z = sqrt(beta_ki) (2 s^2)^(1/20)
+ * once per pair (twice when beta_ki != beta_ik). Fills z0, z1, phi, nu (what the trajectories and
+ * gran_theory_sonine_rates use); diag, off, zdg, d, l stay 0 (there is no HCS solve). */
+void spass_visco(const gran_mixture *mix, const double *T, const double *a2, SPass &P) {
+  const int64_t M = mix->M;
+  for (auto *v : {&P.z0, &P.z1, &P.phi, &P.diag, &P.off, &P.zdg, &P.nu, &P.d, &P.l}) v->assign((size_t)M, 0.0);
+  const double *m = mix->m.data(), *sg = mix->sigma.data(), *n = mix->n.data();
+  double *z0 = P.z0.data(), *z1 = P.z1.data(), *phi = P.phi.data(), *nu = P.nu.data();
+  double Dk[5][10], Di[5][10];
+  for (int64_t k = 0; k < M; k++) {
+    const double mk = m[k], Tk = T[k], ak = Tk / mk;
+    for (int64_t i = 0; i <= k; i++) {
+      if (n[i] == 0.0 && n[k] == 0.0) continue;
+      const double mi = m[i], Ti = T[i], ai = Ti / mi;
+      const double sgm = 0.5 * (sg[k] + sg[i]);
+      const double w0 = SQ2PI * sgm * sgm * mix_g2(mix, k, i);
+      const double inv = 1.0 / (mi + mk), mu = mi * inv, omu = mk * inv;
+      const double s2 = ak + ai, s = std::sqrt(s2);
+      const double bk = mix_beta(mix, k, i), bi = mix_beta(mix, i, k), sc = std::pow(2.0 * s2, 0.05);
+      int st = visco_sonine_moments(std::sqrt(bk) * sc, Dk);
+      if (st == GRAN_SUCCESS && bi != bk) st = visco_sonine_moments(std::sqrt(bi) * sc, Di);
+      if (st != GRAN_SUCCESS) {
+        P.status = st;
+        return;
+      }
+      const double(*D2)[10] = bi != bk ? Di : Dk;
+      if (n[i] != 0.0) { /* partner i acting on k */
+        const double w = w0 * n[i];
+        const PairOut<double> o = pair_terms_visco(w, mu, omu, Ti / Tk, (Tk - Ti) / Tk, ak, ai, s, Dk);
+        z0[k] += o.zm;
+        z1[k] += o.czo * a2[k] + o.czp * a2[i];
+        phi[k] += o.pm + o.cpo * a2[k] + o.cpp * a2[i];
+        nu[k] += w * mu * s;
+      }
+      if (i != k && n[k] != 0.0) { /* partner k acting on i */
+        const double w = w0 * n[k];
+        const PairOut<double> o = pair_terms_visco(w, omu, mu, Tk / Ti, (Ti - Tk) / Ti, ai, ak, s, D2);
+        z0[i] += o.zm;
+        z1[i] += o.czo * a2[i] + o.czp * a2[k];
+        phi[i] += o.pm + o.cpo * a2[i] + o.cpp * a2[k];
+        nu[i] += w * omu * s;
+      }
+    }
+  }
 }
 
 /* Any restitution/g2 matrices: each unordered pair once with the accessors. */
@@ -771,8 +896,8 @@ int check_approx(int approximation) {
 
 int check_sonine_model(const gran_mixture *mix) {
   GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
-             "mixture 'mix' has viscoelastic restitution: the first Sonine approximation is implemented for "
-             "constant or matrix restitution only");
+             "mixture 'mix' has viscoelastic restitution: there is no homogeneous cooling state (the first Sonine "
+             "HCS and MSD are implemented for constant or matrix restitution only)");
   return GRAN_SUCCESS;
 }
 
@@ -804,6 +929,7 @@ int traj_rhs(double s, const double y[], double f[], void *params) {
     tr->a2[(size_t)k] = y[M + k];
   }
   spass(tr->mix, tr->T.data(), tr->a2.data(), tr->P);
+  if (tr->P.status != GRAN_SUCCESS) return GSL_EBADFUNC;
   const double g = tr->ts * std::exp(s);
   for (int64_t k = 0; k < M; k++) {
     f[k] = 2.0 - g * (tr->P.z0[(size_t)k] + tr->P.z1[(size_t)k]);
@@ -844,8 +970,8 @@ int dense_rhs(double s, const double y[], double f[], void *params) {
 GRAN_EXTERN int gran_theory_sonine_rates(const gran_mixture *mix, const double *T, const double *a2, double *zeta,
                                          double *da2dt) {
   GRAN_TRY {
+    gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
-    GRAN_CALL(check_sonine_model(mix));
     GRAN_CALL(check_array(T, mix->M, "T", 1));
     GRAN_CHECK_PTR(a2);
     for (int64_t k = 0; k < mix->M; k++)
@@ -853,6 +979,7 @@ GRAN_EXTERN int gran_theory_sonine_rates(const gran_mixture *mix, const double *
                  "argument 'a2'[%" PRId64 "] = %g: the first Sonine approximation needs |a2| < 1", k, a2[k]);
     SPass P;
     spass(mix, T, a2, P);
+    if (P.status != GRAN_SUCCESS) return P.status;
     for (int64_t k = 0; k < mix->M; k++) {
       const double z = P.z0[(size_t)k] + P.z1[(size_t)k], ph = P.phi[(size_t)k];
       GRAN_CHECK(std::isfinite(z) && std::isfinite(ph), GRAN_ERR_NUMERIC,
@@ -949,7 +1076,6 @@ GRAN_EXTERN int gran_theory_temperatures_approx(const gran_mixture *mix, int app
       if (a2 && ntimes > 0) std::fill(a2, a2 + ntimes * M, 0.0);
       return GRAN_SUCCESS;
     }
-    GRAN_CALL(check_sonine_model(mix));
     GRAN_CALL(check_array(T0, M, "T0", 1));
     if (a20) {
       for (int64_t k = 0; k < M; k++)
@@ -966,6 +1092,7 @@ GRAN_EXTERN int gran_theory_temperatures_approx(const gran_mixture *mix, int app
     STraj tr;
     tr.start(mix, T0, a20);
     spass(mix, tr.T.data(), tr.a2.data(), tr.P);
+    if (tr.P.status != GRAN_SUCCESS) return tr.P.status;
     double numax = 0.0;
     for (double v : tr.P.nu) numax = std::max(numax, v);
     tr.ts = numax > 0.0 ? 1.0 / numax : 1.0;
@@ -994,6 +1121,7 @@ GRAN_EXTERN int gran_theory_temperatures_approx(const gran_mixture *mix, int app
       }
     }
     gsl_odeiv2_driver_free(drv);
+    if (st != GSL_SUCCESS && tr.P.status != GRAN_SUCCESS) return tr.P.status;
     if (st != GSL_SUCCESS)
       return GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine trajectory (M = %" PRId64 ") failed (GSL: %s)", M,
                         gsl_strerror(st));

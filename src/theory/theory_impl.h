@@ -80,6 +80,12 @@ int check_rtol(double rtol, const char *name);
  * polynomial branch of eps), GSL quadrature of the real eps(x) beyond. */
 int visco_averages(double z, double *q1, double *q2);
 double visco_eps(double x); /* no argument checks; x >= 0 finite */
+/* First Sonine moments D[j][k] = <p^j - 1>_k (p = (1 + eps)/2, j = 1..4, k = 3, 5, 7, 9; others 0) over
+ * u = g_n^2/(2 s^2) with weight u^((k-1)/2) e^-u/Gamma((k+1)/2), x = z u^(1/20) (docs/physics-sonine.md
+ * Sec. 6). D[1][3] = q1 and D[2][3] = q2 of visco_averages. Series for z <= 0.35, a composite
+ * Gauss-Legendre rule beyond; _ref: GSL adaptive quadrature (the check of both). */
+int visco_sonine_moments(double z, double D[5][10]);
+int visco_sonine_moments_ref(double z, double D[5][10]);
 
 /* ---- kinetic kernels (cooling.cpp) -----------------------------------------------------------
  * xi_k (Eq. 15 / A7) for every k at temperatures T (any of xi, dxi_dlogT_self, may be NULL).

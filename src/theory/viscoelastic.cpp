@@ -10,6 +10,9 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_integration.h>
 
+#include <algorithm>
+#include <cstring>
+
 namespace {
 
 /* h_0..h_20 of data/viscoelastic_hk.csv (Schwager & Poeschel 2008 delayed-recovery end). */
@@ -102,6 +105,66 @@ double avg_integrand(double s, void *p) {
 
 const double Z_SERIES = 0.35; /* x > X_SWITCH needs s > (X_SWITCH/0.35)^20 = 52: weight < 1e-20 */
 
+
+/* ---- first Sonine moments (sonine.cpp, docs/physics-sonine.md Sec. 6) ---------------------------
+ * D_jk = <p^j - 1>_k, p = (1 + eps)/2, the average over u = g_n^2/(2 s^2) with weight
+ * u^((k-1)/2) e^-u / Gamma((k+1)/2), for j = 1..4 and k = 3, 5, 7, 9. Series: p^j - 1 = sum_n c_jn x^n
+ * (degree 20 j), D_jk = sum_n c_jn z^n Gamma((k+1)/2 + n/20)/Gamma((k+1)/2). */
+struct SonCoeffs {
+  double c[5][81]; /* c_jn */
+  double g[10][81]; /* Gamma((k+1)/2 + n/20)/Gamma((k+1)/2), odd k */
+  SonCoeffs() {
+    std::memset(c, 0, sizeof c);
+    std::memset(g, 0, sizeof g);
+    double pw[81] = {1.0}; /* p^j, starting at j = 0 */
+    for (int j = 1; j <= 4; j++) {
+      double nw[81] = {0.0};
+      for (int a = 0; a <= 20 * (j - 1); a++)
+        for (int b = 0; b <= 20; b++) nw[a + b] += pw[a] * (b == 0 ? 1.0 : 0.5 * H[b]);
+      std::memcpy(pw, nw, sizeof pw);
+      for (int n = 1; n <= 20 * j; n++) c[j][n] = pw[n];
+    }
+    for (int k = 3; k <= 9; k += 2)
+      for (int n = 0; n <= 80; n++) {
+        const double a = 0.5 * (k + 1);
+        g[k][n] = std::exp(std::lgamma(a + n / 20.0) - std::lgamma(a));
+      }
+  }
+};
+const SonCoeffs &son_coeffs() {
+  static const SonCoeffs c;
+  return c;
+}
+
+struct SonGL {
+  static const int NQ = 12;
+  double x[NQ], w[NQ], lg[10];
+  SonGL() {
+    gsl_integration_glfixed_table *t = gsl_integration_glfixed_table_alloc(NQ);
+    for (int q = 0; q < NQ; q++) gsl_integration_glfixed_point(-1.0, 1.0, (size_t)q, &x[q], &w[q], t);
+    gsl_integration_glfixed_table_free(t);
+    for (int k = 0; k < 10; k++) lg[k] = std::lgamma(0.5 * (k + 1));
+  }
+};
+const SonGL &son_gl() {
+  static const SonGL g;
+  return g;
+}
+
+struct SonParams {
+  double z;
+  int j, k;
+};
+
+double son_integrand(double u, void *pv) {
+  const SonParams *p = static_cast<const SonParams *>(pv);
+  if (u <= 0.0) return 0.0;
+  const double hd = 0.5 * eps_dev(p->z * std::pow(u, 0.05)); /* p - 1 */
+  const double pm1 = p->j == 1 ? hd : p->j == 2 ? hd * (2.0 + hd) : p->j == 3 ? hd * (3.0 + hd * (3.0 + hd))
+                                                                            : hd * (4.0 + hd * (6.0 + hd * (4.0 + hd)));
+  const double a = 0.5 * (p->k + 1);
+  return std::exp((a - 1.0) * std::log(u) - u - std::lgamma(a)) * pm1;
+}
 } // namespace
 
 namespace gran {
@@ -149,6 +212,88 @@ int visco_averages(double z, double *q1, double *q2) {
   }
   *q1 = out[0];
   *q2 = out[1];
+  return GRAN_SUCCESS;
+}
+
+int visco_sonine_moments(double z, double D[5][10]) {
+  if (!(z >= 0.0) || !std::isfinite(z))
+    return GRAN_ERROR(GRAN_ERR_NUMERIC, "viscoelastic scale z = %g is not finite and >= 0", z);
+  for (int j = 0; j < 5; j++)
+    for (int k = 0; k < 10; k++) D[j][k] = 0.0;
+  if (z == 0.0) return GRAN_SUCCESS;
+  if (z <= Z_SERIES) { /* u > 52 (x > X_SWITCH) carries weight < 1e-16 even for k = 9 */
+    const SonCoeffs &c = son_coeffs();
+    /* terms past n_cut are below 1e-17 |D_jk| (|c_jn| Gamma ratio <= 68 for every j, k; D_jk ~ z^2):
+     * z^(n - 2) < 1e-17 / (68 * 80 * 2) */
+    const int ncut = z < 1e-300 ? 2 : std::min(80, 3 + (int)(std::log(1e-17 / (68.0 * 160.0)) / std::log(z)));
+    double zn[81];
+    zn[0] = 1.0;
+    for (int n = 1; n <= ncut; n++) zn[n] = zn[n - 1] * z;
+    for (int k = 3; k <= 9; k += 2)
+      for (int j = 1; j <= 4; j++) {
+        double acc = 0.0;
+        for (int n = std::min(20 * j, ncut); n >= 1; n--) acc += c.c[j][n] * zn[n] * c.g[k][n];
+        D[j][k] = acc;
+      }
+    return GRAN_SUCCESS;
+  }
+  /* beyond the series: u = y^20, weight 20 y^(20 a - 1) e^(-y^20) dy / Gamma(a) (smooth, peaked at
+   * y ~ 1; below y = 0.2 it is < 1e-27, beyond y = 1.3 (u = 190) < 1e-70), x = z y; composite
+   * 12-point Gauss-Legendre on panels of 0.05 in y, one panel boundary at the series/Pade switch
+   * y = X_SWITCH/z; all 16 moments from one evaluation of eps per node */
+  const SonGL &gl = son_gl();
+  double acc[5][10] = {};
+  const double ysw = X_SWITCH / z;
+  const double Y0 = 0.2, Y1 = 1.3, H = 0.05;
+  double a0 = Y0;
+  while (a0 < Y1 - 1e-12) {
+    double b0 = std::min(Y1, a0 + H);
+    if (ysw > a0 + 1e-9 && ysw < b0 - 1e-9) b0 = ysw;
+    const double c = 0.5 * (a0 + b0), h = 0.5 * (b0 - a0);
+    for (int q = 0; q < SonGL::NQ; q++) {
+      const double y = c + h * gl.x[q], wq = h * gl.w[q];
+      const double hd = 0.5 * eps_dev(z * y); /* p - 1 */
+      const double pj[5] = {0.0, hd, hd * (2.0 + hd), hd * (3.0 + hd * (3.0 + hd)),
+                            hd * (4.0 + hd * (6.0 + hd * (4.0 + hd)))};
+      const double y20 = std::pow(y, 20.0), ly = std::log(y);
+      for (int k = 3; k <= 9; k += 2) {
+        const double a = 0.5 * (k + 1);
+        const double wt = wq * 20.0 * std::exp((20.0 * a - 1.0) * ly - y20 - gl.lg[k]);
+        for (int j = 1; j <= 4; j++) acc[j][k] += wt * pj[j];
+      }
+    }
+    a0 = b0;
+  }
+  for (int k = 3; k <= 9; k += 2)
+    for (int j = 1; j <= 4; j++) D[j][k] = acc[j][k];
+  return GRAN_SUCCESS;
+}
+
+/* the same moments by GSL adaptive quadrature (reference for the composite rule above; not on the hot path) */
+int visco_sonine_moments_ref(double z, double D[5][10]) {
+  for (int j = 0; j < 5; j++)
+    for (int k = 0; k < 10; k++) D[j][k] = 0.0;
+  struct Ws {
+    gsl_integration_workspace *w = nullptr;
+    ~Ws() { gsl_integration_workspace_free(w); }
+  };
+  thread_local Ws ws;
+  if (!ws.w) ws.w = gsl_integration_workspace_alloc(256);
+  if (!ws.w) return GRAN_ERROR(GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
+  const double usw = std::pow(X_SWITCH / z, 20.0);
+  for (int k = 3; k <= 9; k += 2)
+    for (int j = 1; j <= 4; j++) {
+      SonParams p{z, j, k};
+      gsl_function F{son_integrand, &p};
+      double r1 = 0.0, r2 = 0.0, e1 = 0.0, e2 = 0.0;
+      int st = GSL_SUCCESS;
+      if (usw > 0.0) st = gsl_integration_qags(&F, 0.0, usw, 0.0, 1e-12, 256, ws.w, &r1, &e1);
+      if (st == GSL_SUCCESS || st == GSL_EROUND) st = gsl_integration_qagiu(&F, usw, 0.0, 1e-12, 256, ws.w, &r2, &e2);
+      if (st != GSL_SUCCESS && st != GSL_EROUND)
+        return GRAN_ERROR(GRAN_ERR_NOCONV, "viscoelastic Sonine moment (z = %g, j = %d, k = %d): GSL quadrature failed: %s",
+                          z, j, k, gsl_strerror(st));
+      D[j][k] = r1 + r2;
+    }
   return GRAN_SUCCESS;
 }
 
