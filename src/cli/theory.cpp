@@ -223,12 +223,22 @@ int cli_theory(int argc, char **argv) {
   std::vector<double> Ts((size_t)M), a2s((size_t)M), Tst((size_t)(nt * M)), a2t((size_t)(nt * M));
   std::vector<double> msds((size_t)(nt * M)), msds_tot((size_t)nt), Ds((size_t)M);
   double tau0s = NAN;
-  if (son) {
-    if (model == GRAN_RESTITUTION_VISCOELASTIC) {
-      std::fprintf(stderr, "granary theory: --approximation sonine: the scene's restitution is viscoelastic; the "
-                           "first Sonine approximation is implemented for constant or matrix restitution only\n");
-      return 2;
-    }
+  /* viscoelastic: the trajectories only (no HCS; the two-moment correlation needs constant or
+   * matrix restitution) */
+  const bool son_visco = son && model == GRAN_RESTITUTION_VISCOELASTIC;
+  if (son_visco) {
+    not_covered.push_back("the first Sonine HCS, two-moment MSD and D of a viscoelastic gas (it has no HCS; the "
+                          "two-moment correlation is for constant or matrix restitution)");
+    std::fill(Ts.begin(), Ts.end(), NAN);
+    std::fill(a2s.begin(), a2s.end(), NAN);
+    std::fill(msds.begin(), msds.end(), NAN);
+    std::fill(msds_tot.begin(), msds_tot.end(), NAN);
+    std::fill(Ds.begin(), Ds.end(), NAN);
+    std::vector<double> a20((size_t)M, 0.0);
+    if (nt && gran_theory_temperatures_approx(mix, GRAN_THEORY_SONINE, T0.data(), a20.data(), nt, times.data(), 1e-10,
+                                              Tst.data(), a2t.data()))
+      return fail("gran_theory_temperatures_approx (sonine) failed");
+  } else if (son) {
     double num = 0, den = 0;
     for (int64_t k = 0; k < M; k++) {
       num += n[(size_t)k] * T0[(size_t)k];
@@ -383,7 +393,14 @@ int cli_theory(int argc, char **argv) {
       std::printf("%14.8g %4s %16s %16.10g\n", times[(size_t)i], "all", "", msd_tot[(size_t)i]);
     }
   }
-  if (son) {
+  if (son_visco && nt) {
+    std::printf("\nT_k(t) and a2_k(t), first Sonine approximation (viscoelastic: from a2 = 0 at the start; no HCS)\n");
+    std::printf("%14s %4s %16s %14s\n", "t", "k", "T_k(t)", "a2_k(t)");
+    for (int64_t i = 0; i < nt; i++)
+      for (int64_t k = 0; k < M; k++)
+        std::printf("%14.8g %4" PRId64 " %16.10g %14.8g\n", times[(size_t)i], k + 1, Tst[(size_t)(i * M + k)],
+                    a2t[(size_t)(i * M + k)]);
+  } else if (son) {
     std::printf("\nFirst Sonine approximation: HCS with the same mean temperature, tau0 = %.8g\n", tau0s);
     std::printf("%4s %16s %14s %14s\n", "k", "T_k", "gamma_k1", "a2_k");
     for (int64_t k = 0; k < M; k++)

@@ -585,15 +585,12 @@ void parse_observables(Ctx &c) {
   s.obs_sonine_a2 = ob.flag("sonine_a2");
   s.obs_theory = ob.flag("theory");
   s.theory_rtol = ob.real("theory_rtol");
-  /* the first Sonine trajectory (gran_theory_temperatures_approx) exists for constant or matrix
-   * restitution of a gas whose species are fixed */
+  /* the first Sonine trajectory (gran_theory_temperatures_approx) exists for a gas whose species
+   * are fixed (viscoelastic included: its two-moment MSD does not, and the output says so) */
   s.obs_theory_sonine = ob.flag("theory_sonine");
   if (s.obs_theory_sonine) {
     if (!s.obs_theory) ob.fail("theory_sonine", "needs theory = true (it is written beside T_theory)");
     if (!s.obs_temperatures) ob.fail("theory_sonine", "needs temperatures = true (it is written beside T_theory)");
-    if (s.model == GRAN_RESTITUTION_VISCOELASTIC)
-      ob.fail("theory_sonine", "the first Sonine theory is implemented for constant or matrix restitution, not "
-                               "viscoelastic restitution");
     if (s.agg.e_agg > 0 || std::isfinite(s.agg.e_frag))
       ob.fail("theory_sonine", "no Sonine theory for aggregation or fragmentation (the species change)");
   }
