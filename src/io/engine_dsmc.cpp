@@ -149,11 +149,10 @@ class DsmcEngine : public gran_engine {
   int record(std::vector<gran_row_buf> &bufs, int64_t i) override {
     gran_dsmc_stats st;
     GRAN_CALL(gran_dsmc_get_stats(sim_, &st));
-    {
-      double e, e0, ed;
-      GRAN_CALL(gran_dsmc_energy(sim_, &e, &e0, &ed));
-      last_T_ = st.nparticles > 0 ? 2.0 * e / (3.0 * (double)st.nparticles) : NAN;
-    }
+    /* one energy sum per output time, for the energy row and the progress report's T */
+    double e, e0, ed;
+    GRAN_CALL(gran_dsmc_energy(sim_, &e, &e0, &ed));
+    last_T_ = st.nparticles > 0 ? 2.0 * e / (3.0 * (double)st.nparticles) : NAN;
     for (auto &b : bufs) {
       double *d = b.is_int ? nullptr : b.d.data() + i * b.row;
       int64_t *n = b.is_int ? b.n.data() + i * b.row : nullptr;
@@ -167,8 +166,6 @@ class DsmcEngine : public gran_engine {
         GRAN_CALL(gran_dsmc_msd(sim_, d, &total));
         gran_row_buf_find(bufs, "msd", "msd_total")->d[(size_t)i] = total;
       } else if (g == "energy" && nm == "e_kin") {
-        double e, e0, ed;
-        GRAN_CALL(gran_dsmc_energy(sim_, &e, &e0, &ed));
         d[0] = e;
         gran_row_buf_find(bufs, "energy", "e_initial")->d[(size_t)i] = e0;
         gran_row_buf_find(bufs, "energy", "e_dissipated")->d[(size_t)i] = ed;

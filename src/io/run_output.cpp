@@ -29,6 +29,14 @@ int make_scale(int64_t loc, const char *name, const char *file) {
 /* The scale of the species axes of buffer b in its group g: `species` (k = 1..M) for the first,
  * `species_2` for a second (the partner of collision_counts), written once per group. */
 const char *species_scale(size_t a) { return a == 0 ? "species" : "species_2"; }
+/* dataset nm = 1..M in g, described, made a scale */
+int write_species_scale(int64_t g, const char *nm, int64_t M, const char *description, const char *file) {
+  std::vector<int64_t> k((size_t)M);
+  for (int64_t i = 0; i < M; i++) k[(size_t)i] = i + 1;
+  GRAN_CALL(gran_h5::write_int64(g, nm, {M}, k.data(), file));
+  GRAN_CALL(gran_describe_(g, nm, "1", description, file));
+  return make_scale(g, nm, file);
+}
 int species_scales(int64_t g, const gran_row_buf &b, const char *file) {
   for (size_t a = 0; a < b.species_axes.size(); a++) {
     const char *nm = species_scale(a);
@@ -43,13 +51,10 @@ int species_scales(int64_t g, const gran_row_buf &b, const char *file) {
                  b.group.c_str(), have.size(), M);
       continue;
     }
-    std::vector<int64_t> k((size_t)M);
-    for (int64_t i = 0; i < M; i++) k[(size_t)i] = i + 1;
-    GRAN_CALL(gran_h5::write_int64(g, nm, {M}, k.data(), file));
-    GRAN_CALL(gran_describe_(g, nm, "1", a == 0 ? "species index k = 1..M (the species axis of this group's datasets)"
-                                               : "species index l = 1..M (the second species axis, [time][k][l])",
-                             file));
-    GRAN_CALL(make_scale(g, nm, file));
+    GRAN_CALL(write_species_scale(g, nm, M,
+                                  a == 0 ? "species index k = 1..M (the species axis of this group's datasets)"
+                                         : "species index l = 1..M (the second species axis, [time][k][l])",
+                                  file));
   }
   return GRAN_SUCCESS;
 }
@@ -57,17 +62,10 @@ int species_scales(int64_t g, const gran_row_buf &b, const char *file) {
 /* The group's `time` scale on axis `off` of dataset `name` (the rows of buffer b), its species
  * scales on the species axes after it; off = 1 for X_replicas ([replica][time]...). */
 int attach_scales(int64_t g, const gran_row_buf &b, const char *name, int off, const char *file) {
-  hid_t d = H5Dopen2((hid_t)g, name, H5P_DEFAULT);
-  GRAN_CHECK(d >= 0, GRAN_ERR_IO, "cannot open dataset '%s' in '%s'", name, file);
-  herr_t e = 0;
-  for (size_t a = 0; a <= b.species_axes.size() && e >= 0; a++) {
-    hid_t sc = H5Dopen2((hid_t)g, a == 0 ? "time" : species_scale(a - 1), H5P_DEFAULT);
-    e = sc >= 0 ? H5DSattach_scale(d, sc, (unsigned)(off + (a == 0 ? 0 : 1 + b.species_axes[a - 1]))) : -1;
-    if (sc >= 0) H5Dclose(sc);
-  }
-  H5Dclose(d);
-  GRAN_CHECK(e >= 0, GRAN_ERR_IO, "HDF5: cannot attach the dimension scales of '%s/%s' in '%s'", b.group.c_str(), name, file);
-  return GRAN_SUCCESS;
+  std::vector<std::string> axes((size_t)off + 1 + b.row_dims.size());
+  axes[(size_t)off] = "time";
+  for (size_t a = 0; a < b.species_axes.size(); a++) axes[(size_t)(off + 1 + b.species_axes[a])] = species_scale(a);
+  return gran_attach_scales_(g, name, axes, file);
 }
 
 /* The _FillValue attribute (gran_row_fill) of dataset `name` in `loc`. */
@@ -307,11 +305,8 @@ int gran_make_scale_(int64_t loc, const char *name, const char *file) { return g
 
 int gran_species_scale_(int64_t loc, int64_t M, const char *file) {
   if (gran_h5::exists(loc, "species")) return GRAN_SUCCESS;
-  std::vector<int64_t> k((size_t)M);
-  for (int64_t i = 0; i < M; i++) k[(size_t)i] = i + 1;
-  GRAN_CALL(gran_h5::write_int64(loc, "species", {M}, k.data(), file));
-  GRAN_CALL(gran_describe_(loc, "species", "1", "species index k = 1..M (the species axis of this group's datasets)", file));
-  return gran_run::make_scale(loc, "species", file);
+  return gran_run::write_species_scale(loc, "species", M,
+                                       "species index k = 1..M (the species axis of this group's datasets)", file);
 }
 
 int gran_attach_scales_(int64_t loc, const char *name, const std::vector<std::string> &axes, const char *file) {

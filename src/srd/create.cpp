@@ -234,17 +234,23 @@ int create_by_cells(gran_srd *s) {
   return GRAN_SUCCESS;
 }
 
+/* the checks both cell-range entry points share: the options, the range, the counts */
+int range_args(const gran_srd_options *o, int64_t lo, int64_t hi, const int64_t *count, Layout *ly) {
+  GRAN_CHECK_PTR(o);
+  GRAN_CALL(srd_check_options_(o));
+  GRAN_CALL(layout_of(o, ly));
+  GRAN_CHECK(0 <= lo && lo <= hi && hi <= ly->ncell, GRAN_ERR_ARG, "cell range [%lld, %lld) is not inside [0, %lld)",
+             (long long)lo, (long long)hi, (long long)ly->ncell);
+  GRAN_CHECK(count != nullptr || hi == lo, GRAN_ERR_ARG, "argument 'count' is NULL");
+  return GRAN_SUCCESS;
+}
+
 } // namespace
 
 extern "C" int gran_srd_cell_counts_(const gran_srd_options *o, int64_t lo, int64_t hi, int64_t *count) {
   GRAN_TRY {
-    GRAN_CHECK_PTR(o);
-    GRAN_CALL(srd_check_options_(o));
     Layout ly;
-    GRAN_CALL(layout_of(o, &ly));
-    GRAN_CHECK(0 <= lo && lo <= hi && hi <= ly.ncell, GRAN_ERR_ARG, "cell range [%lld, %lld) is not inside [0, %lld)",
-               (long long)lo, (long long)hi, (long long)ly.ncell);
-    GRAN_CHECK(count != nullptr || hi == lo, GRAN_ERR_ARG, "argument 'count' is NULL");
+    GRAN_CALL(range_args(o, lo, hi, count, &ly));
     split(o->seed, 1, 0, ly.ncell, ly.n, lo, hi, count);
     return GRAN_SUCCESS;
   }
@@ -255,13 +261,8 @@ extern "C" int gran_srd_create_cells_(const gran_srd_options *o, int64_t lo, int
                                       double *x, double *y, double *z, double *vx, double *vy, double *vz,
                                       gran_exactsum *mom) {
   GRAN_TRY {
-    GRAN_CHECK_PTR(o);
-    GRAN_CALL(srd_check_options_(o));
     Layout ly;
-    GRAN_CALL(layout_of(o, &ly));
-    GRAN_CHECK(0 <= lo && lo <= hi && hi <= ly.ncell, GRAN_ERR_ARG, "cell range [%lld, %lld) is not inside [0, %lld)",
-               (long long)lo, (long long)hi, (long long)ly.ncell);
-    GRAN_CHECK(count != nullptr || hi == lo, GRAN_ERR_ARG, "argument 'count' is NULL");
+    GRAN_CALL(range_args(o, lo, hi, count, &ly));
     GRAN_CHECK(x && y && vx && vy && (o->dim == 2 || (z && vz)), GRAN_ERR_ARG, "a particle array is NULL");
     return create_range(o, ly, lo, hi, count, x, y, z, vx, vy, vz, mom);
   }
