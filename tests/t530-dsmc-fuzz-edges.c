@@ -7,8 +7,9 @@
  *    creation with GRAN_ERR_DOMAIN naming 'mass' (event selectors with and without aggregation,
  *    the cell selector); masses 1e-3 beside 1e3 stay accepted;
  *  - Bird's acceptance test: a bound whose square overflows (mass 1e-150, sigma 1e60), where no
- *    pair would ever be accepted and the advance would not end, is refused naming 'sigma'; the
- *    low-rank selector accepts the same gas and collides;
+ *    pair would ever be accepted and the advance would not end, is refused naming 'sigma', and so is
+ *    one whose right side (sigma^2)^2 g^2 underflows (sigma 1.75e-125); the low-rank selector accepts
+ *    both gases and collides;
  *  - the cell selector: a speed that streams more than 1e6 box lengths per step (mass 1e-150) is
  *    refused naming 'dt' before any position is converted to a cell index;
  *  - a2 of a cold gas (T0 = 1e-300, where c^4 underflows): the same as of the gas at T0 = 1 with
@@ -213,6 +214,28 @@ static void test_bird_acceptance(void **state) {
   for (int k = 0; k < 3; k++) assert_true(isfinite(e[k]));
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
+  /* the other end: sigma = 1.75e-125 (a fuzzed input), (sigma^2)^2 g^2 underflows to 0 and Bird's test
+   * compared 0 < 0 for ever; refused; the low-rank selector collides, and sigma = 1e-70 stays accepted */
+  const double small[2] = {1.75427e-125, 1e-70};
+  for (int c = 0; c < 2; c++) {
+    m = 1, s = small[c];
+    GRAN_ASSERT_OK(gran_mixture_create(1, &m, &s, &n, &mix));
+    GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.9));
+    o.selector = GRAN_SELECTOR_BIRD;
+    if (c == 0) {
+      expect_refused(gran_dsmc_create(mix, &count, &T0, &o, &d), GRAN_ERR_DOMAIN, "'sigma' of species 0");
+      expect_refused(gran_dsmc_create_agg(mix, &count, &T0, &o, &a, &d), GRAN_ERR_DOMAIN, "'sigma' of species 0");
+      assert_null(d);
+      o.selector = GRAN_SELECTOR_LOWRANK;
+    }
+    GRAN_ASSERT_OK(gran_dsmc_create(mix, &count, &T0, &o, &d));
+    GRAN_ASSERT_OK(gran_dsmc_advance_collisions(d, 200));
+    GRAN_ASSERT_OK(gran_dsmc_get_stats(d, &st));
+    assert_int_equal(st.collisions, 200);
+    assert_true(st.trials < 200 * 100);
+    GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+    GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
+  }
 }
 
 /* ---- the cell selector: streaming per step ----------------------------------------------------- */

@@ -5,7 +5,8 @@
  *    rows; the DSMC outline's aggregation scene gives T_1(60) = 0.934 (the cooling-mixture theory: 0.777);
  *  - GSRD free cooling: T(t) = T0 / (1 + t/tau)^2 with 1/tau = (1 - eps^2) sigma^2 (n0/a^d) sqrt(T0)
  *    (x 2/3 in 3-D) computed here, equal to the run driver's temperature/T_theory; the
- *    Poisson-occupancy factor against docs/physics.md (0.98882, 0.97728 at n0 = 10);
+ *    Poisson-occupancy factor against docs/physics.md (0.98882, 0.97728 at n0 = 10); T(t) stays finite
+ *    where the rate overflows (sigma = 1e154): T0 at t = 0, then the formula in long double to 1e-12;
  *  - GSRD shear viscosity: the CLI's numbers are gran_srd_viscosity_theory_'s, which is Eq. 1.48 /
  *    1.49 + collisional written out here (0.1306 at 2-D alpha = 90, n0 = 10, as the scenes say);
  *  - a scene without a theory exits 0 and says so; options without a theory exit 2 naming them.
@@ -236,6 +237,37 @@ static void test_gsrd_haff(void **state) {
   GRAN_ASSERT_ABS(gran_srd_haff_poisson_factor_(2, 1e4), 1 - 0.125e-4, 2e-7);
   GRAN_ASSERT_ABS(gran_srd_haff_poisson_factor_(3, 1e4), 1 - 0.25e-4, 2e-7);
   assert_true(gran_srd_haff_poisson_factor_(4, 10) == 0 && gran_srd_haff_poisson_factor_(2, -1) == 0);
+  { /* gran_srd_haff_T_: the formula where the rate is finite; a rate that overflows (sigma = 1e154, as a fuzzed
+     * scene had: 0 * inf = NaN at t = 0) gives T0 at t = 0, and finite values >= 0 after */
+    gran_srd_options h;
+    GRAN_ASSERT_OK(gran_srd_options_default(&h));
+    h.dim = 3;
+    h.eps = 0.9;
+    h.sigma = 0.1;
+    h.n0 = 10;
+    h.T0 = 2;
+    const double r = (2.0 / 3.0) * (1 - 0.81) * 0.01 * 10 * sqrt(2.0);
+    for (double t = 0; t < 1e4; t = 10 * t + 1) {
+      const double x = 1 + 0.97 * r * t;
+      GRAN_ASSERT_REL(gran_srd_haff_T_(&h, 0.97, t), 2 / (x * x), 1e-15);
+    }
+    h.sigma = 1e154;
+    h.T0 = 1e9;
+    h.n0 = 5;
+    assert_true(!isfinite(gran_srd_haff_rate_(&h)));
+    assert_true(gran_srd_haff_T_(&h, 1.0, 0.0) == 1e9);
+    /* against the formula in long double (its range holds the rate: about 5e-17 of 1e4932) */
+    const long double rl = (2.0L / 3.0L) * (1.0L - 0.81L) * 1e154L * 1e154L * 5.0L * sqrtl(1e9L);
+    const double ts[4] = {1e-300, 1e-154, 1e-150, 1e10};
+    for (int i = 0; i < 4; i++) {
+      const double T = gran_srd_haff_T_(&h, 1.0, ts[i]);
+      const long double x = 1.0L + rl * (long double)ts[i];
+      const double want = (double)(1e9L / (x * x));
+      assert_true(isfinite(T) && T >= 0);
+      if (want > 1e-300) GRAN_ASSERT_REL(T, want, 1e-12);
+      else assert_true(T < 1e-290);
+    }
+  }
 
   /* --lags and --approximation have no GSRD theory: exit 2 */
   char cmd[1200];

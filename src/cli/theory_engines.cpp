@@ -222,9 +222,8 @@ int cli_theory_srd(const gran_scene *s, const cli_theory_request &r) {
   const int64_t nt = (int64_t)r.times.size();
   std::vector<double> T((size_t)nt, NAN), Tp((size_t)nt, NAN);
   for (int64_t i = 0; i < nt && haff; i++) {
-    const double x = 1.0 + rate * r.times[(size_t)i], y = 1.0 + rate_p * r.times[(size_t)i];
-    T[(size_t)i] = o.T0 / (x * x);
-    Tp[(size_t)i] = o.T0 / (y * y);
+    T[(size_t)i] = gran_srd_haff_T_(&o, 1.0, r.times[(size_t)i]);
+    Tp[(size_t)i] = gran_srd_haff_T_(&o, pf, r.times[(size_t)i]);
   }
   std::vector<std::string> nc;
   double nu_kin = NAN, nu_coll = NAN;

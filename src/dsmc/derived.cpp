@@ -4,7 +4,7 @@
  * (m_i + m_j = inf: the collision factors 2 m_j / (m_i + m_j) are 0 or NaN), whose reduced mass
  * m_i m_j / (m_i + m_j) underflows, or so small that the speeds they imply square to inf; and
  * bounds whose squares, which the acceptance tests of the selectors compare, overflow (every
- * trial is then rejected: an advance that never ends). These rules refuse such inputs at creation
+ * trial is then rejected: an advance that never ends), or, in Bird's test, underflow (the same). These rules refuse such inputs at creation
  * with GRAN_ERR_DOMAIN naming the input (the mixture field 'mass' or 'sigma' of a species). */
 #include "dsmc_impl.h"
 #include <cfloat>
@@ -55,7 +55,7 @@ int dsmc_check_masses(double m_lo, int64_t k_lo, double m_hi, int64_t k_hi, doub
  * C_max = 2 sigma^2 b (b: the speed bound), low-rank (u (b_i + b_k))^2 < g^2. With b2 the largest
  * squared speed bound and sigma the largest diameter that can collide (species k), the squares
  * (2 sigma^2 b)^2 and (sigma^2)^2 4 b2 (Bird) or 4 b2 (low-rank) must be finite with kHeadroom. */
-int dsmc_check_acceptance(int bird, double sigma, int64_t k, double b2) {
+int dsmc_check_acceptance(int bird, double sigma, int64_t k, double b2, double sigma_min, int64_t k_min) {
   const double w = sigma * sigma, B = bird ? 2.0 * w * std::sqrt(b2) : 2.0 * std::sqrt(b2);
   const double sq = kHeadroom * B * B, wg = bird ? kHeadroom * (w * w) * 4.0 * b2 : kHeadroom * 4.0 * b2;
   GRAN_CHECK(std::isfinite(sq) && std::isfinite(wg), GRAN_ERR_DOMAIN,
@@ -63,6 +63,16 @@ int dsmc_check_acceptance(int bird, double sigma, int64_t k, double b2) {
              "selector's acceptance bound %g squares to %g, beyond double precision, so no candidate pair would ever "
              "be accepted (expected trials per collision unbounded; choose units with sigma and speeds nearer 1)",
              k, sigma, std::sqrt(b2), B, sq);
+  /* Bird's right side (sigma_ik^2)^2 g^2 of the smallest diameter (sigma_min, species k_min) at the
+   * speed bound: normal with kHeadroom, or every trial compares 0 < 0 (an advance that never ends);
+   * a gas at rest (bound 0) has no trials to fail */
+  const double wm = sigma_min * sigma_min, wgm = (wm * wm) * 4.0 * b2 / kHeadroom;
+  GRAN_CHECK(!bird || !(b2 > 0) || wgm >= DBL_MIN, GRAN_ERR_DOMAIN,
+             "mixture 'sigma' of species " GRAN_I64_FMT " = %g with speed bound %g (from the masses and 'T0'): Bird's "
+             "acceptance test compares (sigma^2)^2 g^2 = %g, below the smallest normal double, so no candidate pair "
+             "would ever be accepted (expected trials per collision unbounded; choose units with sigma and speeds "
+             "nearer 1)",
+             k_min, sigma_min, std::sqrt(b2), wgm);
   return GRAN_SUCCESS;
 }
 
@@ -71,14 +81,15 @@ int dsmc_check_acceptance(int bird, double sigma, int64_t k, double b2) {
  * the energy and the bounds are known finite), the speeds they imply and the selector's acceptance
  * squares (event selectors; with aggregation the diameter of that one cluster). */
 int dsmc_check_derived(const gran_dsmc *s, bool agg, bool speeds) {
-  double m_lo = INFINITY, m_hi = 0, mtot = 0, smax = 0, b2 = 0;
-  int64_t k_lo = 0, k_hi = 0, k_s = 0;
+  double m_lo = INFINITY, m_hi = 0, mtot = 0, smax = 0, smin = INFINITY, b2 = 0;
+  int64_t k_lo = 0, k_hi = 0, k_s = 0, k_m = 0;
   for (int64_t k = 0; k < s->M; k++) {
     if (s->count[(size_t)k] <= 0) continue;
     const double mk = s->mix.m[(size_t)k];
     if (mk < m_lo) m_lo = mk, k_lo = k;
     if (mk > m_hi) m_hi = mk, k_hi = k;
     if (s->mix.sigma[(size_t)k] > smax) smax = s->mix.sigma[(size_t)k], k_s = k;
+    if (s->mix.sigma[(size_t)k] < smin) smin = s->mix.sigma[(size_t)k], k_m = k;
     mtot += mk * (double)s->count[(size_t)k];
     b2 = std::fmax(b2, s->bound2[(size_t)k]);
   }
@@ -90,7 +101,7 @@ int dsmc_check_derived(const gran_dsmc *s, bool agg, bool speeds) {
   GRAN_CALL(dsmc_check_masses(m_lo, k_lo, agg ? mtot : m_hi, k_hi, E));
   if (!speeds || s->selector == GRAN_SELECTOR_CELL) return GRAN_SUCCESS; /* its bound is checked with 'dt' (cell.cpp) */
   const double sigma = agg ? smax * std::cbrt(mtot / m_lo) : smax;
-  return dsmc_check_acceptance(s->selector == GRAN_SELECTOR_BIRD, sigma, k_s, b2);
+  return dsmc_check_acceptance(s->selector == GRAN_SELECTOR_BIRD, sigma, k_s, b2, smin, k_m);
 }
 
 }  // namespace gran

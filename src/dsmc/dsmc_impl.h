@@ -363,8 +363,9 @@ DsmcLoopFn dsmc_class_loop(int paper, int disp, int counts, int rest, int tracer
 /* ---- derived.cpp: derived values of the inputs, checked at creation (GRAN_ERR_DOMAIN) ---- */
 /* the masses that can meet, m_lo (species k_lo) <= m_hi (species k_hi), with kinetic energy E */
 int dsmc_check_masses(double m_lo, int64_t k_lo, double m_hi, int64_t k_hi, double E);
-/* the squares of the selector's acceptance test (bird: Bird's C_max; else low-rank) */
-int dsmc_check_acceptance(int bird, double sigma, int64_t k, double b2);
+/* the squares of the selector's acceptance test (bird: Bird's C_max; else low-rank); sigma_min (species k_min):
+ * the smallest diameter present (Bird's right side must not underflow) */
+int dsmc_check_acceptance(int bird, double sigma, int64_t k, double b2, double sigma_min, int64_t k_min);
 /* both for a new engine after its velocities and bounds (agg: with aggregation; speeds: the
  * energy and the bounds are finite, check what they imply) */
 int dsmc_check_derived(const gran_dsmc *s, bool agg, bool speeds);

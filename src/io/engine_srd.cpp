@@ -304,17 +304,16 @@ class SrdEngine : public gran_engine {
       H5Obj g(H5Gopen2((hid_t)f, "temperature", H5P_DEFAULT), H5Gclose);
       std::vector<double> th((size_t)nrec);
       const double rate = haff_rate();
-      for (int64_t i = 0; i < nrec; ++i) {
-        const double x = 1.0 + rate * s_->times[(size_t)i];
-        th[(size_t)i] = o_.T0 / (x * x);
-      }
+      for (int64_t i = 0; i < nrec; ++i) th[(size_t)i] = gran_srd_haff_T_(&o_, 1.0, s_->times[(size_t)i]);
       GRAN_CALL(gran_h5::write_double(g.id, "T_theory", {nrec}, th.data(), file));
       GRAN_CALL(gran_describe_(g.id, "T_theory", "energy",
                                "Haff's law T0 / (1 + t / tau)^2 with the mean-field rate of Eq. 2.1: 1/tau = k (1 - eps^2) "
                                "sigma^2 (n0 / a^d) sqrt(T0), k = 1 in 2-D, 2/3 in 3-D (only the components perpendicular "
                                "to the axis are scaled)", file));
       GRAN_CALL(gran_attach_scales_(g.id, "T_theory", {"time"}, file));
-      GRAN_CALL(gran_h5::attr_double(g.id, "haff_rate", rate, file));
+      if (std::isfinite(rate)) GRAN_CALL(gran_h5::attr_double(g.id, "haff_rate", rate, file));
+      else gran_warning_add("GSRD: the mean-field Haff rate 1/tau overflows (sigma^2 = %g): temperature/T_theory is "
+                            "written from its logarithm, the attribute haff_rate is left out", o_.sigma * o_.sigma);
     }
     return write_snapshots(f, file, nrec);
   }

@@ -20,6 +20,10 @@ int gran_srd_haff_applies_(const gran_srd_options *o);
  * 1/tau = k (1 - eps^2) sigma^2 (n0 / a^d) sqrt(T0), k = 1 in 2-D, 2/3 in 3-D (only the velocity
  * components perpendicular to the rotation axis are scaled). T(t) = T0 / (1 + t / tau)^2. */
 double gran_srd_haff_rate_(const gran_srd_options *o);
+/* Haff's law T0 / (1 + f t / tau)^2 at time t >= 0 with the rate of gran_srd_haff_rate_ times f > 0
+ * (f = 1, or the Poisson factor), its product f t / tau formed from logarithms, so that a rate that
+ * overflows (sigma = 1e154) gives T0 at t = 0 and 0 after (never 0 * inf). */
+double gran_srd_haff_T_(const gran_srd_options *o, double f, double t);
 
 /* The factor by which Poisson occupancy of the cells (uncorrelated Maxwellian velocities, cell
  * temperature theta_c = 2 E_c / (d n_c), E_c the thermal energy of the cell relative to its mean

@@ -22,6 +22,24 @@ extern "C" double gran_srd_haff_rate_(const gran_srd_options *o) {
          std::sqrt(o->T0);
 }
 
+extern "C" double gran_srd_haff_T_(const gran_srd_options *o, double f, double t) {
+  if (!(t > 0)) return o->T0;
+  const double r = f * gran_srd_haff_rate_(o);
+  if (std::isfinite(r * t)) { /* the usual case, directly */
+    const double x = 1.0 + r * t;
+    return o->T0 / (x * x);
+  }
+  const double d = o->dim == 3 ? 3.0 : 2.0;
+  const double lx = std::log(t) + std::log(f) + std::log(o->dim == 3 ? 2.0 / 3.0 : 1.0) + std::log1p(-o->eps * o->eps) +
+                    2.0 * std::log(o->sigma) + std::log(o->n0) - d * std::log(o->a) + 0.5 * std::log(o->T0);
+  if (lx > 700.0) { /* T0 / x^2 with x = e^lx: from the logarithm, 0 where it underflows */
+    const double lT = std::log(o->T0) - 2.0 * lx;
+    return lT < -745.0 ? 0.0 : std::exp(lT);
+  }
+  const double x = 1.0 + std::exp(lx);
+  return o->T0 / (x * x);
+}
+
 extern "C" double gran_srd_haff_poisson_factor_(int dim, double n0) {
   if ((dim != 2 && dim != 3) || !(n0 > 0) || !std::isfinite(n0)) return 0.0;
   const double d = dim, ln0 = std::log(n0);
