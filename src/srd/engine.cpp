@@ -19,6 +19,7 @@
  */
 #include "srd/srd_impl.h"
 #include "srd/create.h"
+#include "srd/bricks.h"
 #include "srd/srd_limits.h"
 #include "srd/rules.h"
 #include "core/run_bounds.h"
@@ -808,6 +809,8 @@ GRAN_EXTERN int gran_srd_advance(gran_srd *s, int64_t steps) {
     GRAN_CHECK(gran::gran_run_steps_ok((double)steps, (double)s->n + (double)s->ncell, why, sizeof why), GRAN_ERR_ARG,
                "argument 'steps': %s", why);
     if (s->dev.p) return gran_srd_dev_advance(s, steps); /* device hook (owner: CUDA backend) */
+    /* the decomposable engine (creation by cells): the brick layer with one brick (bricks.cpp) */
+    if (s->opt.creation == GRAN_SRD_CREATE_CELLS) return srd_bricks_advance_(s, steps);
     const gran_srd_options &o = s->opt;
     const int32_t fx = srd_fx_of(&o); /* the step loop's template flags: the rules' effects */
     const bool dis = fx & SRD_FX_DISSIP;

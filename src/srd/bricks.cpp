@@ -1,0 +1,958 @@
+/* bricks.cpp - the decomposable GSRD engine: one box as P bricks of the binning grid (bricks.h;
+ * design and measurements: docs/developers/domain-decomposition.md, "Step 2").
+ *
+ * A brick holds a window [lo, lo + w) per axis of the binning grid (s->gm.nc cells per axis; the
+ * wall axis has L + 1 layers), the cells' persistent data of that window (reference velocity V,
+ * RNG state: stream gc + 1 of the seed for global cell gc), the particles whose cell of the
+ * current grid shift lies in the window, and a copy of the run's scalar state (time, step, the
+ * shift stream, the ledger). One step, on every brick (the phases below; the driver runs each
+ * phase on every brick before the next one, which is what an MPI rank does for its one brick):
+ *   stream:   draw the shift (the same draw on every brick), move the brick's particles
+ *             (srd_rule_move; its streaming terms kept per particle), bin each under the new
+ *             shift (srd_bin's arithmetic, Lees-Edwards included): the global cell, its owner;
+ *             the particles that left are packed, in local order, per destination and sent;
+ *   receive:  the arrivals (each sender's in key order) are sorted by key and merged into the
+ *             resident particles, which stay in key order;
+ *   sums:     a stable counting sort of the particles by local cell; per cell its sums in that
+ *             (key) order, and the per-particle streaming terms of its particles summed in the
+ *             same order into one double per cell, added to exact accumulators (one exact add per
+ *             cell and quantity); with the global thermostat the cells' thermal energies are
+ *             added exactly and all-reduced;
+ *   collide:  per cell srd_rule_cell (global cell index for the geometry, the cell's own RNG),
+ *             the rotation of its particles (srd_rule_collide), its energy change, virial and
+ *             Lees-Edwards work per cell into exact accumulators; at a sort step the particles
+ *             are reordered by cell and get new keys (global cell << 32 | rank in the cell);
+ *   finish:   the ledger accumulators are all-reduced and each step's exact sums rounded once
+ *             and added to the ledger doubles.
+ * Every particle's key orders it as the single-process array does, so a cell adds the same
+ * numbers in the same order on any split, and the exact sums do not depend on the order at all:
+ * results are bit for bit independent of the split. The single-process engine in this mode
+ * (gran_srd_advance with creation = GRAN_SRD_CREATE_CELLS) is this code with one brick. */
+#include "srd/bricks.h"
+#include "srd/srd_impl.h"
+#include "srd/rules.h"
+#include "core/exactsum.h"
+#include "../cuda/srd_cuda.h" /* srd_rule_const_of */
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+namespace {
+
+/* ---- the all-reduce record: exact accumulators, integer counts, a minimum ---- */
+enum { RQ_DE, RQ_VIR, RQ_LEW, RQ_FLUX, RQ_EXT, RQ_IMP, RQ_TH, RQ_N };
+struct Red {
+  gran_exactsum a[RQ_N];
+  int64_t clamped, dof;
+  double dt_max;
+  void clear() {
+    for (auto &q : a) gran_exactsum_init_(&q);
+    clamped = dof = 0;
+    dt_max = INFINITY;
+  }
+  void merge(const Red &o) {
+    for (int q = 0; q < RQ_N; ++q) gran_exactsum_merge_(&a[q], &o.a[q]);
+    clamped += o.clamped;
+    dof += o.dof;
+    dt_max = std::min(dt_max, o.dt_max);
+  }
+};
+
+/* ---- the transport between bricks ----
+ * Messages are arrays of 8-byte words. A round: every brick posts one message to every other
+ * brick (empty ones too), then takes the one from every other brick; an all-reduce: every brick
+ * posts its record, then takes the merge of all of them (exact: the same for any merge order).
+ * The in-process transport copies buffers; an MPI one maps send / recv to MPI_Isend / MPI_Recv and
+ * the all-reduce to MPI_Allreduce with a user-defined merge. */
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  virtual int size() const = 0;
+  virtual int send(int from, int to, const std::vector<double> &buf) = 0;
+  virtual int recv(int to, int from, std::vector<double> &buf) = 0;
+  virtual int reduce_post(int rank, const Red &r) = 0;
+  virtual int reduce_take(int rank, Red &r) = 0;
+};
+
+class LocalTransport final : public Transport {
+ public:
+  explicit LocalTransport(int p) : P(p), box((size_t)p * p), full((size_t)p * p, 0), red((size_t)p), rposted((size_t)p, 0) {}
+  int size() const override { return P; }
+  int send(int from, int to, const std::vector<double> &buf) override {
+    const size_t k = (size_t)from * P + to;
+    GRAN_CHECK(!full[k], GRAN_ERR_INTERNAL, "brick transport: a second message from brick %d to %d in one round", from, to);
+    box[k] = buf;
+    full[k] = 1;
+    bytes += (int64_t)(buf.size() * sizeof(double));
+    return GRAN_SUCCESS;
+  }
+  int recv(int to, int from, std::vector<double> &buf) override {
+    const size_t k = (size_t)from * P + to;
+    GRAN_CHECK(full[k], GRAN_ERR_INTERNAL, "brick transport: no message from brick %d to %d", from, to);
+    buf.swap(box[k]);
+    box[k].clear();
+    full[k] = 0;
+    return GRAN_SUCCESS;
+  }
+  int reduce_post(int rank, const Red &r) override {
+    GRAN_CHECK(!rposted[(size_t)rank], GRAN_ERR_INTERNAL, "brick transport: brick %d posted twice to one all-reduce", rank);
+    red[(size_t)rank] = r;
+    rposted[(size_t)rank] = 1;
+    ++posted;
+    return GRAN_SUCCESS;
+  }
+  int reduce_take(int rank, Red &r) override {
+    GRAN_CHECK(posted == P, GRAN_ERR_INTERNAL, "brick transport: brick %d takes an all-reduce that %d of %d bricks posted",
+               rank, posted, P);
+    if (taken == 0) {
+      sum.clear();
+      for (int b = 0; b < P; ++b) sum.merge(red[(size_t)b]);
+    }
+    r = sum;
+    if (++taken == P) {
+      posted = taken = 0;
+      std::fill(rposted.begin(), rposted.end(), 0);
+    }
+    return GRAN_SUCCESS;
+  }
+  int64_t bytes = 0;
+
+ private:
+  int P;
+  std::vector<std::vector<double>> box;
+  std::vector<char> full;
+  std::vector<Red> red;
+  std::vector<char> rposted;
+  int posted = 0, taken = 0;
+  Red sum;
+};
+
+/* ---- the split of the binning grid ---- */
+struct Split {
+  int P[3] = {1, 1, 1};
+  std::vector<int64_t> cut[3];  /* brick b along axis a holds grid indices [cut[a][b], cut[a][b + 1]) */
+  std::vector<int32_t> own[3];  /* grid index along a -> brick coordinate */
+  int nbricks() const { return P[0] * P[1] * P[2]; }
+  int rank(const int b[3]) const { return b[0] + P[0] * (b[1] + P[1] * b[2]); }
+};
+
+using CellVec = std::vector<srd_cpu_cell, srd_uninit_alloc<srd_cpu_cell>>;
+using RngVec = std::vector<gran_rng, srd_uninit_alloc<gran_rng>>;
+
+struct Brick {
+  int rank = 0;
+  int64_t lo[3] = {0, 0, 0}, w[3] = {1, 1, 1}, ncl = 1;
+  /* particles, in key order */
+  std::vector<double> x, y, z, vx, vy, vz;
+  std::vector<uint64_t> key;
+  std::vector<double> cf, ce, ci; /* this step's streaming terms: kinetic flux, external work, wall impulse */
+  std::vector<uint32_t> lc;       /* this step's local cell (top bit: seen across the Lees-Edwards boundary) */
+  /* cells of the window */
+  CellVec cell;
+  RngVec rng;
+  /* the run's scalar state (the same on every brick) */
+  gran_rng shift_rng;
+  double shift[3] = {0, 0, 0};
+  int64_t step = 0;
+  double time = 0, e_coll = 0, e_ext = 0, flux_kin = 0, flux_coll = 0, wall_impulse[3] = {0, 0, 0}, dt_max = INFINITY;
+  int64_t clamped = 0;
+  /* step work */
+  srd_geom g;
+  double sh[3] = {0, 0, 0};
+  std::vector<int32_t> dest;
+  std::vector<uint32_t> start, order;
+  std::vector<srd_cell_sum> W;
+  std::vector<std::vector<double>> out;
+  std::vector<double> in, arr;
+  Red red, red_th;
+  double gscale = 1.0; /* the global thermostat's factor of the step */
+  int64_t moved = 0; /* particles sent */
+};
+
+struct Ctx {
+  const gran_srd_options *o;
+  srd_geom gm;
+  srd_rule_const K;
+  Split sp;
+};
+
+constexpr uint32_t kLeBit = 0x80000000u;
+
+/* srd_bin's arithmetic, the three indices kept */
+inline void bin3(const srd_geom *gm, const double s[3], const double p[3], int64_t c[3], double *dvx) {
+  double px = p[0];
+  *dvx = 0.0;
+  c[0] = c[1] = c[2] = 0;
+  if (gm->dim > 1) {
+    int wrapped;
+    c[1] = srd_bin_y(gm, s, p, &wrapped);
+    if (wrapped && gm->le_on) {
+      px -= gm->le_dx;
+      *dvx = -gm->le_dv;
+    }
+  }
+  c[0] = srd_bin_index(gm, 0, px + s[0]);
+  if (gm->dim > 2) c[2] = srd_bin_index(gm, 2, p[2] + s[2]);
+}
+inline int owner_of(const Split &sp, const int64_t c[3]) {
+  const int b[3] = {sp.own[0][(size_t)c[0]], sp.own[1][(size_t)c[1]], sp.own[2][(size_t)c[2]]};
+  return sp.rank(b);
+}
+inline uint32_t local_of(const Brick &B, const int64_t c[3]) {
+  return (uint32_t)((c[0] - B.lo[0]) + B.w[0] * ((c[1] - B.lo[1]) + B.w[1] * (c[2] - B.lo[2])));
+}
+inline int64_t global_of(const Ctx &C, const Brick &B, int64_t l) {
+  const int64_t i0 = l % B.w[0], r = l / B.w[0], i1 = r % B.w[1], i2 = r / B.w[1];
+  return (B.lo[0] + i0) + C.gm.nc[0] * ((B.lo[1] + i1) + C.gm.nc[1] * (B.lo[2] + i2));
+}
+inline uint64_t key_of(double w) {
+  uint64_t k;
+  std::memcpy(&k, &w, sizeof k);
+  return k;
+}
+inline double word_of(uint64_t k) {
+  double w;
+  std::memcpy(&w, &k, sizeof w);
+  return w;
+}
+
+bool phase_timing() {
+  static const bool on = [] {
+    const char *e = std::getenv("GRAN_SRD_PHASES");
+    return e && e[0] == '1';
+  }();
+  return on;
+}
+inline double clock_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+enum { BP_STREAM, BP_RECV, BP_SUMS, BP_COLL, BP_SORT, BP_RED, BP_N };
+
+template <int FXF>
+struct Fx {
+  static constexpr bool LE = FXF & SRD_FX_LE, WALL = FXF & SRD_FX_WALL, ACCEL = FXF & SRD_FX_ACCEL,
+                        DISSIP = FXF & SRD_FX_DISSIP, STR = LE || WALL || ACCEL;
+};
+template <int DIM, int FXF>
+constexpr int words_per_particle() {
+  return 2 * DIM + 1 + (Fx<FXF>::STR ? 3 : 0);
+}
+
+/* stream, bin, pack and send the leavers */
+template <int DIM, int FXF>
+int phase_stream(const Ctx &C, Brick &B, Transport &T) {
+  using F = Fx<FXF>;
+  const int32_t fx = srd_rule_fx_fold(FXF, C.K.fx);
+  const gran_srd_options &o = *C.o;
+  const double dt = o.dt;
+  srd_geom g = C.gm;
+  if (F::LE) { /* offset at the end of the step */
+    double dx = std::fmod(o.shear_rate * g.box[1] * (B.time + dt), g.box[0]);
+    if (dx < 0) dx += g.box[0];
+    g.le_dx = dx;
+  }
+  if (F::WALL) g.wall_u_lo = o.vib_amp * o.vib_omega * std::cos(o.vib_omega * (B.time + dt));
+  for (int k = 0; k < 3; ++k) B.shift[k] = k < DIM ? srd_rng_uniform(&B.shift_rng) * o.a : 0.0;
+  const double sh[3] = {B.shift[0], B.shift[1], B.shift[2]};
+  B.g = g;
+  for (int k = 0; k < 3; ++k) B.sh[k] = sh[k];
+  const int64_t n = (int64_t)B.x.size();
+  if (F::STR) {
+    B.cf.resize((size_t)n);
+    B.ce.resize((size_t)n);
+    B.ci.resize((size_t)n);
+  }
+  B.dest.resize((size_t)n);
+  B.lc.resize((size_t)n);
+  double *px = B.x.data(), *py = B.y.data(), *pz = DIM == 3 ? B.z.data() : nullptr;
+  double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
+  const Split &sp = C.sp;
+  const bool single = sp.nbricks() == 1;
+  double chk = 0.0;
+  int64_t nleave = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+    double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+    double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
+    srd_rule_move(fx, DIM, &C.K, &g, p, v, acc);
+    chk += p[0] + p[1] + p[2];
+    px[i] = p[0];
+    py[i] = p[1];
+    vx[i] = v[0];
+    vy[i] = v[1];
+    if (DIM == 3) {
+      pz[i] = p[2];
+      vz[i] = v[2];
+    }
+    if (F::STR) {
+      B.cf[(size_t)i] = acc[SRD_ACC_FLUX];
+      B.ce[(size_t)i] = acc[SRD_ACC_EXT];
+      B.ci[(size_t)i] = acc[SRD_ACC_IMP];
+    }
+    int64_t c[3];
+    double dvx;
+    bin3(&g, sh, p, c, &dvx);
+    const int r = single ? B.rank : owner_of(sp, c);
+    if (r == B.rank) {
+      B.dest[(size_t)i] = -1;
+      B.lc[(size_t)i] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+    } else {
+      B.dest[(size_t)i] = r;
+      ++nleave;
+    }
+  }
+  if (chk - chk != 0.0) {
+    static const char *const names[6] = {"x", "y", "z", "vx", "vy", "vz"};
+    const double *a[6] = {px, py, pz, vx, vy, vz};
+    for (int64_t i = 0; i < n; ++i)
+      for (int q : {3, 4, 5, 0, 1, 2})
+        if (a[q] && !std::isfinite(a[q][i]))
+          return GRAN_ERROR(GRAN_ERR_NUMERIC,
+                            "GSRD step %lld: particle %lld of brick %d has a non-finite %s (%g) after its move; the run "
+                            "cannot continue",
+                            (long long)B.step + 1, (long long)i, B.rank, names[q], a[q][i]);
+  }
+  const int P = T.size();
+  if (P == 1) return GRAN_SUCCESS;
+  constexpr int WPP = words_per_particle<DIM, FXF>();
+  B.out.resize((size_t)P);
+  for (auto &m : B.out) m.clear();
+  int64_t k = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    const int d = B.dest[(size_t)i];
+    if (d < 0) {
+      if (k != i) {
+        px[k] = px[i];
+        py[k] = py[i];
+        vx[k] = vx[i];
+        vy[k] = vy[i];
+        if (DIM == 3) {
+          pz[k] = pz[i];
+          vz[k] = vz[i];
+        }
+        B.key[(size_t)k] = B.key[(size_t)i];
+        B.lc[(size_t)k] = B.lc[(size_t)i];
+        if (F::STR) {
+          B.cf[(size_t)k] = B.cf[(size_t)i];
+          B.ce[(size_t)k] = B.ce[(size_t)i];
+          B.ci[(size_t)k] = B.ci[(size_t)i];
+        }
+      }
+      ++k;
+      continue;
+    }
+    std::vector<double> &m = B.out[(size_t)d];
+    double rec[WPP];
+    int q = 0;
+    rec[q++] = px[i];
+    rec[q++] = py[i];
+    if (DIM == 3) rec[q++] = pz[i];
+    rec[q++] = vx[i];
+    rec[q++] = vy[i];
+    if (DIM == 3) rec[q++] = vz[i];
+    rec[q++] = word_of(B.key[(size_t)i]);
+    if (F::STR) {
+      rec[q++] = B.cf[(size_t)i];
+      rec[q++] = B.ce[(size_t)i];
+      rec[q++] = B.ci[(size_t)i];
+    }
+    m.insert(m.end(), rec, rec + WPP);
+  }
+  B.moved += nleave;
+  for (std::vector<double> *v : {&B.x, &B.y, &B.vx, &B.vy}) v->resize((size_t)k);
+  if (DIM == 3) {
+    B.z.resize((size_t)k);
+    B.vz.resize((size_t)k);
+  }
+  B.key.resize((size_t)k);
+  B.lc.resize((size_t)k);
+  if (F::STR) {
+    B.cf.resize((size_t)k);
+    B.ce.resize((size_t)k);
+    B.ci.resize((size_t)k);
+  }
+  for (int r = 0; r < P; ++r)
+    if (r != B.rank) GRAN_CALL(T.send(B.rank, r, B.out[(size_t)r]));
+  return GRAN_SUCCESS;
+}
+
+/* receive the arrivals and merge them into the residents by key */
+template <int DIM, int FXF>
+int phase_recv(const Ctx &C, Brick &B, Transport &T) {
+  using F = Fx<FXF>;
+  const int P = T.size();
+  if (P == 1) return GRAN_SUCCESS;
+  constexpr int WPP = words_per_particle<DIM, FXF>();
+  B.arr.clear();
+  for (int r = 0; r < P; ++r) {
+    if (r == B.rank) continue;
+    GRAN_CALL(T.recv(B.rank, r, B.in));
+    B.arr.insert(B.arr.end(), B.in.begin(), B.in.end());
+  }
+  const int64_t m = (int64_t)(B.arr.size() / WPP);
+  if (m == 0) return GRAN_SUCCESS;
+  const double *A = B.arr.data();
+  constexpr int KW = 2 * DIM; /* the key's word */
+  std::vector<int64_t> ord((size_t)m);
+  std::iota(ord.begin(), ord.end(), 0);
+  std::sort(ord.begin(), ord.end(), [&](int64_t a, int64_t b) { return key_of(A[a * WPP + KW]) < key_of(A[b * WPP + KW]); });
+  const int64_t nr = (int64_t)B.x.size(), n = nr + m;
+  std::vector<double> x((size_t)n), y((size_t)n), z(DIM == 3 ? (size_t)n : 0), vx((size_t)n), vy((size_t)n),
+      vz(DIM == 3 ? (size_t)n : 0), cf(F::STR ? (size_t)n : 0), ce(F::STR ? (size_t)n : 0), ci(F::STR ? (size_t)n : 0);
+  std::vector<uint64_t> key((size_t)n);
+  std::vector<uint32_t> lc((size_t)n);
+  int64_t i = 0, j = 0;
+  for (int64_t t = 0; t < n; ++t) {
+    const bool take_arrival = j < m && (i >= nr || key_of(A[ord[(size_t)j] * WPP + KW]) < B.key[(size_t)i]);
+    if (!take_arrival) {
+      x[(size_t)t] = B.x[(size_t)i];
+      y[(size_t)t] = B.y[(size_t)i];
+      vx[(size_t)t] = B.vx[(size_t)i];
+      vy[(size_t)t] = B.vy[(size_t)i];
+      if (DIM == 3) {
+        z[(size_t)t] = B.z[(size_t)i];
+        vz[(size_t)t] = B.vz[(size_t)i];
+      }
+      key[(size_t)t] = B.key[(size_t)i];
+      lc[(size_t)t] = B.lc[(size_t)i];
+      if (F::STR) {
+        cf[(size_t)t] = B.cf[(size_t)i];
+        ce[(size_t)t] = B.ce[(size_t)i];
+        ci[(size_t)t] = B.ci[(size_t)i];
+      }
+      ++i;
+      continue;
+    }
+    const double *rec = A + ord[(size_t)j] * WPP;
+    ++j;
+    int q = 0;
+    double p[3] = {0, 0, 0};
+    p[0] = x[(size_t)t] = rec[q++];
+    p[1] = y[(size_t)t] = rec[q++];
+    if (DIM == 3) p[2] = z[(size_t)t] = rec[q++];
+    vx[(size_t)t] = rec[q++];
+    vy[(size_t)t] = rec[q++];
+    if (DIM == 3) vz[(size_t)t] = rec[q++];
+    key[(size_t)t] = key_of(rec[q++]);
+    if (F::STR) {
+      cf[(size_t)t] = rec[q++];
+      ce[(size_t)t] = rec[q++];
+      ci[(size_t)t] = rec[q++];
+    }
+    int64_t c[3];
+    double dvx;
+    bin3(&B.g, B.sh, p, c, &dvx);
+    GRAN_CHECK(owner_of(C.sp, c) == B.rank, GRAN_ERR_INTERNAL, "brick %d received a particle of brick %d", B.rank,
+               owner_of(C.sp, c));
+    lc[(size_t)t] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+  }
+  B.x.swap(x);
+  B.y.swap(y);
+  B.vx.swap(vx);
+  B.vy.swap(vy);
+  if (DIM == 3) {
+    B.z.swap(z);
+    B.vz.swap(vz);
+  }
+  B.key.swap(key);
+  B.lc.swap(lc);
+  if (F::STR) {
+    B.cf.swap(cf);
+    B.ce.swap(ce);
+    B.ci.swap(ci);
+  }
+  return GRAN_SUCCESS;
+}
+
+/* the particles by local cell (stable counting sort), the cell sums, the streaming terms per cell,
+ * the thermostat's sums (posted) */
+template <int DIM, int FXF>
+int phase_sums(const Ctx &C, Brick &B, Transport &T) {
+  using F = Fx<FXF>;
+  const int32_t fx = srd_rule_fx_fold(FXF, C.K.fx);
+  const int64_t n = (int64_t)B.x.size(), ncl = B.ncl;
+  B.start.assign((size_t)ncl + 1, 0);
+  B.order.resize((size_t)n);
+  uint32_t *start = B.start.data(), *order = B.order.data();
+  const uint32_t *lc = B.lc.data();
+  for (int64_t i = 0; i < n; ++i) start[(lc[i] & ~kLeBit) + 1]++;
+  for (int64_t c = 0; c < ncl; ++c) start[c + 1] += start[c];
+  {
+    std::vector<uint32_t> cur(B.start.begin(), B.start.end() - 1);
+    for (int64_t i = 0; i < n; ++i) order[cur[lc[i] & ~kLeBit]++] = (uint32_t)i;
+  }
+  B.W.resize((size_t)ncl);
+  B.red.clear();
+  B.red_th.clear();
+  const double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
+  const double ledv = B.g.le_dv;
+  for (int64_t c = 0; c < ncl; ++c) {
+    srd_cell_sum &cs = B.W[(size_t)c];
+    srd_sum_clear(&cs);
+    const uint32_t j0 = start[c], j1 = start[c + 1];
+    if (j0 == j1) continue;
+    const double *ref = B.cell[(size_t)c].V;
+    double pf = 0.0, pe = 0.0, pi = 0.0;
+    for (uint32_t j = j0; j < j1; ++j) {
+      const uint32_t i = order[j];
+      double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+      if (F::LE && (lc[i] & kLeBit)) v[0] += -ledv;
+      srd_sum_add(&cs, v, ref, DIM);
+      if (F::STR) {
+        pf += B.cf[i];
+        pe += B.ce[i];
+        pi += B.ci[i];
+      }
+    }
+    if (F::STR) {
+      if (F::LE) gran_exactsum_add_(&B.red.a[RQ_FLUX], pf);
+      gran_exactsum_add_(&B.red.a[RQ_EXT], pe);
+      if (F::WALL) gran_exactsum_add_(&B.red.a[RQ_IMP], pi);
+    }
+    if (fx & SRD_FX_GTHERMO) {
+      double e, d;
+      if (srd_rule_thermal(DIM, &cs, ref, &e, &d)) {
+        gran_exactsum_add_(&B.red_th.a[RQ_TH], e);
+        B.red_th.dof += (int64_t)d;
+      }
+    }
+  }
+  if (fx & SRD_FX_GTHERMO) GRAN_CALL(T.reduce_post(B.rank, B.red_th));
+  return GRAN_SUCCESS;
+}
+
+/* the global thermostat's factor from the all-reduced thermal energy and degrees of freedom */
+template <int DIM, int FXF>
+int phase_thermo(const Ctx &C, Brick &B, Transport &T) {
+  if (!(srd_rule_fx_fold(FXF, C.K.fx) & SRD_FX_GTHERMO)) return GRAN_SUCCESS;
+  Red th;
+  th.clear();
+  GRAN_CALL(T.reduce_take(B.rank, th));
+  B.gscale = srd_rule_gscale(gran_exactsum_value_(&th.a[RQ_TH]), (double)th.dof, C.K.T0);
+  return GRAN_SUCCESS;
+}
+
+/* the cells' rules, the rotation, the sort; the ledger posted */
+template <int DIM, int FXF>
+int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
+  using F = Fx<FXF>;
+  const int32_t fx = srd_rule_fx_fold(FXF, C.K.fx);
+  const double gscale = (fx & SRD_FX_GTHERMO) ? B.gscale : 1.0;
+  const int64_t ncl = B.ncl;
+  const uint32_t *start = B.start.data(), *order = B.order.data(), *lc = B.lc.data();
+  double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
+  const double *py = B.y.data();
+  const srd_geom g = B.g;
+  const double sh[3] = {B.sh[0], B.sh[1], B.sh[2]};
+  for (int64_t c = 0; c < ncl; ++c) {
+    const srd_cell_sum cs = B.W[(size_t)c];
+    srd_cell_rot cr;
+    int cl;
+    double dtm;
+    srd_rule_cell(fx, DIM, &C.K, &g, sh, global_of(C, B, c), &cs, gscale, B.cell[(size_t)c].V, &B.rng[(size_t)c], &cr,
+                  &cl, &dtm);
+    if (cl) {
+      ++B.red.clamped;
+      B.red.dt_max = std::min(B.red.dt_max, dtm);
+    }
+    const uint32_t j0 = start[c], j1 = start[c + 1];
+    if (j0 == j1) continue;
+    double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
+    for (uint32_t j = j0; j < j1; ++j) {
+      const uint32_t i = order[j];
+      double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+      const double dvx = F::LE && (lc[i] & kLeBit) ? -g.le_dv : 0.0;
+      srd_rule_collide(fx, DIM, &C.K, &g, &cr, dvx, py[i], v, acc);
+      vx[i] = v[0];
+      vy[i] = v[1];
+      if (DIM == 3) vz[i] = v[2];
+    }
+    if (F::DISSIP || F::WALL) gran_exactsum_add_(&B.red.a[RQ_DE], acc[SRD_ACC_DE]);
+    if (F::LE) {
+      gran_exactsum_add_(&B.red.a[RQ_VIR], acc[SRD_ACC_VIR]);
+      gran_exactsum_add_(&B.red.a[RQ_LEW], acc[SRD_ACC_LEW]);
+    }
+  }
+  const gran_srd_options &o = *C.o;
+  if (o.sort_every > 0 && (B.step + 1) % o.sort_every == 0) {
+    const double t0 = t_sort ? clock_s() : 0.0;
+    const int64_t n = (int64_t)B.x.size();
+    std::vector<double> tmp((size_t)n);
+    std::vector<double> *arr[6] = {&B.x, &B.y, &B.z, &B.vx, &B.vy, &B.vz};
+    for (int q = 0; q < 6; ++q) {
+      if (DIM == 2 && (q == 2 || q == 5)) continue;
+      std::vector<double> &A = *arr[q];
+      for (int64_t j = 0; j < n; ++j) tmp[(size_t)j] = A[order[j]];
+      A.swap(tmp);
+    }
+    for (int64_t c = 0; c < ncl; ++c) {
+      const uint64_t gc = (uint64_t)global_of(C, B, c) << 32;
+      for (uint32_t j = start[c]; j < start[c + 1]; ++j) B.key[j] = gc | (uint64_t)(j - start[c]);
+    }
+    if (t_sort) *t_sort += clock_s() - t0;
+  }
+  return T.reduce_post(B.rank, B.red);
+}
+
+/* the step's ledger (all-reduced; each exact sum rounded once) */
+template <int DIM, int FXF>
+int phase_finish(const Ctx &C, Brick &B, Transport &T) {
+  using F = Fx<FXF>;
+  Red r;
+  r.clear();
+  GRAN_CALL(T.reduce_take(B.rank, r));
+  if (F::STR) {
+    if (F::LE) B.flux_kin += gran_exactsum_value_(&r.a[RQ_FLUX]);
+    B.e_ext += gran_exactsum_value_(&r.a[RQ_EXT]);
+    if (F::WALL) B.wall_impulse[C.gm.wall_axis] += gran_exactsum_value_(&r.a[RQ_IMP]);
+  }
+  if (F::DISSIP || F::WALL) B.e_coll += gran_exactsum_value_(&r.a[RQ_DE]);
+  if (F::LE) {
+    B.flux_coll += gran_exactsum_value_(&r.a[RQ_VIR]);
+    B.e_ext += gran_exactsum_value_(&r.a[RQ_LEW]);
+  }
+  B.clamped += r.clamped;
+  B.dt_max = std::min(B.dt_max, r.dt_max);
+  B.time += C.o->dt;
+  B.step += 1;
+  return GRAN_SUCCESS;
+}
+
+/* nsteps steps of every brick in bs (an MPI rank: its one brick), each phase on every brick
+ * before the next phase */
+template <int DIM, int FXF>
+int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps) {
+  const bool prof = phase_timing();
+  double ph[BP_N] = {0, 0, 0, 0, 0, 0};
+  double tq = prof ? clock_s() : 0.0;
+  auto lap = [&](int k) {
+    if (!prof) return;
+    const double t = clock_s();
+    ph[k] += t - tq;
+    tq = t;
+  };
+  double tsort = 0.0;
+  for (int64_t st = 0; st < nsteps; ++st) {
+    for (Brick &B : bs) GRAN_CALL((phase_stream<DIM, FXF>(C, B, T)));
+    lap(BP_STREAM);
+    for (Brick &B : bs) GRAN_CALL((phase_recv<DIM, FXF>(C, B, T)));
+    lap(BP_RECV);
+    for (Brick &B : bs) GRAN_CALL((phase_sums<DIM, FXF>(C, B, T)));
+    lap(BP_SUMS);
+    for (Brick &B : bs) GRAN_CALL((phase_thermo<DIM, FXF>(C, B, T)));
+    for (Brick &B : bs) GRAN_CALL((phase_collide<DIM, FXF>(C, B, T, prof ? &tsort : nullptr)));
+    lap(BP_COLL);
+    for (Brick &B : bs) GRAN_CALL((phase_finish<DIM, FXF>(C, B, T)));
+    lap(BP_RED);
+  }
+  if (prof && nsteps > 0) {
+    int64_t n = 0;
+    for (const Brick &B : bs) n += (int64_t)B.x.size();
+    const double u = 1e9 / ((double)n * (double)nsteps);
+    std::fprintf(stderr,
+                 "GSRD bricks phases, ns per particle-step (%lld steps, %lld particles, %d bricks): stream + bin + pack "
+                 "%.2f, receive + merge %.2f, cell order + sums %.2f, cell rules + rotation %.2f (sort %.2f of it), "
+                 "ledger %.2f\n",
+                 (long long)nsteps, (long long)n, (int)bs.size(), ph[BP_STREAM] * u, ph[BP_RECV] * u, ph[BP_SUMS] * u,
+                 ph[BP_COLL] * u, tsort * u, ph[BP_RED] * u);
+  }
+  return GRAN_SUCCESS;
+}
+
+using run_fn = int (*)(const Ctx &, std::vector<Brick> &, Transport &, int64_t);
+constexpr int fxf_of(int i) {
+  return (i & 1 ? SRD_FX_ACCEL : 0) | (i & 2 ? SRD_FX_WALL : 0) | (i & 4 ? SRD_FX_LE : 0) | (i & 8 ? SRD_FX_DISSIP : 0);
+}
+template <int DIM, int... I>
+constexpr std::array<run_fn, 16> table_of(std::integer_sequence<int, I...>) {
+  return {{&run_steps<DIM, fxf_of(I)>...}};
+}
+run_fn pick(int dim, int32_t fx) {
+  static constexpr std::array<run_fn, 16> t2 = table_of<2>(std::make_integer_sequence<int, 16>{});
+  static constexpr std::array<run_fn, 16> t3 = table_of<3>(std::make_integer_sequence<int, 16>{});
+  const int i = (fx & SRD_FX_ACCEL ? 1 : 0) | (fx & SRD_FX_WALL ? 2 : 0) | (fx & SRD_FX_LE ? 4 : 0) |
+                (fx & SRD_FX_DISSIP ? 8 : 0);
+  return dim == 2 ? t2[(size_t)i] : t3[(size_t)i];
+}
+
+int make_ctx(const gran_srd *s, const int pg[3], Ctx &C) {
+  C.o = &s->opt;
+  C.gm = s->gm;
+  const gran_cuda_srd_params prm = srd_params_of(s);
+  C.K = srd_rule_const_of(&prm);
+  for (int a = 0; a < 3; ++a) {
+    const int64_t nc = s->gm.nc[a];
+    GRAN_CHECK(pg[a] >= 1 && (int64_t)pg[a] <= nc, GRAN_ERR_ARG,
+               "argument 'pgrid[%d]' must be in [1, %lld] (the binning grid's cells along axis %d; got %d)", a,
+               (long long)nc, a, pg[a]);
+    C.sp.P[a] = pg[a];
+    C.sp.cut[a].resize((size_t)pg[a] + 1);
+    for (int b = 0; b <= pg[a]; ++b) C.sp.cut[a][(size_t)b] = (int64_t)b * nc / pg[a];
+    C.sp.own[a].resize((size_t)nc);
+    for (int b = 0; b < pg[a]; ++b)
+      for (int64_t i = C.sp.cut[a][(size_t)b]; i < C.sp.cut[a][(size_t)b + 1]; ++i) C.sp.own[a][(size_t)i] = b;
+  }
+  return GRAN_SUCCESS;
+}
+
+void window_of(const Ctx &C, int rank, Brick &B) {
+  B.rank = rank;
+  int b[3] = {rank % C.sp.P[0], (rank / C.sp.P[0]) % C.sp.P[1], rank / (C.sp.P[0] * C.sp.P[1])};
+  B.ncl = 1;
+  for (int a = 0; a < 3; ++a) {
+    B.lo[a] = C.sp.cut[a][(size_t)b[a]];
+    B.w[a] = C.sp.cut[a][(size_t)b[a] + 1] - B.lo[a];
+    B.ncl *= B.w[a];
+  }
+}
+
+void scalars_from(const gran_srd *s, Brick &B) {
+  B.shift_rng = s->shift_rng;
+  for (int k = 0; k < 3; ++k) B.shift[k] = s->shift[k];
+  B.step = s->step;
+  B.time = s->time;
+  B.e_coll = s->e_coll;
+  B.e_ext = s->e_ext;
+  B.flux_kin = s->flux_kin;
+  B.flux_coll = s->flux_coll;
+  for (int k = 0; k < 3; ++k) B.wall_impulse[k] = s->wall_impulse[k];
+  B.clamped = s->clamped;
+  B.dt_max = s->dt_max;
+}
+void scalars_to(const Brick &B, gran_srd *s) {
+  s->shift_rng = B.shift_rng;
+  for (int k = 0; k < 3; ++k) s->shift[k] = B.shift[k];
+  s->step = B.step;
+  s->time = B.time;
+  s->e_coll = B.e_coll;
+  s->e_ext = B.e_ext;
+  s->flux_kin = B.flux_kin;
+  s->flux_coll = B.flux_coll;
+  for (int k = 0; k < 3; ++k) s->wall_impulse[k] = B.wall_impulse[k];
+  s->clamped = B.clamped;
+  s->dt_max = B.dt_max;
+}
+
+/* the state's arrays lent to one brick, given back whatever happens */
+struct Lend {
+  gran_srd *s;
+  Brick &B;
+  Lend(gran_srd *s_, Brick &B_) : s(s_), B(B_) { swap_all(); }
+  ~Lend() { swap_all(); }
+  void swap_all() {
+    s->x.swap(B.x);
+    s->y.swap(B.y);
+    s->z.swap(B.z);
+    s->vx.swap(B.vx);
+    s->vy.swap(B.vy);
+    s->vz.swap(B.vz);
+    s->cell.swap(B.cell);
+    s->rng.swap(B.rng);
+  }
+};
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+double *dup_of(const std::vector<double> &v) {
+  double *p = (double *)std::malloc(std::max<size_t>(1, v.size()) * sizeof(double));
+  if (p && !v.empty()) std::memcpy(p, v.data(), v.size() * sizeof(double));
+  return p;
+}
+
+} // namespace
+
+int srd_bricks_advance_(gran_srd *s, int64_t steps) {
+  GRAN_TRY {
+    const int pg[3] = {1, 1, 1};
+    Ctx C;
+    GRAN_CALL(make_ctx(s, pg, C));
+    std::vector<Brick> bs(1);
+    Brick &B = bs[0];
+    window_of(C, 0, B);
+    scalars_from(s, B);
+    int e;
+    {
+      Lend lend(s, B);
+      B.key.resize(B.x.size()); /* key = index: valid until the first sort (only one epoch is compared) */
+      std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
+      LocalTransport T(1);
+      e = pick(s->opt.dim, srd_fx_of(&s->opt))(C, bs, T, steps);
+    }
+    scalars_to(B, s); /* the steps done (on an error: up to the step that failed) */
+    return e;
+  }
+  GRAN_CATCH
+}
+
+extern "C" void srd_bricks_out_free_(srd_bricks_out *out) {
+  if (!out) return;
+  double **a[7] = {&out->x, &out->y, &out->z, &out->vx, &out->vy, &out->vz, &out->V};
+  for (double **p : a) {
+    std::free(*p);
+    *p = nullptr;
+  }
+  std::free(out->rng);
+  out->rng = nullptr;
+}
+
+static int gather_scalars(const gran_srd *s, srd_bricks_out *out) {
+  out->time = s->time;
+  out->e_initial = s->e_initial;
+  out->e_coll = s->e_coll;
+  out->e_ext = s->e_ext;
+  out->flux_kin = s->flux_kin;
+  out->flux_coll = s->flux_coll;
+  for (int k = 0; k < 3; ++k) out->wall_impulse[k] = s->wall_impulse[k];
+  out->dt_max = s->dt_max;
+  out->step = s->step;
+  out->clamped = s->clamped;
+  return GRAN_SUCCESS;
+}
+
+extern "C" int srd_bricks_gather_plain_(const gran_srd *s, srd_bricks_out *out) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(s);
+    GRAN_CHECK_PTR(out);
+    std::memset(out, 0, sizeof *out);
+    const bool d3 = s->opt.dim == 3;
+    out->n = s->n;
+    out->x = dup_of(s->x);
+    out->y = dup_of(s->y);
+    out->vx = dup_of(s->vx);
+    out->vy = dup_of(s->vy);
+    if (d3) {
+      out->z = dup_of(s->z);
+      out->vz = dup_of(s->vz);
+    }
+    out->ncell = s->ncell;
+    out->V = (double *)std::malloc((size_t)s->ncell * 3 * sizeof(double));
+    out->rng = (uint64_t *)std::malloc((size_t)s->ncell * 4 * sizeof(uint64_t));
+    if (!out->x || !out->y || !out->vx || !out->vy || (d3 && (!out->z || !out->vz)) || !out->V || !out->rng) {
+      srd_bricks_out_free_(out);
+      return GRAN_ERROR(GRAN_ERR_NOMEM, "out of memory");
+    }
+    for (int64_t c = 0; c < s->ncell; ++c) {
+      for (int k = 0; k < 3; ++k) out->V[3 * c + k] = s->cell[(size_t)c].V[k];
+      for (int k = 0; k < 4; ++k) out->rng[4 * c + k] = s->rng[(size_t)c].s[k];
+    }
+    return gather_scalars(s, out);
+  }
+  GRAN_CATCH
+}
+
+extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, srd_bricks_out *out) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(opt);
+    GRAN_CHECK_PTR(pgrid);
+    GRAN_CHECK_PTR(out);
+    std::memset(out, 0, sizeof *out);
+    GRAN_CHECK(opt->creation == GRAN_SRD_CREATE_CELLS, GRAN_ERR_ARG,
+               "option 'creation' must be GRAN_SRD_CREATE_CELLS (the decomposable engine) for a brick run (got %d)",
+               (int)opt->creation);
+    GRAN_CHECK(nsteps >= 0, GRAN_ERR_ARG, "argument 'nsteps' must be >= 0 (got %lld)", (long long)nsteps);
+    for (int a = opt->dim; a < 3; ++a)
+      GRAN_CHECK(pgrid[a] == 1, GRAN_ERR_ARG, "argument 'pgrid[%d]' must be 1 in %d-D (got %d)", a, (int)opt->dim,
+                 pgrid[a]);
+    gran_srd *s = nullptr;
+    GRAN_CALL(gran_srd_create(opt, &s));
+    std::unique_ptr<gran_srd, void (*)(gran_srd *)> hold(s, [](gran_srd *p) { gran_srd_destroy(&p); });
+    GRAN_CHECK(s->dev.p == nullptr, GRAN_ERR_ARG, "a brick run is a CPU run (option 'device' must select the CPU)");
+    Ctx C;
+    GRAN_CALL(make_ctx(s, pgrid, C));
+    const int P = C.sp.nbricks();
+    std::vector<Brick> bs((size_t)P);
+    const int d = s->opt.dim;
+    for (int r = 0; r < P; ++r) {
+      Brick &B = bs[(size_t)r];
+      window_of(C, r, B);
+      scalars_from(s, B);
+      B.cell.resize((size_t)B.ncl);
+      B.rng.resize((size_t)B.ncl);
+      for (int64_t l = 0; l < B.ncl; ++l) {
+        const int64_t gc = global_of(C, B, l);
+        B.cell[(size_t)l] = s->cell[(size_t)gc];
+        B.rng[(size_t)l] = s->rng[(size_t)gc];
+      }
+    }
+    /* each particle to the brick of its cell under no shift (the first step bins it again), in
+     * index order: key = index */
+    const double zero[3] = {0, 0, 0};
+    for (int64_t i = 0; i < s->n; ++i) {
+      const double p[3] = {s->x[(size_t)i], s->y[(size_t)i], d == 3 ? s->z[(size_t)i] : 0.0};
+      int64_t c[3];
+      double dvx;
+      bin3(&C.gm, zero, p, c, &dvx);
+      Brick &B = bs[(size_t)owner_of(C.sp, c)];
+      B.x.push_back(p[0]);
+      B.y.push_back(p[1]);
+      B.vx.push_back(s->vx[(size_t)i]);
+      B.vy.push_back(s->vy[(size_t)i]);
+      if (d == 3) {
+        B.z.push_back(p[2]);
+        B.vz.push_back(s->vz[(size_t)i]);
+      }
+      B.key.push_back((uint64_t)i);
+    }
+    LocalTransport T(P);
+    GRAN_CALL(pick(d, srd_fx_of(&s->opt))(C, bs, T, nsteps));
+    /* gather: every brick holds the same scalar state */
+    for (int r = 1; r < P; ++r) {
+      const Brick &A = bs[0], &B = bs[(size_t)r];
+      GRAN_CHECK(same_bits(A.e_coll, B.e_coll) && same_bits(A.e_ext, B.e_ext) && same_bits(A.flux_kin, B.flux_kin) &&
+                     same_bits(A.flux_coll, B.flux_coll) && A.clamped == B.clamped && A.step == B.step &&
+                     std::memcmp(&A.shift_rng, &B.shift_rng, sizeof A.shift_rng) == 0,
+                 GRAN_ERR_INTERNAL, "brick %d's scalar state differs from brick 0's", r);
+    }
+    std::vector<std::pair<uint64_t, std::pair<int, int64_t>>> all;
+    all.reserve((size_t)s->n);
+    for (int r = 0; r < P; ++r)
+      for (size_t i = 0; i < bs[(size_t)r].key.size(); ++i) all.push_back({bs[(size_t)r].key[i], {r, (int64_t)i}});
+    GRAN_CHECK((int64_t)all.size() == s->n, GRAN_ERR_INTERNAL, "the bricks hold %lld particles, not %lld",
+               (long long)all.size(), (long long)s->n);
+    std::sort(all.begin(), all.end());
+    for (int64_t i = 0; i < s->n; ++i) {
+      const Brick &B = bs[(size_t)all[(size_t)i].second.first];
+      const size_t j = (size_t)all[(size_t)i].second.second;
+      s->x[(size_t)i] = B.x[j];
+      s->y[(size_t)i] = B.y[j];
+      s->vx[(size_t)i] = B.vx[j];
+      s->vy[(size_t)i] = B.vy[j];
+      if (d == 3) {
+        s->z[(size_t)i] = B.z[j];
+        s->vz[(size_t)i] = B.vz[j];
+      }
+    }
+    for (int r = 0; r < P; ++r) {
+      const Brick &B = bs[(size_t)r];
+      for (int64_t l = 0; l < B.ncl; ++l) {
+        const int64_t gc = global_of(C, B, l);
+        s->cell[(size_t)gc] = B.cell[(size_t)l];
+        s->rng[(size_t)gc] = B.rng[(size_t)l];
+      }
+    }
+    scalars_to(bs[0], s);
+    GRAN_CALL(srd_bricks_gather_plain_(s, out));
+    int64_t moved = 0;
+    for (const Brick &B : bs) moved += B.moved;
+    out->bytes_sent = T.bytes;
+    out->particles_sent = moved;
+    int64_t faces = 0;
+    for (int a = 0; a < d; ++a) {
+      if (C.sp.P[a] == 1) continue;
+      const int64_t per_row = a == s->opt.wall_axis ? C.sp.P[a] - 1 : C.sp.P[a];
+      faces += per_row * (P / C.sp.P[a]);
+    }
+    out->faces = faces;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
