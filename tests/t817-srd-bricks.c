@@ -8,7 +8,8 @@
  *    4, 6 bricks on even and uneven grids equal P = 1 bit for bit (memcmp), after 30 steps with a
  *    sort every 3 (so keys of several epochs) and with particles changing brick;
  *  - P = 1 bricks equal the plain engine in the decomposable mode (gran_srd_advance, creation =
- *    GRAN_SRD_CREATE_CELLS), also when advanced in two calls;
+ *    GRAN_SRD_CREATE_CELLS), also when advanced in two calls; 3 threads (P = 1 and the first
+ *    split) equal 1;
  *  - physics that can fail: the particle number; the momentum (periodic, no thermostat, no
  *    gravity, no shear) conserved to 1e-10 (rounding of ~1e5 additions of O(1) velocities: ~1e-12); the energy
  *    ledger E - E0 = e_coll + e_ext to 1e-12 relative, for every effect set and split;
@@ -138,6 +139,16 @@ static void check_splits(const gran_srd_options *o, const int (*grids)[3], int n
     assert_same_out(&one, &r, o->dim, what);
     check_physics(o, &r, P0);
     if (!(r.particles_sent > 0 && r.bytes_sent > 0)) fail_msg("%s: no particle changed brick", what);
+    srd_bricks_out_free_(&r);
+  }
+  /* the threads of a brick's loops change nothing */
+  gran_srd_options o3 = *o;
+  o3.threads = 3;
+  for (int g = -1; g < 1; ++g) {
+    srd_bricks_out r;
+    GRAN_ASSERT_OK(srd_bricks_run_(&o3, g < 0 ? p1 : grids[0], NSTEPS, &r));
+    snprintf(what, sizeof what, "%s: %s bricks on 3 threads vs 1 brick on 1", name, g < 0 ? "1" : "the first split's");
+    assert_same_out(&one, &r, o->dim, what);
     srd_bricks_out_free_(&r);
   }
   srd_bricks_out_free_(&one);

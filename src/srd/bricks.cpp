@@ -45,6 +45,12 @@
 #include <numeric>
 #include <utility>
 #include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#if defined(__SSE__) || defined(__x86_64__)
+#include <xmmintrin.h>
+#endif
 
 namespace {
 
@@ -183,6 +189,7 @@ struct Ctx {
   srd_geom gm;
   srd_rule_const K;
   Split sp;
+  int nth = 1; /* threads of a brick's loops (the results do not depend on them) */
 };
 
 constexpr uint32_t kLeBit = 0x80000000u;
@@ -225,6 +232,16 @@ inline double word_of(uint64_t k) {
   return w;
 }
 
+/* flush-to-zero and denormals-are-zero inside the step's loops, as the serial engine (engine.cpp,
+ * FtzScope): per thread, restored when its share ends */
+struct Ftz {
+#if defined(__SSE__) || defined(__x86_64__)
+  unsigned old;
+  Ftz() : old(_mm_getcsr()) { _mm_setcsr(old | 0x8040u); }
+  ~Ftz() { _mm_setcsr(old); }
+#endif
+};
+
 bool phase_timing() {
   static const bool on = [] {
     const char *e = std::getenv("GRAN_SRD_PHASES");
@@ -251,7 +268,6 @@ constexpr int words_per_particle() {
 template <int DIM, int FXF>
 int phase_stream(const Ctx &C, Brick &B, Transport &T) {
   using F = Fx<FXF>;
-  const int32_t fx = srd_rule_fx_fold(FXF, C.K.fx);
   const gran_srd_options &o = *C.o;
   const double dt = o.dt;
   srd_geom g = C.gm;
@@ -279,11 +295,18 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
   const bool single = sp.nbricks() == 1;
   double chk = 0.0;
   int64_t nleave = 0;
+  const srd_rule_const K = C.K;
+#pragma omp parallel num_threads(C.nth) reduction(+ : chk, nleave)
+  {
+    Ftz ftz;
+    const srd_geom gl = g;
+#pragma omp for schedule(static)
   for (int64_t i = 0; i < n; ++i) {
+    const int32_t fx = srd_rule_fx_fold(FXF, K.fx);
     double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
     double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
     double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
-    srd_rule_move(fx, DIM, &C.K, &g, p, v, acc);
+    srd_rule_move(fx, DIM, &K, &gl, p, v, acc);
     chk += p[0] + p[1] + p[2];
     px[i] = p[0];
     py[i] = p[1];
@@ -300,7 +323,7 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
     }
     int64_t c[3];
     double dvx;
-    bin3(&g, sh, p, c, &dvx);
+    bin3(&gl, sh, p, c, &dvx);
     const int r = single ? B.rank : owner_of(sp, c);
     if (r == B.rank) {
       B.dest[(size_t)i] = -1;
@@ -309,6 +332,7 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
       B.dest[(size_t)i] = r;
       ++nleave;
     }
+  }
   }
   if (chk - chk != 0.0) {
     static const char *const names[6] = {"x", "y", "z", "vx", "vy", "vz"};
@@ -495,6 +519,18 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
   B.red_th.clear();
   const double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
   const double ledv = B.g.le_dv;
+  const bool gth = fx & SRD_FX_GTHERMO;
+  std::vector<Red> tred((size_t)C.nth);
+#pragma omp parallel num_threads(C.nth)
+  {
+    Ftz ftz;
+#ifdef _OPENMP
+    Red &R = tred[(size_t)omp_get_thread_num()];
+#else
+    Red &R = tred[0];
+#endif
+    R.clear();
+#pragma omp for schedule(dynamic, 256)
   for (int64_t c = 0; c < ncl; ++c) {
     srd_cell_sum &cs = B.W[(size_t)c];
     srd_sum_clear(&cs);
@@ -514,17 +550,24 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
       }
     }
     if (F::STR) {
-      if (F::LE) gran_exactsum_add_(&B.red.a[RQ_FLUX], pf);
-      gran_exactsum_add_(&B.red.a[RQ_EXT], pe);
-      if (F::WALL) gran_exactsum_add_(&B.red.a[RQ_IMP], pi);
+      if (F::LE) gran_exactsum_add_(&R.a[RQ_FLUX], pf);
+      gran_exactsum_add_(&R.a[RQ_EXT], pe);
+      if (F::WALL) gran_exactsum_add_(&R.a[RQ_IMP], pi);
     }
-    if (fx & SRD_FX_GTHERMO) {
+    if (gth) {
       double e, d;
       if (srd_rule_thermal(DIM, &cs, ref, &e, &d)) {
-        gran_exactsum_add_(&B.red_th.a[RQ_TH], e);
-        B.red_th.dof += (int64_t)d;
+        gran_exactsum_add_(&R.a[RQ_TH], e);
+        R.dof += (int64_t)d;
       }
     }
+  }
+  }
+  /* the threads' exact partials (any merge order gives the same state) */
+  for (const Red &R : tred) {
+    for (int q : {RQ_FLUX, RQ_EXT, RQ_IMP}) gran_exactsum_merge_(&B.red.a[q], &R.a[q]);
+    gran_exactsum_merge_(&B.red_th.a[RQ_TH], &R.a[RQ_TH]);
+    B.red_th.dof += R.dof;
   }
   if (fx & SRD_FX_GTHERMO) GRAN_CALL(T.reduce_post(B.rank, B.red_th));
   return GRAN_SUCCESS;
@@ -545,24 +588,36 @@ int phase_thermo(const Ctx &C, Brick &B, Transport &T) {
 template <int DIM, int FXF>
 int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
   using F = Fx<FXF>;
-  const int32_t fx = srd_rule_fx_fold(FXF, C.K.fx);
-  const double gscale = (fx & SRD_FX_GTHERMO) ? B.gscale : 1.0;
+  const double gscale = (srd_rule_fx_fold(FXF, C.K.fx) & SRD_FX_GTHERMO) ? B.gscale : 1.0;
   const int64_t ncl = B.ncl;
   const uint32_t *start = B.start.data(), *order = B.order.data(), *lc = B.lc.data();
   double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
   const double *py = B.y.data();
   const srd_geom g = B.g;
   const double sh[3] = {B.sh[0], B.sh[1], B.sh[2]};
+  const srd_rule_const K = C.K;
+  std::vector<Red> tred((size_t)C.nth);
+#pragma omp parallel num_threads(C.nth)
+  {
+    Ftz ftz;
+#ifdef _OPENMP
+    Red &R = tred[(size_t)omp_get_thread_num()];
+#else
+    Red &R = tred[0];
+#endif
+    R.clear();
+#pragma omp for schedule(dynamic, 256)
   for (int64_t c = 0; c < ncl; ++c) {
+    const int32_t fx = srd_rule_fx_fold(FXF, K.fx);
     const srd_cell_sum cs = B.W[(size_t)c];
     srd_cell_rot cr;
     int cl;
     double dtm;
-    srd_rule_cell(fx, DIM, &C.K, &g, sh, global_of(C, B, c), &cs, gscale, B.cell[(size_t)c].V, &B.rng[(size_t)c], &cr,
+    srd_rule_cell(fx, DIM, &K, &g, sh, global_of(C, B, c), &cs, gscale, B.cell[(size_t)c].V, &B.rng[(size_t)c], &cr,
                   &cl, &dtm);
     if (cl) {
-      ++B.red.clamped;
-      B.red.dt_max = std::min(B.red.dt_max, dtm);
+      ++R.clamped;
+      R.dt_max = std::min(R.dt_max, dtm);
     }
     const uint32_t j0 = start[c], j1 = start[c + 1];
     if (j0 == j1) continue;
@@ -571,16 +626,22 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
       const uint32_t i = order[j];
       double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
       const double dvx = F::LE && (lc[i] & kLeBit) ? -g.le_dv : 0.0;
-      srd_rule_collide(fx, DIM, &C.K, &g, &cr, dvx, py[i], v, acc);
+      srd_rule_collide(fx, DIM, &K, &g, &cr, dvx, py[i], v, acc);
       vx[i] = v[0];
       vy[i] = v[1];
       if (DIM == 3) vz[i] = v[2];
     }
-    if (F::DISSIP || F::WALL) gran_exactsum_add_(&B.red.a[RQ_DE], acc[SRD_ACC_DE]);
+    if (F::DISSIP || F::WALL) gran_exactsum_add_(&R.a[RQ_DE], acc[SRD_ACC_DE]);
     if (F::LE) {
-      gran_exactsum_add_(&B.red.a[RQ_VIR], acc[SRD_ACC_VIR]);
-      gran_exactsum_add_(&B.red.a[RQ_LEW], acc[SRD_ACC_LEW]);
+      gran_exactsum_add_(&R.a[RQ_VIR], acc[SRD_ACC_VIR]);
+      gran_exactsum_add_(&R.a[RQ_LEW], acc[SRD_ACC_LEW]);
     }
+  }
+  }
+  for (const Red &R : tred) {
+    for (int q : {RQ_DE, RQ_VIR, RQ_LEW}) gran_exactsum_merge_(&B.red.a[q], &R.a[q]);
+    B.red.clamped += R.clamped;
+    B.red.dt_max = std::min(B.red.dt_max, R.dt_max);
   }
   const gran_srd_options &o = *C.o;
   if (o.sort_every > 0 && (B.step + 1) % o.sort_every == 0) {
@@ -591,6 +652,7 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
     for (int q = 0; q < 6; ++q) {
       if (DIM == 2 && (q == 2 || q == 5)) continue;
       std::vector<double> &A = *arr[q];
+#pragma omp parallel for schedule(static) num_threads(C.nth)
       for (int64_t j = 0; j < n; ++j) tmp[(size_t)j] = A[order[j]];
       A.swap(tmp);
     }
@@ -689,6 +751,7 @@ int make_ctx(const gran_srd *s, const int pg[3], Ctx &C) {
   C.gm = s->gm;
   const gran_cuda_srd_params prm = srd_params_of(s);
   C.K = srd_rule_const_of(&prm);
+  C.nth = srd_threads_used(s->opt.threads);
   for (int a = 0; a < 3; ++a) {
     const int64_t nc = s->gm.nc[a];
     GRAN_CHECK(pg[a] >= 1 && (int64_t)pg[a] <= nc, GRAN_ERR_ARG,
