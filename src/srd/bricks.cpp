@@ -179,6 +179,35 @@ struct Brick {
   std::vector<srd_cell_sum> W;
   std::vector<std::vector<double>> out;
   std::vector<double> in, arr;
+  /* the exchange's scratch particle arrays (swapped with the particles' at each merge) */
+  struct Arrays {
+    std::vector<double> x, y, z, vx, vy, vz, cf, ce, ci;
+    std::vector<uint64_t> key;
+    std::vector<uint32_t> lc;
+    void resize(int64_t n, bool d3, bool str) {
+      for (std::vector<double> *v : {&x, &y, &vx, &vy}) v->resize((size_t)n);
+      z.resize(d3 ? (size_t)n : 0);
+      vz.resize(d3 ? (size_t)n : 0);
+      for (std::vector<double> *v : {&cf, &ce, &ci}) v->resize(str ? (size_t)n : 0);
+      key.resize((size_t)n);
+      lc.resize((size_t)n);
+    }
+  } scratch;
+  void swap_scratch() {
+    x.swap(scratch.x);
+    y.swap(scratch.y);
+    z.swap(scratch.z);
+    vx.swap(scratch.vx);
+    vy.swap(scratch.vy);
+    vz.swap(scratch.vz);
+    cf.swap(scratch.cf);
+    ce.swap(scratch.ce);
+    ci.swap(scratch.ci);
+    key.swap(scratch.key);
+    lc.swap(scratch.lc);
+  }
+  std::vector<int64_t> ord;
+  int64_t nleave = 0;
   Red red, red_th;
   double gscale = 1.0; /* the global thermostat's factor of the step */
   int64_t moved = 0; /* particles sent */
@@ -350,30 +379,9 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
   constexpr int WPP = words_per_particle<DIM, FXF>();
   B.out.resize((size_t)P);
   for (auto &m : B.out) m.clear();
-  int64_t k = 0;
-  for (int64_t i = 0; i < n; ++i) {
+  for (int64_t i = 0; i < n && nleave > 0; ++i) { /* the leavers, in local (key) order per destination */
     const int d = B.dest[(size_t)i];
-    if (d < 0) {
-      if (k != i) {
-        px[k] = px[i];
-        py[k] = py[i];
-        vx[k] = vx[i];
-        vy[k] = vy[i];
-        if (DIM == 3) {
-          pz[k] = pz[i];
-          vz[k] = vz[i];
-        }
-        B.key[(size_t)k] = B.key[(size_t)i];
-        B.lc[(size_t)k] = B.lc[(size_t)i];
-        if (F::STR) {
-          B.cf[(size_t)k] = B.cf[(size_t)i];
-          B.ce[(size_t)k] = B.ce[(size_t)i];
-          B.ci[(size_t)k] = B.ci[(size_t)i];
-        }
-      }
-      ++k;
-      continue;
-    }
+    if (d < 0) continue;
     std::vector<double> &m = B.out[(size_t)d];
     double rec[WPP];
     int q = 0;
@@ -392,18 +400,7 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
     m.insert(m.end(), rec, rec + WPP);
   }
   B.moved += nleave;
-  for (std::vector<double> *v : {&B.x, &B.y, &B.vx, &B.vy}) v->resize((size_t)k);
-  if (DIM == 3) {
-    B.z.resize((size_t)k);
-    B.vz.resize((size_t)k);
-  }
-  B.key.resize((size_t)k);
-  B.lc.resize((size_t)k);
-  if (F::STR) {
-    B.cf.resize((size_t)k);
-    B.ce.resize((size_t)k);
-    B.ci.resize((size_t)k);
-  }
+  B.nleave = nleave;
   for (int r = 0; r < P; ++r)
     if (r != B.rank) GRAN_CALL(T.send(B.rank, r, B.out[(size_t)r]));
   return GRAN_SUCCESS;
@@ -423,35 +420,38 @@ int phase_recv(const Ctx &C, Brick &B, Transport &T) {
     B.arr.insert(B.arr.end(), B.in.begin(), B.in.end());
   }
   const int64_t m = (int64_t)(B.arr.size() / WPP);
-  if (m == 0) return GRAN_SUCCESS;
+  if (m == 0 && B.nleave == 0) return GRAN_SUCCESS;
   const double *A = B.arr.data();
   constexpr int KW = 2 * DIM; /* the key's word */
-  std::vector<int64_t> ord((size_t)m);
+  std::vector<int64_t> &ord = B.ord;
+  ord.resize((size_t)m);
   std::iota(ord.begin(), ord.end(), 0);
   std::sort(ord.begin(), ord.end(), [&](int64_t a, int64_t b) { return key_of(A[a * WPP + KW]) < key_of(A[b * WPP + KW]); });
-  const int64_t nr = (int64_t)B.x.size(), n = nr + m;
-  std::vector<double> x((size_t)n), y((size_t)n), z(DIM == 3 ? (size_t)n : 0), vx((size_t)n), vy((size_t)n),
-      vz(DIM == 3 ? (size_t)n : 0), cf(F::STR ? (size_t)n : 0), ce(F::STR ? (size_t)n : 0), ci(F::STR ? (size_t)n : 0);
-  std::vector<uint64_t> key((size_t)n);
-  std::vector<uint32_t> lc((size_t)n);
+  /* one pass: the residents (the leavers skipped) and the arrivals, by key, into the scratch
+   * arrays (kept between steps), then swapped in */
+  const int64_t n0 = (int64_t)B.x.size(), n = n0 - B.nleave + m;
+  Brick::Arrays &S = B.scratch;
+  S.resize(n, DIM == 3, F::STR);
+  const int32_t *dest = B.dest.data();
   int64_t i = 0, j = 0;
   for (int64_t t = 0; t < n; ++t) {
-    const bool take_arrival = j < m && (i >= nr || key_of(A[ord[(size_t)j] * WPP + KW]) < B.key[(size_t)i]);
+    while (i < n0 && dest[i] >= 0) ++i;
+    const bool take_arrival = j < m && (i >= n0 || key_of(A[ord[(size_t)j] * WPP + KW]) < B.key[(size_t)i]);
     if (!take_arrival) {
-      x[(size_t)t] = B.x[(size_t)i];
-      y[(size_t)t] = B.y[(size_t)i];
-      vx[(size_t)t] = B.vx[(size_t)i];
-      vy[(size_t)t] = B.vy[(size_t)i];
+      S.x[(size_t)t] = B.x[(size_t)i];
+      S.y[(size_t)t] = B.y[(size_t)i];
+      S.vx[(size_t)t] = B.vx[(size_t)i];
+      S.vy[(size_t)t] = B.vy[(size_t)i];
       if (DIM == 3) {
-        z[(size_t)t] = B.z[(size_t)i];
-        vz[(size_t)t] = B.vz[(size_t)i];
+        S.z[(size_t)t] = B.z[(size_t)i];
+        S.vz[(size_t)t] = B.vz[(size_t)i];
       }
-      key[(size_t)t] = B.key[(size_t)i];
-      lc[(size_t)t] = B.lc[(size_t)i];
+      S.key[(size_t)t] = B.key[(size_t)i];
+      S.lc[(size_t)t] = B.lc[(size_t)i];
       if (F::STR) {
-        cf[(size_t)t] = B.cf[(size_t)i];
-        ce[(size_t)t] = B.ce[(size_t)i];
-        ci[(size_t)t] = B.ci[(size_t)i];
+        S.cf[(size_t)t] = B.cf[(size_t)i];
+        S.ce[(size_t)t] = B.ce[(size_t)i];
+        S.ci[(size_t)t] = B.ci[(size_t)i];
       }
       ++i;
       continue;
@@ -460,40 +460,26 @@ int phase_recv(const Ctx &C, Brick &B, Transport &T) {
     ++j;
     int q = 0;
     double p[3] = {0, 0, 0};
-    p[0] = x[(size_t)t] = rec[q++];
-    p[1] = y[(size_t)t] = rec[q++];
-    if (DIM == 3) p[2] = z[(size_t)t] = rec[q++];
-    vx[(size_t)t] = rec[q++];
-    vy[(size_t)t] = rec[q++];
-    if (DIM == 3) vz[(size_t)t] = rec[q++];
-    key[(size_t)t] = key_of(rec[q++]);
+    p[0] = S.x[(size_t)t] = rec[q++];
+    p[1] = S.y[(size_t)t] = rec[q++];
+    if (DIM == 3) p[2] = S.z[(size_t)t] = rec[q++];
+    S.vx[(size_t)t] = rec[q++];
+    S.vy[(size_t)t] = rec[q++];
+    if (DIM == 3) S.vz[(size_t)t] = rec[q++];
+    S.key[(size_t)t] = key_of(rec[q++]);
     if (F::STR) {
-      cf[(size_t)t] = rec[q++];
-      ce[(size_t)t] = rec[q++];
-      ci[(size_t)t] = rec[q++];
+      S.cf[(size_t)t] = rec[q++];
+      S.ce[(size_t)t] = rec[q++];
+      S.ci[(size_t)t] = rec[q++];
     }
     int64_t c[3];
     double dvx;
     bin3(&B.g, B.sh, p, c, &dvx);
     GRAN_CHECK(owner_of(C.sp, c) == B.rank, GRAN_ERR_INTERNAL, "brick %d received a particle of brick %d", B.rank,
                owner_of(C.sp, c));
-    lc[(size_t)t] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+    S.lc[(size_t)t] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
   }
-  B.x.swap(x);
-  B.y.swap(y);
-  B.vx.swap(vx);
-  B.vy.swap(vy);
-  if (DIM == 3) {
-    B.z.swap(z);
-    B.vz.swap(vz);
-  }
-  B.key.swap(key);
-  B.lc.swap(lc);
-  if (F::STR) {
-    B.cf.swap(cf);
-    B.ce.swap(ce);
-    B.ci.swap(ci);
-  }
+  B.swap_scratch();
   return GRAN_SUCCESS;
 }
 
@@ -966,7 +952,9 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
       B.key.push_back((uint64_t)i);
     }
     LocalTransport T(P);
+    const double t0 = clock_s();
     GRAN_CALL(pick(d, srd_fx_of(&s->opt))(C, bs, T, nsteps));
+    const double t_steps = clock_s() - t0;
     /* gather: every brick holds the same scalar state */
     for (int r = 1; r < P; ++r) {
       const Brick &A = bs[0], &B = bs[(size_t)r];
@@ -1015,6 +1003,7 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
       faces += per_row * (P / C.sp.P[a]);
     }
     out->faces = faces;
+    out->seconds = t_steps;
     return GRAN_SUCCESS;
   }
   GRAN_CATCH

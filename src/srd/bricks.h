@@ -27,6 +27,7 @@ typedef struct srd_bricks_out {
   int64_t step, clamped;
   int64_t bytes_sent;    /* particle messages (payload bytes), all bricks, all steps */
   int64_t particles_sent;/* particles that changed brick */
+  double seconds;        /* wall time of the steps (the set-up and the gather left out) */
   int64_t faces;         /* brick faces of the split (a periodic axis of P_a > 1 bricks has P_a faces
                             per brick row, a wall axis P_a - 1), for bytes per face */
 } srd_bricks_out;
