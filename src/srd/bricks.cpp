@@ -207,7 +207,9 @@ struct Brick {
     lc.swap(scratch.lc);
   }
   std::vector<int64_t> ord;
-  int64_t nleave = 0;
+  std::vector<int32_t> dest2;
+  int64_t ndead = 0;   /* particles that left this step (dest >= 0), still in the arrays */
+  int64_t nsorted = 0; /* the arrays' first nsorted particles are in key order; the rest arrived since */
   Red red, red_th;
   double gscale = 1.0; /* the global thermostat's factor of the step */
   int64_t moved = 0; /* particles sent */
@@ -310,59 +312,106 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
   const double sh[3] = {B.shift[0], B.shift[1], B.shift[2]};
   B.g = g;
   for (int k = 0; k < 3; ++k) B.sh[k] = sh[k];
-  const int64_t n = (int64_t)B.x.size();
-  if (F::STR) {
-    B.cf.resize((size_t)n);
-    B.ce.resize((size_t)n);
-    B.ci.resize((size_t)n);
+  /* the particles that left in the previous step (dest >= 0) are dropped while streaming: the
+   * survivors are streamed from the particle arrays into the scratch ones (every thread its chunk
+   * at its offset), in order */
+  const int64_t n_in = (int64_t)B.x.size();
+  const bool compact = B.ndead > 0;
+  const int64_t n = n_in - B.ndead;
+  if (compact) {
+    const int32_t *dest = B.dest.data();
+    int64_t below = 0;
+    for (int64_t i = 0; i < B.nsorted; ++i) below += dest[i] < 0;
+    B.nsorted = below;
   }
-  B.dest.resize((size_t)n);
-  B.lc.resize((size_t)n);
-  double *px = B.x.data(), *py = B.y.data(), *pz = DIM == 3 ? B.z.data() : nullptr;
-  double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
+  Brick::Arrays &S = B.scratch;
+  if (compact) {
+    S.resize(n, DIM == 3, F::STR);
+  } else {
+    if (F::STR)
+      for (std::vector<double> *v : {&B.cf, &B.ce, &B.ci}) v->resize((size_t)n);
+    B.lc.resize((size_t)n);
+  }
+  B.dest2.resize((size_t)n);
+  const double *ix = B.x.data(), *iy = B.y.data(), *iz = DIM == 3 ? B.z.data() : nullptr;
+  const double *ivx = B.vx.data(), *ivy = B.vy.data(), *ivz = DIM == 3 ? B.vz.data() : nullptr;
+  const uint64_t *ikey = B.key.data();
+  double *px = compact ? S.x.data() : B.x.data(), *py = compact ? S.y.data() : B.y.data();
+  double *pz = DIM == 3 ? (compact ? S.z.data() : B.z.data()) : nullptr;
+  double *vx = compact ? S.vx.data() : B.vx.data(), *vy = compact ? S.vy.data() : B.vy.data();
+  double *vz = DIM == 3 ? (compact ? S.vz.data() : B.vz.data()) : nullptr;
+  uint64_t *okey = compact ? S.key.data() : B.key.data();
+  double *cf = F::STR ? (compact ? S.cf.data() : B.cf.data()) : nullptr;
+  double *ce = F::STR ? (compact ? S.ce.data() : B.ce.data()) : nullptr;
+  double *ci = F::STR ? (compact ? S.ci.data() : B.ci.data()) : nullptr;
+  uint32_t *lcp = compact ? S.lc.data() : B.lc.data();
+  int32_t *odest = B.dest2.data();
+  const int32_t *idest = B.dest.data();
   const Split &sp = C.sp;
   const bool single = sp.nbricks() == 1;
   double chk = 0.0;
   int64_t nleave = 0;
   const srd_rule_const K = C.K;
+  std::vector<int64_t> alive((size_t)C.nth + 1, 0);
 #pragma omp parallel num_threads(C.nth) reduction(+ : chk, nleave)
   {
     Ftz ftz;
     const srd_geom gl = g;
-#pragma omp for schedule(static)
-  for (int64_t i = 0; i < n; ++i) {
-    const int32_t fx = srd_rule_fx_fold(FXF, K.fx);
-    double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
-    double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-    double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
-    srd_rule_move(fx, DIM, &K, &gl, p, v, acc);
-    chk += p[0] + p[1] + p[2];
-    px[i] = p[0];
-    py[i] = p[1];
-    vx[i] = v[0];
-    vy[i] = v[1];
-    if (DIM == 3) {
-      pz[i] = p[2];
-      vz[i] = v[2];
+    int tid = 0, nt = 1;
+#ifdef _OPENMP
+    tid = omp_get_thread_num();
+    nt = omp_get_num_threads();
+#endif
+    const int64_t lo = n_in * tid / nt, hi = n_in * (tid + 1) / nt;
+    int64_t k = lo;
+    if (compact) {
+      int64_t a = 0;
+      for (int64_t i = lo; i < hi; ++i) a += idest[i] < 0;
+      alive[(size_t)tid] = a;
+#pragma omp barrier
+      k = 0;
+      for (int q = 0; q < tid; ++q) k += alive[(size_t)q];
     }
-    if (F::STR) {
-      B.cf[(size_t)i] = acc[SRD_ACC_FLUX];
-      B.ce[(size_t)i] = acc[SRD_ACC_EXT];
-      B.ci[(size_t)i] = acc[SRD_ACC_IMP];
-    }
-    int64_t c[3];
-    double dvx;
-    bin3(&gl, sh, p, c, &dvx);
-    const int r = single ? B.rank : owner_of(sp, c);
-    if (r == B.rank) {
-      B.dest[(size_t)i] = -1;
-      B.lc[(size_t)i] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
-    } else {
-      B.dest[(size_t)i] = r;
-      ++nleave;
+    for (int64_t i = lo; i < hi; ++i) {
+      if (compact && idest[i] >= 0) continue;
+      const int32_t fx = srd_rule_fx_fold(FXF, K.fx);
+      double p[3] = {ix[i], iy[i], DIM == 3 ? iz[i] : 0.0};
+      double v[3] = {ivx[i], ivy[i], DIM == 3 ? ivz[i] : 0.0};
+      double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
+      srd_rule_move(fx, DIM, &K, &gl, p, v, acc);
+      chk += p[0] + p[1] + p[2];
+      px[k] = p[0];
+      py[k] = p[1];
+      vx[k] = v[0];
+      vy[k] = v[1];
+      if (DIM == 3) {
+        pz[k] = p[2];
+        vz[k] = v[2];
+      }
+      if (compact) okey[k] = ikey[i];
+      if (F::STR) {
+        cf[k] = acc[SRD_ACC_FLUX];
+        ce[k] = acc[SRD_ACC_EXT];
+        ci[k] = acc[SRD_ACC_IMP];
+      }
+      int64_t c[3];
+      double dvx;
+      bin3(&gl, sh, p, c, &dvx);
+      const int r = single ? B.rank : owner_of(sp, c);
+      if (r == B.rank) {
+        odest[k] = -1;
+        lcp[k] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+      } else {
+        odest[k] = r;
+        ++nleave;
+      }
+      ++k;
     }
   }
-  }
+  if (compact) B.swap_scratch();
+  B.dest.swap(B.dest2);
+  B.ndead = 0;
+  if (!compact && B.nsorted > n) B.nsorted = n;
   if (chk - chk != 0.0) {
     static const char *const names[6] = {"x", "y", "z", "vx", "vy", "vz"};
     const double *a[6] = {px, py, pz, vx, vy, vz};
@@ -400,7 +449,7 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
     m.insert(m.end(), rec, rec + WPP);
   }
   B.moved += nleave;
-  B.nleave = nleave;
+  B.ndead = nleave; /* they stay, marked by dest, until the next step's streaming drops them */
   for (int r = 0; r < P; ++r)
     if (r != B.rank) GRAN_CALL(T.send(B.rank, r, B.out[(size_t)r]));
   return GRAN_SUCCESS;
@@ -420,66 +469,50 @@ int phase_recv(const Ctx &C, Brick &B, Transport &T) {
     B.arr.insert(B.arr.end(), B.in.begin(), B.in.end());
   }
   const int64_t m = (int64_t)(B.arr.size() / WPP);
-  if (m == 0 && B.nleave == 0) return GRAN_SUCCESS;
+  if (m == 0) return GRAN_SUCCESS;
   const double *A = B.arr.data();
   constexpr int KW = 2 * DIM; /* the key's word */
   std::vector<int64_t> &ord = B.ord;
   ord.resize((size_t)m);
   std::iota(ord.begin(), ord.end(), 0);
   std::sort(ord.begin(), ord.end(), [&](int64_t a, int64_t b) { return key_of(A[a * WPP + KW]) < key_of(A[b * WPP + KW]); });
-  /* one pass: the residents (the leavers skipped) and the arrivals, by key, into the scratch
-   * arrays (kept between steps), then swapped in */
-  const int64_t n0 = (int64_t)B.x.size(), n = n0 - B.nleave + m;
-  Brick::Arrays &S = B.scratch;
-  S.resize(n, DIM == 3, F::STR);
-  const int32_t *dest = B.dest.data();
-  int64_t i = 0, j = 0;
-  for (int64_t t = 0; t < n; ++t) {
-    while (i < n0 && dest[i] >= 0) ++i;
-    const bool take_arrival = j < m && (i >= n0 || key_of(A[ord[(size_t)j] * WPP + KW]) < B.key[(size_t)i]);
-    if (!take_arrival) {
-      S.x[(size_t)t] = B.x[(size_t)i];
-      S.y[(size_t)t] = B.y[(size_t)i];
-      S.vx[(size_t)t] = B.vx[(size_t)i];
-      S.vy[(size_t)t] = B.vy[(size_t)i];
-      if (DIM == 3) {
-        S.z[(size_t)t] = B.z[(size_t)i];
-        S.vz[(size_t)t] = B.vz[(size_t)i];
-      }
-      S.key[(size_t)t] = B.key[(size_t)i];
-      S.lc[(size_t)t] = B.lc[(size_t)i];
-      if (F::STR) {
-        S.cf[(size_t)t] = B.cf[(size_t)i];
-        S.ce[(size_t)t] = B.ce[(size_t)i];
-        S.ci[(size_t)t] = B.ci[(size_t)i];
-      }
-      ++i;
-      continue;
-    }
+  /* appended after the residents (in key order among themselves): the cell pass puts each cell's
+   * particles in key order */
+  const int64_t n0 = (int64_t)B.x.size(), n = n0 + m;
+  for (std::vector<double> *v : {&B.x, &B.y, &B.vx, &B.vy}) v->resize((size_t)n);
+  if (DIM == 3) {
+    B.z.resize((size_t)n);
+    B.vz.resize((size_t)n);
+  }
+  if (F::STR)
+    for (std::vector<double> *v : {&B.cf, &B.ce, &B.ci}) v->resize((size_t)n);
+  B.key.resize((size_t)n);
+  B.lc.resize((size_t)n);
+  B.dest.resize((size_t)n, -1);
+  for (int64_t j = 0; j < m; ++j) {
+    const int64_t t = n0 + j;
     const double *rec = A + ord[(size_t)j] * WPP;
-    ++j;
     int q = 0;
     double p[3] = {0, 0, 0};
-    p[0] = S.x[(size_t)t] = rec[q++];
-    p[1] = S.y[(size_t)t] = rec[q++];
-    if (DIM == 3) p[2] = S.z[(size_t)t] = rec[q++];
-    S.vx[(size_t)t] = rec[q++];
-    S.vy[(size_t)t] = rec[q++];
-    if (DIM == 3) S.vz[(size_t)t] = rec[q++];
-    S.key[(size_t)t] = key_of(rec[q++]);
+    p[0] = B.x[(size_t)t] = rec[q++];
+    p[1] = B.y[(size_t)t] = rec[q++];
+    if (DIM == 3) p[2] = B.z[(size_t)t] = rec[q++];
+    B.vx[(size_t)t] = rec[q++];
+    B.vy[(size_t)t] = rec[q++];
+    if (DIM == 3) B.vz[(size_t)t] = rec[q++];
+    B.key[(size_t)t] = key_of(rec[q++]);
     if (F::STR) {
-      S.cf[(size_t)t] = rec[q++];
-      S.ce[(size_t)t] = rec[q++];
-      S.ci[(size_t)t] = rec[q++];
+      B.cf[(size_t)t] = rec[q++];
+      B.ce[(size_t)t] = rec[q++];
+      B.ci[(size_t)t] = rec[q++];
     }
     int64_t c[3];
     double dvx;
     bin3(&B.g, B.sh, p, c, &dvx);
     GRAN_CHECK(owner_of(C.sp, c) == B.rank, GRAN_ERR_INTERNAL, "brick %d received a particle of brick %d", B.rank,
                owner_of(C.sp, c));
-    S.lc[(size_t)t] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+    B.lc[(size_t)t] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
   }
-  B.swap_scratch();
   return GRAN_SUCCESS;
 }
 
@@ -491,15 +524,21 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
   const int32_t fx = srd_rule_fx_fold(FXF, C.K.fx);
   const int64_t n = (int64_t)B.x.size(), ncl = B.ncl;
   B.start.assign((size_t)ncl + 1, 0);
-  B.order.resize((size_t)n);
+  B.order.resize((size_t)(n - B.ndead));
   uint32_t *start = B.start.data(), *order = B.order.data();
   const uint32_t *lc = B.lc.data();
-  for (int64_t i = 0; i < n; ++i) start[(lc[i] & ~kLeBit) + 1]++;
+  const int32_t *dest = B.dest.data();
+  const bool dead = B.ndead > 0; /* the particles that left (dest >= 0) are not counted */
+  for (int64_t i = 0; i < n; ++i)
+    if (!dead || dest[i] < 0) start[(lc[i] & ~kLeBit) + 1]++;
   for (int64_t c = 0; c < ncl; ++c) start[c + 1] += start[c];
   {
     std::vector<uint32_t> cur(B.start.begin(), B.start.end() - 1);
-    for (int64_t i = 0; i < n; ++i) order[cur[lc[i] & ~kLeBit]++] = (uint32_t)i;
+    for (int64_t i = 0; i < n; ++i)
+      if (!dead || dest[i] < 0) order[cur[lc[i] & ~kLeBit]++] = (uint32_t)i;
   }
+  const uint64_t *key = B.key.data();
+  const int64_t nsorted = B.nsorted;
   B.W.resize((size_t)ncl);
   B.red.clear();
   B.red_th.clear();
@@ -522,6 +561,16 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
     srd_sum_clear(&cs);
     const uint32_t j0 = start[c], j1 = start[c + 1];
     if (j0 == j1) continue;
+    /* a cell with particles that arrived since the last sort: its list (in index order: the
+     * sorted residents, then the arrivals) into key order */
+    if (j1 - j0 > 1 && (int64_t)order[j1 - 1] >= nsorted)
+      for (uint32_t a = j0 + 1; a < j1; ++a) {
+        const uint32_t v = order[a];
+        const uint64_t kv = key[v];
+        uint32_t b = a;
+        for (; b > j0 && key[order[b - 1]] > kv; --b) order[b] = order[b - 1];
+        order[b] = v;
+      }
     const double *ref = B.cell[(size_t)c].V;
     double pf = 0.0, pe = 0.0, pi = 0.0;
     for (uint32_t j = j0; j < j1; ++j) {
@@ -632,12 +681,13 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
   const gran_srd_options &o = *C.o;
   if (o.sort_every > 0 && (B.step + 1) % o.sort_every == 0) {
     const double t0 = t_sort ? clock_s() : 0.0;
-    const int64_t n = (int64_t)B.x.size();
+    const int64_t n = (int64_t)start[ncl]; /* the particles that left are dropped */
     std::vector<double> tmp((size_t)n);
     std::vector<double> *arr[6] = {&B.x, &B.y, &B.z, &B.vx, &B.vy, &B.vz};
     for (int q = 0; q < 6; ++q) {
       if (DIM == 2 && (q == 2 || q == 5)) continue;
       std::vector<double> &A = *arr[q];
+      tmp.resize((size_t)n);
 #pragma omp parallel for schedule(static) num_threads(C.nth)
       for (int64_t j = 0; j < n; ++j) tmp[(size_t)j] = A[order[j]];
       A.swap(tmp);
@@ -646,6 +696,10 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
       const uint64_t gc = (uint64_t)global_of(C, B, c) << 32;
       for (uint32_t j = start[c]; j < start[c + 1]; ++j) B.key[j] = gc | (uint64_t)(j - start[c]);
     }
+    B.key.resize((size_t)n);
+    B.dest.assign((size_t)n, -1);
+    B.ndead = 0;
+    B.nsorted = n;
     if (t_sort) *t_sort += clock_s() - t0;
   }
   return T.reduce_post(B.rank, B.red);
@@ -833,6 +887,7 @@ int srd_bricks_advance_(gran_srd *s, int64_t steps) {
       Lend lend(s, B);
       B.key.resize(B.x.size()); /* key = index: valid until the first sort (only one epoch is compared) */
       std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
+      B.nsorted = (int64_t)B.x.size();
       LocalTransport T(1);
       e = pick(s->opt.dim, srd_fx_of(&s->opt))(C, bs, T, steps);
     }
@@ -951,6 +1006,7 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
       }
       B.key.push_back((uint64_t)i);
     }
+    for (Brick &B : bs) B.nsorted = (int64_t)B.x.size();
     LocalTransport T(P);
     const double t0 = clock_s();
     GRAN_CALL(pick(d, srd_fx_of(&s->opt))(C, bs, T, nsteps));
@@ -966,7 +1022,9 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
     std::vector<std::pair<uint64_t, std::pair<int, int64_t>>> all;
     all.reserve((size_t)s->n);
     for (int r = 0; r < P; ++r)
-      for (size_t i = 0; i < bs[(size_t)r].key.size(); ++i) all.push_back({bs[(size_t)r].key[i], {r, (int64_t)i}});
+      for (size_t i = 0; i < bs[(size_t)r].key.size(); ++i)
+        if (bs[(size_t)r].ndead == 0 || bs[(size_t)r].dest[i] < 0) /* not the particles that left in the last step */
+          all.push_back({bs[(size_t)r].key[i], {r, (int64_t)i}});
     GRAN_CHECK((int64_t)all.size() == s->n, GRAN_ERR_INTERNAL, "the bricks hold %lld particles, not %lld",
                (long long)all.size(), (long long)s->n);
     std::sort(all.begin(), all.end());
