@@ -516,6 +516,44 @@ int phase_recv(const Ctx &C, Brick &B, Transport &T) {
   return GRAN_SUCCESS;
 }
 
+/* the rule of local cell c (sums cs) and the collision of its particles; the clamps, the energy
+ * change, the virial and the Lees-Edwards work into R */
+template <int DIM, int FXF>
+inline void collide_cell(const Ctx &C, Brick &B, int64_t c, const srd_cell_sum &cs, double gscale, Red &R,
+                         const srd_geom &g, const double sh[3], const srd_rule_const &K) {
+  using F = Fx<FXF>;
+  const int32_t fx = srd_rule_fx_fold(FXF, K.fx);
+  const uint32_t *start = B.start.data(), *order = B.order.data(), *lc = B.lc.data();
+  double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
+  const double *py = B.y.data();
+  srd_cell_rot cr;
+  int cl;
+  double dtm;
+  srd_rule_cell(fx, DIM, &K, &g, sh, global_of(C, B, c), &cs, gscale, B.cell[(size_t)c].V, &B.rng[(size_t)c], &cr, &cl,
+                &dtm);
+  if (cl) {
+    ++R.clamped;
+    R.dt_max = std::min(R.dt_max, dtm);
+  }
+  const uint32_t j0 = start[c], j1 = start[c + 1];
+  if (j0 == j1) return;
+  double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
+  for (uint32_t j = j0; j < j1; ++j) {
+    const uint32_t i = order[j];
+    double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+    const double dvx = F::LE && (lc[i] & kLeBit) ? -g.le_dv : 0.0;
+    srd_rule_collide(fx, DIM, &K, &g, &cr, dvx, py[i], v, acc);
+    vx[i] = v[0];
+    vy[i] = v[1];
+    if (DIM == 3) vz[i] = v[2];
+  }
+  if (F::DISSIP || F::WALL) gran_exactsum_add_(&R.a[RQ_DE], acc[SRD_ACC_DE]);
+  if (F::LE) {
+    gran_exactsum_add_(&R.a[RQ_VIR], acc[SRD_ACC_VIR]);
+    gran_exactsum_add_(&R.a[RQ_LEW], acc[SRD_ACC_LEW]);
+  }
+}
+
 /* the particles by local cell (stable counting sort), the cell sums, the streaming terms per cell,
  * the thermostat's sums (posted) */
 template <int DIM, int FXF>
@@ -545,6 +583,9 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
   const double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
   const double ledv = B.g.le_dv;
   const bool gth = fx & SRD_FX_GTHERMO;
+  const srd_geom g = B.g;
+  const double sh[3] = {B.sh[0], B.sh[1], B.sh[2]};
+  const srd_rule_const K = C.K;
   std::vector<Red> tred((size_t)C.nth);
 #pragma omp parallel num_threads(C.nth)
   {
@@ -560,7 +601,10 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
     srd_cell_sum &cs = B.W[(size_t)c];
     srd_sum_clear(&cs);
     const uint32_t j0 = start[c], j1 = start[c + 1];
-    if (j0 == j1) continue;
+    if (j0 == j1) {
+      if (!gth) collide_cell<DIM, FXF>(C, B, c, cs, 1.0, R, g, sh, K);
+      continue;
+    }
     /* a cell with particles that arrived since the last sort: its list (in index order: the
      * sorted residents, then the arrivals) into key order */
     if (j1 - j0 > 1 && (int64_t)order[j1 - 1] >= nsorted)
@@ -595,14 +639,18 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
         gran_exactsum_add_(&R.a[RQ_TH], e);
         R.dof += (int64_t)d;
       }
+    } else { /* the cell's particles are in cache: collide them now */
+      collide_cell<DIM, FXF>(C, B, c, cs, 1.0, R, g, sh, K);
     }
   }
   }
   /* the threads' exact partials (any merge order gives the same state) */
   for (const Red &R : tred) {
-    for (int q : {RQ_FLUX, RQ_EXT, RQ_IMP}) gran_exactsum_merge_(&B.red.a[q], &R.a[q]);
+    for (int q : {RQ_FLUX, RQ_EXT, RQ_IMP, RQ_DE, RQ_VIR, RQ_LEW}) gran_exactsum_merge_(&B.red.a[q], &R.a[q]);
     gran_exactsum_merge_(&B.red_th.a[RQ_TH], &R.a[RQ_TH]);
     B.red_th.dof += R.dof;
+    B.red.clamped += R.clamped;
+    B.red.dt_max = std::min(B.red.dt_max, R.dt_max);
   }
   if (fx & SRD_FX_GTHERMO) GRAN_CALL(T.reduce_post(B.rank, B.red_th));
   return GRAN_SUCCESS;
@@ -619,18 +667,19 @@ int phase_thermo(const Ctx &C, Brick &B, Transport &T) {
   return GRAN_SUCCESS;
 }
 
-/* the cells' rules, the rotation, the sort; the ledger posted */
+/* with the global thermostat the cells' rules and the rotation (else done in the sums pass); the sort;
+ * the ledger posted */
 template <int DIM, int FXF>
 int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
-  using F = Fx<FXF>;
-  const double gscale = (srd_rule_fx_fold(FXF, C.K.fx) & SRD_FX_GTHERMO) ? B.gscale : 1.0;
+  const bool gth = srd_rule_fx_fold(FXF, C.K.fx) & SRD_FX_GTHERMO;
   const int64_t ncl = B.ncl;
-  const uint32_t *start = B.start.data(), *order = B.order.data(), *lc = B.lc.data();
-  double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
-  const double *py = B.y.data();
+  const uint32_t *start = B.start.data(), *order = B.order.data();
   const srd_geom g = B.g;
   const double sh[3] = {B.sh[0], B.sh[1], B.sh[2]};
   const srd_rule_const K = C.K;
+  /* without the global thermostat the cells collided in the sums pass */
+  if (gth) {
+  const double gscale = B.gscale;
   std::vector<Red> tred((size_t)C.nth);
 #pragma omp parallel num_threads(C.nth)
   {
@@ -642,41 +691,13 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
 #endif
     R.clear();
 #pragma omp for schedule(dynamic, 256)
-  for (int64_t c = 0; c < ncl; ++c) {
-    const int32_t fx = srd_rule_fx_fold(FXF, K.fx);
-    const srd_cell_sum cs = B.W[(size_t)c];
-    srd_cell_rot cr;
-    int cl;
-    double dtm;
-    srd_rule_cell(fx, DIM, &K, &g, sh, global_of(C, B, c), &cs, gscale, B.cell[(size_t)c].V, &B.rng[(size_t)c], &cr,
-                  &cl, &dtm);
-    if (cl) {
-      ++R.clamped;
-      R.dt_max = std::min(R.dt_max, dtm);
-    }
-    const uint32_t j0 = start[c], j1 = start[c + 1];
-    if (j0 == j1) continue;
-    double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
-    for (uint32_t j = j0; j < j1; ++j) {
-      const uint32_t i = order[j];
-      double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-      const double dvx = F::LE && (lc[i] & kLeBit) ? -g.le_dv : 0.0;
-      srd_rule_collide(fx, DIM, &K, &g, &cr, dvx, py[i], v, acc);
-      vx[i] = v[0];
-      vy[i] = v[1];
-      if (DIM == 3) vz[i] = v[2];
-    }
-    if (F::DISSIP || F::WALL) gran_exactsum_add_(&R.a[RQ_DE], acc[SRD_ACC_DE]);
-    if (F::LE) {
-      gran_exactsum_add_(&R.a[RQ_VIR], acc[SRD_ACC_VIR]);
-      gran_exactsum_add_(&R.a[RQ_LEW], acc[SRD_ACC_LEW]);
-    }
-  }
+  for (int64_t c = 0; c < ncl; ++c) collide_cell<DIM, FXF>(C, B, c, B.W[(size_t)c], gscale, R, g, sh, K);
   }
   for (const Red &R : tred) {
     for (int q : {RQ_DE, RQ_VIR, RQ_LEW}) gran_exactsum_merge_(&B.red.a[q], &R.a[q]);
     B.red.clamped += R.clamped;
     B.red.dt_max = std::min(B.red.dt_max, R.dt_max);
+  }
   }
   const gran_srd_options &o = *C.o;
   if (o.sort_every > 0 && (B.step + 1) % o.sort_every == 0) {
@@ -762,7 +783,8 @@ int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps
     const double u = 1e9 / ((double)n * (double)nsteps);
     std::fprintf(stderr,
                  "GSRD bricks phases, ns per particle-step (%lld steps, %lld particles, %d bricks): stream + bin + pack "
-                 "%.2f, receive + merge %.2f, cell order + sums %.2f, cell rules + rotation %.2f (sort %.2f of it), "
+                 "%.2f, receive + append %.2f, cell order + sums (+ rules + rotation without the global thermostat) %.2f, "
+                 "rules + rotation after the thermostat's reduction, and the sort %.2f (sort %.2f of it), "
                  "ledger %.2f\n",
                  (long long)nsteps, (long long)n, (int)bs.size(), ph[BP_STREAM] * u, ph[BP_RECV] * u, ph[BP_SUMS] * u,
                  ph[BP_COLL] * u, tsort * u, ph[BP_RED] * u);
