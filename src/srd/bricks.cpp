@@ -7,21 +7,25 @@
  * current grid shift lies in the window, and a copy of the run's scalar state (time, step, the
  * shift stream, the ledger). One step, on every brick (the phases below; the driver runs each
  * phase on every brick before the next one, which is what an MPI rank does for its one brick):
- *   stream:   draw the shift (the same draw on every brick), move the brick's particles
- *             (srd_rule_move; its streaming terms kept per particle), bin each under the new
- *             shift (srd_bin's arithmetic, Lees-Edwards included): the global cell, its owner;
- *             the particles that left are packed, in local order, per destination and sent;
- *   receive:  the arrivals (each sender's in key order) are sorted by key and merged into the
- *             resident particles, which stay in key order;
- *   sums:     a stable counting sort of the particles by local cell; per cell its sums in that
- *             (key) order, and the per-particle streaming terms of its particles summed in the
- *             same order into one double per cell, added to exact accumulators (one exact add per
- *             cell and quantity); with the global thermostat the cells' thermal energies are
- *             added exactly and all-reduced;
- *   collide:  per cell srd_rule_cell (global cell index for the geometry, the cell's own RNG),
- *             the rotation of its particles (srd_rule_collide), its energy change, virial and
- *             Lees-Edwards work per cell into exact accumulators; at a sort step the particles
- *             are reordered by cell and get new keys (global cell << 32 | rank in the cell);
+ *   stream:   draw the shift (the same draw on every brick); move the brick's particles
+ *             (srd_rule_move; its streaming terms kept per particle), dropping those that left in
+ *             the previous step; bin each under the new shift (srd_bin's arithmetic, Lees-Edwards
+ *             included): the global cell and its owner; the particles that left are packed, in
+ *             local order, per destination and sent (and marked until the next streaming pass);
+ *   receive:  the arrivals (each sender's in key order) are sorted by key and appended;
+ *   sums:     a stable counting sort of the particles by local cell; a cell holding particles
+ *             that arrived since the last sort has its list put in key order (insertion by key:
+ *             the list is the sorted residents, then the arrivals); per cell its sums in key
+ *             order, and the per-particle streaming terms of its particles summed in the same
+ *             order into one double per cell, added to exact accumulators (one exact add per cell
+ *             and quantity); then, without the global thermostat, at once the cell's rule
+ *             (srd_rule_cell: the global cell index for the geometry, the cell's own RNG) and the
+ *             collision of its particles (srd_rule_collide), their energy change, virial and
+ *             Lees-Edwards work per cell into exact accumulators; with the global thermostat the
+ *             cells' thermal energies are added exactly and all-reduced first;
+ *   collide:  (the global thermostat) the rules and collisions with the reduced factor; at a sort
+ *             step the particles are reordered by cell (key order) and get new keys (global cell
+ *             << 32 | rank in the cell);
  *   finish:   the ledger accumulators are all-reduced and each step's exact sums rounded once
  *             and added to the ledger doubles.
  * Every particle's key orders it as the single-process array does, so a cell adds the same
@@ -779,7 +783,7 @@ int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps
   }
   if (prof && nsteps > 0) {
     int64_t n = 0;
-    for (const Brick &B : bs) n += (int64_t)B.x.size();
+    for (const Brick &B : bs) n += (int64_t)B.x.size() - B.ndead;
     const double u = 1e9 / ((double)n * (double)nsteps);
     std::fprintf(stderr,
                  "GSRD bricks phases, ns per particle-step (%lld steps, %lld particles, %d bricks): stream + bin + pack "
