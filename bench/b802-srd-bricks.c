@@ -75,7 +75,7 @@ int main(void) {
         gran_srd_options o = opts(L, GRAN_SRD_CREATE_CELLS);
         const int pg[2][3] = {{1, 1, 1}, {2, 1, 1}};
         srd_bricks_out out;
-        BENCH_CHECK(srd_bricks_run_(&o, pg[m], steps, &out));
+        BENCH_CHECK(srd_bricks_run_(&o, pg[m], steps, 0, &out));
         tb[m][r] = out.seconds * 1e9 / ((double)out.n * (double)steps);
         if (m == 1) {
           bpf = (double)out.bytes_sent / ((double)steps * (double)out.faces);
@@ -96,7 +96,7 @@ int main(void) {
     const int pg[3] = {2, 1, 1};
     const int64_t steps = 600;
     srd_bricks_out out;
-    BENCH_CHECK(srd_bricks_run_(&o, pg, steps, &out));
+    BENCH_CHECK(srd_bricks_run_(&o, pg, steps, 0, &out));
     const double face = 16.0 * 16.0, per = (double)out.particles_sent / ((double)steps * (double)out.faces);
     printf("16^3, 2 bricks, %lld steps: per step and face %.1f particles = %.4f layers (estimate %.4f), %.0f B "
            "(%.0f B per particle)\n",

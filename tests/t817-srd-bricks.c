@@ -6,7 +6,8 @@
  *    vibrating wall, 2-D and 3-D) the gathered particles (key order), the cells' V and RNG states
  *    and the ledger (e_coll, e_ext, flux_kin, flux_coll, wall impulse, clamps, dt_max) of P = 2, 3,
  *    4, 6 bricks on even and uneven grids equal P = 1 bit for bit (memcmp), after 30 steps with a
- *    sort every 3 (so keys of several epochs) and with particles changing brick;
+ *    sort every 3 (so keys of several epochs) and with particles changing brick, also when each
+ *    brick creates its own cells' particles and streams (momentum and energy all-reduced);
  *  - P = 1 bricks equal the plain engine in the decomposable mode (gran_srd_advance, creation =
  *    GRAN_SRD_CREATE_CELLS), also when advanced in two calls; 3 threads (P = 1 and the first
  *    split) equal 1;
@@ -101,7 +102,7 @@ static void check_physics(const gran_srd_options *o, const srd_bricks_out *r, co
 static void check_splits(const gran_srd_options *o, const int (*grids)[3], int ngrid, const char *name) {
   srd_bricks_out one, plain, two;
   const int p1[3] = {1, 1, 1};
-  GRAN_ASSERT_OK(srd_bricks_run_(o, p1, NSTEPS, &one));
+  GRAN_ASSERT_OK(srd_bricks_run_(o, p1, NSTEPS, 0, &one));
   /* the plain engine in the decomposable mode, in one call and in two */
   gran_srd *s = NULL;
   GRAN_ASSERT_OK(gran_srd_create(o, &s));
@@ -135,11 +136,17 @@ static void check_splits(const gran_srd_options *o, const int (*grids)[3], int n
   check_physics(o, &one, P0);
   for (int g = 0; g < ngrid; ++g) {
     srd_bricks_out r;
-    GRAN_ASSERT_OK(srd_bricks_run_(o, grids[g], NSTEPS, &r));
+    GRAN_ASSERT_OK(srd_bricks_run_(o, grids[g], NSTEPS, 0, &r));
     snprintf(what, sizeof what, "%s: %d x %d x %d bricks vs 1", name, grids[g][0], grids[g][1], grids[g][2]);
     assert_same_out(&one, &r, o->dim, what);
     check_physics(o, &r, P0);
     if (!(r.particles_sent > 0 && r.bytes_sent > 0)) fail_msg("%s: no particle changed brick", what);
+    srd_bricks_out_free_(&r);
+    /* each brick drawing its own cells' particles and streams: the same run */
+    GRAN_ASSERT_OK(srd_bricks_run_(o, grids[g], NSTEPS, 1, &r));
+    snprintf(what, sizeof what, "%s: %d x %d x %d bricks created in the bricks vs 1", name, grids[g][0], grids[g][1],
+             grids[g][2]);
+    assert_same_out(&one, &r, o->dim, what);
     srd_bricks_out_free_(&r);
   }
   /* the threads of a brick's loops change nothing */
@@ -147,7 +154,7 @@ static void check_splits(const gran_srd_options *o, const int (*grids)[3], int n
   o3.threads = 3;
   for (int g = -1; g < 1; ++g) {
     srd_bricks_out r;
-    GRAN_ASSERT_OK(srd_bricks_run_(&o3, g < 0 ? p1 : grids[0], NSTEPS, &r));
+    GRAN_ASSERT_OK(srd_bricks_run_(&o3, g < 0 ? p1 : grids[0], NSTEPS, 0, &r));
     snprintf(what, sizeof what, "%s: %s bricks on 3 threads vs 1 brick on 1", name, g < 0 ? "1" : "the first split's");
     assert_same_out(&one, &r, o->dim, what);
     srd_bricks_out_free_(&r);
@@ -177,7 +184,7 @@ static void test_dissipation(void **state) {
   o.dt = 1.0;
   srd_bricks_out r;
   const int p1[3] = {1, 1, 1};
-  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, &r));
+  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, 0, &r));
   if (!(r.clamped > 0)) fail_msg("the clamp case has no clamped cell (%lld)", (long long)r.clamped);
   assert_true(r.e_coll < 0);
   srd_bricks_out_free_(&r);
@@ -214,7 +221,7 @@ static void test_lees_edwards(void **state) {
   check_splits(&o, grids3, NG(grids3), "Lees-Edwards with eps < 1, 3-D");
   srd_bricks_out r;
   const int p1[3] = {1, 1, 1};
-  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, &r));
+  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, 0, &r));
   assert_true(r.flux_kin != 0 && r.flux_coll != 0);
   srd_bricks_out_free_(&r);
 }
@@ -240,7 +247,7 @@ static void test_walls(void **state) {
   check_splits(&o, grids3, NG(grids3), "slip walls, gravity, vibrating wall, eps < 1, 3-D");
   srd_bricks_out r;
   const int p1[3] = {1, 1, 1};
-  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, &r));
+  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, 0, &r));
   assert_true(r.wall_impulse[2] != 0);
   srd_bricks_out_free_(&r);
 }
@@ -291,15 +298,15 @@ static void test_bad_args(void **state) {
   gran_srd_options o = base_opts(3);
   srd_bricks_out r;
   const int too_many[3] = {10, 1, 1}, beyond_dim[3] = {1, 1, 2}, zero[3] = {0, 1, 1}, ok[3] = {2, 1, 1};
-  GRAN_ASSERT_ERR(srd_bricks_run_(&o, too_many, 1, &r), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(srd_bricks_run_(&o, too_many, 1, 0, &r), GRAN_ERR_ARG);
   assert_non_null(strstr(gran_last_error_message(), "'pgrid[0]'"));
-  GRAN_ASSERT_ERR(srd_bricks_run_(&o, zero, 1, &r), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(srd_bricks_run_(&o, zero, 1, 0, &r), GRAN_ERR_ARG);
   assert_non_null(strstr(gran_last_error_message(), "'pgrid[0]'"));
   gran_srd_options o2 = base_opts(2);
-  GRAN_ASSERT_ERR(srd_bricks_run_(&o2, beyond_dim, 1, &r), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(srd_bricks_run_(&o2, beyond_dim, 1, 0, &r), GRAN_ERR_ARG);
   assert_non_null(strstr(gran_last_error_message(), "'pgrid[2]'"));
   o.creation = GRAN_SRD_CREATE_SERIAL;
-  GRAN_ASSERT_ERR(srd_bricks_run_(&o, ok, 1, &r), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(srd_bricks_run_(&o, ok, 1, 0, &r), GRAN_ERR_ARG);
   assert_non_null(strstr(gran_last_error_message(), "'creation'"));
 }
 

@@ -33,6 +33,7 @@
  * results are bit for bit independent of the split. The single-process engine in this mode
  * (gran_srd_advance with creation = GRAN_SRD_CREATE_CELLS) is this code with one brick. */
 #include "srd/bricks.h"
+#include "srd/create.h"
 #include "srd/srd_impl.h"
 #include "srd/rules.h"
 #include "core/exactsum.h"
@@ -899,6 +900,100 @@ double *dup_of(const std::vector<double> &v) {
 
 } // namespace
 
+/* adds 0.5 |v|^2 of particles [0, n) to *acc, exactly (one compiled instance: the creation's energy
+ * of the plain engine and of the bricks, the same bits) */
+__attribute__((noinline)) void srd_kinetic_exact_(const double *vx, const double *vy, const double *vz, int64_t n,
+                                                  gran_exactsum *acc) {
+  for (int64_t i = 0; i < n; ++i)
+    gran_exactsum_add_(acc, 0.5 * (vx[i] * vx[i] + vy[i] * vy[i] + (vz ? vz[i] * vz[i] : 0.0)));
+}
+
+namespace {
+
+/* The creation by cells inside each brick (the box cells of its window, drawn by gran_srd_create_cells_
+ * row by row along x), keys (box cell << 32 | rank in the cell: the order of the one-process
+ * array), the mean momentum and the initial energy all-reduced exactly, the shear profile; the
+ * cells' RNG streams and the shift stream set up by the brick. */
+int bricks_create(const Ctx &C, std::vector<Brick> &bs, Transport &T, double *e_initial) {
+  const gran_srd_options *o = C.o;
+  const int d = o->dim;
+  const srd_geom &gm = C.gm;
+  int64_t N = 0;
+  for (Brick &B : bs) {
+    GRAN_CALL(gran_rng_stream(o->seed, 0, &B.shift_rng));
+    B.cell.resize((size_t)B.ncl);
+    B.rng.resize((size_t)B.ncl);
+    for (int64_t l = 0; l < B.ncl; ++l) {
+      std::memset((void *)&B.cell[(size_t)l], 0, sizeof(srd_cpu_cell));
+      GRAN_CALL(gran_rng_stream(o->seed, (uint64_t)global_of(C, B, l) + 1, &B.rng[(size_t)l]));
+    }
+    int64_t lo[3], hi[3]; /* the window's box cells (a wall axis has L + 1 layers, the box L) */
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(B.lo[a], gm.L[a]);
+      hi[a] = std::min(B.lo[a] + B.w[a], gm.L[a]);
+    }
+    Red r;
+    r.clear();
+    std::vector<int64_t> count;
+    for (int64_t cz = lo[2]; cz < hi[2]; ++cz)
+      for (int64_t cy = lo[1]; cy < hi[1]; ++cy) {
+        const int64_t c0 = lo[0] + gm.L[0] * (cy + gm.L[1] * cz), c1 = c0 + (hi[0] - lo[0]);
+        if (c1 <= c0) continue;
+        count.resize((size_t)(c1 - c0));
+        GRAN_CALL(gran_srd_cell_counts_(o, c0, c1, count.data()));
+        int64_t m = 0;
+        for (int64_t q : count) m += q;
+        const size_t at = B.x.size();
+        for (std::vector<double> *v : {&B.x, &B.y, &B.vx, &B.vy}) v->resize(at + (size_t)m);
+        if (d == 3) {
+          B.z.resize(at + (size_t)m);
+          B.vz.resize(at + (size_t)m);
+        }
+        GRAN_CALL(gran_srd_create_cells_(o, c0, c1, count.data(), B.x.data() + at, B.y.data() + at,
+                                         d == 3 ? B.z.data() + at : nullptr, B.vx.data() + at, B.vy.data() + at,
+                                         d == 3 ? B.vz.data() + at : nullptr, &r.a[0]));
+        for (int64_t c = c0; c < c1; ++c)
+          for (int64_t k = 0; k < count[(size_t)(c - c0)]; ++k) B.key.push_back((uint64_t)c << 32 | (uint64_t)k);
+      }
+    r.dof = (int64_t)B.x.size(); /* the particle count, reduced with the momentum */
+    GRAN_CALL(T.reduce_post(B.rank, r));
+  }
+  std::vector<std::array<double, 3>> mean(bs.size());
+  for (size_t b = 0; b < bs.size(); ++b) { /* every brick takes the reduction before any posts the next */
+    Red r;
+    r.clear();
+    GRAN_CALL(T.reduce_take(bs[b].rank, r));
+    N = r.dof;
+    for (int k = 0; k < 3; ++k) mean[b][(size_t)k] = k < d ? gran_exactsum_value_(&r.a[k]) / (double)N : 0.0;
+  }
+  for (size_t b = 0; b < bs.size(); ++b) {
+    Brick &B = bs[b];
+    const double m[3] = {mean[b][0], mean[b][1], mean[b][2]};
+    const double box1 = gm.box[1], rate = o->shear_rate;
+    for (size_t i = 0; i < B.x.size(); ++i) {
+      B.vx[i] -= m[0];
+      B.vy[i] -= m[1];
+      if (d == 3) B.vz[i] -= m[2];
+      if (rate != 0) B.vx[i] = std::fma(rate, B.y[i] - 0.5 * box1, B.vx[i]);
+    }
+    Red e;
+    e.clear();
+    srd_kinetic_exact_(B.vx.data(), B.vy.data(), d == 3 ? B.vz.data() : nullptr, (int64_t)B.x.size(), &e.a[0]);
+    GRAN_CALL(T.reduce_post(B.rank, e));
+  }
+  for (Brick &B : bs) {
+    Red e;
+    e.clear();
+    GRAN_CALL(T.reduce_take(B.rank, e));
+    *e_initial = gran_exactsum_value_(&e.a[0]);
+    B.nsorted = (int64_t)B.x.size();
+  }
+  (void)N;
+  return GRAN_SUCCESS;
+}
+
+} // namespace
+
 int srd_bricks_advance_(gran_srd *s, int64_t steps) {
   GRAN_TRY {
     const int pg[3] = {1, 1, 1};
@@ -979,7 +1074,8 @@ extern "C" int srd_bricks_gather_plain_(const gran_srd *s, srd_bricks_out *out) 
   GRAN_CATCH
 }
 
-extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, srd_bricks_out *out) {
+extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, int create_in_bricks,
+                               srd_bricks_out *out) {
   GRAN_TRY {
     GRAN_CHECK_PTR(opt);
     GRAN_CHECK_PTR(pgrid);
@@ -1001,10 +1097,19 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
     const int P = C.sp.nbricks();
     std::vector<Brick> bs((size_t)P);
     const int d = s->opt.dim;
+    LocalTransport T(P);
     for (int r = 0; r < P; ++r) {
       Brick &B = bs[(size_t)r];
       window_of(C, r, B);
       scalars_from(s, B);
+    }
+    if (create_in_bricks) {
+      double e0 = 0;
+      GRAN_CALL(bricks_create(C, bs, T, &e0));
+      s->e_initial = e0;
+    }
+    for (int r = 0; r < P && !create_in_bricks; ++r) {
+      Brick &B = bs[(size_t)r];
       B.cell.resize((size_t)B.ncl);
       B.rng.resize((size_t)B.ncl);
       for (int64_t l = 0; l < B.ncl; ++l) {
@@ -1016,7 +1121,7 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
     /* each particle to the brick of its cell under no shift (the first step bins it again), in
      * index order: key = index */
     const double zero[3] = {0, 0, 0};
-    for (int64_t i = 0; i < s->n; ++i) {
+    for (int64_t i = 0; i < s->n && !create_in_bricks; ++i) {
       const double p[3] = {s->x[(size_t)i], s->y[(size_t)i], d == 3 ? s->z[(size_t)i] : 0.0};
       int64_t c[3];
       double dvx;
@@ -1033,7 +1138,6 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
       B.key.push_back((uint64_t)i);
     }
     for (Brick &B : bs) B.nsorted = (int64_t)B.x.size();
-    LocalTransport T(P);
     const double t0 = clock_s();
     GRAN_CALL(pick(d, srd_fx_of(&s->opt))(C, bs, T, nsteps));
     const double t_steps = clock_s() - t0;

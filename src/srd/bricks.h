@@ -35,9 +35,12 @@ typedef struct srd_bricks_out {
 /* The run of the options (creation must be GRAN_SRD_CREATE_CELLS) for nsteps steps as
  * pgrid[0] x pgrid[1] x pgrid[2] virtual bricks in this process (1 on the axes beyond dim; at
  * most the grid's cells per axis), gathered into *out (srd_bricks_out_free_ releases it). The
- * initial state is gran_srd_create's, each particle given to the brick of its cell. GRAN_ERR_ARG
- * naming a bad option or pgrid entry. */
-int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, srd_bricks_out *out);
+ * initial state: create_in_bricks = 0 gran_srd_create's, each particle given to the brick of its
+ * cell; 1 each brick draws the particles of its own cells, sets up its cells' streams, and the
+ * mean momentum and the initial energy are all-reduced (the same state). GRAN_ERR_ARG naming a
+ * bad option or pgrid entry. */
+int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, int create_in_bricks,
+                    srd_bricks_out *out);
 /* A plain engine's state s (CPU) in the same layout. */
 int srd_bricks_gather_plain_(const gran_srd *s, srd_bricks_out *out);
 void srd_bricks_out_free_(srd_bricks_out *out);
@@ -46,6 +49,9 @@ void srd_bricks_out_free_(srd_bricks_out *out);
 }
 /* gran_srd_advance of the decomposable engine: steps s as one brick (engine.cpp calls it) */
 int srd_bricks_advance_(gran_srd *s, int64_t steps);
+/* adds 0.5 |v|^2 of particles [0, n) to *acc exactly (vz NULL in 2-D): the decomposable engine's
+ * initial energy, one compiled instance for the plain engine and the bricks */
+void srd_kinetic_exact_(const double *vx, const double *vy, const double *vz, int64_t n, struct gran_exactsum *acc);
 #endif
 
 #endif

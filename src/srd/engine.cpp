@@ -777,7 +777,14 @@ GRAN_EXTERN int gran_srd_create(const gran_srd_options *opt, gran_srd **srd) {
       delete s;
       return e;
     }
-    s->e_initial = energy_of(s);
+    if (opt->creation == GRAN_SRD_CREATE_CELLS) { /* the decomposable engine: an exact sum */
+      gran_exactsum e;
+      gran_exactsum_init_(&e);
+      srd_kinetic_exact_(s->vx.data(), s->vy.data(), opt->dim == 3 ? s->vz.data() : nullptr, s->n, &e);
+      s->e_initial = gran_exactsum_value_(&e);
+    } else {
+      s->e_initial = energy_of(s);
+    }
     if (opt->sort_every > 0 && opt->creation == GRAN_SRD_CREATE_SERIAL) { /* in cell order from the start (the grid unshifted) */
       const double sh0[3] = {0.0, 0.0, 0.0};
       sort_by_cell(s, &s->gm, sh0, nthreads_of(s));
