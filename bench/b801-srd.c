@@ -3,14 +3,15 @@
  * threads; bytes moved per particle-step
  * (a model count of the passes, stated below) against a memory-copy roofline measured in the same
  * run; the cost of each effect on/off (32^3); memory per particle; the set-up time of the per-cell
- * RNG streams; a whole run (creation + 100 steps, one thread) with the particles in cell order from
+ * RNG streams; a whole run (creation + 100 steps, one thread, dt = 0.1) with the particles in cell order from
  * creation against the same run with them shuffled back to creation order (what every run did
  * before the creation sort). HOOMD-blue MPCD (not a dependency) runs side by side in the same
  * process tree when `python3 -c "import hoomd"` works: the same set-up (3-D, n0 = 10, dt = 0.1,
  * kT = 1, SRD angle 130 degrees, cell size 1 with the random grid shift, sort every 50 steps, one
  * CPU thread, the 51 steps through its first sort untimed), and the ratio of the two rates measured
  * in this run is printed; otherwise b801 says so and prints granary's numbers only (the external
- * reference measurement is printed as a line of text, with no ratio computed against it).
+ * reference measurement is printed as a line of text, with no ratio computed against it). LAMMPS
+ * `fix srd` runs the whole-run set-up side by side when `lmp` exists (see lammps_input).
  * GRAN_SRD_PHASES=1 in the environment makes the engine print the time of each phase of every
  * gran_srd_advance to stderr (ns per particle-step: streaming, cell sums, cell rules, rotation, sort).
  * Bytes per particle-step of the model (the passes of src/srd/engine.cpp): stream r+w 48+48 and
@@ -116,6 +117,73 @@ static double hoomd_rate(int L, int steps) {
   if (p) pclose(p);
   remove(path);
   return r;
+}
+
+/* LAMMPS `fix srd` (Debian package lammps, not a dependency) with the set-up of the whole-run row:
+ * a pure SRD fluid (no big particles), 3-D, L^3 cells of size 1, n0 = 10 (create_atoms random),
+ * dt = 0.1, kT = 1, the grid shifted every step, no rescaling, LAMMPS' own sorting off (fix srd
+ * bins the SRD particles every step itself), one process, OMP_NUM_THREADS = 1. Its rotation
+ * angle is its own (fix srd has no angle keyword); the cost of a step does not depend on it. Runs
+ * `run 1` then `run steps`; *step_rate: particle-steps per second of the second run (LAMMPS' loop
+ * time); returns the wall seconds of the whole process (start, creation, both runs), -1 on failure. */
+static const char *const lammps_input =
+    "variable L index 16\n"
+    "variable S index 100\n"
+    "variable N equal 10*${L}^3\n"
+    "units lj\n"
+    "atom_style atomic\n"
+    "dimension 3\n"
+    "boundary p p p\n"
+    "region box block 0 ${L} 0 ${L} 0 ${L}\n"
+    "create_box 1 box\n"
+    "create_atoms 1 random ${N} 12345 box\n"
+    "mass 1 1.0\n"
+    "velocity all create 1.0 593849 loop geom\n"
+    "neighbor 0.3 bin\n"
+    "neigh_modify delay 1 every 1 check no\n"
+    "atom_modify sort 0 0.0\n"
+    "timestep 0.1\n"
+    "fix 1 all srd 1 NULL 1.0 1.0 49894 shift yes 54979 rescale no\n"
+    "thermo 1000\n"
+    "run 1\n"
+    "run ${S}\n";
+static int lammps_available(void) { return system("command -v lmp >/dev/null 2>&1") == 0; }
+static double lammps_run(int L, int steps, double *step_rate) {
+  char path[] = "/tmp/b801-lammps-XXXXXX";
+  const int fd = mkstemp(path);
+  *step_rate = -1.0;
+  if (fd < 0) return -1.0;
+  FILE *f = fdopen(fd, "w");
+  if (!f) return -1.0;
+  fputs(lammps_input, f);
+  fclose(f);
+  char cmd[320];
+  snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 lmp -in %s -var L %d -var S %d -log none 2>&1", path, L, steps);
+  const double t0 = bench_now();
+  FILE *p = popen(cmd, "r");
+  char line[512];
+  double loop = -1.0;
+  long long atoms = 0;
+  int nsteps = 0, procs = 0;
+  while (p && fgets(line, sizeof line, p)) {
+    double x;
+    int pr, st;
+    long long na;
+    if (sscanf(line, "Loop time of %lf on %d procs for %d steps with %lld atoms", &x, &pr, &st, &na) == 4 &&
+        st == steps) {
+      loop = x;
+      procs = pr;
+      nsteps = st;
+      atoms = na;
+    } else if (strstr(line, "ERROR"))
+      fprintf(stderr, "b801 (lammps): %s", line);
+  }
+  const int rc = p ? pclose(p) : -1;
+  const double wall = bench_now() - t0;
+  remove(path);
+  if (rc != 0 || loop <= 0 || procs != 1) return -1.0;
+  *step_rate = (double)atoms * nsteps / loop;
+  return wall;
 }
 
 /* heap bytes in use now (malloc'ed incl. mmapped chunks), glibc mallinfo2 */
@@ -339,19 +407,38 @@ int main(void) {
   }
   {
     gran_srd_options w = o;
+    w.dt = 0.1; /* the set-up of the HOOMD-blue and LAMMPS comparisons */
     const int L = quick ? 32 : 64;
     w.cells[0] = w.cells[1] = w.cells[2] = L;
     const double np = 10.0 * L * L * L;
     double a[3], b[3];
-    whole_run(w, 1, b); /* interleaved: shuffled, sorted, shuffled, sorted; the second pair kept */
-    whole_run(w, 0, a);
-    whole_run(w, 1, b);
-    whole_run(w, 0, a);
+    /* interleaved: shuffled, sorted, [LAMMPS], shuffled, sorted, [LAMMPS]; the second granary pair
+     * kept, and the faster of each code's two whole runs compared (the machine may be shared) */
+    const int lmp = lammps_available();
+    double lw[2] = {-1, -1}, lr[2] = {-1, -1}, ga[2], gs[2];
+    for (int round = 0; round < 2; ++round) {
+      whole_run(w, 1, b);
+      whole_run(w, 0, a);
+      ga[round] = a[0] + a[1] + a[2];
+      gs[round] = a[1] + a[2];
+      if (lmp) lw[round] = lammps_run(L, 100, &lr[round]);
+    }
     printf("whole run %d^3, 1 thread, create + 50 + 50 steps (s): creation order %.2f + %.2f + %.2f = %.2f; "
            "cell order from creation %.2f + %.2f + %.2f = %.2f (%.2fx); steps 1-50 %.2fx faster; "
            "steps 1-100 %.3g particle-steps/s\n",
            L, b[0], b[1], b[2], b[0] + b[1] + b[2], a[0], a[1], a[2], a[0] + a[1] + a[2],
            (b[0] + b[1] + b[2]) / (a[0] + a[1] + a[2]), b[1] / a[1], np * 100 / (a[1] + a[2]));
+    if (!lmp)
+      printf("LAMMPS: no `lmp` here (Debian package lammps), no side-by-side run of fix srd\n");
+    else if (lw[0] > 0 && lw[1] > 0) {
+      const double gbest = fmin(ga[0], ga[1]), lbest = fmin(lw[0], lw[1]), lrate = fmax(lr[0], lr[1]);
+      printf("whole run %d^3, LAMMPS fix srd (1 process, same set-up, interleaved with the runs above): %.2f and "
+             "%.2f s for start + creation + 1 + 100 steps, %.3g and %.3g particle-steps/s in its 100 steps; "
+             "granary (cell order from creation: %.2f and %.2f s) whole run %.2fx faster, per step %.2fx (the "
+             "faster of each code's two runs)\n",
+             L, lw[0], lw[1], lr[0], lr[1], ga[0], ga[1], lbest / gbest, (np * 100 / fmin(gs[0], gs[1])) / lrate);
+    } else
+      printf("whole run %d^3, LAMMPS fix srd: a run failed (its errors above), no ratio\n", L);
   }
   o.cells[0] = o.cells[1] = o.cells[2] = 32;
   const double base = rate(o, nmax, 10, NULL);

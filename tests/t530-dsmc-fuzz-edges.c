@@ -10,7 +10,10 @@
  *    pair would ever be accepted and the advance would not end, is refused naming 'sigma'; the
  *    low-rank selector accepts the same gas and collides;
  *  - the cell selector: a speed that streams more than 1e6 box lengths per step (mass 1e-150) is
- *    refused naming 'dt' before any position is converted to a cell index. */
+ *    refused naming 'dt' before any position is converted to a cell index;
+ *  - a2 of a cold gas (T0 = 1e-300, where c^4 underflows): the same as of the gas at T0 = 1 with
+ *    the same seed (the velocities scaled by 1e-150) to 1e-12, plain and aggregating; a gas without
+ *    thermal motion (one particle) gets GRAN_ERR_NUMERIC naming a2, not NaN. */
 #include "io_test_util.h"
 #include "dsmc_util.h"
 #include "agg_test_util.h"
@@ -232,12 +235,57 @@ static void test_cell_streaming(void **state) {
   GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
 }
 
+/* ---- a2 of a cold gas ---------------------------------------------------------------------- */
+static void a2_pair(int agg, double *warm, double *cold, int64_t M) {
+  for (int c = 0; c < 2; ++c) {
+    gran_mixture *mix = agg_kmers(M, 0.01, 0.9);
+    const double T = c ? 1e-300 : 1.0;
+    double *T0 = malloc((size_t)M * sizeof *T0);
+    for (int64_t k = 0; k < M; ++k) T0[k] = T;
+    gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, 11, 3000 / 0.01, 0);
+    gran_dsmc *d = NULL;
+    if (agg) {
+      gran_dsmc_agg_options a;
+      GRAN_ASSERT_OK(gran_dsmc_agg_options_default(&a));
+      GRAN_ASSERT_OK(gran_dsmc_create_agg(mix, NULL, T0, &o, &a, &d));
+    } else
+      GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, T0, &o, &d));
+    GRAN_ASSERT_OK(gran_dsmc_sonine_a2(d, c ? cold : warm));
+    GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+    free(T0);
+    GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
+  }
+}
+static void test_cold_a2(void **state) {
+  (void)state;
+  for (int agg = 0; agg < 2; ++agg) {
+    double w[3], c[3];
+    a2_pair(agg, w, c, 3);
+    assert_true(isfinite(w[0]) && isfinite(c[0]));
+    assert_true(fabs(w[0]) < 0.2); /* 3000 Maxwellian particles: a2 = 0 +- 0.03 */
+    assert_true(fabs(c[0] - w[0]) < 1e-12);
+    for (int k = 1; k < 3; ++k) assert_true(isnan(w[k]) && isnan(c[k])); /* empty sizes */
+  }
+  /* one particle: no thermal motion about the mean flow */
+  double m = 1, s = 1, n = 1e-3;
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(1, &m, &s, &n, &mix));
+  gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, 3, 1000, 0);
+  gran_dsmc *d = NULL;
+  GRAN_ASSERT_OK(gran_dsmc_create(mix, NULL, NULL, &o, &d));
+  double a2;
+  expect_refused(gran_dsmc_sonine_a2(d, &a2), GRAN_ERR_NUMERIC, "a2");
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_checkpoint_candidates),
       cmocka_unit_test(test_masses),
       cmocka_unit_test(test_bird_acceptance),
       cmocka_unit_test(test_cell_streaming),
+      cmocka_unit_test(test_cold_a2),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -93,11 +93,12 @@ void dsmc_agg_mean_flow(const gran_dsmc *s, double u[3]) {
 }
 
 /* T_k (and a2_k) of the sizes 1..M of the mixture; NaN where none is present */
-void dsmc_agg_temperatures(const gran_dsmc *s, double *T, double *a2) {
+int dsmc_agg_temperatures(const gran_dsmc *s, double *T, double *a2) {
   const int64_t M = s->M;
   double u[3];
   dsmc_agg_mean_flow(s, u);
-  std::vector<double> s2((size_t)M, 0.0), c2((size_t)M, 0.0), s4((size_t)M, 0.0), c4((size_t)M, 0.0);
+  std::vector<double> s2((size_t)M, 0.0), c2((size_t)M, 0.0);
+  std::vector<double> cmax(a2 ? (size_t)M : 0, 0.0);
   std::vector<int64_t> n((size_t)M, 0);
   const double *v = s->p.v;
   const int32_t *sp = s->p.species;
@@ -105,16 +106,43 @@ void dsmc_agg_temperatures(const gran_dsmc *s, double *T, double *a2) {
     const int64_t k = sp[j];
     if (k >= M) continue;
     const double a = v[3 * j] - u[0], b = v[3 * j + 1] - u[1], e = v[3 * j + 2] - u[2];
-    const double q = a * a + b * b + e * e;
-    neumaier_add(s2[(size_t)k], c2[(size_t)k], q);
-    if (a2) neumaier_add(s4[(size_t)k], c4[(size_t)k], q * q);
+    neumaier_add(s2[(size_t)k], c2[(size_t)k], a * a + b * b + e * e);
+    if (a2) cmax[(size_t)k] = std::fmax(cmax[(size_t)k], std::fmax(std::fabs(a), std::fmax(std::fabs(b), std::fabs(e))));
     n[(size_t)k]++;
   }
   for (int64_t k = 0; k < M; k++) {
     const double nk = (double)n[(size_t)k], m2 = (s2[(size_t)k] + c2[(size_t)k]) / nk;
     if (T) T[k] = nk > 0 ? (double)(k + 1) * s->agg->m1 * m2 / 3.0 : NAN;
-    if (a2) a2[k] = (nk > 0 && m2 > 0) ? 0.6 * ((s4[(size_t)k] + c4[(size_t)k]) / nk) / (m2 * m2) - 1.0 : NAN;
   }
+  if (!a2) return GRAN_SUCCESS;
+  for (int64_t k = 0; k < M; k++) {
+    const double c = cmax[(size_t)k];
+    GRAN_CHECK(n[(size_t)k] == 0 || (std::isfinite(c) && c > 0), GRAN_ERR_NUMERIC,
+               "gran_dsmc_sonine_a2: cluster size %lld %s: its a2 is undefined", (long long)(k + 1),
+               std::isfinite(c) ? "has no thermal motion (every velocity equals the mean flow)"
+                                : "has a velocity that is not finite");
+  }
+  /* the moments of c / max|c| per size: no underflow of c^4 in a cold gas */
+  std::vector<double> q2((size_t)M, 0.0), e2((size_t)M, 0.0), q4((size_t)M, 0.0), e4((size_t)M, 0.0);
+  for (int64_t j = 0; j < s->N; j++) {
+    const int64_t k = sp[j];
+    if (k >= M) continue;
+    const double w = 1.0 / cmax[(size_t)k];
+    const double a = (v[3 * j] - u[0]) * w, b = (v[3 * j + 1] - u[1]) * w, e = (v[3 * j + 2] - u[2]) * w;
+    const double q = a * a + b * b + e * e;
+    neumaier_add(q2[(size_t)k], e2[(size_t)k], q);
+    neumaier_add(q4[(size_t)k], e4[(size_t)k], q * q);
+  }
+  for (int64_t k = 0; k < M; k++) {
+    const double nk = (double)n[(size_t)k];
+    if (nk == 0) {
+      a2[k] = NAN;
+      continue;
+    }
+    const double m2 = (q2[(size_t)k] + e2[(size_t)k]) / nk, m4 = (q4[(size_t)k] + e4[(size_t)k]) / nk;
+    a2[k] = 0.6 * m4 / (m2 * m2) - 1.0;
+  }
+  return GRAN_SUCCESS;
 }
 
 void dsmc_agg_energy_momentum(const gran_dsmc *s, double *e_kin, double p[3]) {

@@ -56,7 +56,7 @@ GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(T);
-    if (sim->agg) return dsmc_agg_temperatures(sim, T, nullptr), GRAN_SUCCESS; /* clusters */
+    if (sim->agg) return dsmc_agg_temperatures(sim, T, nullptr); /* clusters */
     double u[3];
     dsmc_mean_flow(sim, u);
     const double *v = dsmc_hv(sim);
@@ -123,28 +123,45 @@ GRAN_EXTERN int gran_dsmc_collision_counts(const gran_dsmc *sim, int64_t *counts
   GRAN_CATCH
 }
 
-/** @brief Sonine coefficient a2 = (3/5) <c^4>/<c^2>^2 - 1 per species, c = v - u; NaN when empty. */
+/** @brief Sonine coefficient a2 = (3/5) <c^4>/<c^2>^2 - 1 per species, c = v - u; NaN when empty. The
+ *  moments are taken of c / max|c_i| (per species), so that a cold gas (T ~ 1e-300, where c^4
+ *  underflows) gives its a2; GRAN_ERR_NUMERIC when a species has no thermal motion (every c = 0:
+ *  a2 is undefined) or a velocity is not finite. */
 GRAN_EXTERN int gran_dsmc_sonine_a2(const gran_dsmc *sim, double *a2) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
     GRAN_CHECK_PTR(a2);
-    if (sim->agg) return dsmc_agg_temperatures(sim, nullptr, a2), GRAN_SUCCESS; /* clusters */
+    if (sim->agg) return dsmc_agg_temperatures(sim, nullptr, a2); /* clusters */
     double u[3];
     dsmc_mean_flow(sim, u);
     const double *v = dsmc_hv(sim);
     for (int64_t k = 0; k < sim->M; k++) {
+      double cmax = 0;
+      dsmc_species_ranges(sim, k, [&](int64_t ja, int64_t jb) {
+        for (int64_t j = ja; j < jb; j++)
+          for (int d = 0; d < 3; d++) cmax = std::fmax(cmax, std::fabs(v[3 * j + d] - u[d]));
+      });
+      const double n = (double)sim->count[(size_t)k];
+      if (n == 0) {
+        a2[k] = NAN;
+        continue;
+      }
+      GRAN_CHECK(std::isfinite(cmax) && cmax > 0, GRAN_ERR_NUMERIC,
+                 "gran_dsmc_sonine_a2: species %lld %s: its a2 is undefined", (long long)k,
+                 std::isfinite(cmax) ? "has no thermal motion (every velocity equals the mean flow)"
+                                     : "has a velocity that is not finite");
+      const double w = 1.0 / cmax;
       double s2 = 0, c2 = 0, s4 = 0, c4 = 0;
       dsmc_species_ranges(sim, k, [&](int64_t ja, int64_t jb) {
         for (int64_t j = ja; j < jb; j++) {
-          const double a = v[3 * j] - u[0], b = v[3 * j + 1] - u[1], e = v[3 * j + 2] - u[2];
+          const double a = (v[3 * j] - u[0]) * w, b = (v[3 * j + 1] - u[1]) * w, e = (v[3 * j + 2] - u[2]) * w;
           const double q = a * a + b * b + e * e;
           neumaier_add(s2, c2, q);
           neumaier_add(s4, c4, q * q);
         }
       });
-      const double n = (double)sim->count[(size_t)k];
       const double m2 = (s2 + c2) / n, m4 = (s4 + c4) / n;
-      a2[k] = (n > 0 && m2 > 0) ? 0.6 * m4 / (m2 * m2) - 1.0 : NAN;
+      a2[k] = 0.6 * m4 / (m2 * m2) - 1.0;
     }
     return GRAN_SUCCESS;
   }

@@ -631,6 +631,10 @@ int check_options(const gran_srd_options *o) {
   GRAN_CHECK(std::isfinite(o->a) && o->a > 0, GRAN_ERR_ARG, "option 'a' must be > 0 (got %g)", o->a);
   GRAN_CHECK(std::isfinite(o->n0) && o->n0 > 0, GRAN_ERR_ARG, "option 'n0' must be > 0 (got %g)", o->n0);
   GRAN_CHECK(std::isfinite(o->dt) && o->dt > 0, GRAN_ERR_ARG, "option 'dt' must be > 0 (got %g)", o->dt);
+  GRAN_CHECK(o->dt >= DBL_MIN, GRAN_ERR_ARG,
+             "option 'dt' must be at least %g, the smallest normal double (got the subnormal %g: the stress and the "
+             "ledger divide by multiples of it)",
+             DBL_MIN, o->dt);
   GRAN_CHECK(std::isfinite(o->alpha_deg) && o->alpha_deg > 0 && o->alpha_deg <= 180, GRAN_ERR_ARG,
              "option 'alpha' must be in (0, 180] degrees (got %g)", o->alpha_deg);
   GRAN_CHECK(std::isfinite(o->eps) && o->eps >= 0 && o->eps <= 1, GRAN_ERR_ARG,
@@ -1102,9 +1106,9 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     if (s->opt.shear_rate != 0 && s->time > s->stress_t0) {
       double A = s->gm.box[0] * (d == 3 ? s->gm.box[2] : 1.0);
       const double tt = s->time - s->stress_t0;
-      const double fk = s->flux_kin / (A * s->gm.box[1] * tt);
       const double Vt = A * s->gm.box[1];
-      const double fc = s->flux_coll / (Vt * tt);
+      const double fk = s->flux_kin / tt / Vt; /* the flux per time first: Vt tt can underflow */
+      const double fc = s->flux_coll / tt / Vt;
       ob->stress_kin = -fk;
       ob->stress_xy = -(fk + fc);
     }
