@@ -19,6 +19,7 @@
  */
 #include "srd/srd_impl.h"
 #include "srd/create.h"
+#include "srd/bricks.h"
 #include "srd/srd_limits.h"
 #include "srd/rules.h"
 #include "core/run_bounds.h"
@@ -780,7 +781,14 @@ GRAN_EXTERN int gran_srd_create(const gran_srd_options *opt, gran_srd **srd) {
       delete s;
       return e;
     }
-    s->e_initial = energy_of(s);
+    if (opt->creation == GRAN_SRD_CREATE_CELLS) { /* the decomposable engine: an exact sum */
+      gran_exactsum e;
+      gran_exactsum_init_(&e);
+      srd_kinetic_exact_(s->vx.data(), s->vy.data(), opt->dim == 3 ? s->vz.data() : nullptr, s->n, &e);
+      s->e_initial = gran_exactsum_value_(&e);
+    } else {
+      s->e_initial = energy_of(s);
+    }
     if (opt->sort_every > 0 && opt->creation == GRAN_SRD_CREATE_SERIAL) { /* in cell order from the start (the grid unshifted) */
       const double sh0[3] = {0.0, 0.0, 0.0};
       sort_by_cell(s, &s->gm, sh0, nthreads_of(s));
@@ -812,6 +820,8 @@ GRAN_EXTERN int gran_srd_advance(gran_srd *s, int64_t steps) {
     GRAN_CHECK(gran::gran_run_steps_ok((double)steps, (double)s->n + (double)s->ncell, why, sizeof why), GRAN_ERR_ARG,
                "argument 'steps': %s", why);
     if (s->dev.p) return gran_srd_dev_advance(s, steps); /* device hook (owner: CUDA backend) */
+    /* the decomposable engine (creation by cells): the brick layer with one brick (bricks.cpp) */
+    if (s->opt.creation == GRAN_SRD_CREATE_CELLS) return srd_bricks_advance_(s, steps);
     const gran_srd_options &o = s->opt;
     const int32_t fx = srd_fx_of(&o); /* the step loop's template flags: the rules' effects */
     const bool dis = fx & SRD_FX_DISSIP;

@@ -1,0 +1,1198 @@
+/* bricks.cpp - the decomposable GSRD engine: one box as P bricks of the binning grid (bricks.h;
+ * design and measurements: docs/developers/domain-decomposition.md, "Step 2").
+ *
+ * A brick holds a window [lo, lo + w) per axis of the binning grid (s->gm.nc cells per axis; the
+ * wall axis has L + 1 layers), the cells' persistent data of that window (reference velocity V,
+ * RNG state: stream gc + 1 of the seed for global cell gc), the particles whose cell of the
+ * current grid shift lies in the window, and a copy of the run's scalar state (time, step, the
+ * shift stream, the ledger). One step, on every brick (the phases below; the driver runs each
+ * phase on every brick before the next one, which is what an MPI rank does for its one brick):
+ *   stream:   draw the shift (the same draw on every brick); move the brick's particles
+ *             (srd_rule_move; its streaming terms kept per particle), dropping those that left in
+ *             the previous step; bin each under the new shift (srd_bin's arithmetic, Lees-Edwards
+ *             included): the global cell and its owner; the particles that left are packed, in
+ *             local order, per destination and sent (and marked until the next streaming pass);
+ *   receive:  the arrivals (each sender's in key order) are sorted by key and appended;
+ *   sums:     a stable counting sort of the particles by local cell; a cell holding particles
+ *             that arrived since the last sort has its list put in key order (insertion by key:
+ *             the list is the sorted residents, then the arrivals); per cell its sums in key
+ *             order, and the per-particle streaming terms of its particles summed in the same
+ *             order into one double per cell, added to exact accumulators (one exact add per cell
+ *             and quantity); then, without the global thermostat, at once the cell's rule
+ *             (srd_rule_cell: the global cell index for the geometry, the cell's own RNG) and the
+ *             collision of its particles (srd_rule_collide), their energy change, virial and
+ *             Lees-Edwards work per cell into exact accumulators; with the global thermostat the
+ *             cells' thermal energies are added exactly and all-reduced first;
+ *   collide:  (the global thermostat) the rules and collisions with the reduced factor; at a sort
+ *             step the particles are reordered by cell (key order) and get new keys (global cell
+ *             << 32 | rank in the cell);
+ *   finish:   the ledger accumulators are all-reduced and each step's exact sums rounded once
+ *             and added to the ledger doubles.
+ * Every particle's key orders it as the single-process array does, so a cell adds the same
+ * numbers in the same order on any split, and the exact sums do not depend on the order at all:
+ * results are bit for bit independent of the split. The single-process engine in this mode
+ * (gran_srd_advance with creation = GRAN_SRD_CREATE_CELLS) is this code with one brick. */
+#include "srd/bricks.h"
+#include "srd/create.h"
+#include "srd/srd_impl.h"
+#include "srd/rules.h"
+#include "core/exactsum.h"
+#include "../cuda/srd_cuda.h" /* srd_rule_const_of */
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <numeric>
+#include <utility>
+#include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#if defined(__SSE__) || defined(__x86_64__)
+#include <xmmintrin.h>
+#endif
+
+namespace {
+
+/* ---- the all-reduce record: exact accumulators, integer counts, a minimum ---- */
+enum { RQ_DE, RQ_VIR, RQ_LEW, RQ_FLUX, RQ_EXT, RQ_IMP, RQ_TH, RQ_N };
+struct Red {
+  gran_exactsum a[RQ_N];
+  int64_t clamped, dof;
+  double dt_max;
+  void clear() {
+    for (auto &q : a) gran_exactsum_init_(&q);
+    clamped = dof = 0;
+    dt_max = INFINITY;
+  }
+  void merge(const Red &o) {
+    for (int q = 0; q < RQ_N; ++q) gran_exactsum_merge_(&a[q], &o.a[q]);
+    clamped += o.clamped;
+    dof += o.dof;
+    dt_max = std::min(dt_max, o.dt_max);
+  }
+};
+
+/* ---- the transport between bricks ----
+ * Messages are arrays of 8-byte words. A round: every brick posts one message to every other
+ * brick (empty ones too), then takes the one from every other brick; an all-reduce: every brick
+ * posts its record, then takes the merge of all of them (exact: the same for any merge order).
+ * The in-process transport copies buffers; an MPI one maps send / recv to MPI_Isend / MPI_Recv and
+ * the all-reduce to MPI_Allreduce with a user-defined merge. */
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  virtual int size() const = 0;
+  virtual int send(int from, int to, const std::vector<double> &buf) = 0;
+  virtual int recv(int to, int from, std::vector<double> &buf) = 0;
+  virtual int reduce_post(int rank, const Red &r) = 0;
+  virtual int reduce_take(int rank, Red &r) = 0;
+};
+
+class LocalTransport final : public Transport {
+ public:
+  explicit LocalTransport(int p) : P(p), box((size_t)p * p), full((size_t)p * p, 0), red((size_t)p), rposted((size_t)p, 0) {}
+  int size() const override { return P; }
+  int send(int from, int to, const std::vector<double> &buf) override {
+    const size_t k = (size_t)from * P + to;
+    GRAN_CHECK(!full[k], GRAN_ERR_INTERNAL, "brick transport: a second message from brick %d to %d in one round", from, to);
+    box[k] = buf;
+    full[k] = 1;
+    bytes += (int64_t)(buf.size() * sizeof(double));
+    return GRAN_SUCCESS;
+  }
+  int recv(int to, int from, std::vector<double> &buf) override {
+    const size_t k = (size_t)from * P + to;
+    GRAN_CHECK(full[k], GRAN_ERR_INTERNAL, "brick transport: no message from brick %d to %d", from, to);
+    buf.swap(box[k]);
+    box[k].clear();
+    full[k] = 0;
+    return GRAN_SUCCESS;
+  }
+  int reduce_post(int rank, const Red &r) override {
+    GRAN_CHECK(!rposted[(size_t)rank], GRAN_ERR_INTERNAL, "brick transport: brick %d posted twice to one all-reduce", rank);
+    red[(size_t)rank] = r;
+    rposted[(size_t)rank] = 1;
+    ++posted;
+    return GRAN_SUCCESS;
+  }
+  int reduce_take(int rank, Red &r) override {
+    GRAN_CHECK(posted == P, GRAN_ERR_INTERNAL, "brick transport: brick %d takes an all-reduce that %d of %d bricks posted",
+               rank, posted, P);
+    if (taken == 0) {
+      sum.clear();
+      for (int b = 0; b < P; ++b) sum.merge(red[(size_t)b]);
+    }
+    r = sum;
+    if (++taken == P) {
+      posted = taken = 0;
+      std::fill(rposted.begin(), rposted.end(), 0);
+    }
+    return GRAN_SUCCESS;
+  }
+  int64_t bytes = 0;
+
+ private:
+  int P;
+  std::vector<std::vector<double>> box;
+  std::vector<char> full;
+  std::vector<Red> red;
+  std::vector<char> rposted;
+  int posted = 0, taken = 0;
+  Red sum;
+};
+
+/* ---- the split of the binning grid ---- */
+struct Split {
+  int P[3] = {1, 1, 1};
+  std::vector<int64_t> cut[3];  /* brick b along axis a holds grid indices [cut[a][b], cut[a][b + 1]) */
+  std::vector<int32_t> own[3];  /* grid index along a -> brick coordinate */
+  int nbricks() const { return P[0] * P[1] * P[2]; }
+  int rank(const int b[3]) const { return b[0] + P[0] * (b[1] + P[1] * b[2]); }
+};
+
+using CellVec = std::vector<srd_cpu_cell, srd_uninit_alloc<srd_cpu_cell>>;
+using RngVec = std::vector<gran_rng, srd_uninit_alloc<gran_rng>>;
+
+struct Brick {
+  int rank = 0;
+  int64_t lo[3] = {0, 0, 0}, w[3] = {1, 1, 1}, ncl = 1;
+  /* particles, in key order */
+  std::vector<double> x, y, z, vx, vy, vz;
+  std::vector<uint64_t> key;
+  std::vector<double> cf, ce, ci; /* this step's streaming terms: kinetic flux, external work, wall impulse */
+  std::vector<uint32_t> lc;       /* this step's local cell (top bit: seen across the Lees-Edwards boundary) */
+  /* cells of the window */
+  CellVec cell;
+  RngVec rng;
+  /* the run's scalar state (the same on every brick) */
+  gran_rng shift_rng;
+  double shift[3] = {0, 0, 0};
+  int64_t step = 0;
+  double time = 0, e_coll = 0, e_ext = 0, flux_kin = 0, flux_coll = 0, wall_impulse[3] = {0, 0, 0}, dt_max = INFINITY;
+  int64_t clamped = 0;
+  /* step work */
+  srd_geom g;
+  double sh[3] = {0, 0, 0};
+  std::vector<int32_t> dest;
+  std::vector<uint32_t> start, order;
+  std::vector<srd_cell_sum> W;
+  std::vector<std::vector<double>> out;
+  std::vector<double> in, arr;
+  /* the exchange's scratch particle arrays (swapped with the particles' at each merge) */
+  struct Arrays {
+    std::vector<double> x, y, z, vx, vy, vz, cf, ce, ci;
+    std::vector<uint64_t> key;
+    std::vector<uint32_t> lc;
+    void resize(int64_t n, bool d3, bool str) {
+      for (std::vector<double> *v : {&x, &y, &vx, &vy}) v->resize((size_t)n);
+      z.resize(d3 ? (size_t)n : 0);
+      vz.resize(d3 ? (size_t)n : 0);
+      for (std::vector<double> *v : {&cf, &ce, &ci}) v->resize(str ? (size_t)n : 0);
+      key.resize((size_t)n);
+      lc.resize((size_t)n);
+    }
+  } scratch;
+  void swap_scratch() {
+    x.swap(scratch.x);
+    y.swap(scratch.y);
+    z.swap(scratch.z);
+    vx.swap(scratch.vx);
+    vy.swap(scratch.vy);
+    vz.swap(scratch.vz);
+    cf.swap(scratch.cf);
+    ce.swap(scratch.ce);
+    ci.swap(scratch.ci);
+    key.swap(scratch.key);
+    lc.swap(scratch.lc);
+  }
+  std::vector<int64_t> ord;
+  std::vector<int32_t> dest2;
+  int64_t ndead = 0;   /* particles that left this step (dest >= 0), still in the arrays */
+  int64_t nsorted = 0; /* the arrays' first nsorted particles are in key order; the rest arrived since */
+  Red red, red_th;
+  double gscale = 1.0; /* the global thermostat's factor of the step */
+  int64_t moved = 0; /* particles sent */
+};
+
+struct Ctx {
+  const gran_srd_options *o;
+  srd_geom gm;
+  srd_rule_const K;
+  Split sp;
+  int nth = 1; /* threads of a brick's loops (the results do not depend on them) */
+};
+
+constexpr uint32_t kLeBit = 0x80000000u;
+
+/* srd_bin's arithmetic, the three indices kept */
+inline void bin3(const srd_geom *gm, const double s[3], const double p[3], int64_t c[3], double *dvx) {
+  double px = p[0];
+  *dvx = 0.0;
+  c[0] = c[1] = c[2] = 0;
+  if (gm->dim > 1) {
+    int wrapped;
+    c[1] = srd_bin_y(gm, s, p, &wrapped);
+    if (wrapped && gm->le_on) {
+      px -= gm->le_dx;
+      *dvx = -gm->le_dv;
+    }
+  }
+  c[0] = srd_bin_index(gm, 0, px + s[0]);
+  if (gm->dim > 2) c[2] = srd_bin_index(gm, 2, p[2] + s[2]);
+}
+inline int owner_of(const Split &sp, const int64_t c[3]) {
+  const int b[3] = {sp.own[0][(size_t)c[0]], sp.own[1][(size_t)c[1]], sp.own[2][(size_t)c[2]]};
+  return sp.rank(b);
+}
+inline uint32_t local_of(const Brick &B, const int64_t c[3]) {
+  return (uint32_t)((c[0] - B.lo[0]) + B.w[0] * ((c[1] - B.lo[1]) + B.w[1] * (c[2] - B.lo[2])));
+}
+inline int64_t global_of(const Ctx &C, const Brick &B, int64_t l) {
+  const int64_t i0 = l % B.w[0], r = l / B.w[0], i1 = r % B.w[1], i2 = r / B.w[1];
+  return (B.lo[0] + i0) + C.gm.nc[0] * ((B.lo[1] + i1) + C.gm.nc[1] * (B.lo[2] + i2));
+}
+inline uint64_t key_of(double w) {
+  uint64_t k;
+  std::memcpy(&k, &w, sizeof k);
+  return k;
+}
+inline double word_of(uint64_t k) {
+  double w;
+  std::memcpy(&w, &k, sizeof w);
+  return w;
+}
+
+/* flush-to-zero and denormals-are-zero inside the step's loops, as the serial engine (engine.cpp,
+ * FtzScope): per thread, restored when its share ends */
+struct Ftz {
+#if defined(__SSE__) || defined(__x86_64__)
+  unsigned old;
+  Ftz() : old(_mm_getcsr()) { _mm_setcsr(old | 0x8040u); }
+  ~Ftz() { _mm_setcsr(old); }
+#endif
+};
+
+bool phase_timing() {
+  static const bool on = [] {
+    const char *e = std::getenv("GRAN_SRD_PHASES");
+    return e && e[0] == '1';
+  }();
+  return on;
+}
+inline double clock_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+enum { BP_STREAM, BP_RECV, BP_SUMS, BP_COLL, BP_SORT, BP_RED, BP_N };
+
+template <int FXF>
+struct Fx {
+  static constexpr bool LE = FXF & SRD_FX_LE, WALL = FXF & SRD_FX_WALL, ACCEL = FXF & SRD_FX_ACCEL,
+                        DISSIP = FXF & SRD_FX_DISSIP, STR = LE || WALL || ACCEL;
+};
+template <int DIM, int FXF>
+constexpr int words_per_particle() {
+  return 2 * DIM + 1 + (Fx<FXF>::STR ? 3 : 0);
+}
+
+/* stream, bin, pack and send the leavers */
+template <int DIM, int FXF>
+int phase_stream(const Ctx &C, Brick &B, Transport &T) {
+  using F = Fx<FXF>;
+  const gran_srd_options &o = *C.o;
+  const double dt = o.dt;
+  srd_geom g = C.gm;
+  if (F::LE) { /* offset at the end of the step */
+    double dx = std::fmod(o.shear_rate * g.box[1] * (B.time + dt), g.box[0]);
+    if (dx < 0) dx += g.box[0];
+    g.le_dx = dx;
+  }
+  if (F::WALL) g.wall_u_lo = o.vib_amp * o.vib_omega * std::cos(o.vib_omega * (B.time + dt));
+  for (int k = 0; k < 3; ++k) B.shift[k] = k < DIM ? srd_rng_uniform(&B.shift_rng) * o.a : 0.0;
+  const double sh[3] = {B.shift[0], B.shift[1], B.shift[2]};
+  B.g = g;
+  for (int k = 0; k < 3; ++k) B.sh[k] = sh[k];
+  /* the particles that left in the previous step (dest >= 0) are dropped while streaming: the
+   * survivors are streamed from the particle arrays into the scratch ones (every thread its chunk
+   * at its offset), in order */
+  const int64_t n_in = (int64_t)B.x.size();
+  const bool compact = B.ndead > 0;
+  const int64_t n = n_in - B.ndead;
+  if (compact) {
+    const int32_t *dest = B.dest.data();
+    int64_t below = 0;
+    for (int64_t i = 0; i < B.nsorted; ++i) below += dest[i] < 0;
+    B.nsorted = below;
+  }
+  Brick::Arrays &S = B.scratch;
+  if (compact) {
+    S.resize(n, DIM == 3, F::STR);
+  } else {
+    if (F::STR)
+      for (std::vector<double> *v : {&B.cf, &B.ce, &B.ci}) v->resize((size_t)n);
+    B.lc.resize((size_t)n);
+  }
+  B.dest2.resize((size_t)n);
+  const double *ix = B.x.data(), *iy = B.y.data(), *iz = DIM == 3 ? B.z.data() : nullptr;
+  const double *ivx = B.vx.data(), *ivy = B.vy.data(), *ivz = DIM == 3 ? B.vz.data() : nullptr;
+  const uint64_t *ikey = B.key.data();
+  double *px = compact ? S.x.data() : B.x.data(), *py = compact ? S.y.data() : B.y.data();
+  double *pz = DIM == 3 ? (compact ? S.z.data() : B.z.data()) : nullptr;
+  double *vx = compact ? S.vx.data() : B.vx.data(), *vy = compact ? S.vy.data() : B.vy.data();
+  double *vz = DIM == 3 ? (compact ? S.vz.data() : B.vz.data()) : nullptr;
+  uint64_t *okey = compact ? S.key.data() : B.key.data();
+  double *cf = F::STR ? (compact ? S.cf.data() : B.cf.data()) : nullptr;
+  double *ce = F::STR ? (compact ? S.ce.data() : B.ce.data()) : nullptr;
+  double *ci = F::STR ? (compact ? S.ci.data() : B.ci.data()) : nullptr;
+  uint32_t *lcp = compact ? S.lc.data() : B.lc.data();
+  int32_t *odest = B.dest2.data();
+  const int32_t *idest = B.dest.data();
+  const Split &sp = C.sp;
+  const bool single = sp.nbricks() == 1;
+  double chk = 0.0;
+  int64_t nleave = 0;
+  const srd_rule_const K = C.K;
+  std::vector<int64_t> alive((size_t)C.nth + 1, 0);
+#pragma omp parallel num_threads(C.nth) reduction(+ : chk, nleave)
+  {
+    Ftz ftz;
+    const srd_geom gl = g;
+    int tid = 0, nt = 1;
+#ifdef _OPENMP
+    tid = omp_get_thread_num();
+    nt = omp_get_num_threads();
+#endif
+    const int64_t lo = n_in * tid / nt, hi = n_in * (tid + 1) / nt;
+    int64_t k = lo;
+    if (compact) {
+      int64_t a = 0;
+      for (int64_t i = lo; i < hi; ++i) a += idest[i] < 0;
+      alive[(size_t)tid] = a;
+#pragma omp barrier
+      k = 0;
+      for (int q = 0; q < tid; ++q) k += alive[(size_t)q];
+    }
+    for (int64_t i = lo; i < hi; ++i) {
+      if (compact && idest[i] >= 0) continue;
+      const int32_t fx = srd_rule_fx_fold(FXF, K.fx);
+      double p[3] = {ix[i], iy[i], DIM == 3 ? iz[i] : 0.0};
+      double v[3] = {ivx[i], ivy[i], DIM == 3 ? ivz[i] : 0.0};
+      double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
+      srd_rule_move(fx, DIM, &K, &gl, p, v, acc);
+      chk += p[0] + p[1] + p[2];
+      px[k] = p[0];
+      py[k] = p[1];
+      vx[k] = v[0];
+      vy[k] = v[1];
+      if (DIM == 3) {
+        pz[k] = p[2];
+        vz[k] = v[2];
+      }
+      if (compact) okey[k] = ikey[i];
+      if (F::STR) {
+        cf[k] = acc[SRD_ACC_FLUX];
+        ce[k] = acc[SRD_ACC_EXT];
+        ci[k] = acc[SRD_ACC_IMP];
+      }
+      int64_t c[3];
+      double dvx;
+      bin3(&gl, sh, p, c, &dvx);
+      const int r = single ? B.rank : owner_of(sp, c);
+      if (r == B.rank) {
+        odest[k] = -1;
+        lcp[k] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+      } else {
+        odest[k] = r;
+        ++nleave;
+      }
+      ++k;
+    }
+  }
+  if (compact) B.swap_scratch();
+  B.dest.swap(B.dest2);
+  B.ndead = 0;
+  if (!compact && B.nsorted > n) B.nsorted = n;
+  if (chk - chk != 0.0) {
+    static const char *const names[6] = {"x", "y", "z", "vx", "vy", "vz"};
+    const double *a[6] = {px, py, pz, vx, vy, vz};
+    for (int64_t i = 0; i < n; ++i)
+      for (int q : {3, 4, 5, 0, 1, 2})
+        if (a[q] && !std::isfinite(a[q][i]))
+          return GRAN_ERROR(GRAN_ERR_NUMERIC,
+                            "GSRD step %lld: particle %lld of brick %d has a non-finite %s (%g) after its move; the run "
+                            "cannot continue",
+                            (long long)B.step + 1, (long long)i, B.rank, names[q], a[q][i]);
+  }
+  const int P = T.size();
+  if (P == 1) return GRAN_SUCCESS;
+  constexpr int WPP = words_per_particle<DIM, FXF>();
+  B.out.resize((size_t)P);
+  for (auto &m : B.out) m.clear();
+  for (int64_t i = 0; i < n && nleave > 0; ++i) { /* the leavers, in local (key) order per destination */
+    const int d = B.dest[(size_t)i];
+    if (d < 0) continue;
+    std::vector<double> &m = B.out[(size_t)d];
+    double rec[WPP];
+    int q = 0;
+    rec[q++] = px[i];
+    rec[q++] = py[i];
+    if (DIM == 3) rec[q++] = pz[i];
+    rec[q++] = vx[i];
+    rec[q++] = vy[i];
+    if (DIM == 3) rec[q++] = vz[i];
+    rec[q++] = word_of(B.key[(size_t)i]);
+    if (F::STR) {
+      rec[q++] = B.cf[(size_t)i];
+      rec[q++] = B.ce[(size_t)i];
+      rec[q++] = B.ci[(size_t)i];
+    }
+    m.insert(m.end(), rec, rec + WPP);
+  }
+  B.moved += nleave;
+  B.ndead = nleave; /* they stay, marked by dest, until the next step's streaming drops them */
+  for (int r = 0; r < P; ++r)
+    if (r != B.rank) GRAN_CALL(T.send(B.rank, r, B.out[(size_t)r]));
+  return GRAN_SUCCESS;
+}
+
+/* receive the arrivals and merge them into the residents by key */
+template <int DIM, int FXF>
+int phase_recv(const Ctx &C, Brick &B, Transport &T) {
+  using F = Fx<FXF>;
+  const int P = T.size();
+  if (P == 1) return GRAN_SUCCESS;
+  constexpr int WPP = words_per_particle<DIM, FXF>();
+  B.arr.clear();
+  for (int r = 0; r < P; ++r) {
+    if (r == B.rank) continue;
+    GRAN_CALL(T.recv(B.rank, r, B.in));
+    B.arr.insert(B.arr.end(), B.in.begin(), B.in.end());
+  }
+  const int64_t m = (int64_t)(B.arr.size() / WPP);
+  if (m == 0) return GRAN_SUCCESS;
+  const double *A = B.arr.data();
+  constexpr int KW = 2 * DIM; /* the key's word */
+  std::vector<int64_t> &ord = B.ord;
+  ord.resize((size_t)m);
+  std::iota(ord.begin(), ord.end(), 0);
+  std::sort(ord.begin(), ord.end(), [&](int64_t a, int64_t b) { return key_of(A[a * WPP + KW]) < key_of(A[b * WPP + KW]); });
+  /* appended after the residents (in key order among themselves): the cell pass puts each cell's
+   * particles in key order */
+  const int64_t n0 = (int64_t)B.x.size(), n = n0 + m;
+  for (std::vector<double> *v : {&B.x, &B.y, &B.vx, &B.vy}) v->resize((size_t)n);
+  if (DIM == 3) {
+    B.z.resize((size_t)n);
+    B.vz.resize((size_t)n);
+  }
+  if (F::STR)
+    for (std::vector<double> *v : {&B.cf, &B.ce, &B.ci}) v->resize((size_t)n);
+  B.key.resize((size_t)n);
+  B.lc.resize((size_t)n);
+  B.dest.resize((size_t)n, -1);
+  for (int64_t j = 0; j < m; ++j) {
+    const int64_t t = n0 + j;
+    const double *rec = A + ord[(size_t)j] * WPP;
+    int q = 0;
+    double p[3] = {0, 0, 0};
+    p[0] = B.x[(size_t)t] = rec[q++];
+    p[1] = B.y[(size_t)t] = rec[q++];
+    if (DIM == 3) p[2] = B.z[(size_t)t] = rec[q++];
+    B.vx[(size_t)t] = rec[q++];
+    B.vy[(size_t)t] = rec[q++];
+    if (DIM == 3) B.vz[(size_t)t] = rec[q++];
+    B.key[(size_t)t] = key_of(rec[q++]);
+    if (F::STR) {
+      B.cf[(size_t)t] = rec[q++];
+      B.ce[(size_t)t] = rec[q++];
+      B.ci[(size_t)t] = rec[q++];
+    }
+    int64_t c[3];
+    double dvx;
+    bin3(&B.g, B.sh, p, c, &dvx);
+    GRAN_CHECK(owner_of(C.sp, c) == B.rank, GRAN_ERR_INTERNAL, "brick %d received a particle of brick %d", B.rank,
+               owner_of(C.sp, c));
+    B.lc[(size_t)t] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+  }
+  return GRAN_SUCCESS;
+}
+
+/* the rule of local cell c (sums cs) and the collision of its particles; the clamps, the energy
+ * change, the virial and the Lees-Edwards work into R */
+template <int DIM, int FXF>
+inline void collide_cell(const Ctx &C, Brick &B, int64_t c, const srd_cell_sum &cs, double gscale, Red &R,
+                         const srd_geom &g, const double sh[3], const srd_rule_const &K) {
+  using F = Fx<FXF>;
+  const int32_t fx = srd_rule_fx_fold(FXF, K.fx);
+  const uint32_t *start = B.start.data(), *order = B.order.data(), *lc = B.lc.data();
+  double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
+  const double *py = B.y.data();
+  srd_cell_rot cr;
+  int cl;
+  double dtm;
+  srd_rule_cell(fx, DIM, &K, &g, sh, global_of(C, B, c), &cs, gscale, B.cell[(size_t)c].V, &B.rng[(size_t)c], &cr, &cl,
+                &dtm);
+  if (cl) {
+    ++R.clamped;
+    R.dt_max = std::min(R.dt_max, dtm);
+  }
+  const uint32_t j0 = start[c], j1 = start[c + 1];
+  if (j0 == j1) return;
+  double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
+  for (uint32_t j = j0; j < j1; ++j) {
+    const uint32_t i = order[j];
+    double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+    const double dvx = F::LE && (lc[i] & kLeBit) ? -g.le_dv : 0.0;
+    srd_rule_collide(fx, DIM, &K, &g, &cr, dvx, py[i], v, acc);
+    vx[i] = v[0];
+    vy[i] = v[1];
+    if (DIM == 3) vz[i] = v[2];
+  }
+  if (F::DISSIP || F::WALL) gran_exactsum_add_(&R.a[RQ_DE], acc[SRD_ACC_DE]);
+  if (F::LE) {
+    gran_exactsum_add_(&R.a[RQ_VIR], acc[SRD_ACC_VIR]);
+    gran_exactsum_add_(&R.a[RQ_LEW], acc[SRD_ACC_LEW]);
+  }
+}
+
+/* the particles by local cell (stable counting sort), the cell sums, the streaming terms per cell,
+ * the thermostat's sums (posted) */
+template <int DIM, int FXF>
+int phase_sums(const Ctx &C, Brick &B, Transport &T) {
+  using F = Fx<FXF>;
+  const int32_t fx = srd_rule_fx_fold(FXF, C.K.fx);
+  const int64_t n = (int64_t)B.x.size(), ncl = B.ncl;
+  B.start.assign((size_t)ncl + 1, 0);
+  B.order.resize((size_t)(n - B.ndead));
+  uint32_t *start = B.start.data(), *order = B.order.data();
+  const uint32_t *lc = B.lc.data();
+  const int32_t *dest = B.dest.data();
+  const bool dead = B.ndead > 0; /* the particles that left (dest >= 0) are not counted */
+  for (int64_t i = 0; i < n; ++i)
+    if (!dead || dest[i] < 0) start[(lc[i] & ~kLeBit) + 1]++;
+  for (int64_t c = 0; c < ncl; ++c) start[c + 1] += start[c];
+  {
+    std::vector<uint32_t> cur(B.start.begin(), B.start.end() - 1);
+    for (int64_t i = 0; i < n; ++i)
+      if (!dead || dest[i] < 0) order[cur[lc[i] & ~kLeBit]++] = (uint32_t)i;
+  }
+  const uint64_t *key = B.key.data();
+  const int64_t nsorted = B.nsorted;
+  B.W.resize((size_t)ncl);
+  B.red.clear();
+  B.red_th.clear();
+  const double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
+  const double ledv = B.g.le_dv;
+  const bool gth = fx & SRD_FX_GTHERMO;
+  const srd_geom g = B.g;
+  const double sh[3] = {B.sh[0], B.sh[1], B.sh[2]};
+  const srd_rule_const K = C.K;
+  std::vector<Red> tred((size_t)C.nth);
+#pragma omp parallel num_threads(C.nth)
+  {
+    Ftz ftz;
+#ifdef _OPENMP
+    Red &R = tred[(size_t)omp_get_thread_num()];
+#else
+    Red &R = tred[0];
+#endif
+    R.clear();
+#pragma omp for schedule(dynamic, 256)
+  for (int64_t c = 0; c < ncl; ++c) {
+    srd_cell_sum &cs = B.W[(size_t)c];
+    srd_sum_clear(&cs);
+    const uint32_t j0 = start[c], j1 = start[c + 1];
+    if (j0 == j1) {
+      if (!gth) collide_cell<DIM, FXF>(C, B, c, cs, 1.0, R, g, sh, K);
+      continue;
+    }
+    /* a cell with particles that arrived since the last sort: its list (in index order: the
+     * sorted residents, then the arrivals) into key order */
+    if (j1 - j0 > 1 && (int64_t)order[j1 - 1] >= nsorted)
+      for (uint32_t a = j0 + 1; a < j1; ++a) {
+        const uint32_t v = order[a];
+        const uint64_t kv = key[v];
+        uint32_t b = a;
+        for (; b > j0 && key[order[b - 1]] > kv; --b) order[b] = order[b - 1];
+        order[b] = v;
+      }
+    const double *ref = B.cell[(size_t)c].V;
+    double pf = 0.0, pe = 0.0, pi = 0.0;
+    for (uint32_t j = j0; j < j1; ++j) {
+      const uint32_t i = order[j];
+      double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+      if (F::LE && (lc[i] & kLeBit)) v[0] += -ledv;
+      srd_sum_add(&cs, v, ref, DIM);
+      if (F::STR) {
+        pf += B.cf[i];
+        pe += B.ce[i];
+        pi += B.ci[i];
+      }
+    }
+    if (F::STR) {
+      if (F::LE) gran_exactsum_add_(&R.a[RQ_FLUX], pf);
+      gran_exactsum_add_(&R.a[RQ_EXT], pe);
+      if (F::WALL) gran_exactsum_add_(&R.a[RQ_IMP], pi);
+    }
+    if (gth) {
+      double e, d;
+      if (srd_rule_thermal(DIM, &cs, ref, &e, &d)) {
+        gran_exactsum_add_(&R.a[RQ_TH], e);
+        R.dof += (int64_t)d;
+      }
+    } else { /* the cell's particles are in cache: collide them now */
+      collide_cell<DIM, FXF>(C, B, c, cs, 1.0, R, g, sh, K);
+    }
+  }
+  }
+  /* the threads' exact partials (any merge order gives the same state) */
+  for (const Red &R : tred) {
+    for (int q : {RQ_FLUX, RQ_EXT, RQ_IMP, RQ_DE, RQ_VIR, RQ_LEW}) gran_exactsum_merge_(&B.red.a[q], &R.a[q]);
+    gran_exactsum_merge_(&B.red_th.a[RQ_TH], &R.a[RQ_TH]);
+    B.red_th.dof += R.dof;
+    B.red.clamped += R.clamped;
+    B.red.dt_max = std::min(B.red.dt_max, R.dt_max);
+  }
+  if (fx & SRD_FX_GTHERMO) GRAN_CALL(T.reduce_post(B.rank, B.red_th));
+  return GRAN_SUCCESS;
+}
+
+/* the global thermostat's factor from the all-reduced thermal energy and degrees of freedom */
+template <int DIM, int FXF>
+int phase_thermo(const Ctx &C, Brick &B, Transport &T) {
+  if (!(srd_rule_fx_fold(FXF, C.K.fx) & SRD_FX_GTHERMO)) return GRAN_SUCCESS;
+  Red th;
+  th.clear();
+  GRAN_CALL(T.reduce_take(B.rank, th));
+  B.gscale = srd_rule_gscale(gran_exactsum_value_(&th.a[RQ_TH]), (double)th.dof, C.K.T0);
+  return GRAN_SUCCESS;
+}
+
+/* with the global thermostat the cells' rules and the rotation (else done in the sums pass); the sort;
+ * the ledger posted */
+template <int DIM, int FXF>
+int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
+  const bool gth = srd_rule_fx_fold(FXF, C.K.fx) & SRD_FX_GTHERMO;
+  const int64_t ncl = B.ncl;
+  const uint32_t *start = B.start.data(), *order = B.order.data();
+  const srd_geom g = B.g;
+  const double sh[3] = {B.sh[0], B.sh[1], B.sh[2]};
+  const srd_rule_const K = C.K;
+  /* without the global thermostat the cells collided in the sums pass */
+  if (gth) {
+  const double gscale = B.gscale;
+  std::vector<Red> tred((size_t)C.nth);
+#pragma omp parallel num_threads(C.nth)
+  {
+    Ftz ftz;
+#ifdef _OPENMP
+    Red &R = tred[(size_t)omp_get_thread_num()];
+#else
+    Red &R = tred[0];
+#endif
+    R.clear();
+#pragma omp for schedule(dynamic, 256)
+  for (int64_t c = 0; c < ncl; ++c) collide_cell<DIM, FXF>(C, B, c, B.W[(size_t)c], gscale, R, g, sh, K);
+  }
+  for (const Red &R : tred) {
+    for (int q : {RQ_DE, RQ_VIR, RQ_LEW}) gran_exactsum_merge_(&B.red.a[q], &R.a[q]);
+    B.red.clamped += R.clamped;
+    B.red.dt_max = std::min(B.red.dt_max, R.dt_max);
+  }
+  }
+  const gran_srd_options &o = *C.o;
+  if (o.sort_every > 0 && (B.step + 1) % o.sort_every == 0) {
+    const double t0 = t_sort ? clock_s() : 0.0;
+    const int64_t n = (int64_t)start[ncl]; /* the particles that left are dropped */
+    std::vector<double> tmp((size_t)n);
+    std::vector<double> *arr[6] = {&B.x, &B.y, &B.z, &B.vx, &B.vy, &B.vz};
+    for (int q = 0; q < 6; ++q) {
+      if (DIM == 2 && (q == 2 || q == 5)) continue;
+      std::vector<double> &A = *arr[q];
+      tmp.resize((size_t)n);
+#pragma omp parallel for schedule(static) num_threads(C.nth)
+      for (int64_t j = 0; j < n; ++j) tmp[(size_t)j] = A[order[j]];
+      A.swap(tmp);
+    }
+    for (int64_t c = 0; c < ncl; ++c) {
+      const uint64_t gc = (uint64_t)global_of(C, B, c) << 32;
+      for (uint32_t j = start[c]; j < start[c + 1]; ++j) B.key[j] = gc | (uint64_t)(j - start[c]);
+    }
+    B.key.resize((size_t)n);
+    B.dest.assign((size_t)n, -1);
+    B.ndead = 0;
+    B.nsorted = n;
+    if (t_sort) *t_sort += clock_s() - t0;
+  }
+  return T.reduce_post(B.rank, B.red);
+}
+
+/* the step's ledger (all-reduced; each exact sum rounded once) */
+template <int DIM, int FXF>
+int phase_finish(const Ctx &C, Brick &B, Transport &T) {
+  using F = Fx<FXF>;
+  Red r;
+  r.clear();
+  GRAN_CALL(T.reduce_take(B.rank, r));
+  if (F::STR) {
+    if (F::LE) B.flux_kin += gran_exactsum_value_(&r.a[RQ_FLUX]);
+    B.e_ext += gran_exactsum_value_(&r.a[RQ_EXT]);
+    if (F::WALL) B.wall_impulse[C.gm.wall_axis] += gran_exactsum_value_(&r.a[RQ_IMP]);
+  }
+  if (F::DISSIP || F::WALL) B.e_coll += gran_exactsum_value_(&r.a[RQ_DE]);
+  if (F::LE) {
+    B.flux_coll += gran_exactsum_value_(&r.a[RQ_VIR]);
+    B.e_ext += gran_exactsum_value_(&r.a[RQ_LEW]);
+  }
+  B.clamped += r.clamped;
+  B.dt_max = std::min(B.dt_max, r.dt_max);
+  B.time += C.o->dt;
+  B.step += 1;
+  return GRAN_SUCCESS;
+}
+
+/* nsteps steps of every brick in bs (an MPI rank: its one brick), each phase on every brick
+ * before the next phase */
+template <int DIM, int FXF>
+int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps) {
+  const bool prof = phase_timing();
+  double ph[BP_N] = {0, 0, 0, 0, 0, 0};
+  double tq = prof ? clock_s() : 0.0;
+  auto lap = [&](int k) {
+    if (!prof) return;
+    const double t = clock_s();
+    ph[k] += t - tq;
+    tq = t;
+  };
+  double tsort = 0.0;
+  for (int64_t st = 0; st < nsteps; ++st) {
+    for (Brick &B : bs) GRAN_CALL((phase_stream<DIM, FXF>(C, B, T)));
+    lap(BP_STREAM);
+    for (Brick &B : bs) GRAN_CALL((phase_recv<DIM, FXF>(C, B, T)));
+    lap(BP_RECV);
+    for (Brick &B : bs) GRAN_CALL((phase_sums<DIM, FXF>(C, B, T)));
+    lap(BP_SUMS);
+    for (Brick &B : bs) GRAN_CALL((phase_thermo<DIM, FXF>(C, B, T)));
+    for (Brick &B : bs) GRAN_CALL((phase_collide<DIM, FXF>(C, B, T, prof ? &tsort : nullptr)));
+    lap(BP_COLL);
+    for (Brick &B : bs) GRAN_CALL((phase_finish<DIM, FXF>(C, B, T)));
+    lap(BP_RED);
+  }
+  if (prof && nsteps > 0) {
+    int64_t n = 0;
+    for (const Brick &B : bs) n += (int64_t)B.x.size() - B.ndead;
+    const double u = 1e9 / ((double)n * (double)nsteps);
+    std::fprintf(stderr,
+                 "GSRD bricks phases, ns per particle-step (%lld steps, %lld particles, %d bricks): stream + bin + pack "
+                 "%.2f, receive + append %.2f, cell order + sums (+ rules + rotation without the global thermostat) %.2f, "
+                 "rules + rotation after the thermostat's reduction, and the sort %.2f (sort %.2f of it), "
+                 "ledger %.2f\n",
+                 (long long)nsteps, (long long)n, (int)bs.size(), ph[BP_STREAM] * u, ph[BP_RECV] * u, ph[BP_SUMS] * u,
+                 ph[BP_COLL] * u, tsort * u, ph[BP_RED] * u);
+  }
+  return GRAN_SUCCESS;
+}
+
+using run_fn = int (*)(const Ctx &, std::vector<Brick> &, Transport &, int64_t);
+constexpr int fxf_of(int i) {
+  return (i & 1 ? SRD_FX_ACCEL : 0) | (i & 2 ? SRD_FX_WALL : 0) | (i & 4 ? SRD_FX_LE : 0) | (i & 8 ? SRD_FX_DISSIP : 0);
+}
+template <int DIM, int... I>
+constexpr std::array<run_fn, 16> table_of(std::integer_sequence<int, I...>) {
+  return {{&run_steps<DIM, fxf_of(I)>...}};
+}
+run_fn pick(int dim, int32_t fx) {
+  static constexpr std::array<run_fn, 16> t2 = table_of<2>(std::make_integer_sequence<int, 16>{});
+  static constexpr std::array<run_fn, 16> t3 = table_of<3>(std::make_integer_sequence<int, 16>{});
+  const int i = (fx & SRD_FX_ACCEL ? 1 : 0) | (fx & SRD_FX_WALL ? 2 : 0) | (fx & SRD_FX_LE ? 4 : 0) |
+                (fx & SRD_FX_DISSIP ? 8 : 0);
+  return dim == 2 ? t2[(size_t)i] : t3[(size_t)i];
+}
+
+int make_ctx(const gran_srd *s, const int pg[3], Ctx &C) {
+  C.o = &s->opt;
+  C.gm = s->gm;
+  const gran_cuda_srd_params prm = srd_params_of(s);
+  C.K = srd_rule_const_of(&prm);
+  C.nth = srd_threads_used(s->opt.threads);
+  for (int a = 0; a < 3; ++a) {
+    const int64_t nc = s->gm.nc[a];
+    GRAN_CHECK(pg[a] >= 1 && (int64_t)pg[a] <= nc, GRAN_ERR_ARG,
+               "argument 'pgrid[%d]' must be in [1, %lld] (the binning grid's cells along axis %d; got %d)", a,
+               (long long)nc, a, pg[a]);
+    C.sp.P[a] = pg[a];
+    C.sp.cut[a].resize((size_t)pg[a] + 1);
+    for (int b = 0; b <= pg[a]; ++b) C.sp.cut[a][(size_t)b] = (int64_t)b * nc / pg[a];
+    C.sp.own[a].resize((size_t)nc);
+    for (int b = 0; b < pg[a]; ++b)
+      for (int64_t i = C.sp.cut[a][(size_t)b]; i < C.sp.cut[a][(size_t)b + 1]; ++i) C.sp.own[a][(size_t)i] = b;
+  }
+  return GRAN_SUCCESS;
+}
+
+void window_of(const Ctx &C, int rank, Brick &B) {
+  B.rank = rank;
+  int b[3] = {rank % C.sp.P[0], (rank / C.sp.P[0]) % C.sp.P[1], rank / (C.sp.P[0] * C.sp.P[1])};
+  B.ncl = 1;
+  for (int a = 0; a < 3; ++a) {
+    B.lo[a] = C.sp.cut[a][(size_t)b[a]];
+    B.w[a] = C.sp.cut[a][(size_t)b[a] + 1] - B.lo[a];
+    B.ncl *= B.w[a];
+  }
+}
+
+void scalars_from(const gran_srd *s, Brick &B) {
+  B.shift_rng = s->shift_rng;
+  for (int k = 0; k < 3; ++k) B.shift[k] = s->shift[k];
+  B.step = s->step;
+  B.time = s->time;
+  B.e_coll = s->e_coll;
+  B.e_ext = s->e_ext;
+  B.flux_kin = s->flux_kin;
+  B.flux_coll = s->flux_coll;
+  for (int k = 0; k < 3; ++k) B.wall_impulse[k] = s->wall_impulse[k];
+  B.clamped = s->clamped;
+  B.dt_max = s->dt_max;
+}
+void scalars_to(const Brick &B, gran_srd *s) {
+  s->shift_rng = B.shift_rng;
+  for (int k = 0; k < 3; ++k) s->shift[k] = B.shift[k];
+  s->step = B.step;
+  s->time = B.time;
+  s->e_coll = B.e_coll;
+  s->e_ext = B.e_ext;
+  s->flux_kin = B.flux_kin;
+  s->flux_coll = B.flux_coll;
+  for (int k = 0; k < 3; ++k) s->wall_impulse[k] = B.wall_impulse[k];
+  s->clamped = B.clamped;
+  s->dt_max = B.dt_max;
+}
+
+/* the state's arrays lent to one brick, given back whatever happens */
+struct Lend {
+  gran_srd *s;
+  Brick &B;
+  Lend(gran_srd *s_, Brick &B_) : s(s_), B(B_) { swap_all(); }
+  ~Lend() { swap_all(); }
+  void swap_all() {
+    s->x.swap(B.x);
+    s->y.swap(B.y);
+    s->z.swap(B.z);
+    s->vx.swap(B.vx);
+    s->vy.swap(B.vy);
+    s->vz.swap(B.vz);
+    s->cell.swap(B.cell);
+    s->rng.swap(B.rng);
+  }
+};
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+double *dup_of(const std::vector<double> &v) {
+  double *p = (double *)std::malloc(std::max<size_t>(1, v.size()) * sizeof(double));
+  if (p && !v.empty()) std::memcpy(p, v.data(), v.size() * sizeof(double));
+  return p;
+}
+
+} // namespace
+
+/* adds 0.5 |v|^2 of particles [0, n) to *acc, exactly (one compiled instance: the creation's energy
+ * of the plain engine and of the bricks, the same bits) */
+__attribute__((noinline)) void srd_kinetic_exact_(const double *vx, const double *vy, const double *vz, int64_t n,
+                                                  gran_exactsum *acc) {
+  for (int64_t i = 0; i < n; ++i)
+    gran_exactsum_add_(acc, 0.5 * (vx[i] * vx[i] + vy[i] * vy[i] + (vz ? vz[i] * vz[i] : 0.0)));
+}
+
+namespace {
+
+/* The creation by cells inside each brick (the box cells of its window, drawn by gran_srd_create_cells_
+ * row by row along x), keys (box cell << 32 | rank in the cell: the order of the one-process
+ * array), the mean momentum and the initial energy all-reduced exactly, the shear profile; the
+ * cells' RNG streams and the shift stream set up by the brick. */
+int bricks_create(const Ctx &C, std::vector<Brick> &bs, Transport &T, double *e_initial) {
+  const gran_srd_options *o = C.o;
+  const int d = o->dim;
+  const srd_geom &gm = C.gm;
+  int64_t N = 0;
+  for (Brick &B : bs) {
+    GRAN_CALL(gran_rng_stream(o->seed, 0, &B.shift_rng));
+    B.cell.resize((size_t)B.ncl);
+    B.rng.resize((size_t)B.ncl);
+    for (int64_t l = 0; l < B.ncl; ++l) {
+      std::memset((void *)&B.cell[(size_t)l], 0, sizeof(srd_cpu_cell));
+      GRAN_CALL(gran_rng_stream(o->seed, (uint64_t)global_of(C, B, l) + 1, &B.rng[(size_t)l]));
+    }
+    int64_t lo[3], hi[3]; /* the window's box cells (a wall axis has L + 1 layers, the box L) */
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(B.lo[a], gm.L[a]);
+      hi[a] = std::min(B.lo[a] + B.w[a], gm.L[a]);
+    }
+    Red r;
+    r.clear();
+    std::vector<int64_t> count;
+    for (int64_t cz = lo[2]; cz < hi[2]; ++cz)
+      for (int64_t cy = lo[1]; cy < hi[1]; ++cy) {
+        const int64_t c0 = lo[0] + gm.L[0] * (cy + gm.L[1] * cz), c1 = c0 + (hi[0] - lo[0]);
+        if (c1 <= c0) continue;
+        count.resize((size_t)(c1 - c0));
+        GRAN_CALL(gran_srd_cell_counts_(o, c0, c1, count.data()));
+        int64_t m = 0;
+        for (int64_t q : count) m += q;
+        const size_t at = B.x.size();
+        for (std::vector<double> *v : {&B.x, &B.y, &B.vx, &B.vy}) v->resize(at + (size_t)m);
+        if (d == 3) {
+          B.z.resize(at + (size_t)m);
+          B.vz.resize(at + (size_t)m);
+        }
+        GRAN_CALL(gran_srd_create_cells_(o, c0, c1, count.data(), B.x.data() + at, B.y.data() + at,
+                                         d == 3 ? B.z.data() + at : nullptr, B.vx.data() + at, B.vy.data() + at,
+                                         d == 3 ? B.vz.data() + at : nullptr, &r.a[0]));
+        for (int64_t c = c0; c < c1; ++c)
+          for (int64_t k = 0; k < count[(size_t)(c - c0)]; ++k) B.key.push_back((uint64_t)c << 32 | (uint64_t)k);
+      }
+    r.dof = (int64_t)B.x.size(); /* the particle count, reduced with the momentum */
+    GRAN_CALL(T.reduce_post(B.rank, r));
+  }
+  std::vector<std::array<double, 3>> mean(bs.size());
+  for (size_t b = 0; b < bs.size(); ++b) { /* every brick takes the reduction before any posts the next */
+    Red r;
+    r.clear();
+    GRAN_CALL(T.reduce_take(bs[b].rank, r));
+    N = r.dof;
+    for (int k = 0; k < 3; ++k) mean[b][(size_t)k] = k < d ? gran_exactsum_value_(&r.a[k]) / (double)N : 0.0;
+  }
+  for (size_t b = 0; b < bs.size(); ++b) {
+    Brick &B = bs[b];
+    const double m[3] = {mean[b][0], mean[b][1], mean[b][2]};
+    const double box1 = gm.box[1], rate = o->shear_rate;
+    for (size_t i = 0; i < B.x.size(); ++i) {
+      B.vx[i] -= m[0];
+      B.vy[i] -= m[1];
+      if (d == 3) B.vz[i] -= m[2];
+      if (rate != 0) B.vx[i] = std::fma(rate, B.y[i] - 0.5 * box1, B.vx[i]);
+    }
+    Red e;
+    e.clear();
+    srd_kinetic_exact_(B.vx.data(), B.vy.data(), d == 3 ? B.vz.data() : nullptr, (int64_t)B.x.size(), &e.a[0]);
+    GRAN_CALL(T.reduce_post(B.rank, e));
+  }
+  for (Brick &B : bs) {
+    Red e;
+    e.clear();
+    GRAN_CALL(T.reduce_take(B.rank, e));
+    *e_initial = gran_exactsum_value_(&e.a[0]);
+    B.nsorted = (int64_t)B.x.size();
+  }
+  (void)N;
+  return GRAN_SUCCESS;
+}
+
+} // namespace
+
+int srd_bricks_advance_(gran_srd *s, int64_t steps) {
+  GRAN_TRY {
+    const int pg[3] = {1, 1, 1};
+    Ctx C;
+    GRAN_CALL(make_ctx(s, pg, C));
+    std::vector<Brick> bs(1);
+    Brick &B = bs[0];
+    window_of(C, 0, B);
+    scalars_from(s, B);
+    int e;
+    {
+      Lend lend(s, B);
+      B.key.resize(B.x.size()); /* key = index: valid until the first sort (only one epoch is compared) */
+      std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
+      B.nsorted = (int64_t)B.x.size();
+      LocalTransport T(1);
+      e = pick(s->opt.dim, srd_fx_of(&s->opt))(C, bs, T, steps);
+    }
+    scalars_to(B, s); /* the steps done (on an error: up to the step that failed) */
+    return e;
+  }
+  GRAN_CATCH
+}
+
+extern "C" void srd_bricks_out_free_(srd_bricks_out *out) {
+  if (!out) return;
+  double **a[7] = {&out->x, &out->y, &out->z, &out->vx, &out->vy, &out->vz, &out->V};
+  for (double **p : a) {
+    std::free(*p);
+    *p = nullptr;
+  }
+  std::free(out->rng);
+  out->rng = nullptr;
+}
+
+static int gather_scalars(const gran_srd *s, srd_bricks_out *out) {
+  out->time = s->time;
+  out->e_initial = s->e_initial;
+  out->e_coll = s->e_coll;
+  out->e_ext = s->e_ext;
+  out->flux_kin = s->flux_kin;
+  out->flux_coll = s->flux_coll;
+  for (int k = 0; k < 3; ++k) out->wall_impulse[k] = s->wall_impulse[k];
+  out->dt_max = s->dt_max;
+  out->step = s->step;
+  out->clamped = s->clamped;
+  return GRAN_SUCCESS;
+}
+
+extern "C" int srd_bricks_gather_plain_(const gran_srd *s, srd_bricks_out *out) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(s);
+    GRAN_CHECK_PTR(out);
+    std::memset(out, 0, sizeof *out);
+    const bool d3 = s->opt.dim == 3;
+    out->n = s->n;
+    out->x = dup_of(s->x);
+    out->y = dup_of(s->y);
+    out->vx = dup_of(s->vx);
+    out->vy = dup_of(s->vy);
+    if (d3) {
+      out->z = dup_of(s->z);
+      out->vz = dup_of(s->vz);
+    }
+    out->ncell = s->ncell;
+    out->V = (double *)std::malloc((size_t)s->ncell * 3 * sizeof(double));
+    out->rng = (uint64_t *)std::malloc((size_t)s->ncell * 4 * sizeof(uint64_t));
+    if (!out->x || !out->y || !out->vx || !out->vy || (d3 && (!out->z || !out->vz)) || !out->V || !out->rng) {
+      srd_bricks_out_free_(out);
+      return GRAN_ERROR(GRAN_ERR_NOMEM, "out of memory");
+    }
+    for (int64_t c = 0; c < s->ncell; ++c) {
+      for (int k = 0; k < 3; ++k) out->V[3 * c + k] = s->cell[(size_t)c].V[k];
+      for (int k = 0; k < 4; ++k) out->rng[4 * c + k] = s->rng[(size_t)c].s[k];
+    }
+    return gather_scalars(s, out);
+  }
+  GRAN_CATCH
+}
+
+extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, int create_in_bricks,
+                               srd_bricks_out *out) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(opt);
+    GRAN_CHECK_PTR(pgrid);
+    GRAN_CHECK_PTR(out);
+    std::memset(out, 0, sizeof *out);
+    GRAN_CHECK(opt->creation == GRAN_SRD_CREATE_CELLS, GRAN_ERR_ARG,
+               "option 'creation' must be GRAN_SRD_CREATE_CELLS (the decomposable engine) for a brick run (got %d)",
+               (int)opt->creation);
+    GRAN_CHECK(nsteps >= 0, GRAN_ERR_ARG, "argument 'nsteps' must be >= 0 (got %lld)", (long long)nsteps);
+    for (int a = opt->dim; a < 3; ++a)
+      GRAN_CHECK(pgrid[a] == 1, GRAN_ERR_ARG, "argument 'pgrid[%d]' must be 1 in %d-D (got %d)", a, (int)opt->dim,
+                 pgrid[a]);
+    gran_srd *s = nullptr;
+    GRAN_CALL(gran_srd_create(opt, &s));
+    std::unique_ptr<gran_srd, void (*)(gran_srd *)> hold(s, [](gran_srd *p) { gran_srd_destroy(&p); });
+    GRAN_CHECK(s->dev.p == nullptr, GRAN_ERR_ARG, "a brick run is a CPU run (option 'device' must select the CPU)");
+    Ctx C;
+    GRAN_CALL(make_ctx(s, pgrid, C));
+    const int P = C.sp.nbricks();
+    std::vector<Brick> bs((size_t)P);
+    const int d = s->opt.dim;
+    LocalTransport T(P);
+    for (int r = 0; r < P; ++r) {
+      Brick &B = bs[(size_t)r];
+      window_of(C, r, B);
+      scalars_from(s, B);
+    }
+    if (create_in_bricks) {
+      double e0 = 0;
+      GRAN_CALL(bricks_create(C, bs, T, &e0));
+      s->e_initial = e0;
+    }
+    for (int r = 0; r < P && !create_in_bricks; ++r) {
+      Brick &B = bs[(size_t)r];
+      B.cell.resize((size_t)B.ncl);
+      B.rng.resize((size_t)B.ncl);
+      for (int64_t l = 0; l < B.ncl; ++l) {
+        const int64_t gc = global_of(C, B, l);
+        B.cell[(size_t)l] = s->cell[(size_t)gc];
+        B.rng[(size_t)l] = s->rng[(size_t)gc];
+      }
+    }
+    /* each particle to the brick of its cell under no shift (the first step bins it again), in
+     * index order: key = index */
+    const double zero[3] = {0, 0, 0};
+    for (int64_t i = 0; i < s->n && !create_in_bricks; ++i) {
+      const double p[3] = {s->x[(size_t)i], s->y[(size_t)i], d == 3 ? s->z[(size_t)i] : 0.0};
+      int64_t c[3];
+      double dvx;
+      bin3(&C.gm, zero, p, c, &dvx);
+      Brick &B = bs[(size_t)owner_of(C.sp, c)];
+      B.x.push_back(p[0]);
+      B.y.push_back(p[1]);
+      B.vx.push_back(s->vx[(size_t)i]);
+      B.vy.push_back(s->vy[(size_t)i]);
+      if (d == 3) {
+        B.z.push_back(p[2]);
+        B.vz.push_back(s->vz[(size_t)i]);
+      }
+      B.key.push_back((uint64_t)i);
+    }
+    for (Brick &B : bs) B.nsorted = (int64_t)B.x.size();
+    const double t0 = clock_s();
+    GRAN_CALL(pick(d, srd_fx_of(&s->opt))(C, bs, T, nsteps));
+    const double t_steps = clock_s() - t0;
+    /* gather: every brick holds the same scalar state */
+    for (int r = 1; r < P; ++r) {
+      const Brick &A = bs[0], &B = bs[(size_t)r];
+      GRAN_CHECK(same_bits(A.e_coll, B.e_coll) && same_bits(A.e_ext, B.e_ext) && same_bits(A.flux_kin, B.flux_kin) &&
+                     same_bits(A.flux_coll, B.flux_coll) && A.clamped == B.clamped && A.step == B.step &&
+                     std::memcmp(&A.shift_rng, &B.shift_rng, sizeof A.shift_rng) == 0,
+                 GRAN_ERR_INTERNAL, "brick %d's scalar state differs from brick 0's", r);
+    }
+    std::vector<std::pair<uint64_t, std::pair<int, int64_t>>> all;
+    all.reserve((size_t)s->n);
+    for (int r = 0; r < P; ++r)
+      for (size_t i = 0; i < bs[(size_t)r].key.size(); ++i)
+        if (bs[(size_t)r].ndead == 0 || bs[(size_t)r].dest[i] < 0) /* not the particles that left in the last step */
+          all.push_back({bs[(size_t)r].key[i], {r, (int64_t)i}});
+    GRAN_CHECK((int64_t)all.size() == s->n, GRAN_ERR_INTERNAL, "the bricks hold %lld particles, not %lld",
+               (long long)all.size(), (long long)s->n);
+    std::sort(all.begin(), all.end());
+    for (int64_t i = 0; i < s->n; ++i) {
+      const Brick &B = bs[(size_t)all[(size_t)i].second.first];
+      const size_t j = (size_t)all[(size_t)i].second.second;
+      s->x[(size_t)i] = B.x[j];
+      s->y[(size_t)i] = B.y[j];
+      s->vx[(size_t)i] = B.vx[j];
+      s->vy[(size_t)i] = B.vy[j];
+      if (d == 3) {
+        s->z[(size_t)i] = B.z[j];
+        s->vz[(size_t)i] = B.vz[j];
+      }
+    }
+    for (int r = 0; r < P; ++r) {
+      const Brick &B = bs[(size_t)r];
+      for (int64_t l = 0; l < B.ncl; ++l) {
+        const int64_t gc = global_of(C, B, l);
+        s->cell[(size_t)gc] = B.cell[(size_t)l];
+        s->rng[(size_t)gc] = B.rng[(size_t)l];
+      }
+    }
+    scalars_to(bs[0], s);
+    GRAN_CALL(srd_bricks_gather_plain_(s, out));
+    int64_t moved = 0;
+    for (const Brick &B : bs) moved += B.moved;
+    out->bytes_sent = T.bytes;
+    out->particles_sent = moved;
+    int64_t faces = 0;
+    for (int a = 0; a < d; ++a) {
+      if (C.sp.P[a] == 1) continue;
+      const int64_t per_row = a == s->opt.wall_axis ? C.sp.P[a] - 1 : C.sp.P[a];
+      faces += per_row * (P / C.sp.P[a]);
+    }
+    out->faces = faces;
+    out->seconds = t_steps;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}

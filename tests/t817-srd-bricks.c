@@ -1,0 +1,320 @@
+/* t817-srd-bricks.c - the brick layer of the GSRD domain decomposition (src/srd/bricks.h): one box
+ * split into P virtual bricks of the binning grid in one process, particles and exact-sum
+ * accumulators exchanged through the in-process transport.
+ *  - bit identity: for every effect set (periodic 2-D and 3-D; eps < 1 with clamps; the cell
+ *    thermostat; the global thermostat; Lees-Edwards 2-D and 3-D; walls with gravity and the
+ *    vibrating wall, 2-D and 3-D) the gathered particles (key order), the cells' V and RNG states
+ *    and the ledger (e_coll, e_ext, flux_kin, flux_coll, wall impulse, clamps, dt_max) of P = 2, 3,
+ *    4, 6 bricks on even and uneven grids equal P = 1 bit for bit (memcmp), after 30 steps with a
+ *    sort every 3 (so keys of several epochs) and with particles changing brick, also when each
+ *    brick creates its own cells' particles and streams (momentum and energy all-reduced);
+ *  - P = 1 bricks equal the plain engine in the decomposable mode (gran_srd_advance, creation =
+ *    GRAN_SRD_CREATE_CELLS), also when advanced in two calls; 3 threads (P = 1 and the first
+ *    split) equal 1;
+ *  - physics that can fail: the particle number; the momentum (periodic, no thermostat, no
+ *    gravity, no shear) conserved to 1e-10 (rounding of ~1e5 additions of O(1) velocities: ~1e-12); the energy
+ *    ledger E - E0 = e_coll + e_ext to 1e-12 relative, for every effect set and split;
+ *  - the decomposable engine's T at t = 10, 20, 30 of a cooling 3-D gas agrees with the serial
+ *    engine's within 4 standard errors (6 seeds each; se of the difference of the means from the
+ *    seeds' spread), and its ledger closes to 1e-12;
+ *  - bad arguments (serial creation, a pgrid entry beyond the grid or beyond dim) are refused
+ *    naming them. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "granary_test.h"
+#include "srd/bricks.h"
+
+static gran_srd_options base_opts(int dim) {
+  gran_srd_options o;
+  gran_srd_options_default(&o);
+  o.dim = dim;
+  o.cells[0] = dim == 2 ? 13 : 9;
+  o.cells[1] = dim == 2 ? 10 : 7;
+  o.cells[2] = dim == 2 ? 1 : 6;
+  o.n0 = dim == 2 ? 8 : 5;
+  o.dt = 0.5; /* a few tenths of a cell per step: particles cross the brick faces */
+  o.alpha_deg = 130;
+  o.seed = 817;
+  o.threads = 1;
+  o.sort_every = 3;
+  o.creation = GRAN_SRD_CREATE_CELLS;
+  return o;
+}
+
+enum { NSTEPS = 30 };
+
+static int same(const void *a, const void *b, size_t bytes) { return memcmp(a, b, bytes) == 0; }
+
+/* a and b equal bit for bit (particles, cells, ledger) */
+static void assert_same_out(const srd_bricks_out *a, const srd_bricks_out *b, int dim, const char *what) {
+  const size_t n = (size_t)a->n, nc = (size_t)a->ncell;
+  assert_int_equal(a->n, b->n);
+  assert_int_equal(a->ncell, b->ncell);
+  const double *pa[6] = {a->x, a->y, a->z, a->vx, a->vy, a->vz}, *pb[6] = {b->x, b->y, b->z, b->vx, b->vy, b->vz};
+  for (int q = 0; q < 6; ++q) {
+    if (dim == 2 && (q == 2 || q == 5)) continue;
+    if (!same(pa[q], pb[q], n * sizeof(double))) fail_msg("%s: particle array %d differs", what, q);
+  }
+  if (!same(a->V, b->V, nc * 3 * sizeof(double))) fail_msg("%s: the cells' V differ", what);
+  if (!same(a->rng, b->rng, nc * 4 * sizeof(uint64_t))) fail_msg("%s: the cells' RNG states differ", what);
+  const double la[9] = {a->time, a->e_initial, a->e_coll, a->e_ext, a->flux_kin, a->flux_coll, a->wall_impulse[0],
+                        a->wall_impulse[1], a->wall_impulse[2]};
+  const double lb[9] = {b->time, b->e_initial, b->e_coll, b->e_ext, b->flux_kin, b->flux_coll, b->wall_impulse[0],
+                        b->wall_impulse[1], b->wall_impulse[2]};
+  for (int q = 0; q < 9; ++q)
+    if (!same(&la[q], &lb[q], sizeof(double))) fail_msg("%s: ledger term %d differs: %.17g vs %.17g", what, q, la[q], lb[q]);
+  if (!same(&a->dt_max, &b->dt_max, sizeof(double))) fail_msg("%s: dt_max differs", what);
+  assert_int_equal(a->step, b->step);
+  assert_int_equal(a->clamped, b->clamped);
+}
+
+static double kinetic(const srd_bricks_out *r, int dim) {
+  double e = 0;
+  for (int64_t i = 0; i < r->n; ++i)
+    e += 0.5 * (r->vx[i] * r->vx[i] + r->vy[i] * r->vy[i] + (dim == 3 ? r->vz[i] * r->vz[i] : 0.0));
+  return e;
+}
+
+/* the physics of one run's gathered state */
+static void check_physics(const gran_srd_options *o, const srd_bricks_out *r, const double P0[3]) {
+  const int64_t N = (int64_t)floor(o->n0 * (double)(o->cells[0] * o->cells[1] * (o->dim == 3 ? o->cells[2] : 1)) + 0.5);
+  assert_int_equal(r->n, N);
+  assert_int_equal(r->step, NSTEPS);
+  const double E = kinetic(r, o->dim);
+  const double err = (r->e_initial + r->e_coll + r->e_ext - E) / r->e_initial;
+  if (!(fabs(err) < 1e-12)) fail_msg("ledger: E - E0 - e_coll - e_ext = %.3g relative", err);
+  const int conserving = o->thermostat == 0 && o->wall_axis < 0 && o->shear_rate == 0 && o->accel[0] == 0 && o->accel[1] == 0 && o->accel[2] == 0;
+  if (conserving) {
+    double P[3] = {0, 0, 0};
+    for (int64_t i = 0; i < r->n; ++i) {
+      P[0] += r->vx[i];
+      P[1] += r->vy[i];
+      if (o->dim == 3) P[2] += r->vz[i];
+    }
+    for (int k = 0; k < 3; ++k) GRAN_ASSERT_ABS(P[k], P0[k], 1e-10);
+  }
+}
+
+/* P = 1 bricks against the plain engine, then every split against P = 1 */
+static void check_splits(const gran_srd_options *o, const int (*grids)[3], int ngrid, const char *name) {
+  srd_bricks_out one, plain, two;
+  const int p1[3] = {1, 1, 1};
+  GRAN_ASSERT_OK(srd_bricks_run_(o, p1, NSTEPS, 0, &one));
+  /* the plain engine in the decomposable mode, in one call and in two */
+  gran_srd *s = NULL;
+  GRAN_ASSERT_OK(gran_srd_create(o, &s));
+  double P0[3] = {0, 0, 0};
+  {
+    int64_t n;
+    double *vx, *vy, *vz;
+    GRAN_ASSERT_OK(gran_srd_particles(s, &n, NULL, NULL, NULL, &vx, &vy, &vz));
+    for (int64_t i = 0; i < n; ++i) {
+      P0[0] += vx[i];
+      P0[1] += vy[i];
+      if (o->dim == 3) P0[2] += vz[i];
+    }
+  }
+  GRAN_ASSERT_OK(gran_srd_advance(s, NSTEPS));
+  GRAN_ASSERT_OK(srd_bricks_gather_plain_(s, &plain));
+  gran_srd_obs ob;
+  GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
+  assert_true(fabs(ob.ledger_error) < 1e-12);
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+  GRAN_ASSERT_OK(gran_srd_create(o, &s));
+  GRAN_ASSERT_OK(gran_srd_advance(s, 13));
+  GRAN_ASSERT_OK(gran_srd_advance(s, NSTEPS - 13));
+  GRAN_ASSERT_OK(srd_bricks_gather_plain_(s, &two));
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+  char what[160];
+  snprintf(what, sizeof what, "%s: P = 1 bricks vs the plain engine", name);
+  assert_same_out(&one, &plain, o->dim, what);
+  snprintf(what, sizeof what, "%s: P = 1 bricks vs the plain engine in two calls", name);
+  assert_same_out(&one, &two, o->dim, what);
+  check_physics(o, &one, P0);
+  for (int g = 0; g < ngrid; ++g) {
+    srd_bricks_out r;
+    GRAN_ASSERT_OK(srd_bricks_run_(o, grids[g], NSTEPS, 0, &r));
+    snprintf(what, sizeof what, "%s: %d x %d x %d bricks vs 1", name, grids[g][0], grids[g][1], grids[g][2]);
+    assert_same_out(&one, &r, o->dim, what);
+    check_physics(o, &r, P0);
+    if (!(r.particles_sent > 0 && r.bytes_sent > 0)) fail_msg("%s: no particle changed brick", what);
+    srd_bricks_out_free_(&r);
+    /* each brick drawing its own cells' particles and streams: the same run */
+    GRAN_ASSERT_OK(srd_bricks_run_(o, grids[g], NSTEPS, 1, &r));
+    snprintf(what, sizeof what, "%s: %d x %d x %d bricks created in the bricks vs 1", name, grids[g][0], grids[g][1],
+             grids[g][2]);
+    assert_same_out(&one, &r, o->dim, what);
+    srd_bricks_out_free_(&r);
+  }
+  /* the threads of a brick's loops change nothing */
+  gran_srd_options o3 = *o;
+  o3.threads = 3;
+  for (int g = -1; g < 1; ++g) {
+    srd_bricks_out r;
+    GRAN_ASSERT_OK(srd_bricks_run_(&o3, g < 0 ? p1 : grids[0], NSTEPS, 0, &r));
+    snprintf(what, sizeof what, "%s: %s bricks on 3 threads vs 1 brick on 1", name, g < 0 ? "1" : "the first split's");
+    assert_same_out(&one, &r, o->dim, what);
+    srd_bricks_out_free_(&r);
+  }
+  srd_bricks_out_free_(&one);
+  srd_bricks_out_free_(&plain);
+  srd_bricks_out_free_(&two);
+}
+
+static const int grids3[][3] = {{2, 1, 1}, {3, 1, 1}, {1, 3, 1}, {2, 2, 1}, {2, 1, 2}, {1, 2, 2}, {4, 1, 1}, {3, 2, 1}};
+static const int grids2[][3] = {{2, 1, 1}, {3, 1, 1}, {1, 2, 1}, {2, 2, 1}, {4, 1, 1}, {1, 4, 1}, {3, 2, 1}};
+#define NG(a) ((int)(sizeof(a) / sizeof(a[0])))
+
+static void test_periodic(void **state) {
+  (void)state;
+  gran_srd_options o = base_opts(3);
+  check_splits(&o, grids3, NG(grids3), "periodic 3-D");
+  o = base_opts(2);
+  check_splits(&o, grids2, NG(grids2), "periodic 2-D");
+}
+
+static void test_dissipation(void **state) {
+  (void)state;
+  gran_srd_options o = base_opts(3);
+  o.eps = 0.5;
+  o.sigma = 0.5; /* kappa ~ 0.75 sigma^2 n0 sqrt(T) dt ~ 0.5: some cells clamp (eps_eff < 0) */
+  o.dt = 1.0;
+  srd_bricks_out r;
+  const int p1[3] = {1, 1, 1};
+  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, 0, &r));
+  if (!(r.clamped > 0)) fail_msg("the clamp case has no clamped cell (%lld)", (long long)r.clamped);
+  assert_true(r.e_coll < 0);
+  srd_bricks_out_free_(&r);
+  check_splits(&o, grids3, NG(grids3), "eps < 1, clamps, 3-D");
+  gran_srd_options o2 = base_opts(2);
+  o2.eps = 0.8;
+  o2.sigma = 0.1;
+  check_splits(&o2, grids2, NG(grids2), "eps < 1, 2-D");
+}
+
+static void test_thermostats(void **state) {
+  (void)state;
+  gran_srd_options o = base_opts(2);
+  o.thermostat = 1;
+  o.T0 = 1.5;
+  check_splits(&o, grids2, NG(grids2), "cell thermostat, 2-D");
+  o = base_opts(3);
+  o.thermostat = 2;
+  o.eps = 0.7;
+  o.sigma = 0.2;
+  o.T0 = 0.7;
+  check_splits(&o, grids3, NG(grids3), "global thermostat with eps < 1, 3-D");
+}
+
+static void test_lees_edwards(void **state) {
+  (void)state;
+  gran_srd_options o = base_opts(2);
+  o.shear_rate = 0.07;
+  check_splits(&o, grids2, NG(grids2), "Lees-Edwards, 2-D");
+  o = base_opts(3);
+  o.shear_rate = 0.05;
+  o.eps = 0.9;
+  o.sigma = 0.1;
+  check_splits(&o, grids3, NG(grids3), "Lees-Edwards with eps < 1, 3-D");
+  srd_bricks_out r;
+  const int p1[3] = {1, 1, 1};
+  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, 0, &r));
+  assert_true(r.flux_kin != 0 && r.flux_coll != 0);
+  srd_bricks_out_free_(&r);
+}
+
+static void test_walls(void **state) {
+  (void)state;
+  gran_srd_options o = base_opts(2);
+  o.wall_axis = 1;
+  o.accel[1] = -0.05;
+  o.vib_amp = 0.2;
+  o.vib_omega = 0.5;
+  o.wall_T = 1.0;
+  check_splits(&o, grids2, NG(grids2), "walls, gravity, vibrating wall, 2-D");
+  o = base_opts(3);
+  o.wall_axis = 2;
+  o.wall_rule = 2;
+  o.accel[2] = -0.05;
+  o.accel[0] = 0.01;
+  o.vib_amp = 0.1;
+  o.vib_omega = 1.0;
+  o.eps = 0.9;
+  o.sigma = 0.1;
+  check_splits(&o, grids3, NG(grids3), "slip walls, gravity, vibrating wall, eps < 1, 3-D");
+  srd_bricks_out r;
+  const int p1[3] = {1, 1, 1};
+  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, 0, &r));
+  assert_true(r.wall_impulse[2] != 0);
+  srd_bricks_out_free_(&r);
+}
+
+/* the decomposable engine (exact sums, its own step code) cools as the serial engine does */
+static void test_cooling(void **state) {
+  (void)state;
+  enum { S = 6, NT = 3 };
+  double T[2][NT][S];
+  for (int cr = 0; cr < 2; ++cr)
+    for (int k = 0; k < S; ++k) {
+      gran_srd_options o;
+      GRAN_ASSERT_OK(gran_srd_options_default(&o));
+      o.dim = 3;
+      o.cells[0] = o.cells[1] = o.cells[2] = 12;
+      o.n0 = 5;
+      o.alpha_deg = 130;
+      o.eps = 0.9;
+      o.sigma = sqrt(0.02 / ((1 - o.eps * o.eps) * o.n0));
+      o.seed = 900 + (uint64_t)k;
+      o.threads = 1;
+      o.creation = cr;
+      gran_srd *s = NULL;
+      GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+      for (int q = 0; q < NT; ++q) { /* T at t = 10, 20, 30 */
+        GRAN_ASSERT_OK(gran_srd_advance(s, 10));
+        gran_srd_obs ob;
+        GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
+        assert_true(fabs(ob.ledger_error) < 1e-12);
+        T[cr][q][k] = ob.temperature;
+      }
+      GRAN_ASSERT_OK(gran_srd_destroy(&s));
+    }
+  for (int q = 0; q < NT; ++q) {
+    double m[2], v[2];
+    for (int cr = 0; cr < 2; ++cr) {
+      m[cr] = v[cr] = 0;
+      for (int k = 0; k < S; ++k) m[cr] += T[cr][q][k] / S;
+      for (int k = 0; k < S; ++k) v[cr] += (T[cr][q][k] - m[cr]) * (T[cr][q][k] - m[cr]) / (S - 1);
+    }
+    if (q == NT - 1) assert_true(m[0] < 0.95 && m[0] > 0.3); /* the gas has cooled */
+    GRAN_ASSERT_SIGMA(m[1], m[0], sqrt((v[0] + v[1]) / S), 4);
+  }
+}
+
+static void test_bad_args(void **state) {
+  (void)state;
+  gran_srd_options o = base_opts(3);
+  srd_bricks_out r;
+  const int too_many[3] = {10, 1, 1}, beyond_dim[3] = {1, 1, 2}, zero[3] = {0, 1, 1}, ok[3] = {2, 1, 1};
+  GRAN_ASSERT_ERR(srd_bricks_run_(&o, too_many, 1, 0, &r), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'pgrid[0]'"));
+  GRAN_ASSERT_ERR(srd_bricks_run_(&o, zero, 1, 0, &r), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'pgrid[0]'"));
+  gran_srd_options o2 = base_opts(2);
+  GRAN_ASSERT_ERR(srd_bricks_run_(&o2, beyond_dim, 1, 0, &r), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'pgrid[2]'"));
+  o.creation = GRAN_SRD_CREATE_SERIAL;
+  GRAN_ASSERT_ERR(srd_bricks_run_(&o, ok, 1, 0, &r), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'creation'"));
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_periodic),    cmocka_unit_test(test_dissipation), cmocka_unit_test(test_thermostats),
+      cmocka_unit_test(test_lees_edwards), cmocka_unit_test(test_walls),      cmocka_unit_test(test_cooling),
+      cmocka_unit_test(test_bad_args),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
