@@ -63,6 +63,14 @@ static void test_rates(void **state) {
     GRAN_ASSERT_REL(z[k], z1[k], 1e-14);
     GRAN_ASSERT_REL(d2[k], d21[k], 1e-13);
   }
+  /* temperatures 1e-60 times smaller (a gas cooled for long): the rates scale as sqrt(T), nothing underflows */
+  const double Ts[2] = {1.3e-60, 2.9e-60};
+  GRAN_ASSERT_OK(gran_theory_sonine2_rates(mix, Ts, a2, a3, z, d2, d3));
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_REL(z[k], zr[k] * 1e-30, 1e-13);
+    GRAN_ASSERT_REL(d2[k], d2r[k] * 1e-30, 1e-12);
+    GRAN_ASSERT_REL(d3[k], d3r[k] * 1e-30, 1e-12);
+  }
   /* the matrix restitution path gives the same */
   const double E[4] = {0.7, 0.7, 0.7, 0.7};
   GRAN_ASSERT_OK(gran_mixture_set_restitution_matrix(mix, E));
@@ -130,6 +138,12 @@ static void test_limits(void **state) {
     GRAN_ASSERT_ABS(a3[k], b3, 1e-12);
   }
   GRAN_ASSERT_REL(tau0, t1, 1e-12);
+  /* the HCS at a mean temperature of 1e-60: the same a2, a3 */
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(one, GRAN_HCS_NORM_MEAN, 1e-60, &T1, &a2[0], &a3[0], &tau0));
+  GRAN_ASSERT_REL(T1, 1e-60, 1e-14);
+  GRAN_ASSERT_ABS(a2[0], b2, 1e-12);
+  GRAN_ASSERT_ABS(a3[0], b3, 1e-12);
+  GRAN_ASSERT_REL(tau0, t1 * 1e30, 1e-12);
   gran_mixture_destroy(&two);
   gran_mixture_destroy(&one);
 }

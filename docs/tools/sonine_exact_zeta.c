@@ -69,6 +69,73 @@ static void zetas(const double *q, int64_t lo, int64_t hi, double *zeta) {
   }
 }
 
+/* the fourth-moment balance at the sample (q = 1): d<v^4>/dt from the hemisphere integrals
+ *   I(a, b) = Int Theta(x) x^a (v1.n)^b dn, x = ghat.n:  I(a, 0) = 2 pi/(a + 1), I(a, 1) = 2 pi u/(a + 2),
+ *   I(a, 2) = 2 pi [u^2/(a + 3) + (v1^2 - u^2)(1/(a + 1) - 1/(a + 3))/2],  u = v1.ghat,
+ * d<v^4>/dt per pair = Int (g.n) [2 v1^2 D + D^2] dn, D = -2 A (g.n)(v1.n) + A^2 (g.n)^2. Prints, per species,
+ * (1 + a2)(R4/<v^4> - 2 R2/<v^2>)/zeta = (da2/dt)/zeta (0 in a stationary scaled state) */
+static void balance4(void) {
+  for (int k = 0; k < M; k++) {
+    double r2 = 0, r4 = 0;
+    for (int i = 0; i < M; i++) {
+      const double A = (1 + eps) * m[i] / (m[k] + m[i]), sk = 0.5 * (sg[k] + sg[i]);
+      double s2 = 0, s4 = 0, s6r = 0, sw = 0;
+      for (int64_t p = 0; p < P; p++) {
+        const double *a = V[k] + 3 * I1[k][i][p], *b = V[i] + 3 * I2[k][i][p];
+        const double w = (W[k] ? W[k][I1[k][i][p]] : 1) * (W[i] ? W[i][I2[k][i][p]] : 1);
+        double g[3], gg = 0, gv = 0, vv = 0;
+        for (int d = 0; d < 3; d++) g[d] = a[d] - b[d], gg += g[d] * g[d], gv += g[d] * a[d], vv += a[d] * a[d];
+        const double gn = sqrt(gg), u = gv / gn, t = 2 * M_PI;
+#define I0(a_) (t / ((a_) + 1.0))
+#define I1f(a_) (t * u / ((a_) + 2.0))
+#define I2f(a_) (t * (u * u / ((a_) + 3.0) + 0.5 * (vv - u * u) * (1.0 / ((a_) + 1.0) - 1.0 / ((a_) + 3.0))))
+        const double R2p = -2 * A * gg * I1f(2) + A * A * gg * gn * I0(3);
+        const double R4p = 2 * vv * R2p + 4 * A * A * gg * gn * I2f(3) - 4 * A * A * A * gg * gg * I1f(4) +
+                           A * A * A * A * gg * gg * gn * I0(5);
+        /* d<v^6>/dt: v1'^6 - v1^6 = 3 X^2 D + 3 X D^2 + D^3 (X = v1^2), D = al + be, al = -2 A g x (v1.n),
+         * be = A^2 g^2 x^2; the term al^p be^q times (g.n) gives (-2A)^p A^(2q) g^(1+p+2q) I(1+p+2q, p) */
+        double R6p = 0;
+        {
+          const int P_[10] = {1, 0, 2, 1, 0, 3, 2, 1, 0, 0}, Q_[10] = {0, 1, 0, 1, 2, 0, 1, 2, 3, 0};
+          const double C_[9] = {3 * vv * vv, 3 * vv * vv, 3 * vv, 6 * vv, 3 * vv, 1, 3, 3, 1};
+          for (int tt = 0; tt < 9; tt++) {
+            const int pp = P_[tt], qq = Q_[tt], aa = 1 + pp + 2 * qq;
+            double I;
+            if (pp == 0) I = I0(aa);
+            else if (pp == 1) I = I1f(aa);
+            else if (pp == 2) I = I2f(aa);
+            else I = t * (u * u * u / (aa + 4.0) + 1.5 * u * (vv - u * u) * (1.0 / (aa + 2.0) - 1.0 / (aa + 4.0)));
+            R6p += C_[tt] * pow(-2 * A, pp) * pow(A, 2 * qq) * pow(gn, aa) * I;
+          }
+        }
+        s2 += w * R2p, s4 += w * R4p, s6r += w * R6p, sw += w;
+      }
+      r2 += n[i] * sk * sk * s2 / sw, r4 += n[i] * sk * sk * s4 / sw;
+      printf("  pair (%d, %d): d<v^2>/dt %.10g, d<v^4>/dt %.10g, d<v^6>/dt %.10g\n", k + 1, i + 1,
+             n[i] * sk * sk * s2 / sw, n[i] * sk * sk * s4 / sw, n[i] * sk * sk * s6r / sw);
+    }
+    /* <v^4> of the sample (weighted) */
+    double sw = 0, s4 = 0;
+    for (int64_t j = 0; j < N; j++) {
+      const double w = W[k] ? W[k][j] : 1;
+      double x = 0;
+      for (int d = 0; d < 3; d++) x += V[k][3 * j + d] * V[k][3 * j + d];
+      sw += w, s4 += w * x * x;
+    }
+    const double v4 = s4 / sw, a2 = 0.6 * v4 / (v2[k] * v2[k]) - 1, zeta = -r2 / v2[k];
+    double s6 = 0;
+    for (int64_t j = 0; j < N; j++) {
+      const double wj = W[k] ? W[k][j] : 1;
+      double x = 0;
+      for (int d = 0; d < 3; d++) x += V[k][3 * j + d] * V[k][3 * j + d];
+      s6 += wj * x * x * x;
+    }
+    const double a3 = 1 + 3 * a2 - (9.0 / 35.0) * (s6 / sw) / (v2[k] * v2[k] * v2[k]);
+    printf("  species %d: sample <v^2> %.10g, a2 %+.5f, a3 %+.5f, (da2/dt)/zeta = %+.4f\n", k + 1, v2[k], a2, a3,
+           (1 + a2) * (r4 / v4 - 2 * r2 / v2[k]) / zeta);
+  }
+}
+
 /* solve zeta_k(q) = zeta_1 for log q_k, k >= 2 (q_1 = 1), Newton with finite differences */
 static void solve(int64_t lo, int64_t hi, double *ratio) {
   double q[MMAX] = {1, 1, 1}, z[MMAX], zp[MMAX];
@@ -168,5 +235,6 @@ int main(int argc, char **argv) {
     printf(" %.4f (se %.4f)", r[k], sqrt(s2 / 8));
   }
   printf("\n");
+  balance4();
   return 0;
 }
