@@ -197,6 +197,22 @@ def hcs(fns, m, sig, n, eps, order=2, start=None):
     return T, sol[M - 1:2 * M - 1], (sol[2 * M - 1:] if order == 2 else [0.0] * M)
 
 
+def hcs_a3_given(fns, m, sig, n, eps, a3, start):
+    """equal zeta_k and da2_k/dt = 0 with a3_k given (e.g. DSMC's): T_k/T_1 (k >= 2) and a2_k"""
+    import mpmath as mpm
+    M = len(m)
+
+    def F(*x):
+        x = [float(v) for v in x]
+        T = [1.0] + [math.exp(v) for v in x[:M - 1]]
+        z, p2, _ = rates(fns, m, sig, n, eps, T, x[M - 1:], a3, 2)
+        return [math.log(z[k] / z[0]) for k in range(1, M)] + [p2[k] / z[0] for k in range(M)]
+
+    sol = mpm.findroot(F, [math.log(start[k] / start[0]) for k in range(1, M)] + [0.0] * M, tol=1e-22)
+    sol = [float(v) for v in sol] if hasattr(sol, "rows") else [float(sol)]
+    return [math.exp(v) for v in sol[:M - 1]], sol[M - 1:]
+
+
 def cpoly(e):
     """C expression of a polynomial in A, ak, ai: Horner in A, expanded coefficients"""
     AK, AI, AA = sp.symbols("ak ai A", positive=True)
