@@ -7,6 +7,8 @@ inelastic hard spheres, each printed beside the linear second Sonine level of do
   bilinear: the second Sonine level with the products a_qk a_pi of the collision integrals (the Boltzmann operator
             is bilinear: f_k f_i) and the products zeta1 a of the moment equations kept.
 
+  third, a4 given: a4_k held at DSMC's values, the <x^4> balance dropped (one species, the binary, the ternary);
+
   python3 docs/tools/sonine_third.py        (about a minute; sympy, mpmath)
 """
 import math
@@ -67,7 +69,7 @@ def solve(F, x0):
     return [float(v) for v in sol] if hasattr(sol, "rows") else [float(sol)]
 
 
-def third(cases):
+def third_coeffs():
     C = {}
     for p in (1, 2, 3, 4):
         C[(p, 0, "k")] = coeff(p, R(1), 0, 0)
@@ -75,6 +77,11 @@ def third(cases):
             C[(p, q, "k")] = coeff(p, weight(q, X1, ak), q, 0)
             C[(p, q, "i")] = coeff(p, weight(q, X2, ai), 0, q)
     MOM = {(p, q): moment(p, q) for p in range(1, 5) for q in (0, 2, 3, 4)}
+    return C, MOM
+
+
+def third(cases, C, MOM, a4_given=None):
+    """the third Sonine HCS; a4_given (one list per case, or None): a4_k held there and the <x^4> balance dropped"""
 
     def rates(m, sig, n, eps, T, a, lin=True):
         """the collisional rate of <x^p>_k at fixed temperatures, x = v^2/(2 a_k)"""
@@ -93,12 +100,17 @@ def third(cases):
                     Rp[k][p] += wv * val / (2 * akv) ** p
         return Rp
 
-    for name, m, sig, n, eps, start in cases:
+    for c, (name, m, sig, n, eps, start) in enumerate(cases):
         M = len(m)
+        fixed = a4_given[c] if a4_given else None
+        qs = (2, 3) if fixed else (2, 3, 4)
 
         def unpack(xv):
             T = [1.0] + [math.exp(float(v)) for v in xv[:M - 1]]
-            a = [{q: float(xv[M - 1 + 3 * k + q - 2]) for q in (2, 3, 4)} for k in range(M)]
+            a = [{q: float(xv[M - 1 + len(qs) * k + j]) for j, q in enumerate(qs)} for k in range(M)]
+            for k in range(M):
+                if fixed:
+                    a[k][4] = fixed[k]
             return T, a
 
         def F(*xv):
@@ -108,15 +120,15 @@ def third(cases):
             zeta0 = [-R0[k][1] / 1.5 for k in range(M)]
             out = [math.log(zeta[k] / zeta[0]) for k in range(1, M)]
             for k in range(M):
-                for p in (2, 3, 4):  # d<x^p>/dt = Rp + p zeta <x^p>, linear in a
+                for p in qs:  # d<x^p>/dt = Rp + p zeta <x^p>, linear in a
                     xp = MOM[(p, 0)] + sum(a[k][q] * MOM[(p, q)] for q in (2, 3, 4))
                     out.append((Rp[k][p] + p * (zeta0[k] * xp + (zeta[k] - zeta0[k]) * MOM[(p, 0)])) / zeta0[0])
             return out
 
-        x0 = [math.log(start[k] / start[0]) for k in range(1, M)] + [0.0] * (3 * M)
+        x0 = [math.log(start[k] / start[0]) for k in range(1, M)] + [0.0] * (len(qs) * M)
         T, a = unpack(solve(F, x0))
-        print("third Sonine  %-8s T_k/T_1 %s  (a2, a3, a4)_k %s" % (
-            name, " ".join("%.4f" % t for t in T[1:]),
+        print("third Sonine%s %-8s T_k/T_1 %s  (a2, a3, a4)_k %s" % (
+            " (a4 given)" if fixed else "", name, " ".join("%.4f" % t for t in T[1:]),
             "  ".join("%.4f %.4f %.4f" % (b[2], b[3], b[4]) for b in a)), flush=True)
 
 
@@ -177,6 +189,12 @@ CASES = [("mono0.5", [1.0], [1.0], [0.1], 0.5, [1]), ("mono0.9", [1.0], [1.0], [
          ("ternary", [1.0, 100.0, 500.0], [1.0, 100 ** (1 / 3), 500 ** (1 / 3)], [0.1] * 3, 0.5, [1, 23, 38.5]),
          ("fig2", [1.0, 100.0], [1.0, 100 ** (1 / 3)], [0.1, 0.001], 0.5, [1, 89])]
 
+# DSMC a4_k (docs/physics-sonine.md Sec. 4) of the cases above, for the variant with a4 held
+A4_DSMC = [[0.0118], None, [-0.0090, 0.0106], None, [-0.0092, 0.0033, 0.0153], None]
+
 if __name__ == "__main__":
-    third(CASES)
+    C, MOM = third_coeffs()
+    third(CASES, C, MOM)
+    sel = [c for c, a in zip(CASES, A4_DSMC) if a]
+    third(sel, C, MOM, [a for a in A4_DSMC if a])
     bilinear(CASES)
