@@ -29,7 +29,7 @@ namespace {
 using namespace gran;
 
 const double SQ2PI = 2.5066282746310002;
-const int64_t SON2_MAX = 128;  /* dense Newton: 3M + M - 1 passes per Jacobian, LU of 3M - 1 */
+const int64_t SON2_MAX = 128;  /* dense Newton: 4M - 2 passes per Jacobian, LU of order 3M - 1 */
 const double SON2_TOL = 1e-12; /* residuals (rates over the collision frequency) */
 
 struct Pass2 {
