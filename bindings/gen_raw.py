@@ -99,6 +99,7 @@ gran_theory_collision_rate1  inv_tau_c=out
 gran_theory_hcs           tau0=out
 gran_theory_hcs_approx    tau0=out
 gran_theory_hcs_sonine2   tau0=out
+gran_theory_hcs_sonine_n  tau0=out
 gran_theory_msd_hcs       msd_total=null
 gran_theory_msd           msd_total=null
 gran_theory_msd_hcs_approx  msd_total=null

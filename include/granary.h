@@ -272,6 +272,11 @@ GRAN_EXTERN int gran_theory_hcs_sonine2(const gran_mixture *mix, int norm, doubl
                                         double *a3, double *tau0);
 GRAN_EXTERN int gran_theory_sonine2_rates(const gran_mixture *mix, const double *T, const double *a2, const double *a3,
                                           double *zeta, double *da2dt, double *da3dt);
+/* The linear Sonine hierarchy to order nmax = 2..5 (f_k with a_2..a_nmax; nmax = 2 and 3 are the first and the
+ * second Sonine HCS above): T0 (M), a (M*(nmax - 1), a[k*(nmax - 1) + q - 2] = a_q of species k; may be NULL), tau0
+ * (may be NULL); up to 64 species. docs/physics-sonine.md Sec. 4. */
+GRAN_EXTERN int gran_theory_hcs_sonine_n(const gran_mixture *mix, int nmax, int norm, double value, double *T0,
+                                         double *a, double *tau0);
 /* T_k(t) and a2_k(t) (ntimes*M each; a2 may be NULL) from T0 and a20 (NULL: 0) in either
  * approximation (Maxwellian: gran_theory_temperatures, a2 = 0); any restitution model (for
  * viscoelastic restitution a2_k depends on time even at long times). */

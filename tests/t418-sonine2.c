@@ -1,7 +1,9 @@
 /* t418-sonine2.c - the second Sonine approximation (src/theory/sonine2.cpp, docs/physics-sonine.md Sec. 4):
  * one species (a2, a3 of the linear second Sonine equations; zeta = zeta_Haff (1 + 3 a2/16 + a3/64)), the rates
  * at an unequal state against docs/tools/sonine_second.py (mpmath, 30 digits), the first Sonine rates at a3 = 0,
- * the HCS property, the elastic and equal-species limits, and the refusals. */
+ * the HCS property, the elastic and equal-species limits, and the refusals; the Sonine hierarchy to order nmax
+ * (gran_theory_hcs_sonine_n): nmax = 2, 3 are the first and the second level, nmax = 5 against
+ * docs/tools/sonine_order_n.py. */
 #include "granary_test.h"
 
 static const double SQRT_PI = 1.7724538509055160273;
@@ -174,9 +176,61 @@ static void test_refusals(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* gran_theory_hcs_sonine_n: nmax = 2 is gran_theory_hcs_approx(GRAN_THEORY_SONINE), nmax = 3 gran_theory_hcs_sonine2
+ * (the same linearisation, a separate code); nmax = 5 against docs/tools/sonine_order_n.py 5 (its 4 printed digits) */
+static void test_hierarchy(void **state) {
+  (void)state;
+  const double m[2] = {1, 100}, s[2] = {1, 4.641588833612779}, n[2] = {0.1, 0.1};
+  gran_mixture *mix = make(2, m, s, n, 0.5);
+  double T1[2], b2[2], t1, T2[2], c2[2], c3[2], t2, T[2], a[8], tau;
+  GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_T1, 1.0, T1, b2, &t1));
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 2, GRAN_HCS_NORM_T1, 1.0, T, a, &tau));
+  GRAN_ASSERT_REL(T[1], T1[1], 1e-11);
+  for (int k = 0; k < 2; k++) GRAN_ASSERT_ABS(a[k], b2[k], 1e-11);
+  GRAN_ASSERT_REL(tau, t1, 1e-11);
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_T1, 1.0, T2, c2, c3, &t2));
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 3, GRAN_HCS_NORM_T1, 1.0, T, a, &tau));
+  GRAN_ASSERT_REL(T[1], T2[1], 1e-11);
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_ABS(a[2 * k], c2[k], 1e-11);
+    GRAN_ASSERT_ABS(a[2 * k + 1], c3[k], 1e-11);
+  }
+  GRAN_ASSERT_REL(tau, t2, 1e-11);
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 5, GRAN_HCS_NORM_T1, 1.0, T, a, &tau));
+  print_message("nmax 5, binary m = 1, 100: T2/T1 = %.6f, a = %.5f %.5f %.5f %.5f | %.5f %.5f %.5f %.5f\n", T[1], a[0],
+                a[1], a[2], a[3], a[4], a[5], a[6], a[7]);
+  const double ar[8] = {-0.0007, -0.0312, -0.0081, -0.0129, 0.0457, -0.0137, 0.0085, -0.0120};
+  GRAN_ASSERT_REL(T[1], 13.4737, 4e-6);
+  for (int j = 0; j < 8; j++) GRAN_ASSERT_ABS(a[j], ar[j], 6e-5);
+  gran_mixture_destroy(&mix);
+  const double m1 = 1, s1 = 1, n1 = 0.1, ar1[4] = {0.0466, -0.0145, 0.0090, -0.0135};
+  mix = make(1, &m1, &s1, &n1, 0.5);
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 5, GRAN_HCS_NORM_MEAN, 1.0, T, a, &tau));
+  for (int j = 0; j < 4; j++) GRAN_ASSERT_ABS(a[j], ar1[j], 6e-5);
+  /* eps = 1: equipartition, all a_q = 0 */
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 1.0));
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 4, GRAN_HCS_NORM_MEAN, 2.0, T, a, &tau));
+  GRAN_ASSERT_REL(T[0], 2.0, 1e-15);
+  for (int j = 0; j < 3; j++) GRAN_ASSERT_ABS(a[j], 0.0, 1e-15);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 1, GRAN_HCS_NORM_MEAN, 1.0, T, a, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'nmax' = 1"));
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 6, GRAN_HCS_NORM_MEAN, 1.0, T, a, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 4, GRAN_HCS_NORM_MEAN, 1.0, NULL, a, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 0.1));
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 4, GRAN_HCS_NORM_MEAN, 1.0, T, a, NULL), GRAN_ERR_DOMAIN);
+  gran_mixture_destroy(&mix);
+  enum { MB = 65 };
+  double mb[MB], sb[MB], nb[MB], Tb[MB];
+  for (int k = 0; k < MB; k++) mb[k] = 1 + k, sb[k] = 1, nb[k] = 0.01;
+  mix = make(MB, mb, sb, nb, 0.8);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 4, GRAN_HCS_NORM_MEAN, 1.0, Tb, NULL, NULL), GRAN_ERR_DOMAIN);
+  assert_non_null(strstr(gran_last_error_message(), "65 species"));
+  gran_mixture_destroy(&mix);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {cmocka_unit_test(test_monodisperse), cmocka_unit_test(test_rates),
                                      cmocka_unit_test(test_hcs), cmocka_unit_test(test_limits),
-                                     cmocka_unit_test(test_refusals)};
+                                     cmocka_unit_test(test_refusals), cmocka_unit_test(test_hierarchy)};
   return cmocka_run_group_tests_name("t418-sonine2", tests, NULL, NULL);
 }

@@ -6,6 +6,8 @@ third of sonine_third.py). The pair terms by the route of Sec. 2 (sonine_second.
 p = 1..N, evaluated in units of s^2 = a_k + a_i.
 
   python3 docs/tools/sonine_order_n.py N     (N = 5: about 5 minutes of sympy on the shared machine)
+  python3 docs/tools/sonine_order_n.py --ccode   the N = 5 pair terms as the C++ of src/theory/sonine_n.cpp
+                                                 (pair_coeffs: polynomials in x = a_k/s^2, y = a_i/s^2, A)
 
 prints, for one species (eps = 0.5), the binary m = 1, 100 and the Fig. 3 ternary, T_k/T_1 and a_2..a_N per species.
 """
@@ -18,10 +20,48 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import sonine_third as T3  # noqa: E402
 
 R, X1, X2, D, ak, ai = T3.R, T3.X1, T3.X2, T3.D, T3.ak, T3.ai
-NMAX = int(sys.argv[1]) if len(sys.argv) > 1 else 5
+CCODE = len(sys.argv) > 1 and sys.argv[1] == "--ccode"
+NMAX = 5 if CCODE or len(sys.argv) < 2 else int(sys.argv[1])
 # v1'^(2p) - v1^(2p) = sum_j C(p, j) X1^(p-j) D^j
 T3.PSI.update({p: sum(comb(p, j) * X1 ** (p - j) * D ** j for j in range(1, p + 1)) for p in range(1, NMAX + 1)})
 qs = list(range(2, NMAX + 1))
+
+
+def ccode():
+    import sympy as sp
+    AK, AI, AA, s = T3.AK, T3.AI, T3.AA, T3.s
+
+    def expr(p, wt, dk, di):  # in units of s^2: s = 1, a_k + a_i = 1
+        e = 2 * T3.S.to_expr(T3.S.expect(T3.gz * T3.PSI[p] * wt)) / (AK ** dk * AI ** di)
+        return sp.expand(sp.expand(e).subs(s, 1))
+
+    def c2s(c):
+        c = sp.expand(c)
+        if c == 0:
+            return "0.0"
+        parts = []
+        for (i, k), v in sp.Poly(c, AI, AK).terms():
+            mon = "*".join(["y"] * i + ["x"] * k)
+            num, den = sp.fraction(sp.Rational(v))
+            parts.append("(%s.0%s)%s" % (num, ("/" + str(den) + ".0") if den != 1 else "", ("*" + mon) if mon else ""))
+        return "(" + " + ".join(parts) + ")"
+
+    def cpoly(e):
+        co = sp.Poly(e, AA).all_coeffs()
+        r = c2s(co[0])
+        for c in co[1:]:
+            r = "(%s)*A + %s" % (r, c2s(c))
+        return r
+    for p in range(1, NMAX + 1):
+        print("  const double c%d_0 = %s;" % (p, cpoly(expr(p, R(1), 0, 0))))
+        for q in qs:
+            print("  const double c%d_k%d = %s;" % (p, q, cpoly(expr(p, T3.weight(q, X1, ak), q, 0))))
+            print("  const double c%d_i%d = %s;" % (p, q, cpoly(expr(p, T3.weight(q, X2, ai), 0, q))))
+
+
+if CCODE:
+    ccode()
+    sys.exit(0)
 C = {}
 for p in range(1, NMAX + 1):
     C[(p, 0, "k")] = T3.coeff(p, R(1), 0, 0)
