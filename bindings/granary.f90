@@ -62,6 +62,7 @@ module granary
   public :: gran_theory_temperatures_driven
   ! GRAN_THEORY_MAXWELLIAN (reference) or GRAN_THEORY_SONINE (first Sonine level, docs/physics-sonine.md)
   public :: gran_theory_hcs_approx, gran_theory_sonine_rates, gran_theory_temperatures_approx
+  public :: gran_theory_hcs_sonine2, gran_theory_sonine2_rates, gran_theory_hcs_sonine_n
   public :: gran_theory_diffusion_approx, gran_theory_msd_hcs_approx, gran_theory_msd_approx
   public :: gran_theory_tamsd_approx, gran_theory_msd_sonine
   public :: gran_theory_tamsd, gran_theory_tamsd_sampled, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
@@ -940,6 +941,61 @@ contains
     if (gran_theory_short(size(da2dt), m, 'gran_theory_sonine_rates: size(da2dt) < M', ierr)) return
     call gran_check(c_gran_theory_sonine_rates(mix, temp, a2, zeta, da2dt), ierr)
   end subroutine gran_theory_sonine_rates
+
+  !> HCS of the second Sonine approximation: t0(M), a2(M), a3(M), tau0 (huge -> inf).
+  subroutine gran_theory_hcs_sonine2(mix, norm, val, t0, a2, a3, tau0, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: norm
+    real(c_double), intent(in) :: val
+    real(c_double), intent(out) :: t0(:), a2(:), a3(:)
+    real(c_double), intent(out), optional :: tau0
+    integer, intent(out), optional :: ierr
+    real(c_double) :: tau
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_hcs_sonine2: size(t0) < M', ierr)) return
+    if (gran_theory_short(size(a2), m, 'gran_theory_hcs_sonine2: size(a2) < M', ierr)) return
+    if (gran_theory_short(size(a3), m, 'gran_theory_hcs_sonine2: size(a3) < M', ierr)) return
+    tau = 0
+    call gran_check(c_gran_theory_hcs_sonine2(mix, int(norm, c_int), val, t0, a2, a3, tau), ierr)
+    if (present(tau0)) tau0 = tau
+  end subroutine gran_theory_hcs_sonine2
+
+  !> Second Sonine rates at temp(M), a2(M), a3(M): zeta(M), da2dt(M), da3dt(M).
+  subroutine gran_theory_sonine2_rates(mix, temp, a2, a3, zeta, da2dt, da3dt, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: temp(:), a2(:), a3(:)
+    real(c_double), intent(out) :: zeta(:), da2dt(:), da3dt(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(temp), m, 'gran_theory_sonine2_rates: size(temp) < M', ierr)) return
+    if (gran_theory_short(size(a2), m, 'gran_theory_sonine2_rates: size(a2) < M', ierr)) return
+    if (gran_theory_short(size(a3), m, 'gran_theory_sonine2_rates: size(a3) < M', ierr)) return
+    if (gran_theory_short(size(zeta), m, 'gran_theory_sonine2_rates: size(zeta) < M', ierr)) return
+    if (gran_theory_short(size(da2dt), m, 'gran_theory_sonine2_rates: size(da2dt) < M', ierr)) return
+    if (gran_theory_short(size(da3dt), m, 'gran_theory_sonine2_rates: size(da3dt) < M', ierr)) return
+    call gran_check(c_gran_theory_sonine2_rates(mix, temp, a2, a3, zeta, da2dt, da3dt), ierr)
+  end subroutine gran_theory_sonine2_rates
+
+  !> HCS of the linear Sonine hierarchy to order nmax (2..5): t0(M), a(M*(nmax-1)) with a((k-1)*(nmax-1) + q-1) =
+  !> a_q of species k, tau0 (huge -> inf).
+  subroutine gran_theory_hcs_sonine_n(mix, nmax, norm, val, t0, a, tau0, ierr)
+    type(c_ptr), intent(in) :: mix
+    integer, intent(in) :: nmax, norm
+    real(c_double), intent(in) :: val
+    real(c_double), intent(out) :: t0(:), a(:)
+    real(c_double), intent(out), optional :: tau0
+    integer, intent(out), optional :: ierr
+    real(c_double) :: tau
+    integer(c_int64_t) :: m
+    m = gran_theory_m(mix)
+    if (gran_theory_short(size(t0), m, 'gran_theory_hcs_sonine_n: size(t0) < M', ierr)) return
+    if (gran_theory_short(size(a), m * max(nmax - 1, 1), 'gran_theory_hcs_sonine_n: size(a) < M*(nmax-1)', ierr)) return
+    tau = 0
+    call gran_check(c_gran_theory_hcs_sonine_n(mix, int(nmax, c_int), int(norm, c_int), val, t0, a, tau), ierr)
+    if (present(tau0)) tau0 = tau
+  end subroutine gran_theory_hcs_sonine_n
 
   !> temp(M, size(t)) and a2(M, size(t)) from t0(M), a20(M) in either approximation.
   subroutine gran_theory_temperatures_approx(mix, approx, t0, a20, t, rtol, temp, a2, ierr)

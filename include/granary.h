@@ -263,6 +263,20 @@ GRAN_EXTERN int gran_theory_hcs_approx(const gran_mixture *mix, int approximatio
  * either may be NULL). */
 GRAN_EXTERN int gran_theory_sonine_rates(const gran_mixture *mix, const double *T, const double *a2, double *zeta,
                                          double *da2dt);
+/* Second Sonine approximation, f_k = Maxwellian (1 + a2_k S2 + a3_k S3), zeta_k and the <v^4>, <v^6> balances
+ * linear in (a2, a3); constant or matrix restitution (viscoelastic: GRAN_ERR_DOMAIN). The HCS: T0 (M), a2, a3 (M
+ * each, may be NULL), tau0 = 2/zeta (may be NULL); dense solve, up to 128 species (beyond: GRAN_ERR_DOMAIN).
+ * The rates at (T, a2, a3), |a2_k|, |a3_k| < 1: zeta_k, da2_k/dt, da3_k/dt (M each, any may be NULL).
+ * docs/physics-sonine.md Sec. 4. */
+GRAN_EXTERN int gran_theory_hcs_sonine2(const gran_mixture *mix, int norm, double value, double *T0, double *a2,
+                                        double *a3, double *tau0);
+GRAN_EXTERN int gran_theory_sonine2_rates(const gran_mixture *mix, const double *T, const double *a2, const double *a3,
+                                          double *zeta, double *da2dt, double *da3dt);
+/* The linear Sonine hierarchy to order nmax = 2..5 (f_k with a_2..a_nmax; nmax = 2 and 3 are the first and the
+ * second Sonine HCS above): T0 (M), a (M*(nmax - 1), a[k*(nmax - 1) + q - 2] = a_q of species k; may be NULL), tau0
+ * (may be NULL); up to 64 species. docs/physics-sonine.md Sec. 4. */
+GRAN_EXTERN int gran_theory_hcs_sonine_n(const gran_mixture *mix, int nmax, int norm, double value, double *T0,
+                                         double *a, double *tau0);
 /* T_k(t) and a2_k(t) (ntimes*M each; a2 may be NULL) from T0 and a20 (NULL: 0) in either
  * approximation (Maxwellian: gran_theory_temperatures, a2 = 0); any restitution model (for
  * viscoelastic restitution a2_k depends on time even at long times). */

@@ -1,0 +1,44 @@
+! t418-sonine2-f.f90 - the Fortran bindings of the second Sonine approximation (bindings/granary.f90):
+! gran_theory_hcs_sonine2, gran_theory_hcs_sonine_n (one species: a2, a3 of the linear second Sonine equations; binary: an HCS of the
+! rates) and gran_theory_sonine2_rates, and a refusal. Prints what it checks; error stop 1 on failure.
+program t418_sonine2_f
+  use, intrinsic :: iso_c_binding
+  use granary
+  use granary_test_f
+  implicit none
+  type(c_ptr) :: mix
+  real(c_double) :: one(1), t1(1), a1(1), b1(1), tau0, dens(2), mass(2), sig(2)
+  real(c_double) :: t0(2), a2(2), a3(2), zeta(2), d2(2), d3(2), tn(2), an(4), taun
+  integer :: ierr
+
+  one = 1
+  call gran_mixture_create(mix, one, mass=one, sigma=one)
+  call gran_mixture_set_restitution(mix, 0.5_c_double)
+  call gran_theory_hcs_sonine2(mix, int(GRAN_HCS_NORM_MEAN), 1.0_c_double, t1, a1, b1, tau0)
+  call expect(abs(a1(1) - 0.044993978002290_c_double) < 1e-12_c_double, 'one species eps 0.5: a2 = 0.044994')
+  call expect(abs(b1(1) + 0.017684168615936_c_double) < 1e-12_c_double, 'one species eps 0.5: a3 = -0.017684')
+  call gran_mixture_destroy(mix)
+
+  dens = [1.0_c_double, 0.5_c_double]
+  mass = [1.0_c_double, 10.0_c_double]
+  sig = [1.0_c_double, 2.0_c_double]
+  call gran_mixture_create(mix, dens, mass=mass, sigma=sig)
+  call gran_mixture_set_restitution(mix, 0.7_c_double)
+  call gran_theory_hcs_sonine2(mix, int(GRAN_HCS_NORM_T1), 1.0_c_double, t0, a2, a3, tau0)
+  call expect(abs(t0(2) / t0(1) / 1.799810119285_c_double - 1) < 1e-10_c_double, 'binary: T2/T1 = 1.799810119')
+  call gran_theory_sonine2_rates(mix, t0, a2, a3, zeta, d2, d3)
+  call expect(all(abs(0.5_c_double * zeta * tau0 - 1) < 1e-11_c_double), 'binary: zeta_k tau0/2 = 1')
+  call expect(all(abs(d2 * tau0) < 1e-10_c_double) .and. all(abs(d3 * tau0) < 1e-10_c_double), &
+              'binary: da2/dt = da3/dt = 0')
+  call gran_theory_hcs_sonine_n(mix, 3, int(GRAN_HCS_NORM_T1), 1.0_c_double, tn, an, taun)
+  call expect(abs(tn(2) / tn(1) / 1.799810119285_c_double - 1) < 1e-10_c_double .and. &
+              abs(an(1) - a2(1)) < 1e-10_c_double .and. abs(an(4) - a3(2)) < 1e-10_c_double, &
+              'gran_theory_hcs_sonine_n(nmax = 3) = gran_theory_hcs_sonine2')
+  call gran_theory_hcs_sonine_n(mix, 7, int(GRAN_HCS_NORM_T1), 1.0_c_double, tn, an, taun, ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'nmax = 7 refused (GRAN_ERR_ARG)')
+  call gran_theory_hcs_sonine2(mix, 9, 1.0_c_double, t0, a2, a3, tau0, ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'norm = 9 refused (GRAN_ERR_ARG)')
+  call gran_mixture_destroy(mix)
+
+  call test_finish('t418-sonine2-f')
+end program t418_sonine2_f

@@ -1,0 +1,236 @@
+/* t418-sonine2.c - the second Sonine approximation (src/theory/sonine2.cpp, docs/physics-sonine.md Sec. 4):
+ * one species (a2, a3 of the linear second Sonine equations; zeta = zeta_Haff (1 + 3 a2/16 + a3/64)), the rates
+ * at an unequal state against docs/tools/sonine_second.py (mpmath, 30 digits), the first Sonine rates at a3 = 0,
+ * the HCS property, the elastic and equal-species limits, and the refusals; the Sonine hierarchy to order nmax
+ * (gran_theory_hcs_sonine_n): nmax = 2, 3 are the first and the second level, nmax = 5 against
+ * docs/tools/sonine_order_n.py. */
+#include "granary_test.h"
+
+static const double SQRT_PI = 1.7724538509055160273;
+
+static gran_mixture *make(int M, const double *m, const double *s, const double *n, double eps) {
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(M, m, s, n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, eps));
+  return mix;
+}
+
+/* One species: a2, a3 of docs/tools/sonine_second.py (hcs, order 2) and the cooling rate. */
+static void test_monodisperse(void **state) {
+  (void)state;
+  const double eps[3] = {0.3, 0.5, 0.9};
+  const double a2r[3] = {0.088629176185060, 0.044993978002290, -0.015661801390612};
+  const double a3r[3] = {-0.059650527833367, -0.017684168615936, -0.003872456650364};
+  const double m = 2.5, s = 0.7, n = 0.3, g2 = 1.3, T = 1.7;
+  for (int i = 0; i < 3; i++) {
+    gran_mixture *mix = make(1, &m, &s, &n, eps[i]);
+    GRAN_ASSERT_OK(gran_mixture_set_g2(mix, g2));
+    double T0 = 0, a2 = 0, a3 = 0, tau0 = 0;
+    GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_MEAN, T, &T0, &a2, &a3, &tau0));
+    print_message("eps %.1f: a2 = %.12f, a3 = %.12f\n", eps[i], a2, a3);
+    GRAN_ASSERT_REL(T0, T, 1e-15);
+    GRAN_ASSERT_ABS(a2, a2r[i], 1e-12);
+    GRAN_ASSERT_ABS(a3, a3r[i], 1e-12);
+    const double haff = 2.0 / 3.0 * SQRT_PI * (1 - eps[i]) * (1 + eps[i]) * n * s * s * g2 * sqrt(T / m);
+    GRAN_ASSERT_REL(1.0 / tau0, haff * (1 + 3 * a2 / 16 + a3 / 64), 1e-12);
+    double z, d2, d3;
+    GRAN_ASSERT_OK(gran_theory_sonine2_rates(mix, &T0, &a2, &a3, &z, &d2, &d3));
+    GRAN_ASSERT_ABS(d2 * tau0, 0.0, 1e-12);
+    GRAN_ASSERT_ABS(d3 * tau0, 0.0, 1e-12);
+    gran_mixture_destroy(&mix);
+  }
+}
+
+/* The rates at an unequal state: m = 1, 10; sigma = 1, 2; n = 1, 0.5; eps = 0.7; T = 1.3, 2.9;
+ * a2 = 0.03, -0.05; a3 = 0.02, -0.01 (docs/tools/sonine_second.py rates() in mpmath at 30 digits); at a3 = 0
+ * zeta and da2/dt are those of the first Sonine level (gran_theory_sonine_rates). */
+static void test_rates(void **state) {
+  (void)state;
+  const double m[2] = {1, 10}, s[2] = {1, 2}, n[2] = {1, 0.5};
+  gran_mixture *mix = make(2, m, s, n, 0.7);
+  const double T[2] = {1.3, 2.9}, a2[2] = {0.03, -0.05}, a3[2] = {0.02, -0.01}, a30[2] = {0, 0};
+  const double zr[2] = {2.2424676607809641, 2.9432718322666662};
+  const double d2r[2] = {-0.40347077414723905, 0.40268978953106601};
+  const double d3r[2] = {-0.36018162137787629, 0.15178393351334718};
+  double z[2], d2[2], d3[2], z1[2], d21[2];
+  GRAN_ASSERT_OK(gran_theory_sonine2_rates(mix, T, a2, a3, z, d2, d3));
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_REL(z[k], zr[k], 1e-14);
+    GRAN_ASSERT_REL(d2[k], d2r[k], 1e-13);
+    GRAN_ASSERT_REL(d3[k], d3r[k], 1e-13);
+  }
+  GRAN_ASSERT_OK(gran_theory_sonine2_rates(mix, T, a2, a30, z, d2, NULL));
+  GRAN_ASSERT_OK(gran_theory_sonine_rates(mix, T, a2, z1, d21));
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_REL(z[k], z1[k], 1e-14);
+    GRAN_ASSERT_REL(d2[k], d21[k], 1e-13);
+  }
+  /* temperatures 1e-60 times smaller (a gas cooled for long): the rates scale as sqrt(T), nothing underflows */
+  const double Ts[2] = {1.3e-60, 2.9e-60};
+  GRAN_ASSERT_OK(gran_theory_sonine2_rates(mix, Ts, a2, a3, z, d2, d3));
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_REL(z[k], zr[k] * 1e-30, 1e-13);
+    GRAN_ASSERT_REL(d2[k], d2r[k] * 1e-30, 1e-12);
+    GRAN_ASSERT_REL(d3[k], d3r[k] * 1e-30, 1e-12);
+  }
+  /* the matrix restitution path gives the same */
+  const double E[4] = {0.7, 0.7, 0.7, 0.7};
+  GRAN_ASSERT_OK(gran_mixture_set_restitution_matrix(mix, E));
+  GRAN_ASSERT_OK(gran_theory_sonine2_rates(mix, T, a2, a3, z1, d21, NULL));
+  for (int k = 0; k < 2; k++) GRAN_ASSERT_REL(z1[k], zr[k], 1e-14);
+  gran_mixture_destroy(&mix);
+}
+
+/* HCS of mixtures: equal zeta_k, da2/dt = da3/dt = 0; the ratios of docs/tools/sonine_second.py. */
+static void test_hcs(void **state) {
+  (void)state;
+  struct {
+    int M;
+    double m[3], s[3], n[3], eps, ratio[2];
+  } c[3] = {{2, {1, 10}, {1, 2}, {1, 0.5}, 0.7, {1.799810119285, 0}},
+            {2, {1, 100}, {1, 4.641588833612779}, {0.1, 0.1}, 0.5, {13.532707243808, 0}},
+            {3, {1, 100, 500}, {1, 4.641588833612779, 7.937005259840998}, {0.1, 0.1, 0.1}, 0.5, {23.0095, 38.3740}}};
+  for (int j = 0; j < 3; j++) {
+    const int M = c[j].M;
+    gran_mixture *mix = make(M, c[j].m, c[j].s, c[j].n, c[j].eps);
+    double T0[3], a2[3], a3[3], tau0, z[3], d2[3], d3[3];
+    GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_T1, 1.0, T0, a2, a3, &tau0));
+    GRAN_ASSERT_OK(gran_theory_sonine2_rates(mix, T0, a2, a3, z, d2, d3));
+    print_message("M = %d: T_k/T_1 = %.9f %.9f, a2 = %.5f %.5f %.5f, a3 = %.5f %.5f %.5f\n", M, T0[1],
+                  M > 2 ? T0[2] : 0.0, a2[0], a2[1], M > 2 ? a2[2] : 0.0, a3[0], a3[1], M > 2 ? a3[2] : 0.0);
+    GRAN_ASSERT_REL(T0[0], 1.0, 1e-15);
+    for (int k = 0; k < M; k++) {
+      GRAN_ASSERT_ABS(0.5 * z[k] * tau0, 1.0, 1e-11);
+      GRAN_ASSERT_ABS(d2[k] * tau0, 0.0, 1e-10);
+      GRAN_ASSERT_ABS(d3[k] * tau0, 0.0, 1e-10);
+    }
+    for (int k = 1; k < M; k++) GRAN_ASSERT_REL(T0[k], c[j].ratio[k - 1], j < 2 ? 1e-10 : 5e-6);
+    gran_mixture_destroy(&mix);
+  }
+}
+
+/* eps = 1: equipartition, a2 = a3 = 0; eps = 1 - 1e-9: a2, a3 = O(1e-9); two equal species = one species. */
+static void test_limits(void **state) {
+  (void)state;
+  const double m[2] = {1, 7}, s[2] = {1, 1.9}, n[2] = {0.4, 0.2};
+  gran_mixture *mix = make(2, m, s, n, 1.0);
+  double T0[2], a2[2], a3[2], tau0;
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_MEAN, 2.0, T0, a2, a3, &tau0));
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_REL(T0[k], 2.0, 1e-14);
+    GRAN_ASSERT_ABS(a2[k], 0.0, 1e-14);
+    GRAN_ASSERT_ABS(a3[k], 0.0, 1e-14);
+  }
+  assert_true(tau0 > 1e300);
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 1.0 - 1e-9));
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_MEAN, 2.0, T0, a2, a3, &tau0));
+  for (int k = 0; k < 2; k++) {
+    assert_true(fabs(a2[k]) < 1e-8 && fabs(a3[k]) < 1e-8);
+    GRAN_ASSERT_REL(T0[k], 2.0, 1e-8);
+  }
+  gran_mixture_destroy(&mix);
+  const double me[2] = {3, 3}, se[2] = {0.8, 0.8}, ne[2] = {0.1, 0.3}, n1 = 0.4;
+  gran_mixture *two = make(2, me, se, ne, 0.6), *one = make(1, me, se, &n1, 0.6);
+  double T1, b2, b3, t1;
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(two, GRAN_HCS_NORM_MEAN, 1.0, T0, a2, a3, &tau0));
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(one, GRAN_HCS_NORM_MEAN, 1.0, &T1, &b2, &b3, &t1));
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_REL(T0[k], T1, 1e-12);
+    GRAN_ASSERT_ABS(a2[k], b2, 1e-12);
+    GRAN_ASSERT_ABS(a3[k], b3, 1e-12);
+  }
+  GRAN_ASSERT_REL(tau0, t1, 1e-12);
+  /* the HCS at a mean temperature of 1e-60: the same a2, a3 */
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(one, GRAN_HCS_NORM_MEAN, 1e-60, &T1, &a2[0], &a3[0], &tau0));
+  GRAN_ASSERT_REL(T1, 1e-60, 1e-14);
+  GRAN_ASSERT_ABS(a2[0], b2, 1e-12);
+  GRAN_ASSERT_ABS(a3[0], b3, 1e-12);
+  GRAN_ASSERT_REL(tau0, t1 * 1e30, 1e-12);
+  gran_mixture_destroy(&two);
+  gran_mixture_destroy(&one);
+}
+
+static void test_refusals(void **state) {
+  (void)state;
+  const double m[2] = {1, 10}, s[2] = {1, 2}, n[2] = {1, 0.5}, T[2] = {1, 2}, a2[2] = {0, 0}, bad[2] = {0, 1.0};
+  gran_mixture *mix = make(2, m, s, n, 0.7);
+  double T0[2], z[2];
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine2(mix, 7, 1.0, T0, NULL, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_MEAN, -1.0, T0, NULL, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_MEAN, 1.0, NULL, NULL, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_sonine2_rates(mix, T, a2, bad, z, NULL, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'a3'[1]"));
+  GRAN_ASSERT_ERR(gran_theory_sonine2_rates(mix, T, a2, NULL, z, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine2(NULL, GRAN_HCS_NORM_MEAN, 1.0, T0, NULL, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 0.1));
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_MEAN, 1.0, T0, NULL, NULL, NULL), GRAN_ERR_DOMAIN);
+  GRAN_ASSERT_ERR(gran_theory_sonine2_rates(mix, T, a2, a2, z, NULL, NULL), GRAN_ERR_DOMAIN);
+  gran_mixture_destroy(&mix);
+  /* 129 species: beyond the dense solve */
+  enum { MB = 129 };
+  double mb[MB], sb[MB], nb[MB], Tb[MB];
+  for (int k = 0; k < MB; k++) mb[k] = 1 + k, sb[k] = 1, nb[k] = 0.01;
+  mix = make(MB, mb, sb, nb, 0.8);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_MEAN, 1.0, Tb, NULL, NULL, NULL), GRAN_ERR_DOMAIN);
+  assert_non_null(strstr(gran_last_error_message(), "129 species"));
+  gran_mixture_destroy(&mix);
+}
+
+/* gran_theory_hcs_sonine_n: nmax = 2 is gran_theory_hcs_approx(GRAN_THEORY_SONINE), nmax = 3 gran_theory_hcs_sonine2
+ * (the same linearisation, a separate code); nmax = 5 against docs/tools/sonine_order_n.py 5 (its 4 printed digits) */
+static void test_hierarchy(void **state) {
+  (void)state;
+  const double m[2] = {1, 100}, s[2] = {1, 4.641588833612779}, n[2] = {0.1, 0.1};
+  gran_mixture *mix = make(2, m, s, n, 0.5);
+  double T1[2], b2[2], t1, T2[2], c2[2], c3[2], t2, T[2], a[8], tau;
+  GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_T1, 1.0, T1, b2, &t1));
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 2, GRAN_HCS_NORM_T1, 1.0, T, a, &tau));
+  GRAN_ASSERT_REL(T[1], T1[1], 1e-11);
+  for (int k = 0; k < 2; k++) GRAN_ASSERT_ABS(a[k], b2[k], 1e-11);
+  GRAN_ASSERT_REL(tau, t1, 1e-11);
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_T1, 1.0, T2, c2, c3, &t2));
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 3, GRAN_HCS_NORM_T1, 1.0, T, a, &tau));
+  GRAN_ASSERT_REL(T[1], T2[1], 1e-11);
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_ABS(a[2 * k], c2[k], 1e-11);
+    GRAN_ASSERT_ABS(a[2 * k + 1], c3[k], 1e-11);
+  }
+  GRAN_ASSERT_REL(tau, t2, 1e-11);
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 5, GRAN_HCS_NORM_T1, 1.0, T, a, &tau));
+  print_message("nmax 5, binary m = 1, 100: T2/T1 = %.6f, a = %.5f %.5f %.5f %.5f | %.5f %.5f %.5f %.5f\n", T[1], a[0],
+                a[1], a[2], a[3], a[4], a[5], a[6], a[7]);
+  const double ar[8] = {-0.0007, -0.0312, -0.0081, -0.0129, 0.0457, -0.0137, 0.0085, -0.0120};
+  GRAN_ASSERT_REL(T[1], 13.4737, 4e-6);
+  for (int j = 0; j < 8; j++) GRAN_ASSERT_ABS(a[j], ar[j], 6e-5);
+  gran_mixture_destroy(&mix);
+  const double m1 = 1, s1 = 1, n1 = 0.1, ar1[4] = {0.0466, -0.0145, 0.0090, -0.0135};
+  mix = make(1, &m1, &s1, &n1, 0.5);
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 5, GRAN_HCS_NORM_MEAN, 1.0, T, a, &tau));
+  for (int j = 0; j < 4; j++) GRAN_ASSERT_ABS(a[j], ar1[j], 6e-5);
+  /* eps = 1: equipartition, all a_q = 0 */
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 1.0));
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 4, GRAN_HCS_NORM_MEAN, 2.0, T, a, &tau));
+  GRAN_ASSERT_REL(T[0], 2.0, 1e-15);
+  for (int j = 0; j < 3; j++) GRAN_ASSERT_ABS(a[j], 0.0, 1e-15);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 1, GRAN_HCS_NORM_MEAN, 1.0, T, a, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'nmax' = 1"));
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 6, GRAN_HCS_NORM_MEAN, 1.0, T, a, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 4, GRAN_HCS_NORM_MEAN, 1.0, NULL, a, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 0.1));
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 4, GRAN_HCS_NORM_MEAN, 1.0, T, a, NULL), GRAN_ERR_DOMAIN);
+  gran_mixture_destroy(&mix);
+  enum { MB = 65 };
+  double mb[MB], sb[MB], nb[MB], Tb[MB];
+  for (int k = 0; k < MB; k++) mb[k] = 1 + k, sb[k] = 1, nb[k] = 0.01;
+  mix = make(MB, mb, sb, nb, 0.8);
+  GRAN_ASSERT_ERR(gran_theory_hcs_sonine_n(mix, 4, GRAN_HCS_NORM_MEAN, 1.0, Tb, NULL, NULL), GRAN_ERR_DOMAIN);
+  assert_non_null(strstr(gran_last_error_message(), "65 species"));
+  gran_mixture_destroy(&mix);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_monodisperse), cmocka_unit_test(test_rates),
+                                     cmocka_unit_test(test_hcs), cmocka_unit_test(test_limits),
+                                     cmocka_unit_test(test_refusals), cmocka_unit_test(test_hierarchy)};
+  return cmocka_run_group_tests_name("t418-sonine2", tests, NULL, NULL);
+}
