@@ -795,7 +795,9 @@ typedef struct gran_srd_options {
   /* ---- creation of the initial particles ---- */
   int32_t creation;     /* GRAN_SRD_CREATE_*: 0 serial (one stream draws every particle; default), 1 by
                            cells (a multinomial split of N over the cells, then each cell's particles
-                           from its own generator: the same particles however the cells are split) */
+                           from its own generator: the same particles however the cells are split; the
+                           CPU engine then steps as the decomposable engine: particle keys and exact global
+                           sums, results independent of the split into bricks, docs/guide/gsrd.md) */
   int32_t pad_;
 } gran_srd_options;
 /* gran_srd_options.creation */
