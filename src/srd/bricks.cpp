@@ -278,16 +278,6 @@ struct Ftz {
 #endif
 };
 
-bool phase_timing() {
-  static const bool on = [] {
-    const char *e = std::getenv("GRAN_SRD_PHASES");
-    return e && e[0] == '1';
-  }();
-  return on;
-}
-inline double clock_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 enum { BP_STREAM, BP_RECV, BP_SUMS, BP_COLL, BP_SORT, BP_RED, BP_N };
 
 template <int FXF>
@@ -706,7 +696,7 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
   }
   const gran_srd_options &o = *C.o;
   if (o.sort_every > 0 && (B.step + 1) % o.sort_every == 0) {
-    const double t0 = t_sort ? clock_s() : 0.0;
+    const double t0 = t_sort ? srd_clock_s() : 0.0;
     const int64_t n = (int64_t)start[ncl]; /* the particles that left are dropped */
     std::vector<double> tmp((size_t)n);
     std::vector<double> *arr[6] = {&B.x, &B.y, &B.z, &B.vx, &B.vy, &B.vz};
@@ -726,7 +716,7 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
     B.dest.assign((size_t)n, -1);
     B.ndead = 0;
     B.nsorted = n;
-    if (t_sort) *t_sort += clock_s() - t0;
+    if (t_sort) *t_sort += srd_clock_s() - t0;
   }
   return T.reduce_post(B.rank, B.red);
 }
@@ -759,12 +749,12 @@ int phase_finish(const Ctx &C, Brick &B, Transport &T) {
  * before the next phase */
 template <int DIM, int FXF>
 int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps) {
-  const bool prof = phase_timing();
+  const bool prof = srd_phase_timing();
   double ph[BP_N] = {0, 0, 0, 0, 0, 0};
-  double tq = prof ? clock_s() : 0.0;
+  double tq = prof ? srd_clock_s() : 0.0;
   auto lap = [&](int k) {
     if (!prof) return;
-    const double t = clock_s();
+    const double t = srd_clock_s();
     ph[k] += t - tq;
     tq = t;
   };
@@ -1138,9 +1128,9 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
       B.key.push_back((uint64_t)i);
     }
     for (Brick &B : bs) B.nsorted = (int64_t)B.x.size();
-    const double t0 = clock_s();
+    const double t0 = srd_clock_s();
     GRAN_CALL(pick(d, srd_fx_of(&s->opt))(C, bs, T, nsteps));
-    const double t_steps = clock_s() - t0;
+    const double t_steps = srd_clock_s() - t0;
     /* gather: every brick holds the same scalar state */
     for (int r = 1; r < P; ++r) {
       const Brick &A = bs[0], &B = bs[(size_t)r];

@@ -159,16 +159,6 @@ int setup_streams(gran_srd *s) {
  * rules, the rotation, the sort by cell. The three slab phases are thread-seconds summed over the
  * threads; on one thread the phases add up to the step. Off (the default): one test per phase and
  * step, no clock read. */
-bool phase_timing() {
-  static const bool on = [] {
-    const char *e = std::getenv("GRAN_SRD_PHASES");
-    return e && e[0] == '1';
-  }();
-  return on;
-}
-inline double clock_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 enum { PH_STREAM, PH_THERMO, PH_SUMS, PH_CELLS, PH_ROT, PH_SORT, PH_N };
 
 /* deterministic sum of per-block partials */
@@ -357,10 +347,10 @@ int do_steps(gran_srd *s, int64_t nsteps) {
     return k;
   };
   std::vector<std::vector<uint32_t>> pcell((size_t)nth); /* per thread: the slab's particles' cells */
-  const bool prof = phase_timing();
-  double ph[PH_N] = {0, 0, 0, 0, 0, 0}, tq = prof ? clock_s() : 0.0;
+  const bool prof = srd_phase_timing();
+  double ph[PH_N] = {0, 0, 0, 0, 0, 0}, tq = prof ? srd_clock_s() : 0.0;
   auto lap = [&](int k) { /* the time since the previous lap goes to phase k */
-    const double t = clock_s();
+    const double t = srd_clock_s();
     ph[k] += t - tq;
     tq = t;
   };
@@ -379,7 +369,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
      * before the streaming so that the streaming pass can bin under it) */
     for (int k = 0; k < 3; ++k) s->shift[k] = k < DIM ? srd_rng_uniform(&s->shift_rng) * o.a : 0.0;
     const double sh[3] = {s->shift[0], s->shift[1], s->shift[2]};
-    if (prof) tq = clock_s();
+    if (prof) tq = srd_clock_s();
     /* (2) stream; each fixed block of SRD_BLOCK particles then lists its particles by slab of the
      * shifted binning grid (a counting sort inside the block, increasing order in each slab) */
     {
@@ -485,7 +475,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
     reduction(min : dtmax)
     for (int64_t sl = 0; sl < nslab; ++sl) {
       FtzScope ftz;
-      double t0 = prof ? clock_s() : 0.0;
+      double t0 = prof ? srd_clock_s() : 0.0;
 #ifdef _OPENMP
       std::vector<srd_slab_cell> &Wv = work[(size_t)omp_get_thread_num()];
 #else
@@ -504,7 +494,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       uint32_t *pc = pcv.data();
       slab_sums(sl, c0, mc, W, &gm, sh, pc);
       if (prof) {
-        const double t1 = clock_s();
+        const double t1 = srd_clock_s();
         ph_sums += t1 - t0;
         t0 = t1;
       }
@@ -524,7 +514,7 @@ int do_steps(gran_srd *s, int64_t nsteps) {
         W[lc].rot = cr;
       }
       if (prof) {
-        const double t1 = clock_s();
+        const double t1 = srd_clock_s();
         ph_cells += t1 - t0;
         t0 = t1;
       }
@@ -563,13 +553,13 @@ int do_steps(gran_srd *s, int64_t nsteps) {
       spart[(size_t)(4 * sl)] = acc[SRD_ACC_DE];
       spart[(size_t)(4 * sl + 1)] = acc[SRD_ACC_VIR];
       spart[(size_t)(4 * sl + 2)] = acc[SRD_ACC_LEW];
-      if (prof) ph_rot += clock_s() - t0;
+      if (prof) ph_rot += srd_clock_s() - t0;
     }
     if (prof) {
       ph[PH_SUMS] += ph_sums;
       ph[PH_CELLS] += ph_cells;
       ph[PH_ROT] += ph_rot;
-      tq = clock_s();
+      tq = srd_clock_s();
     }
     s->clamped += nclamp;
     s->dt_max = std::min(s->dt_max, dtmax);

@@ -6,7 +6,9 @@
 #include "srd/srd_kernels.h"
 #include "srd/device_cuda.h" /* device hook (owner: CUDA backend) */
 
+#include <chrono>
 #include <cstddef>
+#include <cstdlib>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -108,6 +110,19 @@ inline void srd_refs_set(gran_srd *s, const double *in) {
  * (FFTW), and its radial average in shells; the CPU engine and the devices share both. */
 int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &power);
 void srd_sk_shells(const gran_srd *s, const double *power, int64_t nbins, double *k, double *sk, int64_t *count);
+
+/* GRAN_SRD_PHASES=1 in the environment (read once): the step loops time their phases and print them
+ * to stderr; srd_clock_s is their clock (seconds, monotonic). */
+inline bool srd_phase_timing() {
+  static const bool on = [] {
+    const char *e = std::getenv("GRAN_SRD_PHASES");
+    return e && e[0] == '1';
+  }();
+  return on;
+}
+inline double srd_clock_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 /* Threads a run with option `threads` uses (engine.cpp): 0 the OpenMP default; at most 4 per
  * processor (the scene's memory estimate uses the same count). */

@@ -127,12 +127,6 @@ int sys2_f(const gsl_vector *x, void *params, gsl_vector *f) {
   return GSL_SUCCESS;
 }
 
-double max_abs(const gsl_vector *v) {
-  double a = 0.0;
-  for (size_t j = 0; j < v->size; j++) a = std::max(a, std::fabs(gsl_vector_get(v, j)));
-  return a;
-}
-
 /* Newton's method on x = (log T_k/T_ref (k != ref), a2_k, a3_k) from the first Sonine HCS (T, a2 in b2; a3 = 0),
  * the Jacobian by differences: exact in the (a2, a3) columns (the residuals are linear in them at fixed T),
  * central differences of step 1e-5 in the log T columns; the step halved while it does not lower the residual.
@@ -140,69 +134,22 @@ double max_abs(const gsl_vector *v) {
 int newton2(Sys2 &h, const std::vector<double> &T, std::vector<double> &b2, size_t dim, std::vector<double> &u,
             std::vector<double> &b3, double *res_out) {
   const int64_t M = h.mix->M, ref = h.ref;
-  gsl_vector *x = gsl_vector_alloc(dim), *f = gsl_vector_alloc(dim), *xt = gsl_vector_alloc(dim),
-             *ft = gsl_vector_alloc(dim), *fp = gsl_vector_alloc(dim), *dx = gsl_vector_alloc(dim);
-  gsl_matrix *J = gsl_matrix_alloc(dim, dim);
-  gsl_permutation *perm = gsl_permutation_alloc(dim);
-  int status = GRAN_SUCCESS;
-  double res = HUGE_VAL;
-  if (!x || !f || !xt || !ft || !fp || !dx || !J || !perm) status = GRAN_ERR_NOMEM;
-  if (status == GRAN_SUCCESS) {
-    for (int64_t k = 0, j = 0; k < M; k++) {
-      if (k != ref) gsl_vector_set(x, (size_t)j++, std::log(T[(size_t)k] / T[(size_t)ref]));
-      gsl_vector_set(x, (size_t)(M - 1 + k), b2[(size_t)k]);
-      gsl_vector_set(x, (size_t)(2 * M - 1 + k), 0.0);
-    }
-    if (sys2_f(x, &h, f) != GSL_SUCCESS) status = GRAN_ERR_NUMERIC;
-    else res = max_abs(f);
+  gsl_vector *x = gsl_vector_alloc(dim);
+  GRAN_CHECK(x != nullptr, GRAN_ERR_NOMEM, "second Sonine HCS: no memory for the %zu unknowns", dim);
+  for (int64_t k = 0, j = 0; k < M; k++) {
+    if (k != ref) gsl_vector_set(x, (size_t)j++, std::log(T[(size_t)k] / T[(size_t)ref]));
+    gsl_vector_set(x, (size_t)(M - 1 + k), b2[(size_t)k]);
+    gsl_vector_set(x, (size_t)(2 * M - 1 + k), 0.0);
   }
-  for (int it = 0; it < 60 && status == GRAN_SUCCESS && res > 1e-15; it++) {
-    for (size_t c = 0; c < dim && status == GRAN_SUCCESS; c++) {
-      const bool logT = c < (size_t)(M - 1);
-      const double step = logT ? 1e-5 : 1e-3;
-      gsl_vector_memcpy(xt, x);
-      gsl_vector_set(xt, c, gsl_vector_get(x, c) + step);
-      if (sys2_f(xt, &h, fp) != GSL_SUCCESS) status = GRAN_ERR_NUMERIC;
-      if (logT) {
-        gsl_vector_set(xt, c, gsl_vector_get(x, c) - step);
-        if (status == GRAN_SUCCESS && sys2_f(xt, &h, ft) != GSL_SUCCESS) status = GRAN_ERR_NUMERIC;
-        for (size_t r = 0; r < dim; r++)
-          gsl_matrix_set(J, r, c, (gsl_vector_get(fp, r) - gsl_vector_get(ft, r)) / (2.0 * step));
-      } else {
-        for (size_t r = 0; r < dim; r++) gsl_matrix_set(J, r, c, (gsl_vector_get(fp, r) - gsl_vector_get(f, r)) / step);
-      }
-    }
-    if (status != GRAN_SUCCESS) break;
-    int sgn = 0;
-    if (gsl_linalg_LU_decomp(J, perm, &sgn) != GSL_SUCCESS || gsl_linalg_LU_solve(J, perm, f, dx) != GSL_SUCCESS) {
-      status = GRAN_ERR_NOCONV;
-      break;
-    }
-    double lam = 1.0, rt = HUGE_VAL;
-    for (int ls = 0; ls < 30; ls++, lam *= 0.5) {
-      gsl_vector_memcpy(xt, x);
-      gsl_blas_daxpy(-lam, dx, xt);
-      if (sys2_f(xt, &h, ft) == GSL_SUCCESS && (rt = max_abs(ft)) < res) break;
-    }
-    if (!(rt < res)) break; /* no decrease: the residual is at rounding level */
-    gsl_vector_memcpy(x, xt);
-    gsl_vector_memcpy(f, ft);
-    res = rt;
-  }
+  const int status = sonine_newton(x, (size_t)(M - 1), sys2_f, &h, "second Sonine HCS", res_out);
   if (status == GRAN_SUCCESS)
     for (int64_t k = 0, j = 0; k < M; k++) {
       u[(size_t)k] = k == ref ? 0.0 : gsl_vector_get(x, (size_t)j++);
       b2[(size_t)k] = gsl_vector_get(x, (size_t)(M - 1 + k));
       b3[(size_t)k] = gsl_vector_get(x, (size_t)(2 * M - 1 + k));
     }
-  for (gsl_vector *v : {x, f, xt, ft, fp, dx}) gsl_vector_free(v);
-  gsl_matrix_free(J);
-  gsl_permutation_free(perm);
-  *res_out = res;
-  GRAN_CHECK(status != GRAN_ERR_NOMEM, GRAN_ERR_NOMEM, "second Sonine HCS: no memory for the %zu unknowns", dim);
-  GRAN_CHECK(status == GRAN_SUCCESS, status, "second Sonine HCS: the Newton iteration failed (%s)",
-             status == GRAN_ERR_NUMERIC ? "non-finite rates" : "singular Jacobian");
-  return GRAN_SUCCESS;
+  gsl_vector_free(x);
+  return status;
 }
 
 int check_coeffs(const double *c, int64_t M, const char *name) {

@@ -170,68 +170,9 @@ int sysn_f(const gsl_vector *xv, void *params, gsl_vector *f) {
   return GSL_SUCCESS;
 }
 
-double max_abs(const gsl_vector *v) {
-  double a = 0.0;
-  for (size_t j = 0; j < v->size; j++) a = std::max(a, std::fabs(gsl_vector_get(v, j)));
-  return a;
-}
-
-/* Newton's method from x (in place): the Jacobian by differences, exact in the a columns (linear there),
- * central differences of step 1e-5 in the log T columns; the step halved while it does not lower the residual */
+/* Newton's method from x (in place): sonine_newton (newton.cpp), the log T columns first */
 int newtonn(SysN &h, gsl_vector *x, double *res_out) {
-  const size_t dim = x->size, nT = (size_t)(h.mix->M - 1);
-  gsl_vector *f = gsl_vector_alloc(dim), *xt = gsl_vector_alloc(dim), *ft = gsl_vector_alloc(dim),
-             *fp = gsl_vector_alloc(dim), *dx = gsl_vector_alloc(dim);
-  gsl_matrix *J = gsl_matrix_alloc(dim, dim);
-  gsl_permutation *perm = gsl_permutation_alloc(dim);
-  int status = GRAN_SUCCESS;
-  double res = HUGE_VAL;
-  if (!f || !xt || !ft || !fp || !dx || !J || !perm) status = GRAN_ERR_NOMEM;
-  if (status == GRAN_SUCCESS) {
-    if (sysn_f(x, &h, f) != GSL_SUCCESS) status = GRAN_ERR_NUMERIC;
-    else res = max_abs(f);
-  }
-  for (int it = 0; it < 60 && status == GRAN_SUCCESS && res > 1e-15; it++) {
-    for (size_t c = 0; c < dim && status == GRAN_SUCCESS; c++) {
-      const bool logT = c < nT;
-      const double step = logT ? 1e-5 : 1e-3;
-      gsl_vector_memcpy(xt, x);
-      gsl_vector_set(xt, c, gsl_vector_get(x, c) + step);
-      if (sysn_f(xt, &h, fp) != GSL_SUCCESS) status = GRAN_ERR_NUMERIC;
-      if (logT) {
-        gsl_vector_set(xt, c, gsl_vector_get(x, c) - step);
-        if (status == GRAN_SUCCESS && sysn_f(xt, &h, ft) != GSL_SUCCESS) status = GRAN_ERR_NUMERIC;
-        for (size_t r = 0; r < dim; r++)
-          gsl_matrix_set(J, r, c, (gsl_vector_get(fp, r) - gsl_vector_get(ft, r)) / (2.0 * step));
-      } else {
-        for (size_t r = 0; r < dim; r++) gsl_matrix_set(J, r, c, (gsl_vector_get(fp, r) - gsl_vector_get(f, r)) / step);
-      }
-    }
-    if (status != GRAN_SUCCESS) break;
-    int sgn = 0;
-    if (gsl_linalg_LU_decomp(J, perm, &sgn) != GSL_SUCCESS || gsl_linalg_LU_solve(J, perm, f, dx) != GSL_SUCCESS) {
-      status = GRAN_ERR_NOCONV;
-      break;
-    }
-    double lam = 1.0, rt = HUGE_VAL;
-    for (int ls = 0; ls < 30; ls++, lam *= 0.5) {
-      gsl_vector_memcpy(xt, x);
-      gsl_blas_daxpy(-lam, dx, xt);
-      if (sysn_f(xt, &h, ft) == GSL_SUCCESS && (rt = max_abs(ft)) < res) break;
-    }
-    if (!(rt < res)) break; /* no decrease: the residual is at rounding level */
-    gsl_vector_memcpy(x, xt);
-    gsl_vector_memcpy(f, ft);
-    res = rt;
-  }
-  for (gsl_vector *v : {f, xt, ft, fp, dx}) gsl_vector_free(v);
-  gsl_matrix_free(J);
-  gsl_permutation_free(perm);
-  *res_out = res;
-  GRAN_CHECK(status != GRAN_ERR_NOMEM, GRAN_ERR_NOMEM, "Sonine HCS of order nmax: no memory for the %zu unknowns", dim);
-  GRAN_CHECK(status == GRAN_SUCCESS, status, "Sonine HCS of order nmax: the Newton iteration failed (%s)",
-             status == GRAN_ERR_NUMERIC ? "non-finite rates" : "singular Jacobian");
-  return GRAN_SUCCESS;
+  return sonine_newton(x, (size_t)(h.mix->M - 1), sysn_f, &h, "Sonine HCS of order nmax", res_out);
 }
 
 } // namespace

@@ -6,6 +6,8 @@
 
 #include "granary_impl.h"
 
+#include <gsl/gsl_vector.h>
+
 #include <complex>
 #include <vector>
 
@@ -209,5 +211,13 @@ void traj_temperatures(const Traj &tr, double s, double *T);
 
 namespace gran {
 double hcs_log_scale(const gran_mixture *mix, const std::vector<double> &u, int norm, double value);
+/* newton.cpp: f(x) = 0 by Newton's method from x (in place), for the higher Sonine HCS systems: the
+ * Jacobian by differences, central of step 1e-5 in the first nlog columns (log T), one-sided of step
+ * 1e-3 in the others (exact where the residuals are linear, the Sonine coefficients), LU (GSL); the
+ * step halved while it does not lower the largest residual; at most 60 iterations, done below 1e-15
+ * or at the rounding level. fn returns GSL_SUCCESS or an error (GRAN_ERR_NUMERIC then). *res_out:
+ * the largest residual. Errors name `what`. */
+int sonine_newton(gsl_vector *x, size_t nlog, int (*fn)(const gsl_vector *, void *, gsl_vector *), void *ctx,
+                  const char *what, double *res_out);
 }
 #endif
