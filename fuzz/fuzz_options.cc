@@ -62,6 +62,7 @@ void run_srd(fz::Bytes &in) {
   o.threads = in.i32(1, 0, 2);
   o.device = in.i32(0, -1, 4); /* 3: the GPU algorithm on the host (float storage with precision 1) */
   o.precision = in.i32(0, -1, 2);
+  o.creation = in.i32(0, -1, 2); /* 1: creation by cells and the decomposable engine (src/srd/bricks.cpp) */
   /* the caps, for options the library would otherwise accept */
   double box = 1, bin = 1;
   const int d = o.dim == 3 ? 3 : 2;
@@ -72,10 +73,10 @@ void run_srd(fz::Bytes &in) {
   if (bin > kMaxCells || (std::isfinite(o.n0) && o.n0 * box > kMaxParticles)) return;
   if (getenv("GRAN_FUZZ_VERBOSE"))
     std::fprintf(stderr,
-                 "fuzz: srd options dim %d cells %lld %lld %lld a %g n0 %g dt %g alpha %g eps %g sigma %g T0 %g shear %g "
+                 "fuzz: srd options creation %d dim %d cells %lld %lld %lld a %g n0 %g dt %g alpha %g eps %g sigma %g T0 %g shear %g "
                  "accel %g %g %g wall_axis %d rule %d vib %g %g wall_T %g thermostat %d seed %llu sort %d threads %d "
                  "device %d precision %d\n",
-                 o.dim, (long long)o.cells[0], (long long)o.cells[1], (long long)o.cells[2], o.a, o.n0, o.dt,
+                 o.creation, o.dim, (long long)o.cells[0], (long long)o.cells[1], (long long)o.cells[2], o.a, o.n0, o.dt,
                  o.alpha_deg, o.eps, o.sigma, o.T0, o.shear_rate, o.accel[0], o.accel[1], o.accel[2], o.wall_axis,
                  o.wall_rule, o.vib_amp, o.vib_omega, o.wall_T, o.thermostat, (unsigned long long)o.seed, o.sort_every,
                  o.threads, o.device, o.precision);
