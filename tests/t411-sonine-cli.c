@@ -1,5 +1,8 @@
 /* t411-sonine-cli.c - `granary theory --approximation sonine` ($GRAN_CLI): the JSON output carries
- * the first Sonine HCS of the library (gran_theory_hcs_approx, same mean temperature), and bad values
+ * the first Sonine HCS of the library (gran_theory_hcs_approx, same mean temperature); with
+ * --sonine-order 5 the hierarchy's HCS of the Fig. 3 ternary (gran_theory_hcs_sonine_n, to 1e-15),
+ * whose T_k/T_1 lie within 0.5 % of the DSMC ratios 22.862, 38.085 (docs/physics-sonine.md Sec. 4,
+ * N_k = 1e5; the first level is 1.7-2.2 % off), and --sonine-order 2 is the first level; bad values
  * exit 2 naming the option. */
 #include "granary_test.h"
 
@@ -93,7 +96,54 @@ static void test_bad_value(void **state) {
   assert_non_null(strstr(outbuf, "--approximation needs a value"));
 }
 
+static void test_order(void **state) {
+  (void)state;
+  char cmd[1024], path[512];
+  snprintf(path, sizeof path, "%s/scenes/quick/fig3.toml", gran_test_source_dir());
+  snprintf(cmd, sizeof cmd, "%s theory %s --approximation sonine --sonine-order 5 --json", cli(), path);
+  assert_int_equal(sh(cmd, 0), 0);
+  const char *ord = strstr(outbuf, "\"order\": {\"nmax\": 5");
+  assert_non_null(ord);
+  double T[3], g[3], a[12];
+  assert_int_equal(json_array(ord, "\"T0\"", T, 3), 3);
+  assert_int_equal(json_array(ord, "\"gamma\"", g, 3), 3);
+  gran_scene *scene = NULL;
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_scene_load(path, &scene));
+  GRAN_ASSERT_OK(gran_scene_mixture(scene, &mix));
+  double n[3], T0[3], Tl[3], al[12], tau0;
+  GRAN_ASSERT_OK(gran_mixture_get(mix, NULL, NULL, n));
+  GRAN_ASSERT_OK(gran_scene_initial_temperatures(scene, mix, T0, NULL));
+  const double mean = (n[0] * T0[0] + n[1] * T0[1] + n[2] * T0[2]) / (n[0] + n[1] + n[2]);
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 5, GRAN_HCS_NORM_MEAN, mean, Tl, al, &tau0));
+  for (int k = 0; k < 3; k++) GRAN_ASSERT_REL(T[k], Tl[k], 1e-15);
+  GRAN_ASSERT_REL(g[1], 22.862, 5e-3);
+  GRAN_ASSERT_REL(g[2], 38.085, 5e-3);
+  (void)a;
+  /* order 2 is the first Sonine level */
+  snprintf(cmd, sizeof cmd, "%s theory %s --approximation sonine --sonine-order 2 --json", cli(), path);
+  assert_int_equal(sh(cmd, 0), 0);
+  ord = strstr(outbuf, "\"order\": {\"nmax\": 2");
+  assert_non_null(ord);
+  assert_int_equal(json_array(ord, "\"T0\"", T, 3), 3);
+  double a2[3];
+  GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_MEAN, mean, Tl, a2, &tau0));
+  for (int k = 0; k < 3; k++) GRAN_ASSERT_REL(T[k], Tl[k], 1e-10);
+  gran_mixture_destroy(&mix);
+  gran_scene_destroy(&scene);
+  /* usage: an order outside 2..5, no value, without --approximation sonine */
+  const char *bad[3][2] = {{"--approximation sonine --sonine-order 6", "order 2..5"},
+                           {"--approximation sonine --sonine-order", "order 2..5"},
+                           {"--sonine-order 3", "needs --approximation sonine"}};
+  for (int i = 0; i < 3; i++) {
+    snprintf(cmd, sizeof cmd, "%s theory %s %s", cli(), path, bad[i][0]);
+    assert_int_equal(sh(cmd, 1), 2);
+    assert_non_null(strstr(outbuf, bad[i][1]));
+  }
+}
+
 int main(void) {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(test_json), cmocka_unit_test(test_bad_value)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_json), cmocka_unit_test(test_bad_value),
+                                      cmocka_unit_test(test_order)};
   return cmocka_run_group_tests_name("t411-sonine-cli", tests, NULL, NULL);
 }

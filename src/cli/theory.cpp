@@ -20,7 +20,8 @@ namespace {
 
 void theory_usage(FILE *f) {
   std::fprintf(f,
-               "usage: granary theory SCENE [--times t1,t2,...|scene] [--lags l1,l2,...] [--approximation A] [--json]\n"
+               "usage: granary theory SCENE [--times t1,t2,...|scene] [--lags l1,l2,...] [--approximation A]\n"
+               "                      [--sonine-order N] [--json]\n"
                "  Prints, per species, n_k, m_k, sigma_k, T_k(0), gamma_k1 = T_k(0)/T_1(0), tau_v,k(0), D_k(0),\n"
                "  and tau0 of the homogeneous cooling state. Times are measured from the scene's t_start.\n"
                "  --times  also T_k(t) and MSD_k(t) at these times\n"
@@ -29,6 +30,10 @@ void theory_usage(FILE *f) {
                "           Sonine HCS (T_k, T_k/T_1, a2_k, tau0) and, with --times, T_k(t) and a2_k(t) from the\n"
                "           scene's start (a2 = the Sonine HCS's when it starts in the HCS, else 0); constant or\n"
                "           matrix restitution only. MSD and TAMSD stay at the Maxwellian level.\n"
+               "  --sonine-order N (2..5, with --approximation sonine): also the HCS of the linear Sonine\n"
+               "           hierarchy to a_N (T_k, T_k/T_1, a_2..a_N, tau0; 3 = the second Sonine level; up to 64\n"
+               "           species; N = 5 closes the first level's gap in mass-disparate mixtures, not in the\n"
+               "           ordered phase of a heavy tracer: docs/physics-sonine.md Sec. 4)\n"
                "  --json   the same as one JSON object on stdout (numbers %%.17g, inf/nan as null)\n"
                "  --times scene: the scene's own output times (from t_start), the times of the run driver's theory\n"
                "  Aggregating scenes (e_agg > 0 or a finite e_frag): the Smoluchowski kinetics n_k(t), T_k(t), the\n"
@@ -72,7 +77,7 @@ int cli_theory(int argc, char **argv) {
   const char *scene_path = nullptr;
   std::vector<double> times, lags;
   bool json = false, times_scene = false, approx_given = false;
-  int approx = GRAN_THEORY_MAXWELLIAN;
+  int approx = GRAN_THEORY_MAXWELLIAN, nmax = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     if (!std::strcmp(a, "--help") || !std::strcmp(a, "-h")) {
@@ -93,6 +98,16 @@ int cli_theory(int argc, char **argv) {
         std::fprintf(stderr, "granary theory: --approximation '%s': expected maxwellian or sonine\n", v);
         return 2;
       }
+    } else if (!std::strcmp(a, "--sonine-order")) {
+      char *end = nullptr;
+      const long v = i + 1 < argc ? std::strtol(argv[i + 1], &end, 10) : 0;
+      if (i + 1 >= argc || !end || *end != '\0' || end == argv[i + 1] || v < 2 || v > 5) {
+        std::fprintf(stderr, "granary theory: --sonine-order needs an order 2..5 (got '%s')\n",
+                     i + 1 < argc ? argv[i + 1] : "");
+        return 2;
+      }
+      nmax = (int)v;
+      ++i;
     } else if (!std::strcmp(a, "--times") || !std::strcmp(a, "--lags")) {
       if (i + 1 >= argc) {
         std::fprintf(stderr, "granary theory: %s needs a comma-separated list\n", a);
@@ -128,6 +143,10 @@ int cli_theory(int argc, char **argv) {
   }
   if (!scene_path) {
     theory_usage(stderr);
+    return 2;
+  }
+  if (nmax && approx != GRAN_THEORY_SONINE) {
+    std::fprintf(stderr, "granary theory: --sonine-order needs --approximation sonine\n");
     return 2;
   }
   if (!lags.empty() && times.empty() && !times_scene) {
@@ -222,7 +241,8 @@ int cli_theory(int argc, char **argv) {
   const bool son = approx == GRAN_THEORY_SONINE;
   std::vector<double> Ts((size_t)M), a2s((size_t)M), Tst((size_t)(nt * M)), a2t((size_t)(nt * M));
   std::vector<double> msds((size_t)(nt * M)), msds_tot((size_t)nt), Ds((size_t)M);
-  double tau0s = NAN;
+  double tau0s = NAN, tau0n = NAN;
+  std::vector<double> Tn, an; /* --sonine-order: T_k and a_q,k of the hierarchy's HCS (empty: none) */
   /* viscoelastic: the trajectories only (no HCS; the two-moment correlation needs constant or
    * matrix restitution) */
   const bool son_visco = son && model == GRAN_RESTITUTION_VISCOELASTIC;
@@ -265,6 +285,17 @@ int cli_theory(int argc, char **argv) {
     }
     if (gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T0.data(), nullptr, nullptr, Ds.data()))
       return fail("gran_theory_diffusion_approx (sonine) failed");
+    /* --sonine-order: the HCS of the hierarchy to a_nmax, same mean temperature */
+    if (nmax) {
+      Tn.resize((size_t)M);
+      an.resize((size_t)(M * (nmax - 1)));
+      if (gran_theory_hcs_sonine_n(mix, nmax, GRAN_HCS_NORM_MEAN, num / den, Tn.data(), an.data(), &tau0n)) {
+        not_covered.push_back("the Sonine hierarchy to a_" + std::to_string(nmax) + ": " + cli_error());
+        Tn.clear();
+      }
+    }
+  } else if (son_visco && nmax) {
+    not_covered.push_back("the Sonine hierarchy to a_" + std::to_string(nmax) + " (an HCS: none for viscoelastic restitution)");
   }
 
   if (json) {
@@ -298,6 +329,19 @@ int cli_theory(int argc, char **argv) {
       jarr(o, a2s.data(), M);
       o += ", \"D0\": ";
       jarr(o, Ds.data(), M);
+      if (!Tn.empty()) {
+        std::vector<double> gn((size_t)M);
+        for (int64_t k = 0; k < M; k++) gn[(size_t)k] = Tn[(size_t)k] / Tn[0];
+        o += ", \"order\": {\"nmax\": " + std::to_string(nmax) + ", \"tau0\": ";
+        jnum(o, tau0n);
+        o += ", \"T0\": ";
+        jarr(o, Tn.data(), M);
+        o += ", \"gamma\": ";
+        jarr(o, gn.data(), M);
+        o += ", \"a\": ";
+        jmat(o, an.data(), M, nmax - 1);
+        o += "}";
+      }
       if (nt) {
         o += ", \"T\": ";
         jmat(o, Tst.data(), nt, M);
@@ -419,6 +463,17 @@ int cli_theory(int argc, char **argv) {
         for (int64_t k = 0; k < M; k++)
           std::printf("%14.8g %4" PRId64 " %16.10g %16.10g\n", times[(size_t)i], k + 1, msds[(size_t)(i * M + k)],
                       msds[(size_t)(i * M + k)] / msd[(size_t)(i * M + k)]);
+    }
+    if (!Tn.empty()) {
+      std::printf("\nSonine hierarchy to a_%d: HCS with the same mean temperature, tau0 = %.8g\n", nmax, tau0n);
+      std::printf("%4s %16s %14s", "k", "T_k", "gamma_k1");
+      for (int q = 2; q <= nmax; q++) std::printf(" %12s%d", "a_", q);
+      std::printf("\n");
+      for (int64_t k = 0; k < M; k++) {
+        std::printf("%4" PRId64 " %16.10g %14.8g", k + 1, Tn[(size_t)k], Tn[(size_t)k] / Tn[0]);
+        for (int q = 2; q <= nmax; q++) std::printf(" %13.6g", an[(size_t)(k * (nmax - 1) + q - 2)]);
+        std::printf("\n");
+      }
     }
     std::printf("\nD_k(0) with the two-moment velocity correlation:");
     for (int64_t k = 0; k < M; k++) std::printf(" %.8g", Ds[(size_t)k]);
