@@ -3,7 +3,8 @@
  *  - class 1 (derived values, src/srd/srd_limits.h with the rule of src/core/derived.h): T0 = 1e32 ..
  *    1e60 in 3-D, a = 1e-300 / 5e-324, sigma = 1e300 with eps < 1, dt = 1e300, a vibrating wall of
  *    amplitude and omega 1e300, gravity, body force, shear rate and wall T of 1e300, a subnormal dt
- *    (5e-324; dt = DBL_MIN with shear runs with a finite stress) are refused by
+ *    (5e-324), a dt of 2e-306 under a shear of 65536 (the collisional stress overflows; dt = 1e-290
+ *    with shear 1e-5 runs with a finite stress) are refused by
  *    gran_srd_create naming the option, and by the scene parser naming FILE:LINE and the key; a
  *    checksum-consistent checkpoint with sigma = 1e300 is refused naming sigma;
  *  - class 1 (kernels): srd_wrap puts 1e300 b, -1e300 b, +-DBL_MAX, 2b - ulp and -tiny into [0, b);
@@ -104,6 +105,10 @@ static void test_create_refusals(void **state) {
   o = base(3, 8);
   o.dt = 5e-324; /* a subnormal step: the stress divided by multiples of it overflowed to -inf */
   refused(&o, "dt", "subnormal");
+  o = base(2, 8);
+  o.dt = 1.9947e-306; /* a normal but tiny step with a strong shear: the collisional stress overflowed to inf */
+  o.shear_rate = 65536;
+  refused(&o, "dt", "stress");
   /* what stays allowed: a fast gas with a small step, a slow one, a strongly dissipative one */
   gran_srd *s = NULL;
   o = base(3, 8);
@@ -113,7 +118,7 @@ static void test_create_refusals(void **state) {
   GRAN_ASSERT_OK(gran_srd_advance(s, 3));
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
   o = base(3, 8);
-  o.dt = DBL_MIN; /* the smallest step allowed, with shear: a finite stress */
+  o.dt = 1e-290; /* a tiny step with a weak shear: within the stress bound, a finite stress */
   o.shear_rate = 1e-5;
   GRAN_ASSERT_OK(gran_srd_create(&o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, 3));

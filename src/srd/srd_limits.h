@@ -21,6 +21,8 @@
  *   eps < 1: the collision parameter (1 - eps^2) sigma^2 dt (N / a^d) 10 u_max of Eq. 2.1 (every
  *     particle in one cell at ten times the largest speed) <= 1e300, so eps_eff = 1 - kappa is
  *     never inf - inf or inf x 0;
+ *   Lees-Edwards: the collisional stress scale (n0 / a^d) 10 u_max Ly / dt <= 1e300 (the stress
+ *     is a momentum change per step over dt: a tiny dt with a strong shear overflows it);
  *   precision = float (device storage): every u <= 1e15 and the thermal speeds >= 1e-15 (their
  *     squares, the temperatures, within 1e-30 .. 1e30), a and the box lengths within 1e-30 .. 1e30:
  *     the stored values stay far inside the normal range of float (1.2e-38 .. 3.4e38);
@@ -159,6 +161,16 @@ inline bool srd_check_limits(const gran_srd_options &o, double t_end, srd_limit_
                               "the collision parameter (1 - eps^2) sigma^2 dt (N / a^d) 10 u_max of Eq. 2.1 (every particle in "
                               "one cell, ten times the largest speed)"),
              ": eps_eff = 1 - kappa would not be finite"))
+      return false;
+  }
+  /* ---- Lees-Edwards: the collisional stress, a momentum change per step over dt ---- */
+  if (o.shear_rate != 0) {
+    const double st = o.n0 / vol * 10.0 * umax * box[1] / o.dt;
+    if (fail("dt",
+             gran_derived_why(st, 0, SRD_MAX_ENERGY,
+                              "the collisional stress scale (n0 / a^d) 10 u_max Ly / dt of the Lees-Edwards shear (every "
+                              "collision at ten times the largest speed)"),
+             ": the stress would overflow"))
       return false;
   }
   return true;
