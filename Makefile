@@ -325,7 +325,8 @@ bench: $(BENCH_BIN) $(CLI)
 # ASan+UBSan in build-fuzz/; each runs for FUZZ_SECONDS (FUZZ_ONLY=NAME: that one only) from the
 # seed corpus in fuzz/corpus/NAME (and the dictionary fuzz/NAME.dict where there is one) plus, for
 # scene and run_scene, every scene of scenes/ (new inputs
-# go to build-fuzz/corpus/NAME, crashes to build-fuzz/artifacts/NAME-*). FUZZ_ARGS: more libFuzzer
+# go to build-fuzz/corpus/NAME, crashes to build-fuzz/artifacts/NAME-*; fuzz/lsan.supp: libomp's
+# thread pool, which lives until exit). FUZZ_ARGS: more libFuzzer
 # options (e.g. -fork=1 -ignore_crashes=1 to go on after a finding).
 FUZZ_SECONDS ?= 60
 FUZZ_ONLY    ?=
@@ -361,7 +362,7 @@ fuzz:
 	    cp -p $$f $(FUZZ_BUILD)/corpus/$$n/$$(echo $$f | tr / -); done;; esac; \
 	  dict=; if [ -f fuzz/$$n.dict ]; then dict=-dict=fuzz/$$n.dict; fi; \
 	  echo "== fuzz_$$n for $(FUZZ_SECONDS) s"; \
-	  OMP_NUM_THREADS=1 $(FUZZ_BUILD)/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=30 -rss_limit_mb=4096 \
+	  OMP_NUM_THREADS=1 LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp $(FUZZ_BUILD)/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=30 -rss_limit_mb=4096 \
 	    -max_len=65536 -artifact_prefix=$(FUZZ_BUILD)/artifacts/$$n- -print_final_stats=1 $$dict $(FUZZ_ARGS) \
 	    $(FUZZ_BUILD)/corpus/$$n fuzz/corpus/$$n 2>&1 | tail -n 25; \
 	done
