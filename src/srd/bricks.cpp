@@ -592,52 +592,52 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
 #endif
     R.clear();
 #pragma omp for schedule(dynamic, 256)
-  for (int64_t c = 0; c < ncl; ++c) {
-    srd_cell_sum &cs = B.W[(size_t)c];
-    srd_sum_clear(&cs);
-    const uint32_t j0 = start[c], j1 = start[c + 1];
-    if (j0 == j1) {
-      if (!gth) collide_cell<DIM, FXF>(C, B, c, cs, 1.0, R, g, sh, K);
-      continue;
-    }
-    /* a cell with particles that arrived since the last sort: its list (in index order: the
-     * sorted residents, then the arrivals) into key order */
-    if (j1 - j0 > 1 && (int64_t)order[j1 - 1] >= nsorted)
-      for (uint32_t a = j0 + 1; a < j1; ++a) {
-        const uint32_t v = order[a];
-        const uint64_t kv = key[v];
-        uint32_t b = a;
-        for (; b > j0 && key[order[b - 1]] > kv; --b) order[b] = order[b - 1];
-        order[b] = v;
+    for (int64_t c = 0; c < ncl; ++c) {
+      srd_cell_sum &cs = B.W[(size_t)c];
+      srd_sum_clear(&cs);
+      const uint32_t j0 = start[c], j1 = start[c + 1];
+      if (j0 == j1) {
+        if (!gth) collide_cell<DIM, FXF>(C, B, c, cs, 1.0, R, g, sh, K);
+        continue;
       }
-    const double *ref = B.cell[(size_t)c].V;
-    double pf = 0.0, pe = 0.0, pi = 0.0;
-    for (uint32_t j = j0; j < j1; ++j) {
-      const uint32_t i = order[j];
-      double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
-      if (F::LE && (lc[i] & kLeBit)) v[0] += -ledv;
-      srd_sum_add(&cs, v, ref, DIM);
+      /* a cell with particles that arrived since the last sort: its list (in index order: the
+       * sorted residents, then the arrivals) into key order */
+      if (j1 - j0 > 1 && (int64_t)order[j1 - 1] >= nsorted)
+        for (uint32_t a = j0 + 1; a < j1; ++a) {
+          const uint32_t v = order[a];
+          const uint64_t kv = key[v];
+          uint32_t b = a;
+          for (; b > j0 && key[order[b - 1]] > kv; --b) order[b] = order[b - 1];
+          order[b] = v;
+        }
+      const double *ref = B.cell[(size_t)c].V;
+      double pf = 0.0, pe = 0.0, pi = 0.0;
+      for (uint32_t j = j0; j < j1; ++j) {
+        const uint32_t i = order[j];
+        double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
+        if (F::LE && (lc[i] & kLeBit)) v[0] += -ledv;
+        srd_sum_add(&cs, v, ref, DIM);
+        if (F::STR) {
+          pf += B.cf[i];
+          pe += B.ce[i];
+          pi += B.ci[i];
+        }
+      }
       if (F::STR) {
-        pf += B.cf[i];
-        pe += B.ce[i];
-        pi += B.ci[i];
+        if (F::LE) gran_exactsum_add_(&R.a[RQ_FLUX], pf);
+        gran_exactsum_add_(&R.a[RQ_EXT], pe);
+        if (F::WALL) gran_exactsum_add_(&R.a[RQ_IMP], pi);
+      }
+      if (gth) {
+        double e, d;
+        if (srd_rule_thermal(DIM, &cs, ref, &e, &d)) {
+          gran_exactsum_add_(&R.a[RQ_TH], e);
+          R.dof += (int64_t)d;
+        }
+      } else { /* the cell's particles are in cache: collide them now */
+        collide_cell<DIM, FXF>(C, B, c, cs, 1.0, R, g, sh, K);
       }
     }
-    if (F::STR) {
-      if (F::LE) gran_exactsum_add_(&R.a[RQ_FLUX], pf);
-      gran_exactsum_add_(&R.a[RQ_EXT], pe);
-      if (F::WALL) gran_exactsum_add_(&R.a[RQ_IMP], pi);
-    }
-    if (gth) {
-      double e, d;
-      if (srd_rule_thermal(DIM, &cs, ref, &e, &d)) {
-        gran_exactsum_add_(&R.a[RQ_TH], e);
-        R.dof += (int64_t)d;
-      }
-    } else { /* the cell's particles are in cache: collide them now */
-      collide_cell<DIM, FXF>(C, B, c, cs, 1.0, R, g, sh, K);
-    }
-  }
   }
   /* the threads' exact partials (any merge order gives the same state) */
   for (const Red &R : tred) {
@@ -674,25 +674,25 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
   const srd_rule_const K = C.K;
   /* without the global thermostat the cells collided in the sums pass */
   if (gth) {
-  const double gscale = B.gscale;
-  std::vector<Red> tred((size_t)C.nth);
+    const double gscale = B.gscale;
+    std::vector<Red> tred((size_t)C.nth);
 #pragma omp parallel num_threads(C.nth)
-  {
-    Ftz ftz;
+    {
+      Ftz ftz;
 #ifdef _OPENMP
-    Red &R = tred[(size_t)omp_get_thread_num()];
+      Red &R = tred[(size_t)omp_get_thread_num()];
 #else
-    Red &R = tred[0];
+      Red &R = tred[0];
 #endif
-    R.clear();
+      R.clear();
 #pragma omp for schedule(dynamic, 256)
-  for (int64_t c = 0; c < ncl; ++c) collide_cell<DIM, FXF>(C, B, c, B.W[(size_t)c], gscale, R, g, sh, K);
-  }
-  for (const Red &R : tred) {
-    for (int q : {RQ_DE, RQ_VIR, RQ_LEW}) gran_exactsum_merge_(&B.red.a[q], &R.a[q]);
-    B.red.clamped += R.clamped;
-    B.red.dt_max = std::min(B.red.dt_max, R.dt_max);
-  }
+      for (int64_t c = 0; c < ncl; ++c) collide_cell<DIM, FXF>(C, B, c, B.W[(size_t)c], gscale, R, g, sh, K);
+    }
+    for (const Red &R : tred) {
+      for (int q : {RQ_DE, RQ_VIR, RQ_LEW}) gran_exactsum_merge_(&B.red.a[q], &R.a[q]);
+      B.red.clamped += R.clamped;
+      B.red.dt_max = std::min(B.red.dt_max, R.dt_max);
+    }
   }
   const gran_srd_options &o = *C.o;
   if (o.sort_every > 0 && (B.step + 1) % o.sort_every == 0) {
