@@ -14,7 +14,8 @@
  *    refused naming 'dt' before any position is converted to a cell index;
  *  - a2 of a cold gas (T0 = 1e-300, where c^4 underflows): the same as of the gas at T0 = 1 with
  *    the same seed (the velocities scaled by 1e-150) to 1e-12, plain and aggregating; a gas without
- *    thermal motion (one particle) gets GRAN_ERR_NUMERIC naming a2, not NaN. */
+ *    thermal motion (one particle) gets GRAN_ERR_NUMERIC naming a2, not NaN;
+ *  - the volume from the counts over a subnormal density (4.9e-324: inf) is refused naming 'density'. */
 #include "io_test_util.h"
 #include "dsmc_util.h"
 #include "agg_test_util.h"
@@ -302,6 +303,33 @@ static void test_cold_a2(void **state) {
   GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
 }
 
+/* ---- the volume from counts and densities ---------------------------------------------------- */
+static void test_volume(void **state) {
+  (void)state;
+  const double dens[2] = {4.94066e-324, 0.05}; /* subnormal: 40 / n = inf */
+  for (int c = 0; c < 2; c++) {
+    double m = 1, s = 1, n = dens[c];
+    gran_mixture *mix = NULL;
+    GRAN_ASSERT_OK(gran_mixture_create(1, &m, &s, &n, &mix));
+    GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.9));
+    const int64_t count = 40;
+    const double T0 = 1;
+    gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_BIRD, 3, 0, 0); /* volume 0: from the counts */
+    gran_dsmc *d = NULL;
+    if (c == 0) {
+      expect_refused(gran_dsmc_create(mix, &count, &T0, &o, &d), GRAN_ERR_DOMAIN, "'density'");
+      assert_null(d);
+    } else {
+      GRAN_ASSERT_OK(gran_dsmc_create(mix, &count, &T0, &o, &d));
+      gran_dsmc_stats st;
+      GRAN_ASSERT_OK(gran_dsmc_get_stats(d, &st));
+      GRAN_ASSERT_REL(st.volume, 40 / 0.05, 1e-15);
+      GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+    }
+    GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_checkpoint_candidates),
@@ -309,6 +337,7 @@ int main(void) {
       cmocka_unit_test(test_bird_acceptance),
       cmocka_unit_test(test_cell_streaming),
       cmocka_unit_test(test_cold_a2),
+      cmocka_unit_test(test_volume),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -311,6 +311,10 @@ int dsmc_alloc(const gran_mixture *mix, const int64_t *counts, const gran_dsmc_o
       s->volume = ngas / ntot;
       GRAN_CHECK(s->volume > 0, GRAN_ERR_ARG,
                  "option 'volume' = %g <= 0 and 'counts' are 0 for every species with n_k > 0", opt->volume);
+      GRAN_CHECK(std::isfinite(s->volume), GRAN_ERR_DOMAIN,
+                 "option 'volume' = %g <= 0, so the volume is the particles over the mixture's 'density' sum (%g): "
+                 "%g particles over it overflow (choose units with densities nearer 1, or give 'volume')",
+                 opt->volume, ntot, ngas);
     }
   } else {
     GRAN_CHECK(opt->volume > 0, GRAN_ERR_ARG,
