@@ -11,7 +11,9 @@
  *    one whose right side (sigma^2)^2 g^2 underflows (sigma 1.75e-125); the low-rank selector accepts
  *    both gases and collides;
  *  - the cell selector: a speed that streams more than 1e6 box lengths per step (mass 1e-150) is
- *    refused naming 'dt' before any position is converted to a cell index;
+ *    refused naming 'dt' before any position is converted to a cell index; heat_rate = DBL_MAX (heat_rate
+ *    dt > 1e280) is refused naming it, and heat_rate = 1e270 heats the gas with finite temperatures
+ *    (gran_dsmc_temperatures refuses a non-finite one with GRAN_ERR_NUMERIC);
  *  - a2 of a cold gas (T0 = 1e-300, where c^4 underflows): the same as of the gas at T0 = 1 with
  *    the same seed (the velocities scaled by 1e-150) to 1e-12, plain and aggregating; a gas without
  *    thermal motion (one particle) gets GRAN_ERR_NUMERIC naming a2, not NaN;
@@ -256,6 +258,26 @@ static void test_cell_streaming(void **state) {
   gran_dsmc *d = NULL;
   expect_refused(gran_dsmc_create_cell(mix, &count, &T0, &o, &c, &d), GRAN_ERR_DOMAIN, "option 'dt'");
   assert_null(d);
+  GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
+  /* the white-noise thermostat at heat_rate = DBL_MAX overflowed the velocities (T NaN with success) */
+  m = 1;
+  GRAN_ASSERT_OK(gran_mixture_create(1, &m, &s, &n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.9));
+  c.heat_rate = DBL_MAX;
+  expect_refused(gran_dsmc_create_cell(mix, &count, &T0, &o, &c, &d), GRAN_ERR_ARG, "'heat_rate'");
+  assert_null(d);
+  c.heat_rate = 1e270; /* allowed: the gas heats by about 1e269 per step, T finite (an error, never NaN) */
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, &count, &T0, &o, &c, &d));
+  int st = GRAN_SUCCESS;
+  double T[1] = {0}, t = 0;
+  for (int r = 0; r < 400 && st == GRAN_SUCCESS; r++) {
+    t += c.dt;
+    st = gran_dsmc_advance(d, t);
+    if (st == GRAN_SUCCESS) st = gran_dsmc_temperatures(d, T);
+    if (st == GRAN_SUCCESS) assert_true(isfinite(T[0]) && T[0] > 0);
+  }
+  if (st != GRAN_SUCCESS) assert_true(st == GRAN_ERR_NUMERIC || st == GRAN_ERR_DOMAIN);
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
 }
 

@@ -113,6 +113,10 @@ int dsmc_agg_temperatures(const gran_dsmc *s, double *T, double *a2) {
   for (int64_t k = 0; k < M; k++) {
     const double nk = (double)n[(size_t)k], m2 = (s2[(size_t)k] + c2[(size_t)k]) / nk;
     if (T) T[k] = nk > 0 ? (double)(k + 1) * s->agg->m1 * m2 / 3.0 : NAN;
+    GRAN_CHECK(!T || nk == 0 || std::isfinite(T[k]), GRAN_ERR_NUMERIC,
+               "gran_dsmc_temperatures: the temperature of cluster size %lld is %g: a velocity of the gas is no longer "
+               "finite or its square overflows",
+               (long long)(k + 1), T[k]);
   }
   if (!a2) return GRAN_SUCCESS;
   for (int64_t k = 0; k < M; k++) {

@@ -74,8 +74,9 @@ void dsmc_agg_grow(DsmcAgg *c, int64_t k);
 int dsmc_agg_setup(gran_dsmc *s, DsmcAgg *c);
 /* per-particle observables of an aggregating gas (species = size - 1): the mixture's M sizes */
 void dsmc_agg_mean_flow(const gran_dsmc *s, double u[3]);
-/* T per size (T may be NULL) and a2 per size (a2 may be NULL; GRAN_ERR_NUMERIC when an occupied size has no
- * thermal motion or a non-finite velocity); NaN for an empty size */
+/* T per size (T may be NULL; GRAN_ERR_NUMERIC when an occupied size's T is not finite) and a2 per size (a2 may
+ * be NULL; GRAN_ERR_NUMERIC when an occupied size has no thermal motion or a non-finite velocity); NaN for an
+ * empty size */
 int dsmc_agg_temperatures(const gran_dsmc *s, double *T, double *a2);
 void dsmc_agg_energy_momentum(const gran_dsmc *s, double *e_kin, double p[3]);
 

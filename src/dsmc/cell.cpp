@@ -136,6 +136,10 @@ int dsmc_cell_check_options(const gran_dsmc_cell_options *o) {
   GRAN_CALL(dsmc_agg_check_options(&proc, "cell"));
   GRAN_CHECK(std::isfinite(o->heat_rate) && o->heat_rate >= 0, GRAN_ERR_ARG,
              "cell option 'heat_rate' = %g must be finite and >= 0", o->heat_rate);
+  GRAN_CHECK(o->heat_rate * o->dt <= 1e280, GRAN_ERR_ARG,
+             "cell option 'heat_rate' = %g: the energy a particle gains per step, heat_rate dt = %g, must be <= 1e280 "
+             "(the gas's energy sums would overflow)",
+             o->heat_rate, o->heat_rate * o->dt);
   GRAN_CHECK(std::isfinite(o->bath_density) && o->bath_density >= 0, GRAN_ERR_ARG,
              "cell option 'bath_density' = %g must be finite and >= 0", o->bath_density);
   GRAN_CHECK(std::isfinite(o->bath_mass) && o->bath_mass > 0, GRAN_ERR_ARG,

@@ -51,7 +51,8 @@ void dsmc_record_trajectories(gran_dsmc *s) {
 using namespace gran;
 
 /** @brief Partial temperatures T_k = m_k <|v - u|^2> / 3 with u the mean flow of the gas (all
- *  species but tracers; 0 up to rounding, since its momentum is conserved); NaN for an empty species. */
+ *  species but tracers; 0 up to rounding, since its momentum is conserved); NaN for an empty species;
+ *  GRAN_ERR_NUMERIC when an occupied species' temperature is not finite. */
 GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T) {
   GRAN_TRY {
     GRAN_CALL(dsmc_check(sim, "sim"));
@@ -70,6 +71,10 @@ GRAN_EXTERN int gran_dsmc_temperatures(const gran_dsmc *sim, double *T) {
       });
       const int64_t n = sim->count[(size_t)k];
       T[k] = n > 0 ? sim->mix.m[(size_t)k] * (s2 + c) / (3.0 * (double)n) : NAN;
+      GRAN_CHECK(n == 0 || std::isfinite(T[k]), GRAN_ERR_NUMERIC,
+                 "gran_dsmc_temperatures: the temperature of species %lld is %g: a velocity of the gas is no longer "
+                 "finite or its square overflows",
+                 (long long)k, T[k]);
     }
     return GRAN_SUCCESS;
   }
