@@ -230,22 +230,6 @@ struct Ctx {
 
 constexpr uint32_t kLeBit = 0x80000000u;
 
-/* srd_bin's arithmetic, the three indices kept */
-inline void bin3(const srd_geom *gm, const double s[3], const double p[3], int64_t c[3], double *dvx) {
-  double px = p[0];
-  *dvx = 0.0;
-  c[0] = c[1] = c[2] = 0;
-  if (gm->dim > 1) {
-    int wrapped;
-    c[1] = srd_bin_y(gm, s, p, &wrapped);
-    if (wrapped && gm->le_on) {
-      px -= gm->le_dx;
-      *dvx = -gm->le_dv;
-    }
-  }
-  c[0] = srd_bin_index(gm, 0, px + s[0]);
-  if (gm->dim > 2) c[2] = srd_bin_index(gm, 2, p[2] + s[2]);
-}
 inline int owner_of(const Split &sp, const int64_t c[3]) {
   const int b[3] = {sp.own[0][(size_t)c[0]], sp.own[1][(size_t)c[1]], sp.own[2][(size_t)c[2]]};
   return sp.rank(b);
@@ -391,7 +375,7 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
       }
       int64_t c[3];
       double dvx;
-      bin3(&gl, sh, p, c, &dvx);
+      srd_bin3(&gl, sh, p, c, &dvx);
       const int r = single ? B.rank : owner_of(sp, c);
       if (r == B.rank) {
         odest[k] = -1;
@@ -503,7 +487,7 @@ int phase_recv(const Ctx &C, Brick &B, Transport &T) {
     }
     int64_t c[3];
     double dvx;
-    bin3(&B.g, B.sh, p, c, &dvx);
+    srd_bin3(&B.g, B.sh, p, c, &dvx);
     GRAN_CHECK(owner_of(C.sp, c) == B.rank, GRAN_ERR_INTERNAL, "brick %d received a particle of brick %d", B.rank,
                owner_of(C.sp, c));
     B.lc[(size_t)t] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
@@ -1115,7 +1099,7 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
       const double p[3] = {s->x[(size_t)i], s->y[(size_t)i], d == 3 ? s->z[(size_t)i] : 0.0};
       int64_t c[3];
       double dvx;
-      bin3(&C.gm, zero, p, c, &dvx);
+      srd_bin3(&C.gm, zero, p, c, &dvx);
       Brick &B = bs[(size_t)owner_of(C.sp, c)];
       B.x.push_back(p[0]);
       B.y.push_back(p[1]);

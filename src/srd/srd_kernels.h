@@ -259,12 +259,14 @@ GRAN_HD static inline int64_t srd_bin_layer(const srd_geom *gm, const double s[3
   return srd_bin_index(gm, 2, p[2] + s[2]);
 }
 
-/* Cell of the shifted grid that holds p. *dvx is the x-velocity correction seen by that cell
- * (Lees-Edwards: +-le_dv when the shifted cell straddles y = box[1], else 0). */
-GRAN_HD static inline int64_t srd_bin(const srd_geom *gm, const double s[3], const double p[3], double *dvx) {
-  int64_t c[3] = {0, 0, 0};
+/* The cell of the shifted grid that holds p, as its three indices c (0 on the axes beyond dim). *dvx is
+ * the x-velocity correction seen by that cell (Lees-Edwards: +-le_dv when the shifted cell straddles
+ * y = box[1], else 0). */
+GRAN_HD static inline void srd_bin3(const srd_geom *gm, const double s[3], const double p[3], int64_t c[3],
+                                    double *dvx) {
   double px = p[0];
   *dvx = 0.0;
+  c[0] = c[1] = c[2] = 0;
   if (gm->dim > 1) {
     int wrapped;
     c[1] = srd_bin_y(gm, s, p, &wrapped);
@@ -275,6 +277,11 @@ GRAN_HD static inline int64_t srd_bin(const srd_geom *gm, const double s[3], con
   }
   c[0] = srd_bin_index(gm, 0, px + s[0]);
   if (gm->dim > 2) c[2] = srd_bin_index(gm, 2, p[2] + s[2]);
+}
+/* The same cell as its index in the grid. */
+GRAN_HD static inline int64_t srd_bin(const srd_geom *gm, const double s[3], const double p[3], double *dvx) {
+  int64_t c[3];
+  srd_bin3(gm, s, p, c, dvx);
   return c[0] + gm->nc[0] * (c[1] + gm->nc[1] * c[2]);
 }
 

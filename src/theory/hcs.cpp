@@ -620,17 +620,21 @@ double hcs_log_scale(const gran_mixture *mix, const std::vector<double> &u, int 
   }
   return std::log(value * den / num) - umax;
 }
+int check_hcs_target(int norm, double value, const double *T0) {
+  GRAN_CHECK(norm == GRAN_HCS_NORM_MEAN || norm == GRAN_HCS_NORM_T1, GRAN_ERR_ARG,
+             "argument 'norm' = %d is not a gran_hcs_norm", norm);
+  GRAN_CHECK(std::isfinite(value) && value > 0.0, GRAN_ERR_ARG, "argument 'value' = %g must be finite and > 0",
+             value);
+  GRAN_CHECK_PTR(T0);
+  return GRAN_SUCCESS;
+}
 }  // namespace gran
 
 GRAN_EXTERN int gran_theory_hcs(const gran_mixture *mix, int norm, double value, double *T0, double *tau0) {
   GRAN_TRY {
     gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
-    GRAN_CHECK(norm == GRAN_HCS_NORM_MEAN || norm == GRAN_HCS_NORM_T1, GRAN_ERR_ARG,
-               "argument 'norm' = %d is not a gran_hcs_norm", norm);
-    GRAN_CHECK(std::isfinite(value) && value > 0.0, GRAN_ERR_ARG, "argument 'value' = %g must be finite and > 0",
-               value);
-    GRAN_CHECK_PTR(T0);
+    GRAN_CALL(check_hcs_target(norm, value, T0));
     GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
                "mixture 'mix' has viscoelastic restitution: its temperature ratios keep changing, there is no "
                "homogeneous cooling state with constant ratios (use gran_theory_temperatures)");

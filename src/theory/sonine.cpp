@@ -1004,11 +1004,7 @@ GRAN_EXTERN int gran_theory_hcs_approx(const gran_mixture *mix, int approximatio
     gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CALL(check_approx(approximation));
-    GRAN_CHECK(norm == GRAN_HCS_NORM_MEAN || norm == GRAN_HCS_NORM_T1, GRAN_ERR_ARG,
-               "argument 'norm' = %d is not a gran_hcs_norm", norm);
-    GRAN_CHECK(std::isfinite(value) && value > 0.0, GRAN_ERR_ARG, "argument 'value' = %g must be finite and > 0",
-               value);
-    GRAN_CHECK_PTR(T0);
+    GRAN_CALL(check_hcs_target(norm, value, T0));
     const int64_t M = mix->M;
     if (approximation == GRAN_THEORY_MAXWELLIAN) {
       GRAN_CALL(gran_theory_hcs(mix, norm, value, T0, tau0));

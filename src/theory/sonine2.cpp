@@ -207,11 +207,7 @@ GRAN_EXTERN int gran_theory_hcs_sonine2(const gran_mixture *mix, int norm, doubl
     GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
                "mixture 'mix' has viscoelastic restitution: there is no homogeneous cooling state (the second "
                "Sonine HCS is implemented for constant or matrix restitution only)");
-    GRAN_CHECK(norm == GRAN_HCS_NORM_MEAN || norm == GRAN_HCS_NORM_T1, GRAN_ERR_ARG,
-               "argument 'norm' = %d is not a gran_hcs_norm", norm);
-    GRAN_CHECK(std::isfinite(value) && value > 0.0, GRAN_ERR_ARG, "argument 'value' = %g must be finite and > 0",
-               value);
-    GRAN_CHECK_PTR(T0);
+    GRAN_CALL(check_hcs_target(norm, value, T0));
     const int64_t M = mix->M;
     GRAN_CHECK(M <= SON2_MAX, GRAN_ERR_DOMAIN,
                "mixture 'mix' has %" PRId64 " species: the second Sonine HCS (a dense solve of the 3M - 1 unknowns) is "

@@ -192,11 +192,7 @@ GRAN_EXTERN int gran_theory_hcs_sonine_n(const gran_mixture *mix, int nmax, int 
     GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
                "mixture 'mix' has viscoelastic restitution: there is no homogeneous cooling state (the Sonine "
                "hierarchy HCS is implemented for constant or matrix restitution only)");
-    GRAN_CHECK(norm == GRAN_HCS_NORM_MEAN || norm == GRAN_HCS_NORM_T1, GRAN_ERR_ARG,
-               "argument 'norm' = %d is not a gran_hcs_norm", norm);
-    GRAN_CHECK(std::isfinite(value) && value > 0.0, GRAN_ERR_ARG, "argument 'value' = %g must be finite and > 0",
-               value);
-    GRAN_CHECK_PTR(T0);
+    GRAN_CALL(check_hcs_target(norm, value, T0));
     const int64_t M = mix->M;
     GRAN_CHECK(M <= SN_MAX_M, GRAN_ERR_DOMAIN,
                "mixture 'mix' has %" PRId64 " species: the Sonine hierarchy HCS (a dense solve of the nmax M - 1 "

@@ -210,6 +210,9 @@ void traj_temperatures(const Traj &tr, double s, double *T);
 } // namespace gran
 
 namespace gran {
+/* hcs.cpp: the arguments every HCS entry point takes (GRAN_ERR_ARG naming them): norm a gran_hcs_norm,
+ * value finite and > 0, T0 not NULL */
+int check_hcs_target(int norm, double value, const double *T0);
 double hcs_log_scale(const gran_mixture *mix, const std::vector<double> &u, int norm, double value);
 /* newton.cpp: f(x) = 0 by Newton's method from x (in place), for the higher Sonine HCS systems: the
  * Jacobian by differences, central of step 1e-5 in the first nlog columns (log T), one-sided of step
