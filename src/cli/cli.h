@@ -17,10 +17,16 @@ int cli_mpi_rank(void);
 int cli_mpi_size(void);
 int cli_mpi_all(int ok); /* collective: 1 when every process passes ok != 0 */
 void cli_mpi_stats(long long *steps, long long *bytes); /* gathers, and bytes rank 0 received */
+/* the process group of a decomposed GSRD run (src/srd/bricks.h): MPI_COMM_WORLD in
+ * build/granary-mpi, one process in build/granary */
+const struct srd_bricks_comm *cli_mpi_bricks_comm(void);
+void cli_mpi_abort(int code); /* stops every process (build/granary: nothing) */
+long long cli_mpi_far_rounds(void); /* decomposed rounds in which a message went beyond the peers */
 
 int cli_info(int argc, char **argv);
 int cli_run(int argc, char **argv);
 int cli_theory(int argc, char **argv);
 int cli_keys(int argc, char **argv); /* keys.cpp */
+int cli_decompose(int argc, char **argv); /* decompose.cpp */
 
 #endif

@@ -27,6 +27,9 @@ static void usage(FILE *f) {
                "                       kinetic theory of the scene's mixture\n"
                "  keys [ENGINE] [--format text|markdown]\n"
                "                       the scene keys of each engine (type, default, bounds, unit, C field)\n"
+               "  decompose SCENE [--bricks auto|PxQxR] [--steps N]\n"
+               "                       step a GSRD gas split into bricks (one per MPI process in granary-mpi):\n"
+               "                       digests, conservation, speed per process\n"
                "  info [--gpu-count]   version, build configuration, CUDA backend, visible GPUs\n"
                "  --help               this text (COMMAND --help: its options)\n"
                "  --version            the library version\n"
@@ -72,6 +75,7 @@ static int dispatch(int argc, char **argv) {
   if (!std::strcmp(cmd, "run")) return cli_run(argc - 1, argv + 1);
   if (!std::strcmp(cmd, "theory")) return cli_theory(argc - 1, argv + 1);
   if (!std::strcmp(cmd, "keys")) return cli_keys(argc - 1, argv + 1);
+  if (!std::strcmp(cmd, "decompose")) return cli_decompose(argc - 1, argv + 1);
   std::fprintf(stderr, "granary: unknown command '%s' (see granary --help)\n", cmd);
   return 2;
 }

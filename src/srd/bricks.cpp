@@ -48,6 +48,7 @@
 #include <cstring>
 #include <memory>
 #include <numeric>
+#include <type_traits>
 #include <utility>
 #include <vector>
 #ifdef _OPENMP
@@ -88,7 +89,8 @@ class Transport {
  public:
   virtual ~Transport() = default;
   virtual int size() const = 0;
-  virtual int send(int from, int to, const std::vector<double> &buf) = 0;
+  /* buf is consumed (its contents may be swapped out) */
+  virtual int send(int from, int to, std::vector<double> &buf) = 0;
   virtual int recv(int to, int from, std::vector<double> &buf) = 0;
   virtual int reduce_post(int rank, const Red &r) = 0;
   virtual int reduce_take(int rank, Red &r) = 0;
@@ -98,12 +100,13 @@ class LocalTransport final : public Transport {
  public:
   explicit LocalTransport(int p) : P(p), box((size_t)p * p), full((size_t)p * p, 0), red((size_t)p), rposted((size_t)p, 0) {}
   int size() const override { return P; }
-  int send(int from, int to, const std::vector<double> &buf) override {
+  int send(int from, int to, std::vector<double> &buf) override {
     const size_t k = (size_t)from * P + to;
     GRAN_CHECK(!full[k], GRAN_ERR_INTERNAL, "brick transport: a second message from brick %d to %d in one round", from, to);
-    box[k] = buf;
-    full[k] = 1;
     bytes += (int64_t)(buf.size() * sizeof(double));
+    box[k].swap(buf);
+    buf.clear();
+    full[k] = 1;
     return GRAN_SUCCESS;
   }
   int recv(int to, int from, std::vector<double> &buf) override {
@@ -145,6 +148,88 @@ class LocalTransport final : public Transport {
   std::vector<char> rposted;
   int posted = 0, taken = 0;
   Red sum;
+};
+
+static_assert(std::is_trivially_copyable<Red>::value, "the all-reduce record is sent as bytes");
+
+/* merge for srd_bricks_comm::allreduce of a T with a merge(const T &) (MPI's buffers need not be
+ * aligned for T: copied) */
+template <class T>
+void merge_bytes(void *inout, const void *in) {
+  T a, b;
+  std::memcpy((void *)&a, inout, sizeof a);
+  std::memcpy((void *)&b, in, sizeof b);
+  a.merge(b);
+  std::memcpy(inout, (const void *)&a, sizeof a);
+}
+
+/* One brick per process over a srd_bricks_comm: the sends of a round are collected, the first
+ * receive runs the round; the all-reduce is the comm's, with Red's exact merge. */
+class CommTransport final : public Transport {
+ public:
+  CommTransport(const srd_bricks_comm &c, std::vector<int> peers)
+      : c_(c), out_((size_t)c.size), in_((size_t)c.size), sent_((size_t)c.size, 0), peers_(std::move(peers)) {}
+  int size() const override { return c_.size; }
+  int send(int from, int to, std::vector<double> &buf) override {
+    GRAN_CHECK(from == c_.rank && to >= 0 && to < c_.size && to != from && !sent_[(size_t)to], GRAN_ERR_INTERNAL,
+               "brick transport: process %d cannot send from brick %d to %d in this round", c_.rank, from, to);
+    bytes += (int64_t)(buf.size() * sizeof(double));
+    out_[(size_t)to].swap(buf);
+    buf.clear();
+    sent_[(size_t)to] = 1;
+    return GRAN_SUCCESS;
+  }
+  int recv(int to, int from, std::vector<double> &buf) override {
+    GRAN_CHECK(to == c_.rank && from >= 0 && from < c_.size && from != to, GRAN_ERR_INTERNAL,
+               "brick transport: process %d cannot receive for brick %d from %d", c_.rank, to, from);
+    if (!done_) {
+      for (int p = 0; p < c_.size; ++p)
+        GRAN_CHECK(p == c_.rank || sent_[(size_t)p], GRAN_ERR_INTERNAL,
+                   "brick transport: process %d receives before it sent to %d", c_.rank, p);
+      GRAN_CHECK(c_.round(c_.ctx, out_, in_, peers_) == 0, GRAN_ERR_IO,
+                 "decomposed GSRD run: the particle exchange of process %d failed (a process of the run stopped or "
+                 "the transport broke)",
+                 c_.rank);
+      for (auto &m : out_) m.clear();
+      std::fill(sent_.begin(), sent_.end(), 0);
+      done_ = true;
+    }
+    buf.swap(in_[(size_t)from]);
+    in_[(size_t)from].clear();
+    if (++taken_ == c_.size - 1) {
+      done_ = false;
+      taken_ = 0;
+    }
+    return GRAN_SUCCESS;
+  }
+  int reduce_post(int rank, const Red &r) override {
+    GRAN_CHECK(rank == c_.rank && !posted_, GRAN_ERR_INTERNAL, "brick transport: process %d posted brick %d's record",
+               c_.rank, rank);
+    red_ = r;
+    posted_ = true;
+    return GRAN_SUCCESS;
+  }
+  int reduce_take(int rank, Red &r) override {
+    GRAN_CHECK(rank == c_.rank && posted_, GRAN_ERR_INTERNAL, "brick transport: process %d takes a record it did not post",
+               c_.rank);
+    GRAN_CHECK(c_.allreduce(c_.ctx, &red_, sizeof red_, &merge_bytes<Red>) == 0, GRAN_ERR_IO,
+               "decomposed GSRD run: the all-reduce of process %d failed (a process of the run stopped or the "
+               "transport broke)",
+               c_.rank);
+    r = red_;
+    posted_ = false;
+    return GRAN_SUCCESS;
+  }
+  int64_t bytes = 0;
+
+ private:
+  srd_bricks_comm c_;
+  std::vector<std::vector<double>> out_, in_;
+  std::vector<char> sent_;
+  std::vector<int> peers_;
+  bool done_ = false, posted_ = false;
+  int taken_ = 0;
+  Red red_;
 };
 
 /* ---- the split of the binning grid ---- */
@@ -218,6 +303,7 @@ struct Brick {
   Red red, red_th;
   double gscale = 1.0; /* the global thermostat's factor of the step */
   int64_t moved = 0; /* particles sent */
+  int64_t psteps = 0; /* particle-steps of this brick (its particles summed over the steps) */
 };
 
 struct Ctx {
@@ -540,6 +626,7 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
   using F = Fx<FXF>;
   const int32_t fx = srd_rule_fx_fold(FXF, C.K.fx);
   const int64_t n = (int64_t)B.x.size(), ncl = B.ncl;
+  B.psteps += n - B.ndead;
   B.start.assign((size_t)ncl + 1, 0);
   B.order.resize((size_t)(n - B.ndead));
   uint32_t *start = B.start.data(), *order = B.order.data();
@@ -817,6 +904,45 @@ void window_of(const Ctx &C, int rank, Brick &B) {
     B.w[a] = C.sp.cut[a][(size_t)b[a] + 1] - B.lo[a];
     B.ncl *= B.w[a];
   }
+}
+
+/* the bricks around brick `rank` (its 3^d - 1 neighbours on the brick grid, periodic axes
+ * wrapped; with Lees-Edwards the bricks across the y boundary are any along x, since the image
+ * is displaced by the offset), sorted, without rank itself: where a particle that streams less
+ * than a brick's width, under a shift of less than a cell, can go */
+std::vector<int> peers_of(const Ctx &C, int rank) {
+  const Split &sp = C.sp;
+  const int b[3] = {rank % sp.P[0], (rank / sp.P[0]) % sp.P[1], rank / (sp.P[0] * sp.P[1])};
+  const bool le = C.o->shear_rate != 0;
+  std::vector<int> out;
+  for (int d2 = -1; d2 <= 1; ++d2)
+    for (int d1 = -1; d1 <= 1; ++d1)
+      for (int d0 = -1; d0 <= 1; ++d0) {
+        int q[3] = {b[0] + d0, b[1] + d1, b[2] + d2};
+        bool ok = true, across_y = false;
+        for (int a = 0; a < 3; ++a) {
+          if (q[a] >= 0 && q[a] < sp.P[a]) continue;
+          if (a == C.o->wall_axis || a >= C.o->dim) {
+            ok = false;
+            break;
+          }
+          if (a == 1) across_y = true;
+          q[a] = (q[a] + sp.P[a]) % sp.P[a];
+        }
+        if (!ok) continue;
+        if (le && across_y) {
+          for (int x = 0; x < sp.P[0]; ++x) {
+            const int r[3] = {x, q[1], q[2]};
+            out.push_back(sp.rank(r));
+          }
+        } else {
+          out.push_back(sp.rank(q));
+        }
+      }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  out.erase(std::remove(out.begin(), out.end(), rank), out.end());
+  return out;
 }
 
 void scalars_from(const gran_srd *s, Brick &B) {
@@ -1166,6 +1292,216 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
     }
     out->faces = faces;
     out->seconds = t_steps;
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/* ---- digests, the automatic split, one brick per process ---- */
+namespace {
+
+inline uint64_t mix64(uint64_t z) { /* splitmix64's finaliser */
+  z += 0x9e3779b97f4a7c15ull;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+inline uint64_t hash_words(const uint64_t *w, int nw) {
+  uint64_t h = 0x6a09e667f3bcc909ull;
+  for (int q = 0; q < nw; ++q) h = mix64(h ^ w[q]);
+  return h;
+}
+inline uint64_t hash_particle(double x, double y, double z, double vx, double vy, double vz, bool d3) {
+  uint64_t w[6];
+  int q = 0;
+  w[q++] = key_of(x);
+  w[q++] = key_of(y);
+  if (d3) w[q++] = key_of(z);
+  w[q++] = key_of(vx);
+  w[q++] = key_of(vy);
+  if (d3) w[q++] = key_of(vz);
+  return hash_words(w, q);
+}
+inline uint64_t hash_cell(int64_t gc, const double V[3], const uint64_t s[4]) {
+  const uint64_t w[8] = {(uint64_t)gc, key_of(V[0]), key_of(V[1]), key_of(V[2]), s[0], s[1], s[2], s[3]};
+  return hash_words(w, 8);
+}
+
+/* the gas's totals over the processes: digests (sums mod 2^64), counts, extremes, exact sums */
+struct Tot {
+  uint64_t dp, dc;
+  int64_t n, nmin, nmax, bytes, moved;
+  double tmax;
+  gran_exactsum mom[3], en;
+  void merge(const Tot &o) {
+    dp += o.dp;
+    dc += o.dc;
+    n += o.n;
+    nmin = std::min(nmin, o.nmin);
+    nmax = std::max(nmax, o.nmax);
+    bytes += o.bytes;
+    moved += o.moved;
+    tmax = std::max(tmax, o.tmax);
+    for (int k = 0; k < 3; ++k) gran_exactsum_merge_(&mom[k], &o.mom[k]);
+    gran_exactsum_merge_(&en, &o.en);
+  }
+};
+static_assert(std::is_trivially_copyable<Tot>::value, "the totals are sent as bytes");
+
+} // namespace
+
+extern "C" void srd_bricks_digest_(const srd_bricks_out *o, int dim, uint64_t *particles, uint64_t *cells) {
+  const bool d3 = dim == 3;
+  uint64_t dp = 0, dc = 0;
+  for (int64_t i = 0; i < o->n; ++i)
+    dp += hash_particle(o->x[i], o->y[i], d3 ? o->z[i] : 0.0, o->vx[i], o->vy[i], d3 ? o->vz[i] : 0.0, d3);
+  for (int64_t c = 0; c < o->ncell; ++c) dc += hash_cell(c, o->V + 3 * c, o->rng + 4 * c);
+  *particles = dp;
+  *cells = dc;
+}
+
+extern "C" int srd_bricks_auto_(const gran_srd_options *opt, int P, int pgrid[3]) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(opt);
+    GRAN_CHECK_PTR(pgrid);
+    GRAN_CALL(srd_check_options_(opt));
+    gran_srd g;
+    g.opt = *opt;
+    GRAN_CALL(srd_alloc_geometry_(&g));
+    const int64_t *nc = g.gm.nc;
+    GRAN_CHECK(P >= 1 && (double)P <= (double)g.ncell, GRAN_ERR_ARG,
+               "a decomposition into %d bricks needs 1 .. %lld (the binning grid's cells)", P, (long long)g.ncell);
+    double best = INFINITY;
+    int found = 0;
+    for (int px = 1; px <= P; ++px) {
+      if (P % px || px > nc[0]) continue;
+      for (int py = 1; py <= P / px; ++py) {
+        if ((P / px) % py || py > nc[1]) continue;
+        const int pz = P / px / py;
+        if (pz > nc[2] || (opt->dim == 2 && pz != 1)) continue;
+        const int p[3] = {px, py, pz};
+        double area = 0; /* cells on the cut planes: what the exchange moves */
+        for (int a = 0; a < 3; ++a) {
+          const double planes = p[a] == 1 ? 0.0 : (a == opt->wall_axis ? p[a] - 1 : p[a]);
+          double face = 1;
+          for (int b = 0; b < 3; ++b)
+            if (b != a) face *= (double)nc[b];
+          area += planes * face;
+        }
+        if (area < best) { /* ties keep the first: the fewest bricks along x */
+          best = area;
+          pgrid[0] = px;
+          pgrid[1] = py;
+          pgrid[2] = pz;
+          found = 1;
+        }
+      }
+    }
+    GRAN_CHECK(found, GRAN_ERR_ARG,
+               "no split of the binning grid (%lld x %lld x %lld cells) into %d bricks along whole cells (a brick "
+               "needs at least one cell per axis)",
+               (long long)nc[0], (long long)nc[1], (long long)nc[2], P);
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, const srd_bricks_comm *comm,
+                         srd_bricks_rank_out *out) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(opt);
+    GRAN_CHECK_PTR(pgrid);
+    GRAN_CHECK_PTR(comm);
+    GRAN_CHECK_PTR(out);
+    std::memset(out, 0, sizeof *out);
+    GRAN_CHECK(opt->creation == GRAN_SRD_CREATE_CELLS, GRAN_ERR_ARG,
+               "option 'creation' must be GRAN_SRD_CREATE_CELLS ([engine] creation = \"cells\": the decomposable "
+               "engine) for a decomposed run (got %d)",
+               (int)opt->creation);
+    GRAN_CHECK(opt->device == GRAN_SRD_DEVICE_CPU, GRAN_ERR_ARG,
+               "a decomposed GSRD run steps on the CPU (option 'device' must be GRAN_SRD_DEVICE_CPU, got %d)",
+               (int)opt->device);
+    GRAN_CHECK(nsteps >= 0, GRAN_ERR_ARG, "argument 'nsteps' must be >= 0 (got %lld)", (long long)nsteps);
+    const int P = comm->size;
+    GRAN_CHECK(P >= 1 && comm->rank >= 0 && comm->rank < P, GRAN_ERR_ARG,
+               "the process group: rank %d of %d processes is not a process of it", comm->rank, P);
+    GRAN_CHECK(P == 1 || (comm->round && comm->allreduce), GRAN_ERR_ARG,
+               "the process group of %d processes has no round or all-reduce function", P);
+    for (int a = opt->dim; a < 3; ++a)
+      GRAN_CHECK(pgrid[a] == 1, GRAN_ERR_ARG, "argument 'pgrid[%d]' must be 1 in %d-D (got %d)", a, (int)opt->dim,
+                 pgrid[a]);
+    GRAN_CHECK((int64_t)pgrid[0] * pgrid[1] * pgrid[2] == P, GRAN_ERR_ARG,
+               "the split %d x %d x %d has %lld bricks, not one per process (%d processes)", pgrid[0], pgrid[1],
+               pgrid[2], (long long)pgrid[0] * pgrid[1] * pgrid[2], P);
+    GRAN_CALL(srd_check_options_(opt));
+    std::unique_ptr<gran_srd> shell(new gran_srd); /* the geometry, no arrays */
+    shell->opt = *opt;
+    GRAN_CALL(srd_alloc_geometry_(shell.get()));
+    Ctx C;
+    GRAN_CALL(make_ctx(shell.get(), pgrid, C));
+    std::vector<Brick> bs(1);
+    Brick &B = bs[0];
+    window_of(C, comm->rank, B);
+    scalars_from(shell.get(), B);
+    LocalTransport TL(1);
+    CommTransport TC(*comm, peers_of(C, comm->rank));
+    Transport &T = P == 1 ? (Transport &)TL : (Transport &)TC;
+    double e0 = 0;
+    GRAN_CALL(bricks_create(C, bs, T, &e0));
+    const double t0 = srd_clock_s();
+    GRAN_CALL(pick(opt->dim, srd_fx_of(opt))(C, bs, T, nsteps));
+    const double secs = srd_clock_s() - t0;
+    /* the totals of this process's brick, then of all */
+    const bool d3 = opt->dim == 3;
+    Tot t;
+    std::memset((void *)&t, 0, sizeof t);
+    for (int k = 0; k < 3; ++k) gran_exactsum_init_(&t.mom[k]);
+    gran_exactsum_init_(&t.en);
+    int64_t nl = 0;
+    for (size_t i = 0; i < B.x.size(); ++i) {
+      if (B.ndead > 0 && B.dest[i] >= 0) continue; /* left in the last step */
+      const double z = d3 ? B.z[i] : 0.0, vz = d3 ? B.vz[i] : 0.0;
+      t.dp += hash_particle(B.x[i], B.y[i], z, B.vx[i], B.vy[i], vz, d3);
+      gran_exactsum_add_(&t.mom[0], B.vx[i]);
+      gran_exactsum_add_(&t.mom[1], B.vy[i]);
+      if (d3) gran_exactsum_add_(&t.mom[2], vz);
+      gran_exactsum_add_(&t.en, 0.5 * (B.vx[i] * B.vx[i] + B.vy[i] * B.vy[i] + vz * vz));
+      ++nl;
+    }
+    for (int64_t l = 0; l < B.ncl; ++l) t.dc += hash_cell(global_of(C, B, l), B.cell[(size_t)l].V, B.rng[(size_t)l].s);
+    t.n = t.nmin = t.nmax = nl;
+    t.bytes = P == 1 ? 0 : TC.bytes;
+    t.moved = B.moved;
+    t.tmax = secs;
+    out->n_local = nl;
+    out->particle_steps = B.psteps;
+    out->seconds = secs;
+    out->bytes_sent = t.bytes;
+    out->particles_sent = B.moved;
+    if (P > 1)
+      GRAN_CHECK(comm->allreduce(comm->ctx, &t, sizeof t, &merge_bytes<Tot>) == 0, GRAN_ERR_IO,
+                 "decomposed GSRD run: the final all-reduce of process %d failed", comm->rank);
+    out->n = t.n;
+    out->digest_particles = t.dp;
+    out->digest_cells = t.dc;
+    for (int k = 0; k < 3; ++k) out->momentum[k] = gran_exactsum_value_(&t.mom[k]);
+    out->energy = gran_exactsum_value_(&t.en);
+    out->time = B.time;
+    out->e_initial = e0;
+    out->e_coll = B.e_coll;
+    out->e_ext = B.e_ext;
+    out->flux_kin = B.flux_kin;
+    out->flux_coll = B.flux_coll;
+    for (int k = 0; k < 3; ++k) out->wall_impulse[k] = B.wall_impulse[k];
+    out->dt_max = B.dt_max;
+    out->step = B.step;
+    out->clamped = B.clamped;
+    for (int k = 0; k < 3; ++k) out->bricks[k] = pgrid[k];
+    out->seconds_max = t.tmax;
+    out->bytes_sent_all = t.bytes;
+    out->particles_sent_all = t.moved;
+    out->n_local_min = t.nmin;
+    out->n_local_max = t.nmax;
     return GRAN_SUCCESS;
   }
   GRAN_CATCH

@@ -45,8 +45,69 @@ int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], int64_t nst
 int srd_bricks_gather_plain_(const gran_srd *s, srd_bricks_out *out);
 void srd_bricks_out_free_(srd_bricks_out *out);
 
+/* What one process of a decomposed run reports (srd_bricks_run_comm_). The whole gas's values are
+ * the same on every process and for any split: the state digests (sums mod 2^64 of a 64-bit hash
+ * per particle, of its position and velocity bits, and per cell, of its global index, V and RNG
+ * state: order-independent, so equal digests mean the same set of particle states and the same
+ * cells bit for bit), the momentum and kinetic energy (exact sums, rounded once) and the ledger. */
+typedef struct srd_bricks_rank_out {
+  int64_t n;                          /* particles of the gas */
+  uint64_t digest_particles, digest_cells;
+  double momentum[3], energy;         /* sum v, sum |v|^2 / 2 of the gas at the end */
+  double time, e_initial, e_coll, e_ext, flux_kin, flux_coll, wall_impulse[3], dt_max;
+  int64_t step, clamped;
+  int bricks[3];                      /* the split */
+  /* this process */
+  int64_t n_local;                    /* its particles at the end */
+  int64_t particle_steps;             /* sum over the steps of its particles (its rate: / seconds) */
+  double seconds;                     /* wall time of its steps */
+  int64_t bytes_sent, particles_sent; /* particle messages it sent (payload) and the particles in them */
+  /* all processes */
+  double seconds_max;                 /* the slowest process's steps */
+  int64_t bytes_sent_all, particles_sent_all;
+  int64_t n_local_min, n_local_max;   /* the balance of the split at the end */
+} srd_bricks_rank_out;
+
+/* Order-independent digests (as in srd_bricks_rank_out) of a gathered run or a plain state. */
+void srd_bricks_digest_(const srd_bricks_out *o, int dim, uint64_t *particles, uint64_t *cells);
+
+/* The split of the binning grid (cells nc[0..2] per axis; 1 beyond dim) into P bricks that has the
+ * fewest brick faces (ties: the most cells along x per brick), each axis at most its cells: pgrid.
+ * GRAN_ERR_ARG when P exceeds the cells. */
+int srd_bricks_auto_(const gran_srd_options *opt, int P, int pgrid[3]);
+
 #ifdef __cplusplus
 }
+#include <string>
+#include <vector>
+
+/* The process group of a decomposed run, one brick per process: build/granary-mpi fills it over
+ * MPI_COMM_WORLD (src/cli/mpi.cpp); libgranary calls no MPI. Every function is called by every
+ * process in the same order, from the main thread; each returns 0 on success. */
+struct srd_bricks_comm {
+  int rank = 0, size = 1;
+  void *ctx = nullptr;
+  /* a message round: out[p] (size entries; out[rank] unused, others possibly empty) goes to
+   * process p, in[p] is what p sent this process (in[rank] left empty). peers: the processes this
+   * one usually exchanges with (sorted, without rank; the relation is symmetric: the bricks around
+   * this one); a round in which no process has a message beyond its peers may move only the
+   * peers' messages (their counts included), any other round must reach every process */
+  int (*round)(void *ctx, std::vector<std::vector<double>> &out, std::vector<std::vector<double>> &in,
+               const std::vector<int> &peers) = nullptr;
+  /* all-reduce in place of the nbytes at buf with merge(inout, in), commutative and associative
+   * (an exact sum: any order gives the same bytes) */
+  int (*allreduce)(void *ctx, void *buf, size_t nbytes, void (*merge)(void *inout, const void *in)) = nullptr;
+};
+
+/* One process's share of a decomposed run: the options' gas (creation must be
+ * GRAN_SRD_CREATE_CELLS, the CPU) split into pgrid bricks (their product comm->size; one process
+ * with comm->size = 1 is the plain decomposable engine), this process holding brick comm->rank: it
+ * draws its cells' particles, steps nsteps with the others and reports *out (the gas's values the
+ * same on every process). No process ever holds more than its brick. GRAN_ERR_ARG naming a bad
+ * option or pgrid entry; an error of the transport is GRAN_ERR_IO. */
+int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, const srd_bricks_comm *comm,
+                         srd_bricks_rank_out *out);
+
 /* gran_srd_advance of the decomposable engine: steps s as one brick (engine.cpp calls it) */
 int srd_bricks_advance_(gran_srd *s, int64_t steps);
 /* adds 0.5 |v|^2 of particles [0, n) to *acc exactly (vz NULL in 2-D): the decomposable engine's

@@ -660,8 +660,8 @@ int check_options(const gran_srd_options *o) {
   return GRAN_SUCCESS;
 }
 
-/* geometry and arrays from the options (no particles drawn) */
-int alloc_state(gran_srd *s) {
+/* geometry and, with arrays, the particle and cell arrays from the options (no particles drawn) */
+int alloc_state(gran_srd *s, bool arrays = true) {
   const gran_srd_options &o = s->opt;
   srd_geom &g = s->gm;
   std::memset(&g, 0, sizeof g);
@@ -690,6 +690,7 @@ int alloc_state(gran_srd *s) {
   const double nn = std::floor(o.n0 * (double)s->ncell_box + 0.5);
   GRAN_CHECK(nn >= 1 && nn < 4e9, GRAN_ERR_ARG, "options 'n0' x 'cells' give %g particles (need 1 .. 4e9)", nn);
   s->n = (int64_t)nn;
+  if (!arrays) return GRAN_SUCCESS;
   const size_t n = (size_t)s->n;
   s->x.resize(n);
   s->y.resize(n);
@@ -732,6 +733,7 @@ double energy_of(const gran_srd *s) {
 
 int srd_check_options_(const gran_srd_options *o) { return check_options(o); }
 int srd_alloc_state_(gran_srd *s) { return alloc_state(s); }
+int srd_alloc_geometry_(gran_srd *s) { return alloc_state(s, false); }
 
 GRAN_EXTERN int gran_srd_options_default(gran_srd_options *opt) {
   GRAN_CHECK_PTR(opt);

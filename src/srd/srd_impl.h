@@ -137,4 +137,7 @@ int srd_check_finite(const gran_srd *s, const char *when);
  * reads a state into them. */
 int srd_check_options_(const gran_srd_options *o);
 int srd_alloc_state_(gran_srd *s);
+/* the geometry (gm, n, ncell, ncell_box) of a state from its checked options, without its arrays:
+ * a decomposed run's process holds only its brick */
+int srd_alloc_geometry_(gran_srd *s);
 #endif

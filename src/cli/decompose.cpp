@@ -1,0 +1,328 @@
+/* decompose.cpp - `granary decompose SCENE [--bricks auto|PxQxR] [--steps N] [--set KEY=VALUE]...
+ * [--reference] [--json]`: steps the GSRD gas of a scene split into bricks of its cell grid and
+ * reports the state's digests, its conservation terms and the speed of each process
+ * (docs/guide/decompose.md). build/granary-mpi started on P processes gives each process one brick
+ * (no process holds more); build/granary steps all bricks in its one process. The digests do not
+ * depend on the split: equal digests mean the same particles and cells bit for bit. */
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cli.h"
+#include "core/exactsum.h"
+#include "io/io_impl.h"
+#include "srd/bricks.h"
+#include "theory_util.h"
+
+namespace {
+
+void usage(FILE *f) {
+  std::fprintf(f,
+               "usage: granary decompose SCENE [--bricks auto|PxQxR] [--steps N] [--set KEY=VALUE]... [--reference]\n"
+               "                         [--json]\n"
+               "  Steps the scene's GSRD gas ([engine] type = \"srd\", creation = \"cells\") split into bricks of\n"
+               "  its cell grid and prints the state's digests (the same for every split), the momentum, the\n"
+               "  energy ledger and each process's rate. `mpirun -n P build/granary-mpi decompose ...` gives each\n"
+               "  of the P processes one brick; build/granary steps every brick in its one process.\n"
+               "  --bricks auto|PxQxR   the split (PxQ in 2-D); auto: the fewest cells on the cut planes.\n"
+               "                        Default: one brick per process (build/granary: 1x1x1)\n"
+               "  --steps N             steps (default: the scene's engine.steps)\n"
+               "  --set KEY=VALUE       override a scene key (as granary run)\n"
+               "  --reference           (one process) also step the undivided engine (gran_srd_advance) and\n"
+               "                        check that its digests are the bricks' (exit 1 otherwise)\n"
+               "  --json                the report as one JSON object\n");
+}
+
+int parse_bricks(const char *v, int dim, int pg[3], bool *autos) {
+  *autos = !std::strcmp(v, "auto");
+  if (*autos) return 0;
+  pg[0] = pg[1] = pg[2] = 1;
+  int n = 0, a = 0;
+  const char *p = v;
+  while (*p && a < 3) {
+    char *end = nullptr;
+    const long x = std::strtol(p, &end, 10);
+    if (end == p || x < 1 || x > 1000000) return 1;
+    pg[a++] = (int)x;
+    ++n;
+    p = end;
+    if (*p == 'x') {
+      ++p;
+      if (!*p) return 1;
+    } else if (*p) {
+      return 1;
+    }
+  }
+  return (*p || n != dim) ? 1 : 0;
+}
+
+std::string hex(uint64_t v) {
+  char b[24];
+  std::snprintf(b, sizeof b, "%016" PRIx64, v);
+  return b;
+}
+
+} // namespace
+
+int cli_decompose(int argc, char **argv) {
+  const bool root = cli_mpi_rank() == 0;
+  const char *scene_path = nullptr, *bricks = nullptr;
+  long long steps = -1;
+  bool json = false, reference = false;
+  std::vector<std::pair<std::string, std::string>> sets;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    auto value = [&](const char *opt) -> const char * {
+      if (i + 1 >= argc) {
+        if (root) std::fprintf(stderr, "granary decompose: %s needs a value\n", opt);
+        return nullptr;
+      }
+      return argv[++i];
+    };
+    if (!std::strcmp(a, "--help") || !std::strcmp(a, "-h")) {
+      if (root) usage(stdout);
+      return 0;
+    } else if (!std::strcmp(a, "--bricks")) {
+      if (!(bricks = value(a))) return 2;
+    } else if (!std::strcmp(a, "--steps")) {
+      const char *v = value(a);
+      if (!v) return 2;
+      char *end = nullptr;
+      steps = std::strtoll(v, &end, 10);
+      if (end == v || *end || steps < 0 || steps > 1000000000LL) {
+        if (root) std::fprintf(stderr, "granary decompose: --steps '%s': expected an integer in [0, 1e9]\n", v);
+        return 2;
+      }
+    } else if (!std::strcmp(a, "--set")) {
+      const char *v = value(a);
+      if (!v) return 2;
+      const char *eq = std::strchr(v, '=');
+      if (!eq || eq == v) {
+        if (root) std::fprintf(stderr, "granary decompose: --set '%s': expected KEY=VALUE (e.g. --set engine.seed=7)\n", v);
+        return 2;
+      }
+      sets.emplace_back(std::string(v, eq), std::string(eq + 1));
+    } else if (!std::strcmp(a, "--json")) {
+      json = true;
+    } else if (!std::strcmp(a, "--reference")) {
+      reference = true;
+    } else if (a[0] == '-') {
+      if (root) std::fprintf(stderr, "granary decompose: unknown option '%s' (granary decompose --help)\n", a);
+      return 2;
+    } else if (!scene_path) {
+      scene_path = a;
+    } else {
+      if (root) std::fprintf(stderr, "granary decompose: one scene only ('%s' is a second)\n", a);
+      return 2;
+    }
+  }
+  if (!scene_path) {
+    if (root) usage(stderr);
+    return 2;
+  }
+  const int P = cli_mpi_size();
+  auto fail = [&](const std::string &what) {
+    if (root || P > 1) std::fprintf(stderr, "granary decompose: %s: %s\n", what.c_str(), cli_error());
+    return 1;
+  };
+  gran_scene *scene = nullptr;
+  if (gran_scene_load(scene_path, &scene)) return fail("invalid scene");
+  struct Hold {
+    gran_scene *s;
+    ~Hold() { gran_scene_destroy(&s); }
+  } hold{scene};
+  for (const auto &kv : sets)
+    if (gran_scene_set(scene, kv.first.c_str(), kv.second.c_str())) return fail("--set " + kv.first);
+  if (scene->engine_type != "srd") {
+    if (root)
+      std::fprintf(stderr, "granary decompose: scene '%s' is a %s scene; decompose steps GSRD scenes ([engine] type = \"srd\")\n",
+                   scene_path, scene->engine_type.c_str());
+    return 1;
+  }
+  gran_srd_options opt = scene->srd.opt;
+  if (opt.creation != GRAN_SRD_CREATE_CELLS) {
+    if (root)
+      std::fprintf(stderr,
+                   "granary decompose: scene '%s' creates its gas serially; a split gas needs [engine] creation = \"cells\" "
+                   "(or --set engine.creation='\"cells\"')\n",
+                   scene_path);
+    return 1;
+  }
+  if (scene->srd.device != "cpu") {
+    if (root)
+      std::fprintf(stderr, "granary decompose: [engine] device = \"%s\": a split gas steps on the CPU (device = \"cpu\")\n",
+                   scene->srd.device.c_str());
+    return 1;
+  }
+  const int64_t nsteps = steps >= 0 ? (int64_t)steps : scene->srd.steps;
+  int pg[3] = {1, 1, 1};
+  bool autos = bricks == nullptr && P > 1;
+  if (bricks && parse_bricks(bricks, opt.dim, pg, &autos)) {
+    if (root)
+      std::fprintf(stderr, "granary decompose: --bricks '%s': expected auto or %s (positive integers)\n", bricks,
+                   opt.dim == 3 ? "PxQxR" : "PxQ");
+    return 2;
+  }
+  if (autos && srd_bricks_auto_(&opt, P, pg)) return fail("--bricks auto");
+  const long long nb = (long long)pg[0] * pg[1] * pg[2];
+  if (P > 1 && nb != P) {
+    if (root)
+      std::fprintf(stderr, "granary decompose: --bricks %dx%dx%d is %lld bricks for %d processes (one brick each)\n", pg[0],
+                   pg[1], pg[2], nb, P);
+    return 2;
+  }
+  if (reference && P > 1) {
+    if (root) std::fprintf(stderr, "granary decompose: --reference runs in one process (build/granary)\n");
+    return 2;
+  }
+  srd_bricks_rank_out r;
+  std::memset(&r, 0, sizeof r);
+  if (P > 1 || nb == 1) {
+    if (srd_bricks_run_comm_(&opt, pg, nsteps, cli_mpi_bricks_comm(), &r)) {
+      fail("process " + std::to_string(cli_mpi_rank()));
+      if (P > 1) cli_mpi_abort(1); /* the other processes wait in the exchange: stop them all */
+      return 1;
+    }
+  } else { /* every brick in this process */
+    srd_bricks_out o;
+    if (srd_bricks_run_(&opt, pg, nsteps, 1, &o)) return fail("bricks");
+    srd_bricks_digest_(&o, opt.dim, &r.digest_particles, &r.digest_cells);
+    r.n = o.n;
+    gran_exactsum m[4]; /* exact sums, rounded once: the values of a split over processes */
+    for (gran_exactsum &a : m) gran_exactsum_init_(&a);
+    for (int64_t i = 0; i < o.n; ++i) {
+      const double vz = opt.dim == 3 ? o.vz[i] : 0.0;
+      gran_exactsum_add_(&m[0], o.vx[i]);
+      gran_exactsum_add_(&m[1], o.vy[i]);
+      if (opt.dim == 3) gran_exactsum_add_(&m[2], vz);
+      gran_exactsum_add_(&m[3], 0.5 * (o.vx[i] * o.vx[i] + o.vy[i] * o.vy[i] + vz * vz));
+    }
+    for (int k = 0; k < 3; ++k) r.momentum[k] = gran_exactsum_value_(&m[k]);
+    r.energy = gran_exactsum_value_(&m[3]);
+    r.time = o.time;
+    r.e_initial = o.e_initial;
+    r.e_coll = o.e_coll;
+    r.e_ext = o.e_ext;
+    r.flux_kin = o.flux_kin;
+    r.flux_coll = o.flux_coll;
+    for (int k = 0; k < 3; ++k) r.wall_impulse[k] = o.wall_impulse[k];
+    r.dt_max = o.dt_max;
+    r.step = o.step;
+    r.clamped = o.clamped;
+    r.n_local = o.n;
+    r.particle_steps = o.n * nsteps;
+    r.seconds = r.seconds_max = o.seconds;
+    r.bytes_sent = r.bytes_sent_all = o.bytes_sent;
+    r.particles_sent = r.particles_sent_all = o.particles_sent;
+    srd_bricks_out_free_(&o);
+  }
+  int ref_ok = 1;
+  uint64_t ref_p = 0, ref_c = 0;
+  if (reference) { /* the undivided decomposable engine */
+    gran_srd *s = nullptr;
+    if (gran_srd_create(&opt, &s)) return fail("reference");
+    int e = gran_srd_advance(s, nsteps);
+    srd_bricks_out o;
+    if (!e) e = srd_bricks_gather_plain_(s, &o);
+    gran_srd_destroy(&s);
+    if (e) return fail("reference");
+    srd_bricks_digest_(&o, opt.dim, &ref_p, &ref_c);
+    srd_bricks_out_free_(&o);
+    ref_ok = ref_p == r.digest_particles && ref_c == r.digest_cells;
+  }
+  if (!root) return 0;
+  const double rate = r.seconds > 0 ? (double)r.particle_steps / r.seconds : 0.0;
+  const double per_step = nsteps > 0 ? 1.0 / (double)nsteps : 0.0;
+  const double bytes_step = (double)r.bytes_sent_all * per_step / (double)nb;
+  if (json) {
+    std::string o = "{";
+    auto key = [&](const char *k) {
+      if (o.size() > 1) o += ", ";
+      cli_json::str(o, k);
+      o += ": ";
+    };
+    auto num = [&](const char *k, double v) {
+      key(k);
+      cli_json::num(o, v);
+    };
+    auto str = [&](const char *k, const std::string &v) {
+      key(k);
+      cli_json::str(o, v);
+    };
+    str("scene", scene_path);
+    num("dim", opt.dim);
+    key("bricks");
+    o += "[" + std::to_string(pg[0]) + ", " + std::to_string(pg[1]) + ", " + std::to_string(pg[2]) + "]";
+    num("processes", P);
+    num("steps", (double)nsteps);
+    num("particles", (double)r.n);
+    str("digest_particles", hex(r.digest_particles));
+    str("digest_cells", hex(r.digest_cells));
+    if (reference) {
+      str("reference_digest_particles", hex(ref_p));
+      str("reference_digest_cells", hex(ref_c));
+    }
+    key("momentum");
+    o += "[";
+    for (int k = 0; k < 3; ++k) {
+      if (k) o += ", ";
+      cli_json::num(o, r.momentum[k]);
+    }
+    o += "]";
+    num("kinetic_energy", r.energy);
+    num("e_initial", r.e_initial);
+    num("e_coll", r.e_coll);
+    num("e_ext", r.e_ext);
+    num("flux_kin", r.flux_kin);
+    num("flux_coll", r.flux_coll);
+    key("wall_impulse");
+    o += "[";
+    for (int k = 0; k < 3; ++k) {
+      if (k) o += ", ";
+      cli_json::num(o, r.wall_impulse[k]);
+    }
+    o += "]";
+    num("clamped", (double)r.clamped);
+    num("time", r.time);
+    num("seconds_max", r.seconds_max);
+    num("rank0_seconds", r.seconds);
+    num("rank0_particle_steps_per_second", rate);
+    if (P > 1) { /* the balance of the split (per process) */
+      num("process_particles_min", (double)r.n_local_min);
+      num("process_particles_max", (double)r.n_local_max);
+    }
+    num("bytes_per_step_per_brick", bytes_step);
+    num("particles_sent", (double)r.particles_sent_all);
+    if (P > 1) num("rounds_beyond_neighbours", (double)cli_mpi_far_rounds());
+    o += "}\n";
+    std::fputs(o.c_str(), stdout);
+  } else {
+    std::printf("scene            %s (%d-D, %lld particles, %lld steps)\n", scene_path, (int)opt.dim, (long long)r.n,
+                (long long)nsteps);
+    std::printf("bricks           %d x %d x %d (%s)\n", pg[0], pg[1], pg[2],
+                P > 1 ? (std::to_string(P) + " processes, one brick each").c_str() : "in one process");
+    std::printf("digest           particles %s, cells %s\n", hex(r.digest_particles).c_str(), hex(r.digest_cells).c_str());
+    if (reference)
+      std::printf("reference        particles %s, cells %s: %s\n", hex(ref_p).c_str(), hex(ref_c).c_str(),
+                  ref_ok ? "the same" : "DIFFERENT");
+    std::printf("momentum         %.17g %.17g %.17g\n", r.momentum[0], r.momentum[1], r.momentum[2]);
+    std::printf("energy           kinetic %.17g; ledger: initial %.17g, collisions %.17g, external work %.17g\n",
+                r.energy, r.e_initial, r.e_coll, r.e_ext);
+    if (P > 1)
+      std::printf("balance          %lld .. %lld particles per process\n", (long long)r.n_local_min,
+                  (long long)r.n_local_max);
+    std::printf("speed            %.3f s (slowest process); process 0: %.4g particle-steps per second\n", r.seconds_max,
+                rate);
+    std::printf("exchange         %.4g bytes per brick and step, %lld particles changed brick\n", bytes_step,
+                (long long)r.particles_sent_all);
+    if (P > 1)
+      std::printf("                 %lld of %lld steps had a particle move beyond the neighbouring bricks\n",
+                  cli_mpi_far_rounds(), (long long)nsteps);
+  }
+  return ref_ok ? 0 : 1;
+}

@@ -1,0 +1,177 @@
+#!/bin/sh
+# t614-mpi-decompose.sh - one GSRD gas split over MPI processes (`granary decompose`,
+# src/cli/decompose.cpp, src/cli/mpi.cpp, src/srd/bricks.cpp: one brick per process, no process
+# holding more). For every scene below (2-D and 3-D; periodic with eps < 1 and clamped cells;
+# Lees-Edwards with the global thermostat and a body force; the cell thermostat; no-slip walls,
+# gravity and the vibrating wall; slip walls with gravity on two axes and eps < 1) the digests of
+# the final state (every particle's position and velocity bits, every cell's V and RNG state),
+# the momentum and the energy ledger are the same BIT FOR BIT on 1, 2, 3 and 4 processes, on
+# several splits, in one process with virtual bricks, and in the undivided engine (--reference).
+# Physics on every run: the particle count is the scene's, the ledger closes (kinetic energy =
+# initial + collisions + external work, to 1e-12 of the initial energy), the momentum of a
+# periodic gas without forces, shear or thermostat stays 0 (to 1e-12 of sum |v|); particles
+# change brick (the exchange is exercised); particles faster than a brick per step reach bricks
+# beyond the neighbours (the round then includes every process). Bad input: each refusal names
+# what was wrong.
+# Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
+set -eu
+src=${GRAN_SOURCE_DIR:-.}
+build=${GRAN_BUILD:-build}
+cli=${GRAN_CLI:-$build/granary}
+mpicli="$src/$build/granary-mpi"
+[ -x "$mpicli" ] || mpicli="$build/granary-mpi"
+if ! command -v mpirun >/dev/null 2>&1 || [ ! -x "$mpicli" ]; then
+  echo "SKIP: MPI is not installed (mpirun or $build/granary-mpi missing: apt-get install -y libopenmpi-dev openmpi-bin)"
+  exit 0
+fi
+tmp=$(mktemp -d /tmp/granary-t614-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_btl=self,vader OMPI_MCA_rmaps_base_oversubscribe=1
+export OMPI_MCA_mpi_yield_when_idle=1
+export OMP_NUM_THREADS=1
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
+mpi() { n=$1; shift; timeout 120 mpirun --oversubscribe -n "$n" "$mpicli" "$@"; }
+fail=0
+
+# scene NAME DIM CELLS EXTRA...: a GSRD scene of the decomposable engine
+scene() {
+  name=$1; dim=$2; cells=$3; shift 3
+  {
+    echo "[engine]"
+    echo "type = \"srd\""
+    echo "dimension = $dim"
+    echo "cells = $cells"
+    echo "creation = \"cells\""
+    echo "steps = 24"
+    echo "sort_every = 5"
+    echo "alpha = 120"
+    for l in "$@"; do echo "$l"; done
+  } > "$tmp/$name.toml"
+}
+scene periodic3 3 "[7, 6, 5]" "n0 = 5" "dt = 0.6" "eps = 0.7" "sigma = 0.6" "seed = 3"
+scene shear2 2 "[9, 8]" "n0 = 6" "dt = 0.4" "seed = 11" "thermostat = \"global\"" \
+  "[boundaries]" "lees_edwards = {shear_rate = 0.05}" "[forces]" "body_force = [0.001, 0]"
+scene shear3 3 "[6, 6, 5]" "n0 = 4" "dt = 0.5" "eps = 0.9" "sigma = 0.3" "seed = 5" \
+  "[boundaries]" "lees_edwards = {shear_rate = 0.1}"
+scene thermo2 2 "[10, 7]" "n0 = 8" "dt = 0.5" "seed = 2" "thermostat = \"cell\""
+scene walls2 2 "[8, 9]" "n0 = 6" "dt = 0.5" "seed = 9" \
+  "[boundaries]" "walls = {axis = \"y\", rule = \"no-slip\", T = 0.5}" "vibrating_wall = {amplitude = 0.1, omega = 0.3}" \
+  "[forces]" "gravity = [0, -0.02]"
+scene walls3 3 "[5, 4, 6]" "n0 = 4" "dt = 0.5" "eps = 0.95" "sigma = 0.2" "T0 = 1.5" "seed = 7" \
+  "[boundaries]" "walls = {axis = \"z\", rule = \"slip\", T = 0.5}" "vibrating_wall = {amplitude = 0.1, omega = 0.3}" \
+  "[forces]" "gravity = [0.005, 0, -0.01]"
+
+# check NAME LABEL JSON_FILE: the report's physics; prints "digests momentum ledger" for comparison
+check() {
+  python3 - "$1" "$2" "$3" <<'PYEOF' || fail=1
+import json, sys
+name, label, path = sys.argv[1:4]
+r = json.load(open(path))
+cells = {"periodic3": 7 * 6 * 5 * 5, "shear2": 9 * 8 * 6, "shear3": 6 * 6 * 5 * 4, "thermo2": 10 * 7 * 8,
+         "walls2": 8 * 9 * 6, "walls3": 5 * 4 * 6 * 4}[name]
+bad = []
+if r["particles"] != cells: bad.append("particles %d, not %d" % (r["particles"], cells))
+if r["steps"] != 24 or abs(r["time"] - 24 * {"periodic3": 0.6, "shear2": 0.4}.get(name, 0.5)) > 1e-9:
+    bad.append("steps %s, time %s" % (r["steps"], r["time"]))
+closure = r["kinetic_energy"] - (r["e_initial"] + r["e_coll"] + r["e_ext"])
+if not abs(closure) <= 1e-12 * r["e_initial"]: bad.append("ledger off by %g" % closure)
+if name == "periodic3":
+    p = max(abs(x) for x in r["momentum"])
+    if not p <= 1e-12 * (2 * r["kinetic_energy"] * r["particles"]) ** 0.5: bad.append("momentum %g" % p)
+    if r["clamped"] <= 0: bad.append("no clamped cell (the test wants clamps)")
+if r["processes"] > 1 and r["particles_sent"] <= 0: bad.append("no particle changed brick")
+if bad:
+    print("FAIL: %s %s: %s" % (name, label, "; ".join(bad)))
+    sys.exit(1)
+print(r["digest_particles"], r["digest_cells"], repr(r["momentum"]), repr(r["kinetic_energy"]), repr(r["e_coll"]),
+      repr(r["e_ext"]), repr(r["flux_kin"]), repr(r["flux_coll"]), repr(r["wall_impulse"]), r["clamped"])
+PYEOF
+}
+
+runs=0
+for name in periodic3 shear2 shear3 thermo2 walls2 walls3; do
+  f="$tmp/$name.toml"
+  dim=3
+  case $name in *2) dim=2 ;; esac
+  if ! "$cli" decompose "$f" --reference --json > "$tmp/ref.json" 2> "$tmp/err"; then
+    echo "FAIL: $name: the undivided engine and one brick differ or the run failed: $(cat "$tmp/err")"
+    fail=1
+    continue
+  fi
+  ref=$(check "$name" "one brick" "$tmp/ref.json")
+  if [ "$dim" = 3 ]; then
+    local_splits="2x1x1 1x3x1 2x2x1 3x2x1"
+    mpi_splits="1:1x1x1 2:2x1x1 2:1x1x2 3:1x3x1 3:3x1x1 4:2x1x2 4:1x2x2 4:auto"
+  else
+    local_splits="2x1 1x3 2x2 3x2"
+    mpi_splits="1:1x1 2:2x1 2:1x2 3:3x1 3:1x3 4:2x2 4:4x1 4:auto"
+  fi
+  for b in $local_splits; do
+    if ! "$cli" decompose "$f" --bricks "$b" --json > "$tmp/o.json" 2> "$tmp/err"; then
+      echo "FAIL: $name in one process, bricks $b: $(cat "$tmp/err")"; fail=1; continue
+    fi
+    got=$(check "$name" "bricks $b in one process" "$tmp/o.json")
+    [ "$got" = "$ref" ] || { echo "FAIL: $name, bricks $b in one process: $got, not $ref"; fail=1; }
+    runs=$((runs + 1))
+  done
+  for pb in $mpi_splits; do
+    n=${pb%%:*}; b=${pb#*:}
+    if ! mpi "$n" decompose "$f" --bricks "$b" --json > "$tmp/o.json" 2> "$tmp/err"; then
+      echo "FAIL: $name on $n processes, bricks $b: $(cat "$tmp/err")"; fail=1; continue
+    fi
+    got=$(check "$name" "$n processes, bricks $b" "$tmp/o.json")
+    [ "$got" = "$ref" ] || { echo "FAIL: $name on $n processes, bricks $b: $got, not $ref"; fail=1; }
+    runs=$((runs + 1))
+  done
+done
+echo "t614: $runs split runs compared with the undivided engine"
+
+# particles that stream beyond the neighbouring bricks (dt = 4 on bricks 4 cells wide): the round
+# reaches every process, the digests are the undivided engine's
+printf '[engine]\ntype = "srd"\ndimension = 2\ncells = [16, 4]\nn0 = 5\ndt = 4\nsteps = 20\ncreation = "cells"\nseed = 4\n' > "$tmp/fast.toml"
+"$cli" decompose "$tmp/fast.toml" --reference --json > "$tmp/ref.json"
+mpi 4 decompose "$tmp/fast.toml" --bricks 4x1 --json > "$tmp/o.json"
+python3 - "$tmp/ref.json" "$tmp/o.json" <<'PYEOF' || fail=1
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+bad = [k for k in ("digest_particles", "digest_cells", "momentum", "kinetic_energy", "e_coll") if a[k] != b[k]]
+if bad or not b["rounds_beyond_neighbours"] > 0:
+    print("FAIL: fast particles on 4 processes: differ in %s; %s rounds beyond the neighbours" % (bad, b["rounds_beyond_neighbours"]))
+    sys.exit(1)
+PYEOF
+
+# the default split on P processes is the automatic one: one brick each
+mpi 2 decompose "$tmp/periodic3.toml" --json > "$tmp/o.json"
+python3 -c "import json,sys; r=json.load(open(sys.argv[1])); b=r['bricks']; sys.exit(0 if b[0]*b[1]*b[2]==2 and r['processes']==2 and r['process_particles_min']>0 else 1)" "$tmp/o.json" ||
+  { echo "FAIL: the default split on 2 processes: $(cat "$tmp/o.json")"; fail=1; }
+
+# refusals: exit status and a message naming what was wrong
+expect() { # expect STATUS WORDS -- command...: fails unless the command exits STATUS with WORDS on stderr
+  want=$1; words=$2; shift 3
+  set +e
+  "$@" > "$tmp/out" 2> "$tmp/err"
+  got=$?
+  set -e
+  if [ "$got" != "$want" ] || ! grep -q -- "$words" "$tmp/err"; then
+    echo "FAIL: '$*': exit $got (want $want), stderr: $(cat "$tmp/err") (want '$words')"
+    fail=1
+  fi
+}
+printf '[engine]\ntype = "srd"\ncells = [4, 4, 4]\nsteps = 2\n' > "$tmp/serial.toml"
+printf '[engine]\ntype = "srd"\ncells = [4, 4, 4]\nsteps = 2\ncreation = "cells"\ndevice = "cuda"\n' > "$tmp/cuda.toml"
+cp "$src/scenes/default.toml" "$tmp/dsmc.toml"
+expect 1 'creation = "cells"' -- "$cli" decompose "$tmp/serial.toml"
+expect 1 'device = "cuda"' -- "$cli" decompose "$tmp/cuda.toml"
+expect 1 'GSRD scenes' -- "$cli" decompose "$tmp/dsmc.toml"
+expect 2 "--bricks '2x0x1'" -- "$cli" decompose "$tmp/periodic3.toml" --bricks 2x0x1
+expect 2 "--bricks '2x2'" -- "$cli" decompose "$tmp/periodic3.toml" --bricks 2x2
+expect 1 "pgrid\[0\]" -- "$cli" decompose "$tmp/periodic3.toml" --bricks 8x1x1
+expect 2 "--steps '-3'" -- "$cli" decompose "$tmp/periodic3.toml" --steps -3
+expect 1 "no such file\|cannot\|not found\|open" -- "$cli" decompose "$tmp/absent.toml"
+expect 2 "3 bricks for 2 processes" -- mpi 2 decompose "$tmp/periodic3.toml" --bricks 3x1x1
+expect 2 "--reference runs in one process" -- mpi 2 decompose "$tmp/periodic3.toml" --reference
+expect 1 "no split of the binning grid (2 x 2 x 2 cells) into 3 bricks" -- mpi 3 decompose "$tmp/periodic3.toml" --steps 1 --set engine.cells='[2, 2, 2]'
+
+[ $fail = 0 ] && echo "t614: all checks passed"
+exit $fail
