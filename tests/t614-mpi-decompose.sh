@@ -11,7 +11,7 @@
 # initial + collisions + external work, to 1e-12 of the initial energy), the momentum of a
 # periodic gas without forces, shear or thermostat stays 0 (to 1e-12 of sum |v|); particles
 # change brick (the exchange is exercised); particles faster than a brick per step reach bricks
-# beyond the neighbours (the round then includes every process). Bad input: each refusal names
+# beyond the neighbouring ones (any process may send to any). Bad input: each refusal names
 # what was wrong.
 # Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
 set -eu
@@ -127,8 +127,8 @@ for name in periodic3 shear2 shear3 thermo2 walls2 walls3; do
 done
 echo "t614: $runs split runs compared with the undivided engine"
 
-# particles that stream beyond the neighbouring bricks (dt = 4 on bricks 4 cells wide): the round
-# reaches every process, the digests are the undivided engine's
+# particles that stream beyond the neighbouring bricks (dt = 4 on bricks 4 cells wide): messages
+# go to bricks beyond the neighbouring ones, the digests are the undivided engine's
 printf '[engine]\ntype = "srd"\ndimension = 2\ncells = [16, 4]\nn0 = 5\ndt = 4\nsteps = 20\ncreation = "cells"\nseed = 4\n' > "$tmp/fast.toml"
 "$cli" decompose "$tmp/fast.toml" --reference --json > "$tmp/ref.json"
 mpi 4 decompose "$tmp/fast.toml" --bricks 4x1 --json > "$tmp/o.json"
@@ -136,8 +136,8 @@ python3 - "$tmp/ref.json" "$tmp/o.json" <<'PYEOF' || fail=1
 import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:3])
 bad = [k for k in ("digest_particles", "digest_cells", "momentum", "kinetic_energy", "e_coll") if a[k] != b[k]]
-if bad or not b["rounds_beyond_neighbours"] > 0:
-    print("FAIL: fast particles on 4 processes: differ in %s; %s rounds beyond the neighbours" % (bad, b["rounds_beyond_neighbours"]))
+if bad or not b["messages_beyond_neighbours"] > 0:
+    print("FAIL: fast particles on 4 processes: differ in %s; %s messages beyond the neighbours" % (bad, b["messages_beyond_neighbours"]))
     sys.exit(1)
 PYEOF
 

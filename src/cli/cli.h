@@ -21,7 +21,6 @@ void cli_mpi_stats(long long *steps, long long *bytes); /* gathers, and bytes ra
  * build/granary-mpi, one process in build/granary */
 const struct srd_bricks_comm *cli_mpi_bricks_comm(void);
 void cli_mpi_abort(int code); /* stops every process (build/granary: nothing) */
-long long cli_mpi_far_rounds(void); /* decomposed rounds in which a message went beyond the peers */
 
 int cli_info(int argc, char **argv);
 int cli_run(int argc, char **argv);

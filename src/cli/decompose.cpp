@@ -298,7 +298,7 @@ int cli_decompose(int argc, char **argv) {
     }
     num("bytes_per_step_per_brick", bytes_step);
     num("particles_sent", (double)r.particles_sent_all);
-    if (P > 1) num("rounds_beyond_neighbours", (double)cli_mpi_far_rounds());
+    num("messages_beyond_neighbours", (double)r.far_messages_all);
     o += "}\n";
     std::fputs(o.c_str(), stdout);
   } else {
@@ -321,8 +321,8 @@ int cli_decompose(int argc, char **argv) {
     std::printf("exchange         %.4g bytes per brick and step, %lld particles changed brick\n", bytes_step,
                 (long long)r.particles_sent_all);
     if (P > 1)
-      std::printf("                 %lld of %lld steps had a particle move beyond the neighbouring bricks\n",
-                  cli_mpi_far_rounds(), (long long)nsteps);
+      std::printf("                 %lld messages went to bricks beyond the neighbouring ones\n",
+                  (long long)r.far_messages_all);
   }
   return ref_ok ? 0 : 1;
 }

@@ -7,9 +7,8 @@
  * driver in libgranary calls them from its main thread only (MPI_THREAD_FUNNELED).
  *
  * And a srd_bricks_comm (src/srd/bricks.h) for `granary decompose`, one GSRD brick per process:
- * round = an MPI_Allreduce of whether any process has a message beyond its peers (the bricks
- * around it), then, with the peers (every process when one has), the counts and the non-empty
- * payloads by MPI_Irecv / MPI_Isend and MPI_Waitall; allreduce = MPI_Allreduce of the record as one contiguous type with
+ * round = the non-blocking consensus exchange (MPI_Issend of the non-empty messages, MPI_Iprobe,
+ * MPI_Ibarrier: below); allreduce = MPI_Allreduce of the record as one contiguous type with
  * an MPI_Op over libgranary's exact merge (commutative). */
 #ifdef GRAN_MPI
 #include <mpi.h>
@@ -29,7 +28,6 @@
 namespace {
 int g_rank = 0, g_size = 1;
 long long g_steps = 0, g_bytes = 0; /* collective gathers and bytes rank 0 received from the others */
-long long g_far_rounds = 0;         /* decomposed GSRD rounds that went beyond the peers */
 }  // namespace
 
 #ifdef GRAN_MPI
@@ -68,61 +66,54 @@ int gather(void *, const std::string &mine, std::vector<std::string> *all) {
   return 0;
 }
 
-/* the round's messages to and from the processes `who` (sorted, symmetric: each of them posts
- * to this one too): counts first, then the non-empty payloads */
-int exchange(std::vector<std::vector<double>> &out, std::vector<std::vector<double>> &in, const std::vector<int> &who) {
-  const size_t m = who.size();
-  std::vector<int64_t> sc(m), rc(m, 0);
-  std::vector<MPI_Request> rq;
-  rq.reserve(2 * m);
-  for (size_t j = 0; j < m; ++j) {
-    sc[j] = (int64_t)out[(size_t)who[j]].size();
-    rq.emplace_back();
-    if (MPI_Irecv(&rc[j], 1, MPI_INT64_T, who[j], 6, MPI_COMM_WORLD, &rq.back()) != MPI_SUCCESS) return 1;
-  }
-  for (size_t j = 0; j < m; ++j) {
-    rq.emplace_back();
-    if (MPI_Isend(&sc[j], 1, MPI_INT64_T, who[j], 6, MPI_COMM_WORLD, &rq.back()) != MPI_SUCCESS) return 1;
-  }
-  if (MPI_Waitall((int)rq.size(), rq.data(), MPI_STATUSES_IGNORE) != MPI_SUCCESS) return 1;
-  rq.clear();
-  for (size_t j = 0; j < m; ++j) {
-    std::vector<double> &b = in[(size_t)who[j]];
-    if (rc[j] < 0 || rc[j] > INT_MAX || sc[j] > INT_MAX) return 1;
-    b.resize((size_t)rc[j]);
-    if (rc[j] == 0) continue;
-    rq.emplace_back();
-    if (MPI_Irecv(b.data(), (int)rc[j], MPI_DOUBLE, who[j], 7, MPI_COMM_WORLD, &rq.back()) != MPI_SUCCESS) return 1;
-  }
-  for (size_t j = 0; j < m; ++j) {
-    if (sc[j] == 0) continue;
-    rq.emplace_back();
-    if (MPI_Isend(out[(size_t)who[j]].data(), (int)sc[j], MPI_DOUBLE, who[j], 7, MPI_COMM_WORLD, &rq.back()) !=
+/* A round by the non-blocking consensus of Hoefler, Siebert and Lumsdaine (dynamic sparse data
+ * exchange, PPoPP 2010): each non-empty message goes by MPI_Issend; the process receives whatever
+ * MPI_Iprobe finds; once its own sends have been received it enters an MPI_Ibarrier, and the
+ * round ends when the barrier completes (every process's sends received). No counts, no
+ * all-to-all: a process only talks to the processes it has particles for. Rounds alternate tags,
+ * so that a process one round ahead cannot be mistaken for this round's sender. */
+int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std::vector<double>> &in) {
+  static int parity = 0;
+  const int tag = 7 + parity;
+  parity ^= 1;
+  const int P = g_size;
+  std::vector<MPI_Request> sq;
+  for (int p = 0; p < P; ++p) {
+    in[(size_t)p].clear();
+    if (p == g_rank || out[(size_t)p].empty()) continue;
+    if (out[(size_t)p].size() > (size_t)INT_MAX) return 1;
+    sq.emplace_back();
+    if (MPI_Issend(out[(size_t)p].data(), (int)out[(size_t)p].size(), MPI_DOUBLE, p, tag, MPI_COMM_WORLD, &sq.back()) !=
         MPI_SUCCESS)
       return 1;
   }
-  return MPI_Waitall((int)rq.size(), rq.data(), MPI_STATUSES_IGNORE) != MPI_SUCCESS;
-}
-
-/* a round: one MPI_Allreduce of "a message beyond my peers"; none (the usual case): the peers
- * exchange; else every pair of processes */
-int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std::vector<double>> &in,
-                 const std::vector<int> &peers) {
-  const int P = g_size;
-  std::vector<char> peer((size_t)P, 0);
-  for (int p : peers) peer[(size_t)p] = 1;
-  int far = 0, any = 0;
-  for (int p = 0; p < P; ++p) {
-    in[(size_t)p].clear();
-    if (p != g_rank && !peer[(size_t)p] && !out[(size_t)p].empty()) far = 1;
+  MPI_Request barrier = MPI_REQUEST_NULL;
+  bool in_barrier = false;
+  for (;;) {
+    int flag = 0;
+    MPI_Status st;
+    if (MPI_Iprobe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &flag, &st) != MPI_SUCCESS) return 1;
+    if (flag) {
+      int count = 0;
+      if (MPI_Get_count(&st, MPI_DOUBLE, &count) != MPI_SUCCESS || count < 0) return 1;
+      std::vector<double> &b = in[(size_t)st.MPI_SOURCE];
+      b.resize((size_t)count);
+      if (MPI_Recv(b.data(), count, MPI_DOUBLE, st.MPI_SOURCE, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS)
+        return 1;
+      continue;
+    }
+    int done = 0;
+    if (!in_barrier) {
+      if (MPI_Testall((int)sq.size(), sq.data(), &done, MPI_STATUSES_IGNORE) != MPI_SUCCESS) return 1;
+      if (done) {
+        if (MPI_Ibarrier(MPI_COMM_WORLD, &barrier) != MPI_SUCCESS) return 1;
+        in_barrier = true;
+      }
+    } else {
+      if (MPI_Test(&barrier, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS) return 1;
+      if (done) return 0;
+    }
   }
-  if (MPI_Allreduce(&far, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS) return 1;
-  g_far_rounds += any;
-  if (!any) return exchange(out, in, peers);
-  std::vector<int> all;
-  for (int p = 0; p < P; ++p)
-    if (p != g_rank) all.push_back(p);
-  return exchange(out, in, all);
 }
 
 /* the MPI_Op of the all-reduce calls the merge of the record being reduced (one at a time) */
@@ -209,7 +200,6 @@ void cli_mpi_abort(int) {}
 #endif
 
 int cli_mpi_rank(void) { return g_rank; }
-long long cli_mpi_far_rounds(void) { return g_far_rounds; }
 int cli_mpi_size(void) { return g_size; }
 void cli_mpi_stats(long long *steps, long long *bytes) {
   *steps = g_steps;

@@ -167,13 +167,16 @@ void merge_bytes(void *inout, const void *in) {
  * receive runs the round; the all-reduce is the comm's, with Red's exact merge. */
 class CommTransport final : public Transport {
  public:
-  CommTransport(const srd_bricks_comm &c, std::vector<int> peers)
-      : c_(c), out_((size_t)c.size), in_((size_t)c.size), sent_((size_t)c.size, 0), peers_(std::move(peers)) {}
+  CommTransport(const srd_bricks_comm &c, const std::vector<int> &peers)
+      : c_(c), out_((size_t)c.size), in_((size_t)c.size), sent_((size_t)c.size, 0), peer_((size_t)c.size, 0) {
+    for (int p : peers) peer_[(size_t)p] = 1;
+  }
   int size() const override { return c_.size; }
   int send(int from, int to, std::vector<double> &buf) override {
     GRAN_CHECK(from == c_.rank && to >= 0 && to < c_.size && to != from && !sent_[(size_t)to], GRAN_ERR_INTERNAL,
                "brick transport: process %d cannot send from brick %d to %d in this round", c_.rank, from, to);
     bytes += (int64_t)(buf.size() * sizeof(double));
+    if (!buf.empty() && !peer_[(size_t)to]) ++far;
     out_[(size_t)to].swap(buf);
     buf.clear();
     sent_[(size_t)to] = 1;
@@ -186,7 +189,7 @@ class CommTransport final : public Transport {
       for (int p = 0; p < c_.size; ++p)
         GRAN_CHECK(p == c_.rank || sent_[(size_t)p], GRAN_ERR_INTERNAL,
                    "brick transport: process %d receives before it sent to %d", c_.rank, p);
-      GRAN_CHECK(c_.round(c_.ctx, out_, in_, peers_) == 0, GRAN_ERR_IO,
+      GRAN_CHECK(c_.round(c_.ctx, out_, in_) == 0, GRAN_ERR_IO,
                  "decomposed GSRD run: the particle exchange of process %d failed (a process of the run stopped or "
                  "the transport broke)",
                  c_.rank);
@@ -221,12 +224,13 @@ class CommTransport final : public Transport {
     return GRAN_SUCCESS;
   }
   int64_t bytes = 0;
+  int64_t far = 0; /* messages sent beyond the bricks around this one */
 
  private:
   srd_bricks_comm c_;
   std::vector<std::vector<double>> out_, in_;
   std::vector<char> sent_;
-  std::vector<int> peers_;
+  std::vector<char> peer_;
   bool done_ = false, posted_ = false;
   int taken_ = 0;
   Red red_;
@@ -269,37 +273,14 @@ struct Brick {
   std::vector<srd_cell_sum> W;
   std::vector<std::vector<double>> out;
   std::vector<double> in, arr;
-  /* the exchange's scratch particle arrays (swapped with the particles' at each merge) */
-  struct Arrays {
-    std::vector<double> x, y, z, vx, vy, vz, cf, ce, ci;
-    std::vector<uint64_t> key;
-    std::vector<uint32_t> lc;
-    void resize(int64_t n, bool d3, bool str) {
-      for (std::vector<double> *v : {&x, &y, &vx, &vy}) v->resize((size_t)n);
-      z.resize(d3 ? (size_t)n : 0);
-      vz.resize(d3 ? (size_t)n : 0);
-      for (std::vector<double> *v : {&cf, &ce, &ci}) v->resize(str ? (size_t)n : 0);
-      key.resize((size_t)n);
-      lc.resize((size_t)n);
-    }
-  } scratch;
-  void swap_scratch() {
-    x.swap(scratch.x);
-    y.swap(scratch.y);
-    z.swap(scratch.z);
-    vx.swap(scratch.vx);
-    vy.swap(scratch.vy);
-    vz.swap(scratch.vz);
-    cf.swap(scratch.cf);
-    ce.swap(scratch.ce);
-    ci.swap(scratch.ci);
-    key.swap(scratch.key);
-    lc.swap(scratch.lc);
-  }
   std::vector<int64_t> ord;
-  std::vector<int32_t> dest2;
-  int64_t ndead = 0;   /* particles that left this step (dest >= 0), still in the arrays */
-  int64_t nsorted = 0; /* the arrays' first nsorted particles are in key order; the rest arrived since */
+  /* dest[i]: -1 a particle of this brick, -2 one that arrived since the last sort (its slot is
+   * out of key order); >= 0 a hole: the slot of a particle that left (its destination until it is
+   * packed, then kHole), refilled by arrivals or dropped at the next sort */
+  std::vector<int64_t> holes;               /* the holes' slots */
+  std::vector<std::vector<int64_t>> leave;  /* per thread: the slots that left this step */
+  int64_t late = 0;                         /* particles arrived since the last sort */
+  std::vector<uint8_t> dirty;               /* per local cell: holds such a particle */
   Red red, red_th;
   double gscale = 1.0; /* the global thermostat's factor of the step */
   int64_t moved = 0; /* particles sent */
@@ -315,6 +296,8 @@ struct Ctx {
 };
 
 constexpr uint32_t kLeBit = 0x80000000u;
+constexpr int32_t kHole = INT32_MAX; /* dest of a hole whose particle has been sent */
+constexpr int32_t kLate = -2;        /* dest of a particle that arrived since the last sort */
 
 inline int owner_of(const Split &sp, const int64_t c[3]) {
   const int b[3] = {sp.own[0][(size_t)c[0]], sp.own[1][(size_t)c[1]], sp.own[2][(size_t)c[2]]};
@@ -360,7 +343,7 @@ constexpr int words_per_particle() {
   return 2 * DIM + 1 + (Fx<FXF>::STR ? 3 : 0);
 }
 
-/* stream, bin, pack and send the leavers */
+/* stream and bin in place, pack and send the leavers (their slots become holes) */
 template <int DIM, int FXF>
 int phase_stream(const Ctx &C, Brick &B, Transport &T) {
   using F = Fx<FXF>;
@@ -377,48 +360,25 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
   const double sh[3] = {B.shift[0], B.shift[1], B.shift[2]};
   B.g = g;
   for (int k = 0; k < 3; ++k) B.sh[k] = sh[k];
-  /* the particles that left in the previous step (dest >= 0) are dropped while streaming: the
-   * survivors are streamed from the particle arrays into the scratch ones (every thread its chunk
-   * at its offset), in order */
-  const int64_t n_in = (int64_t)B.x.size();
-  const bool compact = B.ndead > 0;
-  const int64_t n = n_in - B.ndead;
-  if (compact) {
-    const int32_t *dest = B.dest.data();
-    int64_t below = 0;
-    for (int64_t i = 0; i < B.nsorted; ++i) below += dest[i] < 0;
-    B.nsorted = below;
-  }
-  Brick::Arrays &S = B.scratch;
-  if (compact) {
-    S.resize(n, DIM == 3, F::STR);
-  } else {
-    if (F::STR)
-      for (std::vector<double> *v : {&B.cf, &B.ce, &B.ci}) v->resize((size_t)n);
-    B.lc.resize((size_t)n);
-  }
-  B.dest2.resize((size_t)n);
-  const double *ix = B.x.data(), *iy = B.y.data(), *iz = DIM == 3 ? B.z.data() : nullptr;
-  const double *ivx = B.vx.data(), *ivy = B.vy.data(), *ivz = DIM == 3 ? B.vz.data() : nullptr;
-  const uint64_t *ikey = B.key.data();
-  double *px = compact ? S.x.data() : B.x.data(), *py = compact ? S.y.data() : B.y.data();
-  double *pz = DIM == 3 ? (compact ? S.z.data() : B.z.data()) : nullptr;
-  double *vx = compact ? S.vx.data() : B.vx.data(), *vy = compact ? S.vy.data() : B.vy.data();
-  double *vz = DIM == 3 ? (compact ? S.vz.data() : B.vz.data()) : nullptr;
-  uint64_t *okey = compact ? S.key.data() : B.key.data();
-  double *cf = F::STR ? (compact ? S.cf.data() : B.cf.data()) : nullptr;
-  double *ce = F::STR ? (compact ? S.ce.data() : B.ce.data()) : nullptr;
-  double *ci = F::STR ? (compact ? S.ci.data() : B.ci.data()) : nullptr;
-  uint32_t *lcp = compact ? S.lc.data() : B.lc.data();
-  int32_t *odest = B.dest2.data();
-  const int32_t *idest = B.dest.data();
+  const int64_t n = (int64_t)B.x.size();
+  if (F::STR)
+    for (std::vector<double> *v : {&B.cf, &B.ce, &B.ci}) v->resize((size_t)n);
+  B.lc.resize((size_t)n);
+  B.dest.resize((size_t)n, -1);
+  double *px = B.x.data(), *py = B.y.data(), *pz = DIM == 3 ? B.z.data() : nullptr;
+  double *vx = B.vx.data(), *vy = B.vy.data(), *vz = DIM == 3 ? B.vz.data() : nullptr;
+  double *cf = F::STR ? B.cf.data() : nullptr, *ce = F::STR ? B.ce.data() : nullptr, *ci = F::STR ? B.ci.data() : nullptr;
+  uint32_t *lcp = B.lc.data();
+  int32_t *dest = B.dest.data();
   const Split &sp = C.sp;
-  const bool single = sp.nbricks() == 1;
+  const bool single = sp.nbricks() == 1, holes = !B.holes.empty();
+  const int64_t lo0 = B.lo[0], lo1 = B.lo[1], lo2 = B.lo[2];
+  const uint64_t w0 = (uint64_t)B.w[0], w1 = (uint64_t)B.w[1], w2 = (uint64_t)B.w[2];
   double chk = 0.0;
-  int64_t nleave = 0;
   const srd_rule_const K = C.K;
-  std::vector<int64_t> alive((size_t)C.nth + 1, 0);
-#pragma omp parallel num_threads(C.nth) reduction(+ : chk, nleave)
+  B.leave.resize((size_t)C.nth);
+  for (auto &l : B.leave) l.clear();
+#pragma omp parallel num_threads(C.nth) reduction(+ : chk)
   {
     Ftz ftz;
     const srd_geom gl = g;
@@ -427,62 +387,48 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
     tid = omp_get_thread_num();
     nt = omp_get_num_threads();
 #endif
-    const int64_t lo = n_in * tid / nt, hi = n_in * (tid + 1) / nt;
-    int64_t k = lo;
-    if (compact) {
-      int64_t a = 0;
-      for (int64_t i = lo; i < hi; ++i) a += idest[i] < 0;
-      alive[(size_t)tid] = a;
-#pragma omp barrier
-      k = 0;
-      for (int q = 0; q < tid; ++q) k += alive[(size_t)q];
-    }
+    std::vector<int64_t> &lv = B.leave[(size_t)tid];
+    const int64_t lo = n * tid / nt, hi = n * (tid + 1) / nt;
     for (int64_t i = lo; i < hi; ++i) {
-      if (compact && idest[i] >= 0) continue;
+      if (holes && dest[i] >= 0) continue;
       const int32_t fx = srd_rule_fx_fold(FXF, K.fx);
-      double p[3] = {ix[i], iy[i], DIM == 3 ? iz[i] : 0.0};
-      double v[3] = {ivx[i], ivy[i], DIM == 3 ? ivz[i] : 0.0};
+      double p[3] = {px[i], py[i], DIM == 3 ? pz[i] : 0.0};
+      double v[3] = {vx[i], vy[i], DIM == 3 ? vz[i] : 0.0};
       double acc[SRD_ACC_N] = {0, 0, 0, 0, 0, 0, 0};
       srd_rule_move(fx, DIM, &K, &gl, p, v, acc);
       chk += p[0] + p[1] + p[2];
-      px[k] = p[0];
-      py[k] = p[1];
-      vx[k] = v[0];
-      vy[k] = v[1];
+      px[i] = p[0];
+      py[i] = p[1];
+      vx[i] = v[0];
+      vy[i] = v[1];
       if (DIM == 3) {
-        pz[k] = p[2];
-        vz[k] = v[2];
+        pz[i] = p[2];
+        vz[i] = v[2];
       }
-      if (compact) okey[k] = ikey[i];
       if (F::STR) {
-        cf[k] = acc[SRD_ACC_FLUX];
-        ce[k] = acc[SRD_ACC_EXT];
-        ci[k] = acc[SRD_ACC_IMP];
+        cf[i] = acc[SRD_ACC_FLUX];
+        ce[i] = acc[SRD_ACC_EXT];
+        ci[i] = acc[SRD_ACC_IMP];
       }
       int64_t c[3];
       double dvx;
       srd_bin3(&gl, sh, p, c, &dvx);
-      const int r = single ? B.rank : owner_of(sp, c);
-      if (r == B.rank) {
-        odest[k] = -1;
-        lcp[k] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+      const bool mine = single || ((uint64_t)(c[0] - lo0) < w0 && (uint64_t)(c[1] - lo1) < w1 &&
+                                   (uint64_t)(c[2] - lo2) < w2);
+      if (mine) {
+        lcp[i] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
       } else {
-        odest[k] = r;
-        ++nleave;
+        dest[i] = owner_of(sp, c);
+        lv.push_back(i);
       }
-      ++k;
     }
   }
-  if (compact) B.swap_scratch();
-  B.dest.swap(B.dest2);
-  B.ndead = 0;
-  if (!compact && B.nsorted > n) B.nsorted = n;
   if (chk - chk != 0.0) {
     static const char *const names[6] = {"x", "y", "z", "vx", "vy", "vz"};
     const double *a[6] = {px, py, pz, vx, vy, vz};
     for (int64_t i = 0; i < n; ++i)
       for (int q : {3, 4, 5, 0, 1, 2})
-        if (a[q] && !std::isfinite(a[q][i]))
+        if (a[q] && dest[i] < 0 && !std::isfinite(a[q][i]))
           return GRAN_ERROR(GRAN_ERR_NUMERIC,
                             "GSRD step %lld: particle %lld of brick %d has a non-finite %s (%g) after its move; the run "
                             "cannot continue",
@@ -493,34 +439,54 @@ int phase_stream(const Ctx &C, Brick &B, Transport &T) {
   constexpr int WPP = words_per_particle<DIM, FXF>();
   B.out.resize((size_t)P);
   for (auto &m : B.out) m.clear();
-  for (int64_t i = 0; i < n && nleave > 0; ++i) { /* the leavers, in local (key) order per destination */
-    const int d = B.dest[(size_t)i];
-    if (d < 0) continue;
-    std::vector<double> &m = B.out[(size_t)d];
-    double rec[WPP];
-    int q = 0;
-    rec[q++] = px[i];
-    rec[q++] = py[i];
-    if (DIM == 3) rec[q++] = pz[i];
-    rec[q++] = vx[i];
-    rec[q++] = vy[i];
-    if (DIM == 3) rec[q++] = vz[i];
-    rec[q++] = word_of(B.key[(size_t)i]);
-    if (F::STR) {
-      rec[q++] = B.cf[(size_t)i];
-      rec[q++] = B.ce[(size_t)i];
-      rec[q++] = B.ci[(size_t)i];
+  int64_t nleave = 0;
+  for (const auto &lv : B.leave) /* the leavers in slot order, per destination */
+    for (const int64_t i : lv) {
+      std::vector<double> &m = B.out[(size_t)dest[i]];
+      double rec[WPP];
+      int q = 0;
+      rec[q++] = px[i];
+      rec[q++] = py[i];
+      if (DIM == 3) rec[q++] = pz[i];
+      rec[q++] = vx[i];
+      rec[q++] = vy[i];
+      if (DIM == 3) rec[q++] = vz[i];
+      rec[q++] = word_of(B.key[(size_t)i]);
+      if (F::STR) {
+        rec[q++] = cf[i];
+        rec[q++] = ce[i];
+        rec[q++] = ci[i];
+      }
+      m.insert(m.end(), rec, rec + WPP);
+      dest[i] = kHole;
+      B.holes.push_back(i);
+      ++nleave;
     }
-    m.insert(m.end(), rec, rec + WPP);
-  }
   B.moved += nleave;
-  B.ndead = nleave; /* they stay, marked by dest, until the next step's streaming drops them */
   for (int r = 0; r < P; ++r)
     if (r != B.rank) GRAN_CALL(T.send(B.rank, r, B.out[(size_t)r]));
   return GRAN_SUCCESS;
 }
 
-/* receive the arrivals and merge them into the residents by key */
+/* greedy matching of two lists sorted by cell: for each entry of the shorter list (in order) the
+ * nearest unused entry of the longer one that still leaves enough for the rest; pick[k] = the
+ * index into `longer` of short entry k */
+void match_by_cell(const std::vector<std::pair<uint32_t, int64_t>> &shorter,
+                   const std::vector<std::pair<uint32_t, int64_t>> &longer, std::vector<int64_t> &pick) {
+  const int64_t ns = (int64_t)shorter.size(), nl = (int64_t)longer.size();
+  pick.resize((size_t)ns);
+  int64_t i = 0;
+  for (int64_t k = 0; k < ns; ++k) {
+    const int64_t c = shorter[(size_t)k].first;
+    while (nl - (i + 1) >= ns - k && std::llabs((int64_t)longer[(size_t)i + 1].first - c) <=
+                                           std::llabs((int64_t)longer[(size_t)i].first - c))
+      ++i;
+    pick[(size_t)k] = i++;
+  }
+}
+
+/* receive the arrivals and put them into the holes nearest their cells (the rest appended); the
+ * cell pass puts each cell's particles in key order */
 template <int DIM, int FXF>
 int phase_recv(const Ctx &C, Brick &B, Transport &T) {
   using F = Fx<FXF>;
@@ -536,14 +502,46 @@ int phase_recv(const Ctx &C, Brick &B, Transport &T) {
   const int64_t m = (int64_t)(B.arr.size() / WPP);
   if (m == 0) return GRAN_SUCCESS;
   const double *A = B.arr.data();
-  constexpr int KW = 2 * DIM; /* the key's word */
-  std::vector<int64_t> &ord = B.ord;
-  ord.resize((size_t)m);
-  std::iota(ord.begin(), ord.end(), 0);
-  std::sort(ord.begin(), ord.end(), [&](int64_t a, int64_t b) { return key_of(A[a * WPP + KW]) < key_of(A[b * WPP + KW]); });
-  /* appended after the residents (in key order among themselves): the cell pass puts each cell's
-   * particles in key order */
-  const int64_t n0 = (int64_t)B.x.size(), n = n0 + m;
+  /* the arrivals' local cells (the top bit: seen across the Lees-Edwards boundary) */
+  std::vector<uint32_t> alc((size_t)m);
+  std::vector<std::pair<uint32_t, int64_t>> ac((size_t)m), hc(B.holes.size());
+  for (int64_t j = 0; j < m; ++j) {
+    const double *rec = A + j * WPP;
+    const double p[3] = {rec[0], rec[1], DIM == 3 ? rec[2] : 0.0};
+    int64_t c[3];
+    double dvx;
+    srd_bin3(&B.g, B.sh, p, c, &dvx);
+    GRAN_CHECK(owner_of(C.sp, c) == B.rank, GRAN_ERR_INTERNAL, "brick %d received a particle of brick %d", B.rank,
+               owner_of(C.sp, c));
+    alc[(size_t)j] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+    ac[(size_t)j] = {alc[(size_t)j] & ~kLeBit, j};
+  }
+  for (size_t h = 0; h < B.holes.size(); ++h) hc[h] = {B.lc[(size_t)B.holes[h]] & ~kLeBit, B.holes[h]};
+  std::sort(ac.begin(), ac.end());
+  std::sort(hc.begin(), hc.end());
+  /* slot of each arrival (in ac order): the matched holes, then appended slots */
+  const int64_t H = (int64_t)hc.size(), n0 = (int64_t)B.x.size();
+  std::vector<int64_t> &slot = B.ord, pick;
+  slot.assign((size_t)m, -1);
+  std::vector<char> used((size_t)H, 0);
+  if (m <= H) {
+    match_by_cell(ac, hc, pick);
+    for (int64_t k = 0; k < m; ++k) {
+      slot[(size_t)k] = hc[(size_t)pick[(size_t)k]].second;
+      used[(size_t)pick[(size_t)k]] = 1;
+    }
+  } else {
+    match_by_cell(hc, ac, pick);
+    for (int64_t h = 0; h < H; ++h) slot[(size_t)pick[(size_t)h]] = hc[(size_t)h].second;
+    std::fill(used.begin(), used.end(), 1);
+  }
+  int64_t n = n0;
+  for (int64_t k = 0; k < m; ++k)
+    if (slot[(size_t)k] < 0) slot[(size_t)k] = n++;
+  B.holes.clear();
+  for (int64_t h = 0; h < H; ++h)
+    if (!used[(size_t)h]) B.holes.push_back(hc[(size_t)h].second);
+  B.late += m;
   for (std::vector<double> *v : {&B.x, &B.y, &B.vx, &B.vy}) v->resize((size_t)n);
   if (DIM == 3) {
     B.z.resize((size_t)n);
@@ -554,14 +552,13 @@ int phase_recv(const Ctx &C, Brick &B, Transport &T) {
   B.key.resize((size_t)n);
   B.lc.resize((size_t)n);
   B.dest.resize((size_t)n, -1);
-  for (int64_t j = 0; j < m; ++j) {
-    const int64_t t = n0 + j;
-    const double *rec = A + ord[(size_t)j] * WPP;
+  for (int64_t k = 0; k < m; ++k) {
+    const int64_t j = ac[(size_t)k].second, t = slot[(size_t)k];
+    const double *rec = A + j * WPP;
     int q = 0;
-    double p[3] = {0, 0, 0};
-    p[0] = B.x[(size_t)t] = rec[q++];
-    p[1] = B.y[(size_t)t] = rec[q++];
-    if (DIM == 3) p[2] = B.z[(size_t)t] = rec[q++];
+    B.x[(size_t)t] = rec[q++];
+    B.y[(size_t)t] = rec[q++];
+    if (DIM == 3) B.z[(size_t)t] = rec[q++];
     B.vx[(size_t)t] = rec[q++];
     B.vy[(size_t)t] = rec[q++];
     if (DIM == 3) B.vz[(size_t)t] = rec[q++];
@@ -571,12 +568,8 @@ int phase_recv(const Ctx &C, Brick &B, Transport &T) {
       B.ce[(size_t)t] = rec[q++];
       B.ci[(size_t)t] = rec[q++];
     }
-    int64_t c[3];
-    double dvx;
-    srd_bin3(&B.g, B.sh, p, c, &dvx);
-    GRAN_CHECK(owner_of(C.sp, c) == B.rank, GRAN_ERR_INTERNAL, "brick %d received a particle of brick %d", B.rank,
-               owner_of(C.sp, c));
-    B.lc[(size_t)t] = local_of(B, c) | (F::LE && dvx != 0.0 ? kLeBit : 0u);
+    B.lc[(size_t)t] = alc[(size_t)j];
+    B.dest[(size_t)t] = kLate;
   }
   return GRAN_SUCCESS;
 }
@@ -626,23 +619,30 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
   using F = Fx<FXF>;
   const int32_t fx = srd_rule_fx_fold(FXF, C.K.fx);
   const int64_t n = (int64_t)B.x.size(), ncl = B.ncl;
-  B.psteps += n - B.ndead;
+  const int64_t nhole = (int64_t)B.holes.size();
+  B.psteps += n - nhole;
   B.start.assign((size_t)ncl + 1, 0);
-  B.order.resize((size_t)(n - B.ndead));
+  B.order.resize((size_t)(n - nhole));
   uint32_t *start = B.start.data(), *order = B.order.data();
   const uint32_t *lc = B.lc.data();
   const int32_t *dest = B.dest.data();
-  const bool dead = B.ndead > 0; /* the particles that left (dest >= 0) are not counted */
+  const bool dead = nhole > 0; /* the holes (dest >= 0) are not counted */
+  const bool late = B.late > 0; /* some slots are out of key order: their cells are marked */
+  B.dirty.assign(late ? (size_t)ncl : 0, 0);
+  uint8_t *dirty = B.dirty.data();
   for (int64_t i = 0; i < n; ++i)
     if (!dead || dest[i] < 0) start[(lc[i] & ~kLeBit) + 1]++;
   for (int64_t c = 0; c < ncl; ++c) start[c + 1] += start[c];
   {
     std::vector<uint32_t> cur(B.start.begin(), B.start.end() - 1);
     for (int64_t i = 0; i < n; ++i)
-      if (!dead || dest[i] < 0) order[cur[lc[i] & ~kLeBit]++] = (uint32_t)i;
+      if (!dead || dest[i] < 0) {
+        const uint32_t c = lc[i] & ~kLeBit;
+        order[cur[c]++] = (uint32_t)i;
+        if (late && dest[i] == kLate) dirty[c] = 1;
+      }
   }
   const uint64_t *key = B.key.data();
-  const int64_t nsorted = B.nsorted;
   B.W.resize((size_t)ncl);
   B.red.clear();
   B.red_th.clear();
@@ -671,9 +671,9 @@ int phase_sums(const Ctx &C, Brick &B, Transport &T) {
         if (!gth) collide_cell<DIM, FXF>(C, B, c, cs, 1.0, R, g, sh, K);
         continue;
       }
-      /* a cell with particles that arrived since the last sort: its list (in index order: the
-       * sorted residents, then the arrivals) into key order */
-      if (j1 - j0 > 1 && (int64_t)order[j1 - 1] >= nsorted)
+      /* a cell holding particles that arrived since the last sort (in holes and at the end): its
+       * list (in slot order: the residents in key order, arrivals among them) into key order */
+      if (late && dirty[c] && j1 - j0 > 1)
         for (uint32_t a = j0 + 1; a < j1; ++a) {
           const uint32_t v = order[a];
           const uint64_t kv = key[v];
@@ -768,7 +768,7 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
   const gran_srd_options &o = *C.o;
   if (o.sort_every > 0 && (B.step + 1) % o.sort_every == 0) {
     const double t0 = t_sort ? srd_clock_s() : 0.0;
-    const int64_t n = (int64_t)start[ncl]; /* the particles that left are dropped */
+    const int64_t n = (int64_t)start[ncl]; /* the holes are dropped */
     std::vector<double> tmp((size_t)n);
     std::vector<double> *arr[6] = {&B.x, &B.y, &B.z, &B.vx, &B.vy, &B.vz};
     for (int q = 0; q < 6; ++q) {
@@ -785,8 +785,8 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
     }
     B.key.resize((size_t)n);
     B.dest.assign((size_t)n, -1);
-    B.ndead = 0;
-    B.nsorted = n;
+    B.holes.clear();
+    B.late = 0;
     if (t_sort) *t_sort += srd_clock_s() - t0;
   }
   return T.reduce_post(B.rank, B.red);
@@ -845,7 +845,7 @@ int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps
   }
   if (prof && nsteps > 0) {
     int64_t n = 0;
-    for (const Brick &B : bs) n += (int64_t)B.x.size() - B.ndead;
+    for (const Brick &B : bs) n += (int64_t)(B.x.size() - B.holes.size());
     const double u = 1e9 / ((double)n * (double)nsteps);
     std::fprintf(stderr,
                  "GSRD bricks phases, ns per particle-step (%lld steps, %lld particles, %d bricks): stream + bin + pack "
@@ -1086,7 +1086,6 @@ int bricks_create(const Ctx &C, std::vector<Brick> &bs, Transport &T, double *e_
     e.clear();
     GRAN_CALL(T.reduce_take(B.rank, e));
     *e_initial = gran_exactsum_value_(&e.a[0]);
-    B.nsorted = (int64_t)B.x.size();
   }
   (void)N;
   return GRAN_SUCCESS;
@@ -1108,8 +1107,7 @@ int srd_bricks_advance_(gran_srd *s, int64_t steps) {
       Lend lend(s, B);
       B.key.resize(B.x.size()); /* key = index: valid until the first sort (only one epoch is compared) */
       std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
-      B.nsorted = (int64_t)B.x.size();
-      LocalTransport T(1);
+        LocalTransport T(1);
       e = pick(s->opt.dim, srd_fx_of(&s->opt))(C, bs, T, steps);
     }
     scalars_to(B, s); /* the steps done (on an error: up to the step that failed) */
@@ -1237,7 +1235,6 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
       }
       B.key.push_back((uint64_t)i);
     }
-    for (Brick &B : bs) B.nsorted = (int64_t)B.x.size();
     const double t0 = srd_clock_s();
     GRAN_CALL(pick(d, srd_fx_of(&s->opt))(C, bs, T, nsteps));
     const double t_steps = srd_clock_s() - t0;
@@ -1253,7 +1250,7 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
     all.reserve((size_t)s->n);
     for (int r = 0; r < P; ++r)
       for (size_t i = 0; i < bs[(size_t)r].key.size(); ++i)
-        if (bs[(size_t)r].ndead == 0 || bs[(size_t)r].dest[i] < 0) /* not the particles that left in the last step */
+        if (bs[(size_t)r].dest.empty() || bs[(size_t)r].dest[i] < 0) /* not the holes */
           all.push_back({bs[(size_t)r].key[i], {r, (int64_t)i}});
     GRAN_CHECK((int64_t)all.size() == s->n, GRAN_ERR_INTERNAL, "the bricks hold %lld particles, not %lld",
                (long long)all.size(), (long long)s->n);
@@ -1330,7 +1327,7 @@ inline uint64_t hash_cell(int64_t gc, const double V[3], const uint64_t s[4]) {
 /* the gas's totals over the processes: digests (sums mod 2^64), counts, extremes, exact sums */
 struct Tot {
   uint64_t dp, dc;
-  int64_t n, nmin, nmax, bytes, moved;
+  int64_t n, nmin, nmax, bytes, moved, far;
   double tmax;
   gran_exactsum mom[3], en;
   void merge(const Tot &o) {
@@ -1341,6 +1338,7 @@ struct Tot {
     nmax = std::max(nmax, o.nmax);
     bytes += o.bytes;
     moved += o.moved;
+    far += o.far;
     tmax = std::max(tmax, o.tmax);
     for (int k = 0; k < 3; ++k) gran_exactsum_merge_(&mom[k], &o.mom[k]);
     gran_exactsum_merge_(&en, &o.en);
@@ -1459,7 +1457,7 @@ int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_
     gran_exactsum_init_(&t.en);
     int64_t nl = 0;
     for (size_t i = 0; i < B.x.size(); ++i) {
-      if (B.ndead > 0 && B.dest[i] >= 0) continue; /* left in the last step */
+      if (!B.dest.empty() && B.dest[i] >= 0) continue; /* a hole */
       const double z = d3 ? B.z[i] : 0.0, vz = d3 ? B.vz[i] : 0.0;
       t.dp += hash_particle(B.x[i], B.y[i], z, B.vx[i], B.vy[i], vz, d3);
       gran_exactsum_add_(&t.mom[0], B.vx[i]);
@@ -1472,6 +1470,7 @@ int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_
     t.n = t.nmin = t.nmax = nl;
     t.bytes = P == 1 ? 0 : TC.bytes;
     t.moved = B.moved;
+    t.far = P == 1 ? 0 : TC.far;
     t.tmax = secs;
     out->n_local = nl;
     out->particle_steps = B.psteps;
@@ -1502,6 +1501,7 @@ int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_
     out->particles_sent_all = t.moved;
     out->n_local_min = t.nmin;
     out->n_local_max = t.nmax;
+    out->far_messages_all = t.far;
     return GRAN_SUCCESS;
   }
   GRAN_CATCH

@@ -66,6 +66,7 @@ typedef struct srd_bricks_rank_out {
   double seconds_max;                 /* the slowest process's steps */
   int64_t bytes_sent_all, particles_sent_all;
   int64_t n_local_min, n_local_max;   /* the balance of the split at the end */
+  int64_t far_messages_all;           /* messages to bricks beyond the 3^d - 1 around the sender */
 } srd_bricks_rank_out;
 
 /* Order-independent digests (as in srd_bricks_rank_out) of a gathered run or a plain state. */
@@ -88,12 +89,10 @@ struct srd_bricks_comm {
   int rank = 0, size = 1;
   void *ctx = nullptr;
   /* a message round: out[p] (size entries; out[rank] unused, others possibly empty) goes to
-   * process p, in[p] is what p sent this process (in[rank] left empty). peers: the processes this
-   * one usually exchanges with (sorted, without rank; the relation is symmetric: the bricks around
-   * this one); a round in which no process has a message beyond its peers may move only the
-   * peers' messages (their counts included), any other round must reach every process */
-  int (*round)(void *ctx, std::vector<std::vector<double>> &out, std::vector<std::vector<double>> &in,
-               const std::vector<int> &peers) = nullptr;
+   * process p, in[p] is what p sent this process (empty when p sent nothing or an empty message;
+   * in[rank] left empty). Usually only the bricks around a brick have messages for it, but any
+   * process may send to any. */
+  int (*round)(void *ctx, std::vector<std::vector<double>> &out, std::vector<std::vector<double>> &in) = nullptr;
   /* all-reduce in place of the nbytes at buf with merge(inout, in), commutative and associative
    * (an exact sum: any order gives the same bytes) */
   int (*allreduce)(void *ctx, void *buf, size_t nbytes, void (*merge)(void *inout, const void *in)) = nullptr;

@@ -1,0 +1,153 @@
+/* b803-srd-mpi.c - one GSRD gas over MPI processes (`granary decompose`, one brick per process):
+ * the rate of each process on P = 1 and 2 processes of this machine, side by side in one run
+ * (interleaved rounds, medians), the bytes each process sends per step, and from those a model of
+ * weak scaling to 1,000 processes on two stated networks.
+ *
+ * Set-up (the issue's comparison): 3-D, n0 = 10, dt = 0.1, kT = 1, alpha = 130, sort every 50,
+ * creation by cells, one thread per process; 64^3 cells (BENCH_QUICK=1: 32^3), 100 steps (20),
+ * 3 rounds (2). P = 1 is the same program with one brick (the undivided decomposable engine: the
+ * same code path, no exchange); P = 2 splits x in two (2 x 1 x 1). The rate of a process is its
+ * particle-steps over the wall time of its steps (creation left out); with 2 processes on 2 cores
+ * the measurement needs the machine otherwise idle (the load is printed: above about 0.5 the
+ * ratio measures the other work). Also printed: the CPU seconds of all processes per
+ * particle-step (an MPI process that waits spins, so it includes the waits).
+ *
+ * Model (per step of a process holding a 64^3 brick in a 3-D split of P processes, 26 neighbours):
+ * t = t_comp + t_comm, t_comp = n_rank / r2 (r2 the measured rate per process at P = 2),
+ * t_comm = 2 log2(P) (alpha + 4.4 kB / beta) (the ledger's exact all-reduce: 4.4 kB records)
+ *        + 2 log2(P) alpha (the "message beyond the neighbours" flag)
+ *        + 2 x 26 alpha (counts and payload messages to the 26 neighbours, not overlapped)
+ *        + 6 F / beta (F the bytes per face measured here, scaled to a 64^3 face).
+ * Networks: TCP over 10 GbE (alpha = 50 us, beta = 1.25 GB/s); InfiniBand HDR (2 us, 12 GB/s). */
+#define _DEFAULT_SOURCE /* getloadavg */
+#include "bench_util.h"
+
+#include <math.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+static double children_cpu(void) {
+  struct rusage ru;
+  getrusage(RUSAGE_CHILDREN, &ru);
+  return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
+         1e-6 * (double)ru.ru_stime.tv_usec;
+}
+
+/* the number after "key": in a one-line JSON object (NaN if absent) */
+static double jget(const char *js, const char *key) {
+  char pat[128];
+  snprintf(pat, sizeof pat, "\"%s\": ", key);
+  const char *p = strstr(js, pat);
+  return p ? strtod(p + strlen(pat), NULL) : NAN;
+}
+
+typedef struct {
+  double secs, rate, bytes, cpu, particles, far;
+} run_t;
+
+static run_t run(const char *cli, const char *scene, int P, int steps) {
+  const char *env = "OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                    "OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_btl=self,vader OMPI_MCA_mpi_yield_when_idle=1";
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "%s mpirun --oversubscribe -n %d %s decompose %s --bricks %s --steps %d --json 2>&1", env, P,
+           cli, scene, P == 1 ? "1x1x1" : "2x1x1", steps);
+  const double c0 = children_cpu();
+  FILE *p = popen(cmd, "r");
+  if (!p) {
+    fprintf(stderr, "b803: cannot run %s\n", cmd);
+    exit(1);
+  }
+  static char js[8192];
+  js[0] = 0;
+  char line[8192];
+  while (fgets(line, sizeof line, p))
+    if (line[0] == '{') snprintf(js, sizeof js, "%s", line);
+  const int rc = pclose(p);
+  run_t r;
+  r.cpu = children_cpu() - c0;
+  if (rc != 0 || !js[0]) {
+    fprintf(stderr, "b803: '%s' failed (status %d)\n", cmd, rc);
+    exit(1);
+  }
+  r.secs = jget(js, "seconds_max");
+  r.rate = jget(js, "rank0_particle_steps_per_second");
+  r.bytes = jget(js, "bytes_per_step_per_brick");
+  r.particles = jget(js, "particles");
+  r.far = P > 1 ? jget(js, "messages_beyond_neighbours") : 0;
+  return r;
+}
+
+static int cmp(const void *a, const void *b) {
+  const double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+static double median(double *v, int n) {
+  qsort(v, (size_t)n, sizeof *v, cmp);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int main(void) {
+  const char *cli = getenv("GRAN_MPI_CLI");
+  if (!cli || !*cli || access(cli, X_OK) != 0 || system("command -v mpirun >/dev/null 2>&1") != 0) {
+    printf("b803-srd-mpi: skipped (MPI not installed: no mpirun or build/granary-mpi)\n");
+    return 0;
+  }
+  const int quick = bench_quick(), L = quick ? 32 : 64, steps = quick ? 20 : 100, rounds = quick ? 2 : 3;
+  const char *scene = "/tmp/granary-b803.toml";
+  FILE *f = fopen(scene, "w");
+  if (!f) return 1;
+  fprintf(f,
+          "[engine]\ntype = \"srd\"\ndimension = 3\ncells = [%d, %d, %d]\nn0 = 10\ndt = 0.1\nT0 = 1\nalpha = 130\n"
+          "sort_every = 50\nsteps = %d\nseed = 1\nthreads = 1\ncreation = \"cells\"\n",
+          L, L, L, steps);
+  fclose(f);
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) < 1) load[0] = NAN;
+  double r1[8], r2[8], ratio[8], c1[8], c2[8];
+  run_t a = {0}, b = {0};
+  for (int k = 0; k < rounds; ++k) {
+    a = run(cli, scene, 1, steps);
+    b = run(cli, scene, 2, steps);
+    r1[k] = a.rate;
+    r2[k] = b.rate;
+    ratio[k] = b.rate / a.rate;
+    c1[k] = 1e9 * a.cpu / (a.particles * steps);
+    c2[k] = 1e9 * b.cpu / (b.particles * steps);
+  }
+  double load_end[3] = {0, 0, 0};
+  if (getloadavg(load_end, 3) < 1) load_end[0] = NAN;
+  const double m1 = median(r1, rounds), m2 = median(r2, rounds), mr = median(ratio, rounds);
+  printf("GSRD over MPI processes (granary decompose): %d^3 cells, n0 = 10, dt = 0.1, %d steps, one thread each, %d "
+         "interleaved rounds (load %.2f before, %.2f after)\n",
+         L, steps, rounds, load[0], load_end[0]);
+  printf("  rate per process, particle-steps/s: P = 1 %.4g, P = 2 (2 x 1 x 1) %.4g; ratio P = 2 / P = 1 per round:", m1, m2);
+  for (int k = 0; k < rounds; ++k) printf(" %.3f", ratio[k]);
+  printf(" (median %.3f; target >= 0.9)\n", mr);
+  printf("  CPU ns per particle-step, all processes (MPI waits spin): P = 1 %.1f, P = 2 %.1f\n", median(c1, rounds),
+         median(c2, rounds));
+  const double faces = 2.0; /* 2 x 1 x 1 periodic: each brick has two faces */
+  const double face_bytes = b.bytes / faces, face_cells = (double)L * L;
+  printf("  exchanged per process and step: %.4g B (%.4g B per face of %d x %d cells: %.3g B per face cell); %g of %d "
+         "rounds went beyond the neighbours\n",
+         b.bytes, face_bytes, L, L, face_bytes / face_cells, b.far, steps);
+  /* weak scaling: a 64^3 brick per process, a 3-D split */
+  const double n_rank = 10.0 * 64 * 64 * 64, F = face_bytes / face_cells * 64 * 64, t_comp = n_rank / m2;
+  const struct {
+    const char *name;
+    double alpha, beta;
+  } net[2] = {{"TCP, 10 GbE (alpha 50 us, beta 1.25 GB/s)", 50e-6, 1.25e9}, {"InfiniBand HDR (alpha 2 us, beta 12 GB/s)", 2e-6, 12e9}};
+  printf("  model, 64^3 cells per process (t_comp = %.3g s per step at the P = 2 rate; %.3g MB per face):\n", t_comp, F / 1e6);
+  for (int q = 0; q < 2; ++q) {
+    printf("    %s:", net[q].name);
+    static const int Ps[3] = {8, 64, 1000};
+    for (int j = 0; j < 3; ++j) {
+      const int P = Ps[j];
+      const double lg = log2((double)P), a0 = net[q].alpha, be = net[q].beta;
+      const double t_comm = 2 * lg * (a0 + 4400.0 / be) + 2 * lg * a0 + 2 * 26 * a0 + 6 * F / be;
+      printf(" P = %d: efficiency %.3f (communication %.3g ms)%s", P, t_comp / (t_comp + t_comm), 1e3 * t_comm,
+             j < 2 ? ";" : "\n");
+    }
+  }
+  remove(scene);
+  return 0;
+}
