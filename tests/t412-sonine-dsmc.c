@@ -3,7 +3,8 @@
  * (m_2/m_1 = 10, sigma_2/sigma_1 = 2, n_2/n_1 = 1/2, eps = 0.7) in the HCS. Standard errors from
  * window means (one collision per particle apart, after 5 (one species) or 20 (binary) collisions
  * per particle from the theory's HCS start); the Sonine level must be within 4 se + the stated model
- * tolerance, and at least halve the Maxwellian level's gap. */
+ * tolerance, and at least halve the Maxwellian level's gap. Fig. 5's tracer (the ordered phase): windows after 50
+ * collisions per gas particle, the relaxed DSMC ratio within 4 se + 1 % of its reference. */
 #include "dsmc_util.h"
 
 static void hcs_run(const gran_mixture *mix, int M, const int64_t *counts, const double *T0, int64_t ncoll0,
@@ -71,7 +72,8 @@ static void test_binary(void **state) {
  * eps = 0.5) and its tracer limit Fig. 5 (n_2 = 0, the ordered phase). T_2/T_1 of DSMC against both
  * levels; Fig. 2: the Sonine level at least halves the gap; Fig. 5: it moves towards DSMC but the
  * gap stays large (the first Sonine approximation fails in the ordered phase; the test says so). */
-static void heavy(double n2, int64_t N1, int64_t N2, uint64_t seed, double *r, double *rse, double *gs, double *gm) {
+static void heavy(double n2, int64_t N1, int64_t N2, int64_t warm, uint64_t seed, double *r, double *rse, double *gs,
+                  double *gm) {
   const double m[2] = {1, 100}, s[2] = {1, cbrt(100.0)}, n[2] = {0.1, n2};
   gran_mixture *mix = NULL;
   GRAN_ASSERT_OK(gran_mixture_create(2, m, s, n, &mix));
@@ -81,7 +83,7 @@ static void heavy(double n2, int64_t N1, int64_t N2, uint64_t seed, double *r, d
   GRAN_ASSERT_OK(gran_theory_hcs(mix, GRAN_HCS_NORM_T1, 1.0, TM, NULL));
   const int64_t counts[2] = {N1, N2};
   double a2[2], se[2];
-  hcs_run(mix, 2, counts, Ts, 10 * N1, 2 * N1, 30, seed, r, rse, a2, se);
+  hcs_run(mix, 2, counts, Ts, warm * N1, 2 * N1, 30, seed, r, rse, a2, se);
   *gs = Ts[1] / Ts[0];
   *gm = TM[1] / TM[0];
   gran_mixture_destroy(&mix);
@@ -91,7 +93,7 @@ static void test_fig2_heavy(void **state) {
   (void)state;
   const int64_t N1 = dsmc_scale() < 1 ? 40000 : 200000;
   double r, rse, gs, gm;
-  heavy(0.001, N1, N1 / 100, 4122, &r, &rse, &gs, &gm);
+  heavy(0.001, N1, N1 / 100, 10, 4122, &r, &rse, &gs, &gm);
   print_message("Fig. 2: DSMC T2/T1 = %.3f (se %.3f), Sonine %.3f (gap %+.2f%%), Maxwellian %.3f (gap %+.2f%%)\n", r,
                 rse, gs, 100 * (gs / r - 1), gm, 100 * (gm / r - 1));
   GRAN_ASSERT_ABS(r, gs, 4 * rse + 0.02 * gs);
@@ -102,10 +104,16 @@ static void test_fig5_tracer(void **state) {
   (void)state;
   const int64_t N1 = dsmc_scale() < 1 ? 20000 : 100000;
   double r, rse, gs, gm;
-  heavy(0.0, N1, 2000, 4123, &r, &rse, &gs, &gm);
+  /* from the first Sonine HCS (504.6) the tracer heats for about 40 collisions per gas particle: the windows start
+   * after 50 */
+  heavy(0.0, N1, 2000, 50, 4123, &r, &rse, &gs, &gm);
   print_message("Fig. 5 (ordered phase): DSMC T2/T1 = %.1f (se %.1f), Sonine %.1f (gap %+.1f%%), Maxwellian %.1f "
                 "(gap %+.1f%%)\n",
                 r, rse, gs, 100 * (gs / r - 1), gm, 100 * (gm / r - 1));
+  /* relaxed: the reference 637.0 (se 0.3) of docs/tools/sonine_dsmc_moments.c (two runs of N_1 = 1e5 and 2000
+   * tracers from 500 and 700, 250 windows after 50 collisions per gas particle; N_1 = 2e4: 634.2 (se 1.7)) within
+   * 4 se + 1 % (a mean over windows of a tracer still heating, 620, is outside) */
+  GRAN_ASSERT_ABS(r, 637.0, 4 * rse + 0.01 * 637.0);
   /* the Sonine level is closer, but misses by far more than the noise */
   if (!DSMC_ASAN) {
     assert_true(fabs(gs - r) < fabs(gm - r));
