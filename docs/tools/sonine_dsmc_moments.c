@@ -8,7 +8,7 @@
  * SETUP: binary (m = 1, 100), ternary (m = 1, 100, 500), mono (eps = 0.5); sigma = m^(1/3), n_k = 0.1, eps = 0.5,
  * start at the first Sonine HCS with <T> = 1; tracer: Fig. 5 of the source paper (m = 1, 100, sigma = m^(1/3),
  * n = 0.1, 0: N gas particles and `tracers` heavy tracers, default 2000), started at T_2/T_1 = `ratio` (default:
- * the first Sonine HCS), windows one collision per gas particle apart. Output: one line per window, the means with
+ * the first Sonine HCS), windows N collisions (all pairs) apart. Output: one line per window, the means with
  * the standard error over windows, and the means with the standard error of batch means over 10 windows.
  *   LD_LIBRARY_PATH=build /tmp/sdm tracer 100000 31 50 200 - 0 0.5 2000 500   # the Fig. 5 tracer from 500 */
 #include <granary.h>
