@@ -10,7 +10,7 @@
  * n = 0.1, 0: N gas particles and `tracers` heavy tracers, default 2000), started at T_2/T_1 = `ratio` (default:
  * the first Sonine HCS), windows N collisions (all pairs) apart. Output: one line per window, the means with
  * the standard error over windows, and the means with the standard error of batch means over 10 windows.
- *   LD_LIBRARY_PATH=build /tmp/sdm tracer 100000 31 50 200 - 0 0.5 2000 500   # the Fig. 5 tracer from 500 */
+ *   LD_LIBRARY_PATH=build /tmp/sdm tracer 100000 31 50 250 - 0 0.5 2000 500   # the Fig. 5 tracer from 500 */
 #include <granary.h>
 #include <math.h>
 #include <stdio.h>
