@@ -63,6 +63,7 @@ module granary
   ! GRAN_THEORY_MAXWELLIAN (reference) or GRAN_THEORY_SONINE (first Sonine level, docs/physics-sonine.md)
   public :: gran_theory_hcs_approx, gran_theory_sonine_rates, gran_theory_temperatures_approx
   public :: gran_theory_hcs_sonine2, gran_theory_sonine2_rates, gran_theory_hcs_sonine_n
+  public :: gran_theory_temperatures_sonine2
   public :: gran_theory_diffusion_approx, gran_theory_msd_hcs_approx, gran_theory_msd_approx
   public :: gran_theory_tamsd_approx, gran_theory_msd_sonine
   public :: gran_theory_tamsd, gran_theory_tamsd_sampled, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
@@ -977,6 +978,52 @@ contains
     if (gran_theory_short(size(da3dt), m, 'gran_theory_sonine2_rates: size(da3dt) < M', ierr)) return
     call gran_check(c_gran_theory_sonine2_rates(mix, temp, a2, a3, zeta, da2dt, da3dt), ierr)
   end subroutine gran_theory_sonine2_rates
+
+  !> Second Sonine trajectory: temp(M, size(t)) from t0(M), a20(M), a30(M) (absent: 0); a2, a3 (M, size(t)) optional.
+  subroutine gran_theory_temperatures_sonine2(mix, t0, t, rtol, temp, a20, a30, a2, a3, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), t(:), rtol
+    real(c_double), intent(out) :: temp(:, :)
+    real(c_double), intent(in), target, contiguous, optional :: a20(:), a30(:)
+    real(c_double), intent(out), target, contiguous, optional :: a2(:, :), a3(:, :)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    type(c_ptr) :: p20, p30, p2, p3
+    m = gran_theory_m(mix)
+    p20 = c_null_ptr
+    p30 = c_null_ptr
+    p2 = c_null_ptr
+    p3 = c_null_ptr
+    if (gran_theory_short(size(t0), m, 'gran_theory_temperatures_sonine2: size(t0) < M', ierr)) return
+    if (present(a20)) then
+      if (gran_theory_short(size(a20), m, 'gran_theory_temperatures_sonine2: size(a20) < M', ierr)) return
+      if (size(a20) > 0) p20 = c_loc(a20(1))
+    end if
+    if (present(a30)) then
+      if (gran_theory_short(size(a30), m, 'gran_theory_temperatures_sonine2: size(a30) < M', ierr)) return
+      if (size(a30) > 0) p30 = c_loc(a30(1))
+    end if
+    if (m > 0 .and. (size(temp, 1, kind=c_int64_t) /= m .or. size(temp, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_temperatures_sonine2: temp must be (M, size(t))', ierr)
+      return
+    end if
+    if (present(a2)) then
+      if (m > 0 .and. (size(a2, 1, kind=c_int64_t) /= m .or. size(a2, 2) /= size(t))) then
+        call gran_theory_shape_error('gran_theory_temperatures_sonine2: a2 must be (M, size(t))', ierr)
+        return
+      end if
+      if (size(a2) > 0) p2 = c_loc(a2(1, 1))
+    end if
+    if (present(a3)) then
+      if (m > 0 .and. (size(a3, 1, kind=c_int64_t) /= m .or. size(a3, 2) /= size(t))) then
+        call gran_theory_shape_error('gran_theory_temperatures_sonine2: a3 must be (M, size(t))', ierr)
+        return
+      end if
+      if (size(a3) > 0) p3 = c_loc(a3(1, 1))
+    end if
+    call gran_check(c_gran_theory_temperatures_sonine2(mix, t0, p20, p30, size(t, kind=c_int64_t), t, rtol, temp, &
+                    p2, p3), ierr)
+  end subroutine gran_theory_temperatures_sonine2
 
   !> HCS of the linear Sonine hierarchy to order nmax (2..5): t0(M), a(M*(nmax-1)) with a((k-1)*(nmax-1) + q-1) =
   !> a_q of species k, tau0 (huge -> inf).

@@ -159,8 +159,16 @@ class Output:
         return self.get("temperatures/T_theory")
 
     def T_theory_sonine(self):
-        """First Sonine T_k(t) ([observables] theory_sonine = true), else None."""
+        """Sonine T_k(t) ([observables] theory_sonine = true; its level: sonine_level()), else None."""
         return self.get("temperatures/T_theory_sonine")
+
+    def sonine_level(self):
+        """"first" or "second": the Sonine level of T_theory_sonine (the attribute theory_sonine_level of
+        /temperatures, written with [observables] sonine_order = 3), None without T_theory_sonine."""
+        if "temperatures/T_theory_sonine" not in self.file:
+            return None
+        lev = self.attr("theory_sonine_level", "", path="temperatures")
+        return "second" if lev.startswith("second") else "first"
 
     # mean squared displacements
     def msd(self):

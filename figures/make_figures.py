@@ -174,7 +174,29 @@ def reduced_time(t, T, T0):
     return tau
 
 
-def msd_figure(args, o, fname, title, total=False, x=None, xlabel=None, diffusive=False):
+def ratio_note(o):
+    """The temperature ratios T_k/T_1 at the last output: DSMC (se), the Maxwellian theory and, where the
+    file has it, the Sonine theory with its level (first, or second with sonine_order = 3) and the gaps
+    theory/DSMC - 1."""
+    T, se, th, ths = o.T(), o.T_se(), o.T_theory(), o.T_theory_sonine()
+    if T is None or o.nspecies < 2:
+        return ""
+    m = o.species("mass")
+    parts = []
+    for k in range(1, o.nspecies):
+        r = T[-1, k] / T[-1, 0]
+        txt = "m_%d = %g: DSMC %.4g" % (k + 1, m[k], r)
+        if se is not None:
+            txt += " (se %.2g)" % (r * np.hypot(se[-1, k] / T[-1, k], se[-1, 0] / T[-1, 0]))
+        for lab, a in (("Maxwellian", th), ("%s Sonine" % o.sonine_level(), ths)):
+            if a is not None:
+                q = a[-1, k] / a[-1, 0]
+                txt += ", %s %.4g (%+.2f %%)" % (lab, q, 100 * (q / r - 1))
+        parts.append(txt)
+    return " T_k/T_1 at t = %.3g: " % o.times("temperatures")[-1] + "; ".join(parts) + "."
+
+
+def msd_figure(args, o, fname, title, total=False, x=None, xlabel=None, diffusive=False, extra=""):
     """Partial MSDs (symbols) with the Maxwellian theory (solid) and the Sonine theory (dashed,
     when the file has msd/msd_theory_sonine); x: the abscissa (default t)."""
     t = o.times("msd")
@@ -214,7 +236,7 @@ def msd_figure(args, o, fname, title, total=False, x=None, xlabel=None, diffusiv
     if ths is not None:
         notes += " " + beyond(t, [msd[:, k] for k in range(n)], [col(se, k) for k in range(n)],
                               [col(ths, k) for k in range(n)], labs, against="the Sonine theory")
-    finish(fig, o, fname, args, title, notes)
+    finish(fig, o, fname, args, title, notes + extra)
 
 
 def fig1(args, f):
@@ -239,7 +261,8 @@ def fig2(args, f):
 
 def fig3(args, f):
     with Output(f["fig3"]) as o:
-        msd_figure(args, o, "fig3.png", PAPER + " Fig. 3: ternary mixture in the HCS, eps = 0.5", total=True)
+        msd_figure(args, o, "fig3.png", PAPER + " Fig. 3: ternary mixture in the HCS, eps = 0.5", total=True,
+                   extra=ratio_note(o))
 
 
 def fig4(args, f):
@@ -348,7 +371,7 @@ def fig6(args, f):
             ax.plot(k, th[-1], "k-", lw=1, label="Maxwellian theory (Eqs. 14-15)")
         ths = lo.T_theory_sonine()
         if ths is not None:
-            ax.plot(k, ths[-1], "--", color="C2", lw=1, label="first Sonine theory")
+            ax.plot(k, ths[-1], "--", color="C2", lw=1, label="%s Sonine theory" % lo.sonine_level())
             if th is not None:  # the Sonine curve in the residual panel: 100 (T_Sonine / T_Maxwellian - 1)
                 rx.plot(k, 100.0 * (ths[-1] / th[-1] - 1.0), "--", color="C2", lw=1)
         ax.set_xscale("log")

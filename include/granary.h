@@ -272,6 +272,12 @@ GRAN_EXTERN int gran_theory_hcs_sonine2(const gran_mixture *mix, int norm, doubl
                                         double *a3, double *tau0);
 GRAN_EXTERN int gran_theory_sonine2_rates(const gran_mixture *mix, const double *T, const double *a2, const double *a3,
                                           double *zeta, double *da2dt, double *da3dt);
+/* T_k(t), a2_k(t), a3_k(t) of the second Sonine approximation (ntimes*M each; a2, a3 may be NULL) from T0 (M) and
+ * a20, a30 (M each, |a| < 1; NULL: 0): dT_k/dt = -zeta_k T_k with the rates above (GSL odeiv2, relative tolerance
+ * rtol); GRAN_ERR_DOMAIN naming the species and the time where |a2_k| or |a3_k| reaches 1. */
+GRAN_EXTERN int gran_theory_temperatures_sonine2(const gran_mixture *mix, const double *T0, const double *a20,
+                                                 const double *a30, int64_t ntimes, const double *t, double rtol,
+                                                 double *T, double *a2, double *a3);
 /* The linear Sonine hierarchy to order nmax = 2..5 (f_k with a_2..a_nmax; nmax = 2 and 3 are the first and the
  * second Sonine HCS above): T0 (M), a (M*(nmax - 1), a[k*(nmax - 1) + q - 2] = a_q of species k; may be NULL), tau0
  * (may be NULL); up to 64 species. docs/physics-sonine.md Sec. 4. */

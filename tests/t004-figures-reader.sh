@@ -1,8 +1,9 @@
 #!/bin/sh
 # t004-figures-reader.sh - the figures' reader module (figures/granary_h5.py) on a tiny run of the
-# command-line driver: datasets, units, attributes (str and bytes), the replica layout (X, X_se,
-# X_replicas, nreplicas) read from a copy of the file with those added, and the ballistic MSD
-# against theory. Skipped (exit 0, with a message) when Debian's /usr/bin/python3 lacks h5py.
+# command-line driver: datasets, units, attributes (str and bytes), the Sonine level of
+# T_theory_sonine (first, second with sonine_order = 3), the replica layout (X, X_se, X_replicas,
+# nreplicas) read from a copy of the file with those added, and the ballistic MSD against theory.
+# Skipped (exit 0, with a message) when Debian's /usr/bin/python3 lacks h5py.
 set -eu
 src=${GRAN_SOURCE_DIR:-.}
 cli=${GRAN_CLI:-$src/build/granary}
@@ -35,6 +36,9 @@ tamsd = { tracers = 20, dt = 0.5, samples = 41, lags = [0.5, 1.0, 2.0] }
 checkpoint_interval = 0.0
 TOML
 "$cli" run "$tmp/tiny.toml" -o "$tmp/tiny.h5" --no-checkpoint --quiet
+"$cli" run "$tmp/tiny.toml" -o "$tmp/son2.h5" --no-checkpoint --quiet --set observables.theory_sonine=true
+"$cli" run "$tmp/tiny.toml" -o "$tmp/son3.h5" --no-checkpoint --quiet --set observables.theory_sonine=true \
+  --set observables.sonine_order=3
 PYTHONDONTWRITEBYTECODE=1 GRAN_T801_FILE="$tmp/tiny.h5" GRAN_T801_TMP="$tmp" PYTHONPATH="$src/figures" "$py" - <<'PY'
 import os, shutil
 import numpy as np
@@ -78,6 +82,13 @@ with Output(path) as o:
     # energy: e_initial = e_kin + e_dissipated at every time (to rounding)
     ek, ei, ed = o.energy(), o.energy("e_initial"), o.energy("e_dissipated")
     check(np.allclose(ek + ed, ei, rtol=1e-9), "e_kin + e_dissipated = e_initial")
+    check(o.sonine_level() is None and o.T_theory_sonine() is None, "no Sonine theory: sonine_level() is None")
+with Output(os.path.join(tmp, "son2.h5")) as o:
+    check(o.sonine_level() == "first" and o.get("temperatures/a3_theory_sonine") is None,
+          "theory_sonine = true: the first Sonine level, no a3")
+with Output(os.path.join(tmp, "son3.h5")) as o:
+    check(o.sonine_level() == "second" and o.get("temperatures/a3_theory_sonine").shape == (6, 2),
+          "sonine_order = 3: the second Sonine level with a3 [nt x M]")
 
 # The replica layout: X beside X_se and X_replicas, root attribute nreplicas; strings
 # written as bytes (fixed-length ASCII) must come back as str.

@@ -1,6 +1,7 @@
 ! t418-sonine2-f.f90 - the Fortran bindings of the second Sonine approximation (bindings/granary.f90):
 ! gran_theory_hcs_sonine2, gran_theory_hcs_sonine_n (one species: a2, a3 of the linear second Sonine equations; binary: an HCS of the
-! rates) and gran_theory_sonine2_rates, and a refusal. Prints what it checks; error stop 1 on failure.
+! rates) and gran_theory_sonine2_rates, gran_theory_temperatures_sonine2 (stays at the HCS, reaches it from a Maxwellian
+! start), and refusals. Prints what it checks; error stop 1 on failure.
 program t418_sonine2_f
   use, intrinsic :: iso_c_binding
   use granary
@@ -9,6 +10,7 @@ program t418_sonine2_f
   type(c_ptr) :: mix
   real(c_double) :: one(1), t1(1), a1(1), b1(1), tau0, dens(2), mass(2), sig(2)
   real(c_double) :: t0(2), a2(2), a3(2), zeta(2), d2(2), d3(2), tn(2), an(4), taun
+  real(c_double) :: tt(2), temp(2, 2), a2t(2, 2), a3t(2, 2)
   integer :: ierr
 
   one = 1
@@ -30,6 +32,20 @@ program t418_sonine2_f
   call expect(all(abs(0.5_c_double * zeta * tau0 - 1) < 1e-11_c_double), 'binary: zeta_k tau0/2 = 1')
   call expect(all(abs(d2 * tau0) < 1e-10_c_double) .and. all(abs(d3 * tau0) < 1e-10_c_double), &
               'binary: da2/dt = da3/dt = 0')
+  tt = [10.0_c_double, 100.0_c_double] * tau0
+  call gran_theory_temperatures_sonine2(mix, t0, tt, 1e-10_c_double, temp, a20=a2, a30=a3, a2=a2t, a3=a3t)
+  call expect(all(abs(temp(:, 2) / (t0 / (1 + 100.0_c_double)**2) - 1) < 1e-8_c_double) .and. &
+              all(abs(a2t(:, 2) - a2) < 1e-10_c_double) .and. all(abs(a3t(:, 2) - a3) < 1e-10_c_double), &
+              'trajectory from the second Sonine HCS: Haff''s law, a2 and a3 constant')
+  tt = [3e3_c_double, 1e4_c_double] * tau0
+  call gran_theory_temperatures_sonine2(mix, [1.0_c_double, 5.0_c_double], tt, 1e-10_c_double, temp, a2=a2t, a3=a3t)
+  call expect(abs(temp(2, 2) / temp(1, 2) / 1.799810119285_c_double - 1) < 1e-7_c_double .and. &
+              all(abs(a2t(:, 2) - a2) < 1e-7_c_double) .and. all(abs(a3t(:, 2) - a3) < 1e-7_c_double), &
+              'trajectory from a Maxwellian start reaches the second Sonine HCS')
+  call gran_theory_temperatures_sonine2(mix, t0, tt, 1e-10_c_double, temp, a30=[0.0_c_double, 1.0_c_double], ierr=ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'a30 = 1 refused (GRAN_ERR_ARG)')
+  call gran_theory_temperatures_sonine2(mix, t0, tt, 1e-10_c_double, temp(:, 1:1), ierr=ierr)
+  call expect(ierr /= 0, 'temp of the wrong shape refused')
   call gran_theory_hcs_sonine_n(mix, 3, int(GRAN_HCS_NORM_T1), 1.0_c_double, tn, an, taun)
   call expect(abs(tn(2) / tn(1) / 1.799810119285_c_double - 1) < 1e-10_c_double .and. &
               abs(an(1) - a2(1)) < 1e-10_c_double .and. abs(an(4) - a3(2)) < 1e-10_c_double, &

@@ -228,9 +228,146 @@ static void test_hierarchy(void **state) {
   gran_mixture_destroy(&mix);
 }
 
+/* gran_theory_temperatures_sonine2: from the second Sonine HCS it stays there (T_k/T_1, a2, a3 constant, T on Haff's
+ * law with the HCS tau0); from a Maxwellian start it relaxes to the HCS (ratios, a2, a3; one species: the monodisperse
+ * values, then Haff's law); eps = 1: a2 = a3 = 0 and constant T at equal temperatures, energy conserved and
+ * equipartition from unequal ones; eps = 1 - 1e-4: the Maxwellian trajectory to O(1 - eps). */
+static void test_trajectory(void **state) {
+  (void)state;
+  const double m[2] = {1, 10}, s[2] = {1, 2}, n[2] = {1, 0.5};
+  gran_mixture *mix = make(2, m, s, n, 0.7);
+  double T0[2], a2h[2], a3h[2], tau0;
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_T1, 1.0, T0, a2h, a3h, &tau0));
+  enum { NT = 5 };
+  /* the times in any order (the output rows follow t) */
+  const double f[NT] = {10.0, 0.0, 1.0, 100.0, 1e3};
+  double t[NT], T[2 * NT], a2[2 * NT], a3[2 * NT];
+  for (int j = 0; j < NT; j++) t[j] = f[j] * tau0;
+  GRAN_ASSERT_OK(gran_theory_temperatures_sonine2(mix, T0, a2h, a3h, NT, t, 1e-10, T, a2, a3));
+  for (int j = 0; j < NT; j++) {
+    const double haff = 1.0 / ((1 + f[j]) * (1 + f[j]));
+    for (int k = 0; k < 2; k++) {
+      GRAN_ASSERT_REL(T[2 * j + k], T0[k] * haff, 1e-8);
+      GRAN_ASSERT_ABS(a2[2 * j + k], a2h[k], 1e-10);
+      GRAN_ASSERT_ABS(a3[2 * j + k], a3h[k], 1e-10);
+    }
+    GRAN_ASSERT_REL(T[2 * j + 1] / T[2 * j], T0[1] / T0[0], 1e-9);
+  }
+  /* a Maxwellian start far from the HCS ratio relaxes to it (1.799810119 against 1.806 of the first level) */
+  const double Ts[2] = {1.0, 5.0}, tl[2] = {3e3 * tau0, 1e4 * tau0};
+  double Tl[4], b2[4], b3[4];
+  GRAN_ASSERT_OK(gran_theory_temperatures_sonine2(mix, Ts, NULL, NULL, 2, tl, 1e-10, Tl, b2, b3));
+  print_message("Maxwellian start: T2/T1 = %.10f (HCS %.10f), a2 = %.6f %.6f, a3 = %.6f %.6f\n", Tl[3] / Tl[2],
+                T0[1] / T0[0], b2[2], b2[3], b3[2], b3[3]);
+  GRAN_ASSERT_REL(Tl[3] / Tl[2], T0[1] / T0[0], 1e-7);
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_ABS(b2[2 + k], a2h[k], 1e-7);
+    GRAN_ASSERT_ABS(b3[2 + k], a3h[k], 1e-7);
+  }
+  /* and cools by Haff's law with the HCS tau0 at its temperature: T_1(t2) = T_1(t1)/(1 + (t2 - t1)/tau0(t1))^2 */
+  const double tau1 = tau0 / sqrt(Tl[0]), dt = (tl[1] - tl[0]) / tau1;
+  GRAN_ASSERT_REL(Tl[2], Tl[0] / ((1 + dt) * (1 + dt)), 1e-6);
+  /* the first level is another trajectory: a3 = 0 moves T_2/T_1 by 0.36 % */
+  double T1[2], c2[2];
+  GRAN_ASSERT_OK(gran_theory_temperatures_approx(mix, GRAN_THEORY_SONINE, Ts, NULL, 1, &tl[1], 1e-10, T1, c2));
+  assert_true(T1[1] / T1[0] / (Tl[3] / Tl[2]) - 1 > 3e-3);
+  /* a2, a3 may be NULL */
+  GRAN_ASSERT_OK(gran_theory_temperatures_sonine2(mix, Ts, NULL, NULL, 2, tl, 1e-10, b2, NULL, NULL));
+  for (int j = 0; j < 4; j++) GRAN_ASSERT_REL(b2[j], Tl[j], 1e-14);
+  gran_mixture_destroy(&mix);
+
+  /* one species (eps = 0.5): a2, a3 of the monodisperse second Sonine HCS after relaxation */
+  const double m1 = 2.5, s1 = 0.7, n1 = 0.3;
+  gran_mixture *one = make(1, &m1, &s1, &n1, 0.5);
+  double Th, ah, bh, th;
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(one, GRAN_HCS_NORM_MEAN, 1.0, &Th, &ah, &bh, &th));
+  const double T1s = 1.0, to[2] = {1e3 * th, 1e4 * th};
+  double To[2], ao[2], bo[2];
+  GRAN_ASSERT_OK(gran_theory_temperatures_sonine2(one, &T1s, NULL, NULL, 2, to, 1e-10, To, ao, bo));
+  print_message("one species: a2 = %.12f (HCS %.12f), a3 = %.12f (HCS %.12f)\n", ao[1], ah, bo[1], bh);
+  GRAN_ASSERT_ABS(ao[1], 0.044993978002290, 1e-8);
+  GRAN_ASSERT_ABS(bo[1], -0.017684168615936, 1e-8);
+  const double tau2 = th / sqrt(To[0]), d2 = (to[1] - to[0]) / tau2;
+  GRAN_ASSERT_REL(To[1], To[0] / ((1 + d2) * (1 + d2)), 1e-6);
+  gran_mixture_destroy(&one);
+
+  /* eps = 1 */
+  const double me[2] = {1, 7}, se[2] = {1, 1.9}, ne[2] = {0.4, 0.2};
+  gran_mixture *el = make(2, me, se, ne, 1.0);
+  const double Te[2] = {2.0, 2.0}, tt[3] = {1.0, 10.0, 1e3};
+  double Tt[6], e2[6], e3[6];
+  GRAN_ASSERT_OK(gran_theory_temperatures_sonine2(el, Te, NULL, NULL, 3, tt, 1e-10, Tt, e2, e3));
+  for (int j = 0; j < 6; j++) {
+    GRAN_ASSERT_REL(Tt[j], 2.0, 1e-12);
+    GRAN_ASSERT_ABS(e2[j], 0.0, 1e-14);
+    GRAN_ASSERT_ABS(e3[j], 0.0, 1e-14);
+  }
+  /* unequal temperatures: energy conserved, equipartition and a2, a3 -> 0 (they are not 0 while T_1 != T_2) */
+  const double Tu[2] = {1.0, 4.0}, E0 = ne[0] * Tu[0] + ne[1] * Tu[1], Teq = E0 / (ne[0] + ne[1]);
+  GRAN_ASSERT_OK(gran_theory_temperatures_sonine2(el, Tu, NULL, NULL, 3, tt, 1e-10, Tt, e2, e3));
+  for (int j = 0; j < 3; j++) GRAN_ASSERT_REL(ne[0] * Tt[2 * j] + ne[1] * Tt[2 * j + 1], E0, 1e-9);
+  assert_true(fabs(e2[0]) > 1e-4);
+  for (int k = 0; k < 2; k++) {
+    GRAN_ASSERT_REL(Tt[4 + k], Teq, 1e-9);
+    GRAN_ASSERT_ABS(e2[4 + k], 0.0, 1e-9);
+    GRAN_ASSERT_ABS(e3[4 + k], 0.0, 1e-9);
+  }
+  /* eps = 1 - 1e-4: the Maxwellian trajectory to O(1 - eps) over a cooling time, a2, a3 = O(1 - eps) */
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(el, 1.0 - 1e-4));
+  const double tc[2] = {1e3, 1e4};
+  double Tc[4], Tm[4], f2[4], f3[4];
+  GRAN_ASSERT_OK(gran_theory_temperatures_sonine2(el, Te, NULL, NULL, 2, tc, 1e-10, Tc, f2, f3));
+  GRAN_ASSERT_OK(gran_theory_temperatures(el, Te, 2, tc, 1e-10, Tm));
+  print_message("eps = 1 - 1e-4: T/T_Maxwellian - 1 = %.3g, a2 = %.3g, a3 = %.3g at t = 1e4 (T/T0 = %.3f)\n",
+                Tc[3] / Tm[3] - 1, f2[3], f3[3], Tc[3] / 2.0);
+  assert_true(Tc[3] < 1.0); /* cooled by more than a factor 2 */
+  for (int j = 0; j < 4; j++) {
+    GRAN_ASSERT_REL(Tc[j], Tm[j], 1e-3);
+    assert_true(fabs(f2[j]) < 1e-3 && fabs(f3[j]) < 1e-3);
+  }
+  gran_mixture_destroy(&el);
+}
+
+/* refusals of gran_theory_temperatures_sonine2, and the breakdown |a| >= 1 named with its species and time */
+static void test_trajectory_refusals(void **state) {
+  (void)state;
+  const double m[2] = {1, 10}, s[2] = {1, 2}, n[2] = {1, 0.5}, T0[2] = {1, 2}, bad[2] = {0, 1.0}, t = 1.0;
+  const double tn = -1.0;
+  gran_mixture *mix = make(2, m, s, n, 0.7);
+  double T[2], a2[2];
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(NULL, T0, NULL, NULL, 1, &t, 1e-8, T, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(mix, NULL, NULL, NULL, 1, &t, 1e-8, T, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(mix, T0, NULL, bad, 1, &t, 1e-8, T, NULL, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'a30'[1]"));
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(mix, T0, bad, NULL, 1, &t, 1e-8, T, NULL, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'a20'[1]"));
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(mix, T0, NULL, NULL, -1, &t, 1e-8, T, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(mix, T0, NULL, NULL, 1, &tn, 1e-8, T, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(mix, T0, NULL, NULL, 1, &t, 0.0, T, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(mix, T0, NULL, NULL, 1, &t, 1e-8, NULL, NULL, NULL), GRAN_ERR_ARG);
+  /* ntimes = 0: nothing to do, nothing written */
+  a2[0] = 7.0;
+  GRAN_ASSERT_OK(gran_theory_temperatures_sonine2(mix, T0, NULL, NULL, 0, NULL, 1e-8, NULL, a2, NULL));
+  assert_true(a2[0] == 7.0);
+  GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 0.1));
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(mix, T0, NULL, NULL, 1, &t, 1e-8, T, NULL, NULL), GRAN_ERR_DOMAIN);
+  gran_mixture_destroy(&mix);
+  /* a start far from the HCS (a2 = -0.9, a3 = 0.99, eps = 0.1): a3 passes 1 on the way (at t = 0.011) */
+  const double m1 = 1, s1 = 1, n1 = 1, T1 = 1, b2 = -0.9, b3 = 0.99, tl = 100.0;
+  gran_mixture *one = make(1, &m1, &s1, &n1, 0.1);
+  double Tb, ab;
+  GRAN_ASSERT_ERR(gran_theory_temperatures_sonine2(one, &T1, &b2, &b3, 1, &tl, 1e-8, &Tb, &ab, NULL), GRAN_ERR_DOMAIN);
+  const char *msg = gran_last_error_message();
+  print_message("%s\n", msg);
+  assert_non_null(strstr(msg, "species 0"));
+  assert_non_null(strstr(msg, "at t = "));
+  gran_mixture_destroy(&one);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {cmocka_unit_test(test_monodisperse), cmocka_unit_test(test_rates),
                                      cmocka_unit_test(test_hcs), cmocka_unit_test(test_limits),
-                                     cmocka_unit_test(test_refusals), cmocka_unit_test(test_hierarchy)};
+                                     cmocka_unit_test(test_refusals), cmocka_unit_test(test_hierarchy),
+                                     cmocka_unit_test(test_trajectory), cmocka_unit_test(test_trajectory_refusals)};
   return cmocka_run_group_tests_name("t418-sonine2", tests, NULL, NULL);
 }

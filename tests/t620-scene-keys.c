@@ -231,6 +231,7 @@ static const context kContext[] = {
     {"dsmc", "observables.tamsd.lags", {"observables.tamsd|tracers = 2", "observables.tamsd|dt = 0.1",
                                         "observables.tamsd|samples = 5", "observables.tamsd|lags = [0.1, 0.2]"}},
     {"dsmc", "observables.theory_sonine", {"observables|theory_sonine = true"}},
+    {"dsmc", "observables.sonine_order", {"observables|theory_sonine = true", "observables|sonine_order = 3"}},
     {"dsmc", "output.checkpoint", {"output|checkpoint = \"t620.ckpt\""}},
     {"dsmc", "output.path", {"output|path = \"t620.h5\""}},
     {"srd", "engine.type", {"engine|type = \"srd\""}},

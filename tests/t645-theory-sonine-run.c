@@ -2,7 +2,8 @@
  * Sonine theory (temperatures/T_theory_sonine, temperatures/a2_theory_sonine) beside T_theory, and
  * msd/msd_theory_sonine (the two-moment velocity correlation) beside msd_theory;
  * the values are gran_theory_temperatures_approx's from the scene's start (T0, a2 = 0) at the
- * output times; off by default; refused (GRAN_ERR_PARSE naming the key) where it has no meaning. */
+ * output times (`sonine_order = 3`: gran_theory_temperatures_sonine2's, plus a3_theory_sonine); off by default;
+ * refused (GRAN_ERR_PARSE naming the key) where it has no meaning. */
 #include "io_test_util.h"
 
 #include <math.h>
@@ -128,6 +129,101 @@ static void test_datasets(void **state) {
   H5Fclose(f);
 }
 
+/* sonine_order = 3: the second Sonine trajectory (gran_theory_temperatures_sonine2 from T0, a2 = a3 = 0) in
+ * T_theory_sonine, a2_theory_sonine, plus a3_theory_sonine and the attribute naming the level; sonine_order = 2 is
+ * the default bit for bit (no a3, no attribute). */
+static void test_order(void **state) {
+  (void)state;
+  const char *o2 = io_path("order2.h5"), *o3 = io_path("order3.h5"), *od = io_path("orderd.h5");
+  gran_mixture *mix = NULL;
+  run_scene("theory_sonine = true\nsonine_order = 3\n", o3, &mix);
+  run_scene("theory_sonine = true\nsonine_order = 2\n", o2, NULL);
+  run_scene("theory_sonine = true\n", od, NULL);
+  size_t nt = 0, n0 = 0, n3 = 0, na2 = 0, na3 = 0, n2 = 0, nd = 0, nb2 = 0, nbd = 0;
+  hid_t f = H5Fopen(o3, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  double *t = io_h5_read_double(f, "temperatures/time", &nt);
+  double *T0 = io_h5_read_double(f, "species/T0", &n0);
+  double *T3 = io_h5_read_double(f, "temperatures/T_theory_sonine", &n3);
+  double *a2 = io_h5_read_double(f, "temperatures/a2_theory_sonine", &na2);
+  double *a3 = io_h5_read_double(f, "temperatures/a3_theory_sonine", &na3);
+  assert_non_null(t), assert_non_null(T0), assert_non_null(T3), assert_non_null(a2), assert_non_null(a3);
+  assert_int_equal(nt, NT);
+  assert_int_equal(n3, NT * M);
+  assert_int_equal(na3, NT * M);
+  hid_t g = H5Gopen2(f, "temperatures", H5P_DEFAULT);
+  char *lev = io_h5_attr_string(g, "theory_sonine_level");
+  assert_non_null(lev);
+  assert_non_null(strstr(lev, "second Sonine"));
+  free(lev);
+  H5Gclose(g);
+  H5Fclose(f);
+  double Tr[NT * M], ar2[NT * M], ar3[NT * M];
+  GRAN_ASSERT_OK(gran_theory_temperatures_sonine2(mix, T0, NULL, NULL, NT, t, 1e-8, Tr, ar2, ar3));
+  for (int j = 0; j < NT * M; j++) {
+    GRAN_ASSERT_REL(T3[j], Tr[j], 1e-14);
+    GRAN_ASSERT_ABS(a2[j], ar2[j], 1e-15);
+    GRAN_ASSERT_ABS(a3[j], ar3[j], 1e-15);
+  }
+  /* a3 grows from 0 towards the second Sonine HCS values (same sign) */
+  double Th[M], a2h[M], a3h[M];
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_T1, 1.0, Th, a2h, a3h, NULL));
+  for (int k = 0; k < M; k++) {
+    assert_true(a3[(NT - 1) * M + k] * a3h[k] > 0);
+    assert_true(fabs(a3[(NT - 1) * M + k]) > fabs(a3[k]));
+  }
+  f = H5Fopen(o2, H5F_ACC_RDONLY, H5P_DEFAULT);
+  double *T2 = io_h5_read_double(f, "temperatures/T_theory_sonine", &n2);
+  double *b2 = io_h5_read_double(f, "temperatures/a2_theory_sonine", &nb2);
+  assert_int_equal(H5Lexists(f, "temperatures/a3_theory_sonine", H5P_DEFAULT), 0);
+  g = H5Gopen2(f, "temperatures", H5P_DEFAULT);
+  assert_int_equal(H5Aexists(g, "theory_sonine_level"), 0);
+  H5Gclose(g);
+  H5Fclose(f);
+  f = H5Fopen(od, H5F_ACC_RDONLY, H5P_DEFAULT);
+  double *Td = io_h5_read_double(f, "temperatures/T_theory_sonine", &nd);
+  double *bd = io_h5_read_double(f, "temperatures/a2_theory_sonine", &nbd);
+  H5Fclose(f);
+  assert_int_equal(n2, NT * M), assert_int_equal(nd, NT * M);
+  assert_memory_equal(T2, Td, NT * M * sizeof(double));
+  assert_memory_equal(b2, bd, NT * M * sizeof(double));
+  /* the two levels differ: T_2/T_1 at t_end 1.41186 against 1.41328 at the first level */
+  const double r3 = T3[(NT - 1) * M + 1] / T3[(NT - 1) * M], r2 = T2[(NT - 1) * M + 1] / T2[(NT - 1) * M];
+  print_message("t_end: T2/T1 first level %.6f, second %.6f\n", r2, r3);
+  assert_true(fabs(r3 / r2 - 1) > 1e-4);
+  free(t), free(T0), free(T3), free(a2), free(a3), free(T2), free(b2), free(Td), free(bd);
+  gran_mixture_destroy(&mix);
+}
+
+static void expect_refused_key(const char *text, const char *key, const char *why) {
+  gran_scene *s = NULL;
+  GRAN_ASSERT_ERR(gran_scene_parse(text, "bad.toml", &s), GRAN_ERR_PARSE);
+  assert_null(s);
+  const char *msg = gran_last_error_message();
+  if (!strstr(msg, key) || !strstr(msg, why)) fail_msg("message '%s' lacks '%s' or '%s'", msg, key, why);
+}
+
+static void test_order_refused(void **state) {
+  (void)state;
+  const char *head = "[mixture]\nnspecies = 1\ndensity = [0.1]\n[engine]\ncounts = [100]\nt_end = 1.0\n[observables]\n";
+  char text[1024];
+  snprintf(text, sizeof text, "%ssonine_order = 3\n", head);
+  expect_refused_key(text, "key 'observables.sonine_order'", "needs theory_sonine = true");
+  snprintf(text, sizeof text, "%stheory_sonine = false\nsonine_order = 2\n", head);
+  expect_refused_key(text, "key 'observables.sonine_order'", "needs theory_sonine = true");
+  snprintf(text, sizeof text, "%stheory_sonine = true\nsonine_order = 4\n", head);
+  expect_refused_key(text, "key 'observables.sonine_order'", "got 4");
+  snprintf(text, sizeof text, "%stheory_sonine = true\nsonine_order = \"3\"\n", head);
+  expect_refused_key(text, "key 'observables.sonine_order'", "integer");
+  snprintf(text, sizeof text,
+           "[mixture]\nnspecies = 1\ndensity = [0.1]\n[restitution]\nmodel = \"viscoelastic\"\nbeta = 0.1\n[initial]\n"
+           "temperatures = \"equal\"\n[engine]\ncounts = [100]\nt_end = 1.0\n[observables]\ntheory_sonine = true\n"
+           "sonine_order = 3\n");
+  expect_refused_key(text, "key 'observables.sonine_order'", "viscoelastic");
+  snprintf(text, sizeof text, "[engine]\ntype = \"srd\"\ncells = 4\nsteps = 3\n[observables]\nsonine_order = 3\n");
+  expect_refused_key(text, "key 'observables.sonine_order'", "GSRD");
+}
+
 static void expect_refused(const char *text, const char *why) {
   gran_scene *s = NULL;
   GRAN_ASSERT_ERR(gran_scene_parse(text, "bad.toml", &s), GRAN_ERR_PARSE);
@@ -205,6 +301,8 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_datasets),
       cmocka_unit_test(test_refused),
+      cmocka_unit_test(test_order),
+      cmocka_unit_test(test_order_refused),
   };
   return cmocka_run_group_tests_name("t645-theory-sonine-run", tests, NULL, teardown);
 }

@@ -134,6 +134,9 @@ const gran_scene_key gran_dsmc_scene_keys_[] = {
      "gran_scene.theory_rtol", "must be in (0, 1)"},
     {"observables", "theory_sonine", "boolean", "false", "", "", "also the first Sonine T_k(t), a2_k(t)",
      "gran_scene.obs_theory_sonine", ""},
+    {"observables", "sonine_order", "integer", "2", "[2, 3]", "",
+     "level of theory_sonine: 2 the first Sonine (a2), 3 the second (a2, a3)", "gran_scene.theory_sonine_order",
+     "must be 2 (first Sonine level: a2) or 3 (second: a2, a3), got {}"},
     {"observables", "velocity_distribution", "boolean | table", "false", "", "",
      "density of c = |v - u_k| / sqrt(2 T_k/m_k) per species", "gran_scene.obs_veldist", ""},
     {"observables.velocity_distribution", "bins", "integer", "60", "[1, 1e6]", "", "histogram bins", "gran_scene.vd_bins",
@@ -594,6 +597,11 @@ void parse_observables(Ctx &c) {
     if (s.agg.e_agg > 0 || std::isfinite(s.agg.e_frag))
       ob.fail("theory_sonine", "no Sonine theory for aggregation or fragmentation (the species change)");
   }
+  s.theory_sonine_order = ob.integer("sonine_order");
+  if (ob.has("sonine_order") && !s.obs_theory_sonine)
+    ob.fail("sonine_order", "needs theory_sonine = true (it sets the level of T_theory_sonine)");
+  if (s.theory_sonine_order == 3 && s.model == GRAN_RESTITUTION_VISCOELASTIC)
+    ob.fail("sonine_order", "= 3 (the second Sonine level) needs constant or matrix restitution, not viscoelastic");
   if (ob.has("tamsd")) {
     Tab ta = ob.sub("tamsd");
     ta.set_known();
@@ -637,7 +645,8 @@ void parse_observables(Ctx &c) {
  * core/run_bounds.h. Passes over the M^2 species pairs, a lower bound: tau0 (1), the HCS start
  * (8, as measured for 1e4 - 3e4 species), and the ODE trajectories of the theory observables (at
  * least one pass per output time: T_theory, msd_theory unless the HCS closed form serves it, the
- * first Sonine trajectory at about 11 Maxwellian passes, the TAMSD at one per lag). Above the
+ * first Sonine trajectory at about 11 Maxwellian passes, the second (sonine_order = 3) at 400: 40x the first
+ * at M = 100, measured; the TAMSD at one per lag). Above the
  * bound the scene is refused naming mixture.nspecies; above the warning level it warns. */
 void check_theory_work(Ctx &c) {
   const gran_scene &s = c.s;
@@ -649,7 +658,7 @@ void check_theory_work(Ctx &c) {
     if (s.obs_temperatures) passes += nt;
     const bool msd_closed = s.init == SCENE_INIT_HCS && s.model != GRAN_RESTITUTION_VISCOELASTIC;
     if (s.obs_msd && !msd_closed) passes += nt;
-    if (s.obs_theory_sonine) passes += 11.0 * nt;
+    if (s.obs_theory_sonine) passes += (s.theory_sonine_order == 3 ? 400.0 : 11.0) * nt;
     if (s.obs_tamsd) passes += (double)s.tamsd_lags.size();
   }
   char why[320];

@@ -341,24 +341,44 @@ class DsmcEngine : public gran_engine {
     return GRAN_SUCCESS;
   }
 
-  /* First Sonine T_k(t), a2_k(t) from the scene's start (T0, Maxwellian velocities: a2 = 0). */
+  /* Sonine T_k(t), a2_k(t) from the scene's start (T0, Maxwellian velocities: a2 = 0): the first level
+   * (sonine_order = 2) or the second (3: a3 = 0 at the start, a3_theory_sonine beside). */
   int write_sonine_theory(int64_t gid, const char *file, const std::vector<double> &tt) {
     const int64_t M = s_->nspecies, nt = (int64_t)tt.size();
-    std::vector<double> T((size_t)(nt * M)), a2((size_t)(nt * M));
-    if (gran_theory_temperatures_approx(mix_, GRAN_THEORY_SONINE, T0_.data(), nullptr, nt, tt.data(), s_->theory_rtol,
-                                        T.data(), a2.data()) != GRAN_SUCCESS) {
+    const bool second = s_->theory_sonine_order == 3;
+    std::vector<double> T((size_t)(nt * M)), a2((size_t)(nt * M)), a3(second ? (size_t)(nt * M) : 0);
+    const int st = second ? gran_theory_temperatures_sonine2(mix_, T0_.data(), nullptr, nullptr, nt, tt.data(),
+                                                             s_->theory_rtol, T.data(), a2.data(), a3.data())
+                          : gran_theory_temperatures_approx(mix_, GRAN_THEORY_SONINE, T0_.data(), nullptr, nt, tt.data(),
+                                                            s_->theory_rtol, T.data(), a2.data());
+    if (st != GRAN_SUCCESS) {
       gran_warning_add("no T_theory_sonine in the output: %s", gran_last_error_message());
       return gran_h5::attr_string(gid, "theory_sonine_error", gran_last_error_message(), file);
     }
+    const char *level = second ? "second" : "first";
+    const std::string fn = second ? "gran_theory_temperatures_sonine2" : "gran_theory_temperatures_approx";
     GRAN_CALL(gran_h5::write_double(gid, "T_theory_sonine", {nt, M}, T.data(), file));
     GRAN_CALL(gran_describe_(gid, "T_theory_sonine", "energy",
-                             "partial temperatures in the first Sonine approximation, from a2 = 0 at the start "
-                             "(gran_theory_temperatures_approx) [time][k]", file));
+                             (std::string("partial temperatures in the ") + level +
+                              " Sonine approximation, from a2 = 0" + (second ? ", a3 = 0" : "") + " at the start (" + fn +
+                              ") [time][k]")
+                                 .c_str(),
+                             file));
     GRAN_CALL(gran_attach_scales_(gid, "T_theory_sonine", {"time", "species"}, file));
     GRAN_CALL(gran_h5::write_double(gid, "a2_theory_sonine", {nt, M}, a2.data(), file));
     GRAN_CALL(gran_describe_(gid, "a2_theory_sonine", "1",
-                             "Sonine coefficients a2_k in the first Sonine approximation [time][k]", file));
+                             (std::string("Sonine coefficients a2_k in the ") + level + " Sonine approximation [time][k]")
+                                 .c_str(),
+                             file));
     GRAN_CALL(gran_attach_scales_(gid, "a2_theory_sonine", {"time", "species"}, file));
+    if (second) {
+      GRAN_CALL(gran_h5::write_double(gid, "a3_theory_sonine", {nt, M}, a3.data(), file));
+      GRAN_CALL(gran_describe_(gid, "a3_theory_sonine", "1",
+                               "Sonine coefficients a3_k in the second Sonine approximation [time][k]", file));
+      GRAN_CALL(gran_attach_scales_(gid, "a3_theory_sonine", {"time", "species"}, file));
+      GRAN_CALL(gran_h5::attr_string(gid, "theory_sonine_level", "second Sonine approximation (sonine_order = 3: a2, a3)",
+                                     file));
+    }
     return GRAN_SUCCESS;
   }
 

@@ -65,6 +65,7 @@ struct gran_scene {
   int obs_temperatures = 1, obs_msd = 1, obs_energy = 1, obs_momentum = 0;
   int obs_collision_counts = 0, obs_sonine_a2 = 0, obs_theory = 1;
   int obs_theory_sonine = 0; /* T_theory_sonine, a2_theory_sonine beside T_theory */
+  int64_t theory_sonine_order = 2; /* 2: first Sonine level (a2); 3: second (a2, a3, a3_theory_sonine) */
   double theory_rtol = 1e-8;
   int obs_veldist = 0;
   int64_t vd_bins = 60;

@@ -368,6 +368,8 @@ void parse_observables(Ctx &c) {
   Tab ob = top.sub_or_empty("observables");
   if (ob.has("theory_sonine"))
     ob.fail("theory_sonine", "the first Sonine theory is written by DSMC scenes only, not by GSRD scenes");
+  if (ob.has("sonine_order"))
+    ob.fail("sonine_order", "the Sonine theory is written by DSMC scenes only, not by GSRD scenes");
   ob.set_known();
   if (ob.has("times") && ob.has("every")) ob.fail("every", "give either 'times' or 'every', not both");
   std::vector<int64_t> os;

@@ -13,12 +13,15 @@
  *   zeta_k = -sum_i R2/(3 a_k),
  *   da2_k/dt = Phi2_k = sum_i R4/(15 a_k^2) + 2 zeta0_k (1 + a2_k) + 2 zeta1_k,
  *   da3_k/dt = 3 Phi2_k - 3 [zeta0_k (1 + 3 a2_k - a3_k) + zeta1_k] - sum_i R6/(105 a_k^3).
- * HCS: Newton (GSL LU) on (log T_k/T_ref, a2_k, a3_k) from the first Sonine HCS, a3 = 0. */
+ * HCS: Newton (GSL LU) on (log T_k/T_ref, a2_k, a3_k) from the first Sonine HCS, a3 = 0.
+ * Trajectory: y = (z_k, a2_k, a3_k) in s = log(1 + t/ts), z_k = log(T_k/T0_k) + 2 s, GSL odeiv2 rk8pd (the layout
+ * of the first Sonine trajectory, sonine.cpp). */
 #include "theory/theory_impl.h"
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_linalg.h>
+#include <gsl/gsl_odeiv2.h>
 
 #include <algorithm>
 #include <cmath>
@@ -161,6 +164,37 @@ int check_coeffs(const double *c, int64_t M, const char *name) {
   return GRAN_SUCCESS;
 }
 
+/* the second Sonine trajectory: the start and the state the right-hand side works on */
+struct Traj2 {
+  const gran_mixture *mix;
+  int64_t M;
+  double ts;
+  std::vector<double> T0, T, a2, a3;
+  Pass2 P;
+};
+
+int traj2_rhs(double s, const double y[], double f[], void *params) {
+  Traj2 *tr = static_cast<Traj2 *>(params);
+  const int64_t M = tr->M;
+  for (int64_t k = 0; k < M; k++) {
+    if (!std::isfinite(y[k]) || !std::isfinite(y[M + k]) || !std::isfinite(y[2 * M + k])) return GSL_EBADFUNC;
+    tr->T[(size_t)k] = tr->T0[(size_t)k] * std::exp(y[k] - 2.0 * s);
+    tr->a2[(size_t)k] = y[M + k];
+    tr->a3[(size_t)k] = y[2 * M + k];
+  }
+  pass2(tr->mix, tr->T.data(), tr->a2.data(), tr->a3.data(), tr->P);
+  const double g = tr->ts * std::exp(s);
+  for (int64_t k = 0; k < M; k++) {
+    double z, p2, p3;
+    rates2(tr->P, tr->a2.data(), tr->a3.data(), k, &z, &p2, &p3);
+    if (!std::isfinite(z) || !std::isfinite(p2) || !std::isfinite(p3)) return GSL_EBADFUNC;
+    f[k] = 2.0 - g * z;
+    f[M + k] = g * p2;
+    f[2 * M + k] = g * p3;
+  }
+  return GSL_SUCCESS;
+}
+
 } // namespace
 
 /**
@@ -253,6 +287,108 @@ GRAN_EXTERN int gran_theory_hcs_sonine2(const gran_mixture *mix, int norm, doubl
       *tau0 = zeta > 0.0 ? 2.0 / zeta : HUGE_VAL;
       GRAN_CHECK(!std::isnan(*tau0), GRAN_ERR_NUMERIC, "second Sonine HCS: tau0 is not a number");
     }
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/**
+ * @brief T_k(t), a2_k(t), a3_k(t) of the second Sonine approximation from (T0, a20, a30): dT_k/dt = -zeta_k T_k and
+ * the rates of gran_theory_sonine2_rates, GSL odeiv2 rk8pd in s = log(1 + t/ts), ts the shortest collision time at
+ * T0 (the variables and tolerances of gran_theory_temperatures_approx).
+ * @param[in] T0 M temperatures > 0; a20, a30 M start values (finite, |a| < 1; NULL: 0)
+ * @param[in] ntimes, t output times >= 0 (any order); rtol relative tolerance
+ * @param[out] T ntimes*M; a2, a3 ntimes*M (either may be NULL), row-major [time][species]
+ */
+GRAN_EXTERN int gran_theory_temperatures_sonine2(const gran_mixture *mix, const double *T0, const double *a20,
+                                                 const double *a30, int64_t ntimes, const double *t, double rtol,
+                                                 double *T, double *a2, double *a3) {
+  GRAN_TRY {
+    gsl_set_error_handler_off();
+    GRAN_CALL(check_mixture(mix, "mix"));
+    GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
+               "mixture 'mix' has viscoelastic restitution: the second Sonine trajectory is implemented for constant "
+               "or matrix restitution only");
+    const int64_t M = mix->M;
+    GRAN_CALL(check_array(T0, M, "T0", 1));
+    if (a20) GRAN_CALL(check_coeffs(a20, M, "a20"));
+    if (a30) GRAN_CALL(check_coeffs(a30, M, "a30"));
+    GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);
+    if (ntimes > 0) {
+      GRAN_CALL(check_times(t, ntimes, "t"));
+      GRAN_CHECK_PTR(T);
+    }
+    GRAN_CALL(check_rtol(rtol, "rtol"));
+    if (ntimes == 0) return GRAN_SUCCESS;
+    Traj2 tr;
+    tr.mix = mix;
+    tr.M = M;
+    tr.T0.assign(T0, T0 + M);
+    tr.T = tr.T0;
+    tr.a2.assign((size_t)M, 0.0);
+    tr.a3.assign((size_t)M, 0.0);
+    if (a20) tr.a2.assign(a20, a20 + M);
+    if (a30) tr.a3.assign(a30, a30 + M);
+    pass2(mix, tr.T.data(), tr.a2.data(), tr.a3.data(), tr.P);
+    double numax = 0.0;
+    for (double v : tr.P.nu) numax = std::max(numax, v);
+    GRAN_CHECK(std::isfinite(numax), GRAN_ERR_NUMERIC, "second Sonine trajectory: the collision rates at T0 are not "
+               "finite");
+    tr.ts = numax > 0.0 ? 1.0 / numax : 1.0;
+    std::vector<int64_t> idx((size_t)ntimes);
+    for (int64_t j = 0; j < ntimes; j++) idx[(size_t)j] = j;
+    std::stable_sort(idx.begin(), idx.end(), [&](int64_t x, int64_t y) { return t[x] < t[y]; });
+    const size_t dim = (size_t)(3 * M);
+    std::vector<double> y(dim, 0.0);
+    for (int64_t k = 0; k < M; k++) {
+      y[(size_t)(M + k)] = tr.a2[(size_t)k];
+      y[(size_t)(2 * M + k)] = tr.a3[(size_t)k];
+    }
+    gsl_odeiv2_system sys{traj2_rhs, nullptr, dim, &tr};
+    /* local tolerance rtol/10 (as gran_theory_temperatures); absolute 1e-3 rtol on z, a2, a3 */
+    gsl_odeiv2_step *stp = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, dim);
+    gsl_odeiv2_control *ctl = gsl_odeiv2_control_y_new(1e-3 * rtol, std::max(1e-15, 0.1 * rtol));
+    gsl_odeiv2_evolve *ev = gsl_odeiv2_evolve_alloc(dim);
+    int ret = GRAN_SUCCESS;
+    if (!stp || !ctl || !ev) ret = GRAN_ERROR(GRAN_ERR_NOMEM, "cannot allocate the ODE solver (M = %" PRId64 ")", M);
+    double s = 0.0, h = 1e-6;
+    for (int64_t j = 0; j < ntimes && ret == GRAN_SUCCESS; j++) {
+      const int64_t o = idx[(size_t)j];
+      const double so = std::log1p(t[o] / tr.ts);
+      while (ret == GRAN_SUCCESS && s < so) {
+        int st = gsl_odeiv2_evolve_apply(ev, ctl, stp, &sys, &s, so, &h, y.data());
+        if (st == GSL_SUCCESS && !(h > 0.0 && std::isfinite(h))) st = GSL_FAILURE;
+        if (st != GSL_SUCCESS) {
+          ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "second Sonine trajectory (M = %" PRId64 ") failed at t = %g (GSL: %s)", M,
+                           tr.ts * std::expm1(s), gsl_strerror(st));
+          break;
+        }
+        for (int64_t k = 0; k < M && ret == GRAN_SUCCESS; k++) {
+          const double b2 = y[(size_t)(M + k)], b3 = y[(size_t)(2 * M + k)];
+          if (!(std::fabs(b2) < 1.0 && std::fabs(b3) < 1.0))
+            ret = GRAN_ERROR(GRAN_ERR_DOMAIN,
+                             "second Sonine trajectory: species %" PRId64 " reaches a2 = %g, a3 = %g at t = %g (|a| >= 1: "
+                             "the second Sonine approximation fails)",
+                             k, b2, b3, tr.ts * std::expm1(s));
+        }
+        if (ret == GRAN_SUCCESS && ev->count > 10000000UL)
+          ret = GRAN_ERROR(GRAN_ERR_NOCONV, "second Sonine trajectory: more than 1e7 steps (t = %g)",
+                           tr.ts * std::expm1(s));
+      }
+      if (ret != GRAN_SUCCESS) break;
+      for (int64_t k = 0; k < M; k++) {
+        T[o * M + k] = T0[k] * std::exp(y[(size_t)k] - 2.0 * so);
+        if (a2) a2[o * M + k] = y[(size_t)(M + k)];
+        if (a3) a3[o * M + k] = y[(size_t)(2 * M + k)];
+      }
+    }
+    if (ev) gsl_odeiv2_evolve_free(ev);
+    if (ctl) gsl_odeiv2_control_free(ctl);
+    if (stp) gsl_odeiv2_step_free(stp);
+    if (ret != GRAN_SUCCESS) return ret;
+    for (int64_t j = 0; j < ntimes * M; j++)
+      GRAN_CHECK(std::isfinite(T[j]) && T[j] > 0.0, GRAN_ERR_NUMERIC,
+                 "second Sonine trajectory: temperature %" PRId64 " is not finite and positive", j);
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
