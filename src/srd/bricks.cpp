@@ -1,5 +1,6 @@
 /* bricks.cpp - the decomposable GSRD engine: one box as P bricks of the binning grid (bricks.h;
- * design and measurements: docs/developers/domain-decomposition.md, "Step 2").
+ * design and measurements: docs/developers/domain-decomposition.md, "Step 2" and "Step 3"; one
+ * brick per MPI process: srd_bricks_run_comm_).
  *
  * A brick holds a window [lo, lo + w) per axis of the binning grid (s->gm.nc cells per axis; the
  * wall axis has L + 1 layers), the cells' persistent data of that window (reference velocity V,
@@ -7,15 +8,16 @@
  * current grid shift lies in the window, and a copy of the run's scalar state (time, step, the
  * shift stream, the ledger). One step, on every brick (the phases below; the driver runs each
  * phase on every brick before the next one, which is what an MPI rank does for its one brick):
- *   stream:   draw the shift (the same draw on every brick); move the brick's particles
- *             (srd_rule_move; its streaming terms kept per particle), dropping those that left in
- *             the previous step; bin each under the new shift (srd_bin's arithmetic, Lees-Edwards
- *             included): the global cell and its owner; the particles that left are packed, in
- *             local order, per destination and sent (and marked until the next streaming pass);
- *   receive:  the arrivals (each sender's in key order) are sorted by key and appended;
- *   sums:     a stable counting sort of the particles by local cell; a cell holding particles
- *             that arrived since the last sort has its list put in key order (insertion by key:
- *             the list is the sorted residents, then the arrivals); per cell its sums in key
+ *   stream:   draw the shift (the same draw on every brick); move the brick's particles in place
+ *             (srd_rule_move; its streaming terms kept per particle), skipping the holes; bin each
+ *             under the new shift (srd_bin's arithmetic, Lees-Edwards included): the global cell
+ *             and its owner; the particles that left are packed per destination and sent, and
+ *             their slots become holes;
+ *   receive:  the arrivals go into the holes nearest their cells (the rest appended), marked late
+ *             until the next sort;
+ *   sums:     a stable counting sort of the particles by local cell; a cell holding a late
+ *             particle has its list put in key order (insertion by key: the list is in slot
+ *             order, the residents in key order); per cell its sums in key
  *             order, and the per-particle streaming terms of its particles summed in the same
  *             order into one double per cell, added to exact accumulators (one exact add per cell
  *             and quantity); then, without the global thermostat, at once the cell's rule
