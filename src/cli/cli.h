@@ -15,6 +15,7 @@ int cli_mpi_init(int *argc, char ***argv); /* 0 on success */
 void cli_mpi_finalize(void);
 int cli_mpi_rank(void);
 int cli_mpi_size(void);
+int cli_mpi_local_size(void); /* the processes on this machine (build/granary: 1) */
 int cli_mpi_all(int ok); /* collective: 1 when every process passes ok != 0 */
 void cli_mpi_stats(long long *steps, long long *bytes); /* gathers, and bytes rank 0 received */
 /* the process group of a decomposed GSRD run (src/srd/bricks.h): MPI_COMM_WORLD in

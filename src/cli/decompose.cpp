@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -179,6 +180,23 @@ int cli_decompose(int argc, char **argv) {
   if (reference && P > 1) {
     if (root) std::fprintf(stderr, "granary decompose: --reference runs in one process (build/granary)\n");
     return 2;
+  }
+  { /* the memory of this process's share against the machine's, divided among its processes (a
+     * scene's max_memory_gb, which may allow a gas larger than one machine, caps it only) */
+    const bool one = P == 1 && nb > 1;
+    const double need = srd_bricks_memory_(&opt, (int)nb, one) + (reference ? srd_bricks_memory_(&opt, 1, 1) : 0.0);
+    const int local = cli_mpi_local_size() > 0 ? cli_mpi_local_size() : 1;
+    const double avail = std::min(gran_scene_memory_limit_(scene), gran_memory_available_()) / local;
+    if (!(need <= avail)) {
+      if (root)
+        std::fprintf(stderr,
+                     "granary decompose: %s needs about %.3g GB (%s), more than the %.3g GB available%s; use more "
+                     "processes (machines) or a smaller gas\n",
+                     P > 1 ? "each process" : "the run", need / 1e9,
+                     one ? "all bricks in one process, and the undivided state" : "its brick's particles and cells",
+                     avail / 1e9, local > 1 ? (" to each of the " + std::to_string(local) + " processes on this machine").c_str() : "");
+      return 1;
+    }
   }
   srd_bricks_rank_out r;
   std::memset(&r, 0, sizeof r);

@@ -26,7 +26,7 @@
 #include "srd/bricks.h"
 
 namespace {
-int g_rank = 0, g_size = 1;
+int g_rank = 0, g_size = 1, g_local = 1;
 long long g_steps = 0, g_bytes = 0; /* collective gathers and bytes rank 0 received from the others */
 }  // namespace
 
@@ -161,6 +161,11 @@ int cli_mpi_init(int *argc, char ***argv) {
   if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) return 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  MPI_Comm node;
+  if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) == MPI_SUCCESS) {
+    MPI_Comm_size(node, &g_local);
+    MPI_Comm_free(&node);
+  }
   gran_run_comm c;
   c.rank = g_rank;
   c.size = g_size;
@@ -201,6 +206,7 @@ void cli_mpi_abort(int) {}
 
 int cli_mpi_rank(void) { return g_rank; }
 int cli_mpi_size(void) { return g_size; }
+int cli_mpi_local_size(void) { return g_local; }
 void cli_mpi_stats(long long *steps, long long *bytes) {
   *steps = g_steps;
   *bytes = g_bytes;

@@ -176,6 +176,8 @@ double gran_srd_memory_(const gran_scene &s, std::vector<gran_mem_part> &parts);
 int gran_scene_check_memory_(const gran_scene *s, const char *key);
 /* The bytes the run of this scene may use: [engine] max_memory_gb, else MemAvailable now. */
 double gran_scene_memory_limit_(const gran_scene *s);
+/* MemAvailable of this machine now (bytes; what the kernel can hand out without swapping). */
+double gran_memory_available_(void);
 
 /* h5.cpp: thin helpers. Every function returns a granary status; the file name goes in messages. */
 namespace gran_h5 {

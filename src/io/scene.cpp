@@ -538,6 +538,8 @@ double gran_scene_memory_limit_(const gran_scene *s) {
   return s->max_memory > 0 ? s->max_memory : memory_available_bytes();
 }
 
+double gran_memory_available_(void) { return memory_available_bytes(); }
+
 int gran_scene_check_memory_(const gran_scene *s, const char *key) {
   std::vector<MemPart> parts;
   const double total = run_memory(*s, parts), limit = gran_scene_memory_limit_(s);

@@ -1360,6 +1360,25 @@ extern "C" void srd_bricks_digest_(const srd_bricks_out *o, int dim, uint64_t *p
   *cells = dc;
 }
 
+extern "C" double srd_bricks_memory_(const gran_srd_options *opt, int nbricks, int all_in_one) {
+  double box = 1, bin = 1;
+  for (int k = 0; k < opt->dim; k++) {
+    box *= (double)opt->cells[k];
+    bin *= (double)(opt->cells[k] + (k == opt->wall_axis ? 1 : 0));
+  }
+  const double N = std::floor(opt->n0 * box + 0.5), d = (double)opt->dim;
+  const bool str = opt->shear_rate != 0 || opt->wall_axis >= 0 || opt->accel[0] != 0 || opt->accel[1] != 0 ||
+                   opt->accel[2] != 0;
+  /* per particle: state, key, local cell, dest, order, the streaming terms, the sort's copy of one
+   * array; per cell: V, RNG, sums, start, mark */
+  const double bpp = 16.0 * d + 8 + 4 + 4 + 4 + (str ? 24.0 : 0.0) + 8;
+  const double bpc = 24.0 + 32.0 + (double)sizeof(srd_cell_sum) + 4 + 1;
+  const double share = all_in_one ? 1.0 : 1.0 / (double)std::max(1, nbricks);
+  double b = 1.1 * N * share * bpp + bin * share * bpc + 1e6;
+  if (all_in_one) b += N * (16.0 * d) + bin * 56.0; /* the undivided state the bricks start from */
+  return b;
+}
+
 extern "C" int srd_bricks_auto_(const gran_srd_options *opt, int P, int pgrid[3]) {
   GRAN_TRY {
     GRAN_CHECK_PTR(opt);

@@ -69,6 +69,12 @@ typedef struct srd_bricks_rank_out {
   int64_t far_messages_all;           /* messages to bricks beyond the 3^d - 1 around the sender */
 } srd_bricks_rank_out;
 
+/* The peak bytes of one process of a split run of these options into nbricks bricks (its brick's
+ * share of the particles, with 10 % for the fluctuation of a brick's count, and of the cells, with
+ * the step's work arrays); all_in_one = 1: all bricks in one process (srd_bricks_run_: the
+ * undivided state too). */
+double srd_bricks_memory_(const gran_srd_options *opt, int nbricks, int all_in_one);
+
 /* Order-independent digests (as in srd_bricks_rank_out) of a gathered run or a plain state. */
 void srd_bricks_digest_(const srd_bricks_out *o, int dim, uint64_t *particles, uint64_t *cells);
 
