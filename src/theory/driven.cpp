@@ -135,11 +135,7 @@ GRAN_EXTERN int gran_theory_temperatures_driven(const gran_mixture *mix, const d
       GRAN_CHECK(std::isfinite(bath_sigma) && bath_sigma >= 0, GRAN_ERR_ARG,
                  "argument 'bath_sigma' = %g must be finite and >= 0", bath_sigma);
     }
-    GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);
-    if (ntimes > 0) {
-      GRAN_CALL(check_times(t, ntimes, "t"));
-      GRAN_CHECK_PTR(T);
-    }
+    GRAN_CALL(check_output_times(ntimes, t, T, "T"));
     GRAN_CALL(check_rtol(rtol, "rtol"));
     if (ntimes == 0) return GRAN_SUCCESS;
 

@@ -4,6 +4,7 @@
 
 #include <gsl/gsl_errno.h>
 
+#include <cinttypes>
 #include <cstdio>
 
 namespace gran {
@@ -28,6 +29,14 @@ int check_array(const double *a, int64_t n, const char *name, int positive) {
 }
 
 int check_times(const double *t, int64_t n, const char *name) { return check_array(t, n, name, 0); }
+
+int check_output_times(int64_t ntimes, const double *t, const void *out, const char *out_name) {
+  if (ntimes < 0) return GRAN_ERROR(GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);
+  if (ntimes == 0) return GRAN_SUCCESS;
+  GRAN_CALL(check_times(t, ntimes, "t"));
+  if (!out) return GRAN_ERROR(GRAN_ERR_ARG, "argument '%s' is NULL", out_name);
+  return GRAN_SUCCESS;
+}
 
 int check_rtol(double rtol, const char *name) {
   if (!(std::isfinite(rtol) && rtol >= 1e-14 && rtol <= 0.1))

@@ -209,11 +209,7 @@ GRAN_EXTERN int gran_theory_msd_mono(const gran_mixture *mix, double T1, int64_t
     gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CHECK(std::isfinite(T1) && T1 > 0.0, GRAN_ERR_ARG, "argument 'T1' = %g must be finite and > 0", T1);
-    GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);
-    if (ntimes > 0) {
-      GRAN_CALL(check_times(t, ntimes, "t"));
-      GRAN_CHECK_PTR(msd);
-    }
+    GRAN_CALL(check_output_times(ntimes, t, msd, "msd"));
     GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
                "Eq. 31 needs a constant restitution coefficient (mixture 'mix' is viscoelastic)");
     GRAN_CHECK(mix->n[0] > 0.0, GRAN_ERR_DOMAIN, "Eq. 31: species 1 of 'mix' must have n_1 > 0");

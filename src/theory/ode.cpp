@@ -296,11 +296,7 @@ GRAN_EXTERN int gran_theory_temperatures(const gran_mixture *mix, const double *
     gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
     GRAN_CALL(check_array(T0, mix->M, "T0", 1));
-    GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);
-    if (ntimes > 0) {
-      GRAN_CALL(check_times(t, ntimes, "t"));
-      GRAN_CHECK_PTR(T);
-    }
+    GRAN_CALL(check_output_times(ntimes, t, T, "T"));
     GRAN_CALL(check_rtol(rtol, "rtol"));
     if (ntimes == 0) return GRAN_SUCCESS;
     const int64_t M = mix->M;

@@ -1078,11 +1078,7 @@ GRAN_EXTERN int gran_theory_temperatures_approx(const gran_mixture *mix, int app
         GRAN_CHECK(std::fabs(a20[k]) < 1.0, GRAN_ERR_ARG,
                    "argument 'a20'[%" PRId64 "] = %g: the first Sonine approximation needs |a2| < 1", k, a20[k]);
     }
-    GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);
-    if (ntimes > 0) {
-      GRAN_CALL(check_times(t, ntimes, "t"));
-      GRAN_CHECK_PTR(T);
-    }
+    GRAN_CALL(check_output_times(ntimes, t, T, "T"));
     GRAN_CALL(check_rtol(rtol, "rtol"));
     if (ntimes == 0) return GRAN_SUCCESS;
     STraj tr;

@@ -313,11 +313,7 @@ GRAN_EXTERN int gran_theory_temperatures_sonine2(const gran_mixture *mix, const 
     GRAN_CALL(check_array(T0, M, "T0", 1));
     if (a20) GRAN_CALL(check_coeffs(a20, M, "a20"));
     if (a30) GRAN_CALL(check_coeffs(a30, M, "a30"));
-    GRAN_CHECK(ntimes >= 0, GRAN_ERR_ARG, "argument 'ntimes' = %" PRId64 " is negative", ntimes);
-    if (ntimes > 0) {
-      GRAN_CALL(check_times(t, ntimes, "t"));
-      GRAN_CHECK_PTR(T);
-    }
+    GRAN_CALL(check_output_times(ntimes, t, T, "T"));
     GRAN_CALL(check_rtol(rtol, "rtol"));
     if (ntimes == 0) return GRAN_SUCCESS;
     Traj2 tr;

@@ -72,6 +72,9 @@ int check_mixture(const gran_mixture *mix, const char *name);
 int check_array(const double *a, int64_t n, const char *name, int positive);
 /* Times: finite, >= 0. */
 int check_times(const double *t, int64_t n, const char *name);
+/* ntimes >= 0; with ntimes > 0 the times t (check_times) and the output array out (not NULL,
+ * named out_name in the message) */
+int check_output_times(int64_t ntimes, const double *t, const void *out, const char *out_name);
 int check_rtol(double rtol, const char *name);
 
 /* ---- viscoelastic averages ------------------------------------------------------------------
