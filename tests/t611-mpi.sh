@@ -7,25 +7,8 @@
 # also; an error on rank 0 (output not writable) ends every process with one message.
 # Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
 set -eu
-src=${GRAN_SOURCE_DIR:-.}
-build=${GRAN_BUILD:-build}
-cli=${GRAN_CLI:-$build/granary}
-mpicli="$src/$build/granary-mpi"
-[ -x "$mpicli" ] || mpicli="$build/granary-mpi"
-if ! command -v mpirun >/dev/null 2>&1 || [ ! -x "$mpicli" ]; then
-  echo "SKIP: MPI is not installed (mpirun or $build/granary-mpi missing: apt-get install -y libopenmpi-dev openmpi-bin)"
-  exit 0
-fi
-tmp=$(mktemp -d /tmp/granary-t611-XXXXXX)
-trap 'rm -rf "$tmp"' EXIT
-# OpenMPI in containers and CI: as root, shared memory without ptrace, no network probing
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-export OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_btl=self,vader OMPI_MCA_rmaps_base_oversubscribe=1
-export OMPI_MCA_mpi_yield_when_idle=1
-export OMP_NUM_THREADS=1
-# the sanitizer build: OpenMPI's own allocations are not ours to report
-export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
-mpi() { n=$1; shift; timeout 120 mpirun --oversubscribe -n "$n" "$mpicli" "$@"; }
+name=t611
+. "${GRAN_SOURCE_DIR:-.}/tests/mpi_env.sh.inc"
 
 # h5same A B: the same datasets in both files, each with the same shape, type and bytes
 cat > "$tmp/h5same.c" <<'CEOF'
