@@ -11,8 +11,9 @@
 # initial + collisions + external work, to 1e-12 of the initial energy), the momentum of a
 # periodic gas without forces, shear or thermostat stays 0 (to 1e-12 of sum |v|); particles
 # change brick (the exchange is exercised); particles faster than a brick per step reach bricks
-# beyond the neighbouring ones (any process may send to any). Bad input: each refusal names
-# what was wrong.
+# beyond the neighbouring ones (any process may send to any); a process killed during the steps
+# ends the run on every process within 30 s, the rank named. Bad input: each refusal names what
+# was wrong (a split's memory beyond the machine's included).
 # Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
 set -eu
 name=t614
@@ -130,6 +131,29 @@ PYEOF
 mpi 2 decompose "$tmp/periodic3.toml" --json > "$tmp/o.json"
 python3 -c "import json,sys; r=json.load(open(sys.argv[1])); b=r['bricks']; sys.exit(0 if b[0]*b[1]*b[2]==2 and r['processes']==2 and r['process_particles_min']>0 else 1)" "$tmp/o.json" ||
   { echo "FAIL: the default split on 2 processes: $(cat "$tmp/o.json")"; fail=1; }
+
+# a process killed during the steps: every process stops, and mpirun names the one that died
+cp "$tmp/periodic3.toml" "$tmp/kill.toml"
+( if mpi 2 decompose "$tmp/kill.toml" --steps 100000000 > "$tmp/kill.out" 2> "$tmp/kill.err"; then echo 0; else echo $?; fi \
+    > "$tmp/kill.rc" ) &
+ranks=""
+for i in $(seq 1 100); do # the two processes running (their command lines name this scene)
+  ranks=$(for p in $(pgrep -f "decompose $tmp/kill.toml" || true); do
+             [ "$(cat /proc/$p/comm 2>/dev/null || true)" != granary-mpi ] || echo $p
+           done)
+  [ "$(echo "$ranks" | grep -c . || true)" != 2 ] || break
+  sleep 0.1
+done
+sleep 1
+victim=$(echo "$ranks" | tail -n 1)
+t0=$(date +%s)
+[ -n "$victim" ] && kill -9 "$victim"
+wait
+dt=$(( $(date +%s) - t0 ))
+if [ -z "$victim" ] || [ "$(cat "$tmp/kill.rc")" = 0 ] || [ $dt -gt 30 ] || ! grep -q "rank" "$tmp/kill.err"; then
+  echo "FAIL: a killed process: exit $(cat "$tmp/kill.rc" 2>/dev/null) after ${dt} s (want non-zero within 30 s, naming the rank): $(cat "$tmp/kill.err")"
+  fail=1
+fi
 
 # refusals: exit status and a message naming what was wrong
 expect() { # expect STATUS WORDS -- command...: fails unless the command exits STATUS with WORDS on stderr
