@@ -12,6 +12,7 @@
 #include <algorithm>
 
 #include "fuzz_common.h"
+#include "srd/bricks.h"
 
 namespace {
 
@@ -33,6 +34,40 @@ void obs_srd(gran_srd *srd, const char *when) {
     fz::finite_or_fail(v[k], b);
   }
   if (!(o.dt_max >= 0)) fz::fail("gran_srd_observe dt_max is NaN or negative", when);
+}
+
+/* the decomposable engine split into bricks of the bytes' grid against the undivided engine: the
+ * same status, and on success the same particles, cells and ledger bit for bit */
+void bricks_against_plain(const gran_srd_options &o, fz::Bytes &in) {
+  const int d = o.dim == 3 ? 3 : 2;
+  int pg[3] = {1, 1, 1};
+  for (int a = 0; a < d; ++a) pg[a] = 1 + (int)(in.u8() % (uint8_t)std::min<int64_t>(4, o.cells[a] + (a == o.wall_axis)));
+  const int64_t steps = 1 + in.u8() % 6;
+  srd_bricks_out b, p;
+  const int eb = srd_bricks_run_(&o, pg, steps, 1, &b);
+  gran_srd *s = nullptr;
+  int ep = gran_srd_create(&o, &s);
+  if (ep == GRAN_SUCCESS) ep = gran_srd_advance(s, steps);
+  if (ep == GRAN_SUCCESS) ep = srd_bricks_gather_plain_(s, &p);
+  gran_srd_destroy(&s);
+  if ((eb == GRAN_SUCCESS) != (ep == GRAN_SUCCESS)) {
+    std::fprintf(stderr, "fuzz: bricks %d x %d x %d, %lld steps: status %d, the undivided engine %d\n", pg[0], pg[1], pg[2],
+                 (long long)steps, eb, ep);
+    fz::fail("srd_bricks_run_ and gran_srd_advance disagree on success", "bricks");
+  }
+  if (eb != GRAN_SUCCESS) return;
+  uint64_t b1, b2, p1, p2;
+  srd_bricks_digest_(&b, d, &b1, &b2);
+  srd_bricks_digest_(&p, d, &p1, &p2);
+  const bool same = b1 == p1 && b2 == p2 && b.n == p.n && !std::memcmp(&b.e_coll, &p.e_coll, sizeof b.e_coll) &&
+                    !std::memcmp(&b.e_ext, &p.e_ext, sizeof b.e_ext) && b.clamped == p.clamped && b.step == p.step;
+  srd_bricks_out_free_(&b);
+  srd_bricks_out_free_(&p);
+  if (!same) {
+    std::fprintf(stderr, "fuzz: bricks %d x %d x %d, %lld steps differ from the undivided engine\n", pg[0], pg[1], pg[2],
+                 (long long)steps);
+    fz::fail("the split run differs from the undivided engine", "bricks");
+  }
 }
 
 void run_srd(fz::Bytes &in) {
@@ -83,6 +118,8 @@ void run_srd(fz::Bytes &in) {
   gran_srd *srd = nullptr;
   if (fz::check(gran_srd_create(&o, &srd), "gran_srd_create")) return;
   obs_srd(srd, "created");
+  if (o.creation == GRAN_SRD_CREATE_CELLS && o.device == GRAN_SRD_DEVICE_CPU && in.u8() >= 128)
+    bricks_against_plain(o, in);
   for (int r = 0; r < 3; ++r) {
     if (in.u8() >= 200) { /* velocities or positions written through gran_srd_particles */
       int64_t n = 0;

@@ -124,11 +124,11 @@ void merge_op(void *in, void *inout, int *len, MPI_Datatype *) {
     g_merge((char *)inout + (size_t)i * g_merge_bytes, (const char *)in + (size_t)i * g_merge_bytes);
 }
 
-int bricks_allreduce(void *, void *buf, size_t nbytes, void (*merge)(void *, const void *)) {
+int bricks_allreduce(void *, void *buf, size_t nbytes, size_t count, void (*merge)(void *, const void *)) {
   static MPI_Datatype type = MPI_DATATYPE_NULL;
   static size_t type_bytes = 0;
   static MPI_Op op = MPI_OP_NULL;
-  if (nbytes > (size_t)INT_MAX) return 1;
+  if (nbytes > (size_t)INT_MAX || count > (size_t)INT_MAX || count > ((size_t)1 << 40) / std::max<size_t>(1, nbytes)) return 1;
   if (type_bytes != nbytes) {
     if (type != MPI_DATATYPE_NULL) MPI_Type_free(&type);
     if (MPI_Type_contiguous((int)nbytes, MPI_BYTE, &type) != MPI_SUCCESS || MPI_Type_commit(&type) != MPI_SUCCESS)
@@ -138,9 +138,9 @@ int bricks_allreduce(void *, void *buf, size_t nbytes, void (*merge)(void *, con
   if (op == MPI_OP_NULL && MPI_Op_create(&merge_op, 1, &op) != MPI_SUCCESS) return 1;
   g_merge = merge;
   g_merge_bytes = nbytes;
-  std::vector<char> res(nbytes);
-  if (MPI_Allreduce(buf, res.data(), 1, type, op, MPI_COMM_WORLD) != MPI_SUCCESS) return 1;
-  std::memcpy(buf, res.data(), nbytes);
+  std::vector<char> res(nbytes * count);
+  if (MPI_Allreduce(buf, res.data(), (int)count, type, op, MPI_COMM_WORLD) != MPI_SUCCESS) return 1;
+  std::memcpy(buf, res.data(), nbytes * count);
   return 0;
 }
 

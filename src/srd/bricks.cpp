@@ -28,8 +28,9 @@
  *   collide:  (the global thermostat) the rules and collisions with the reduced factor; at a sort
  *             step the particles are reordered by cell (key order) and get new keys (global cell
  *             << 32 | rank in the cell);
- *   finish:   the ledger accumulators are all-reduced and each step's exact sums rounded once
- *             and added to the ledger doubles.
+ *   finish:   the step's ledger accumulators are queued; every 64 steps (and at the end) the
+ *             queued records are all-reduced at once and each step's exact sums rounded once and
+ *             added to the ledger doubles in step order.
  * Every particle's key orders it as the single-process array does, so a cell adds the same
  * numbers in the same order on any split, and the exact sums do not depend on the order at all:
  * results are bit for bit independent of the split. The single-process engine in this mode
@@ -94,8 +95,11 @@ class Transport {
   /* buf is consumed (its contents may be swapped out) */
   virtual int send(int from, int to, std::vector<double> &buf) = 0;
   virtual int recv(int to, int from, std::vector<double> &buf) = 0;
-  virtual int reduce_post(int rank, const Red &r) = 0;
-  virtual int reduce_take(int rank, Red &r) = 0;
+  /* an all-reduce of n records at once (element by element) */
+  virtual int reduce_post(int rank, const Red *r, size_t n) = 0;
+  virtual int reduce_take(int rank, Red *r, size_t n) = 0;
+  int reduce_post(int rank, const Red &r) { return reduce_post(rank, &r, 1); }
+  int reduce_take(int rank, Red &r) { return reduce_take(rank, &r, 1); }
 };
 
 class LocalTransport final : public Transport {
@@ -119,21 +123,28 @@ class LocalTransport final : public Transport {
     full[k] = 0;
     return GRAN_SUCCESS;
   }
-  int reduce_post(int rank, const Red &r) override {
+  using Transport::reduce_post;
+  using Transport::reduce_take;
+  int reduce_post(int rank, const Red *r, size_t n) override {
     GRAN_CHECK(!rposted[(size_t)rank], GRAN_ERR_INTERNAL, "brick transport: brick %d posted twice to one all-reduce", rank);
-    red[(size_t)rank] = r;
+    red[(size_t)rank].assign(r, r + n);
     rposted[(size_t)rank] = 1;
     ++posted;
     return GRAN_SUCCESS;
   }
-  int reduce_take(int rank, Red &r) override {
+  int reduce_take(int rank, Red *r, size_t n) override {
     GRAN_CHECK(posted == P, GRAN_ERR_INTERNAL, "brick transport: brick %d takes an all-reduce that %d of %d bricks posted",
                rank, posted, P);
     if (taken == 0) {
-      sum.clear();
-      for (int b = 0; b < P; ++b) sum.merge(red[(size_t)b]);
+      sum.assign(n, Red());
+      for (Red &q : sum) q.clear();
+      for (int b = 0; b < P; ++b) {
+        GRAN_CHECK(red[(size_t)b].size() == n, GRAN_ERR_INTERNAL, "brick transport: brick %d posted %zu records, not %zu",
+                   b, red[(size_t)b].size(), n);
+        for (size_t i = 0; i < n; ++i) sum[i].merge(red[(size_t)b][i]);
+      }
     }
-    r = sum;
+    std::copy(sum.begin(), sum.end(), r);
     if (++taken == P) {
       posted = taken = 0;
       std::fill(rposted.begin(), rposted.end(), 0);
@@ -146,10 +157,10 @@ class LocalTransport final : public Transport {
   int P;
   std::vector<std::vector<double>> box;
   std::vector<char> full;
-  std::vector<Red> red;
+  std::vector<std::vector<Red>> red;
   std::vector<char> rposted;
   int posted = 0, taken = 0;
-  Red sum;
+  std::vector<Red> sum;
 };
 
 static_assert(std::is_trivially_copyable<Red>::value, "the all-reduce record is sent as bytes");
@@ -207,21 +218,23 @@ class CommTransport final : public Transport {
     }
     return GRAN_SUCCESS;
   }
-  int reduce_post(int rank, const Red &r) override {
+  using Transport::reduce_post;
+  using Transport::reduce_take;
+  int reduce_post(int rank, const Red *r, size_t n) override {
     GRAN_CHECK(rank == c_.rank && !posted_, GRAN_ERR_INTERNAL, "brick transport: process %d posted brick %d's record",
                c_.rank, rank);
-    red_ = r;
+    red_.assign(r, r + n);
     posted_ = true;
     return GRAN_SUCCESS;
   }
-  int reduce_take(int rank, Red &r) override {
-    GRAN_CHECK(rank == c_.rank && posted_, GRAN_ERR_INTERNAL, "brick transport: process %d takes a record it did not post",
-               c_.rank);
-    GRAN_CHECK(c_.allreduce(c_.ctx, &red_, sizeof red_, &merge_bytes<Red>) == 0, GRAN_ERR_IO,
+  int reduce_take(int rank, Red *r, size_t n) override {
+    GRAN_CHECK(rank == c_.rank && posted_ && red_.size() == n, GRAN_ERR_INTERNAL,
+               "brick transport: process %d takes records it did not post", c_.rank);
+    GRAN_CHECK(c_.allreduce(c_.ctx, red_.data(), sizeof(Red), n, &merge_bytes<Red>) == 0, GRAN_ERR_IO,
                "decomposed GSRD run: the all-reduce of process %d failed (a process of the run stopped or the "
                "transport broke)",
                c_.rank);
-    r = red_;
+    std::copy(red_.begin(), red_.end(), r);
     posted_ = false;
     return GRAN_SUCCESS;
   }
@@ -235,7 +248,7 @@ class CommTransport final : public Transport {
   std::vector<char> peer_;
   bool done_ = false, posted_ = false;
   int taken_ = 0;
-  Red red_;
+  std::vector<Red> red_;
 };
 
 /* ---- the split of the binning grid ---- */
@@ -282,6 +295,7 @@ struct Brick {
   std::vector<int64_t> holes;               /* the holes' slots */
   std::vector<std::vector<int64_t>> leave;  /* per thread: the slots that left this step */
   int64_t late = 0;                         /* particles arrived since the last sort */
+  std::vector<Red> ledger_q;                /* the ledger records of the steps not yet all-reduced */
   std::vector<uint8_t> dirty;               /* per local cell: holds such a particle */
   Red red, red_th;
   double gscale = 1.0; /* the global thermostat's factor of the step */
@@ -736,9 +750,9 @@ int phase_thermo(const Ctx &C, Brick &B, Transport &T) {
 }
 
 /* with the global thermostat the cells' rules and the rotation (else done in the sums pass); the sort;
- * the ledger posted */
+ * the step's ledger record queued */
 template <int DIM, int FXF>
-int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
+int phase_collide(const Ctx &C, Brick &B, double *t_sort) {
   const bool gth = srd_rule_fx_fold(FXF, C.K.fx) & SRD_FX_GTHERMO;
   const int64_t ncl = B.ncl;
   const uint32_t *start = B.start.data(), *order = B.order.data();
@@ -791,16 +805,24 @@ int phase_collide(const Ctx &C, Brick &B, Transport &T, double *t_sort) {
     B.late = 0;
     if (t_sort) *t_sort += srd_clock_s() - t0;
   }
-  return T.reduce_post(B.rank, B.red);
+  B.ledger_q.push_back(B.red); /* all-reduced in batches (flush_ledger) */
+  return GRAN_SUCCESS;
 }
 
-/* the step's ledger (all-reduced; each exact sum rounded once) */
+/* the end of a step: its time */
+int phase_finish(const Ctx &C, Brick &B) {
+  B.time += C.o->dt;
+  B.step += 1;
+  return GRAN_SUCCESS;
+}
+
+/* the ledger of the steps since the last flush: their records all-reduced at once (one
+ * all-reduce per kLedgerBatch steps rather than per step), then each step's exact sums rounded
+ * once and added to the ledger doubles in step order: the same doubles as a reduction per step */
+constexpr size_t kLedgerBatch = 64;
 template <int DIM, int FXF>
-int phase_finish(const Ctx &C, Brick &B, Transport &T) {
+void ledger_add(const Ctx &C, Brick &B, Red &r) {
   using F = Fx<FXF>;
-  Red r;
-  r.clear();
-  GRAN_CALL(T.reduce_take(B.rank, r));
   if (F::STR) {
     if (F::LE) B.flux_kin += gran_exactsum_value_(&r.a[RQ_FLUX]);
     B.e_ext += gran_exactsum_value_(&r.a[RQ_EXT]);
@@ -813,8 +835,17 @@ int phase_finish(const Ctx &C, Brick &B, Transport &T) {
   }
   B.clamped += r.clamped;
   B.dt_max = std::min(B.dt_max, r.dt_max);
-  B.time += C.o->dt;
-  B.step += 1;
+}
+template <int DIM, int FXF>
+int flush_ledger(const Ctx &C, std::vector<Brick> &bs, Transport &T) {
+  const size_t n = bs[0].ledger_q.size();
+  if (n == 0) return GRAN_SUCCESS;
+  for (Brick &B : bs) GRAN_CALL(T.reduce_post(B.rank, B.ledger_q.data(), B.ledger_q.size()));
+  for (Brick &B : bs) {
+    GRAN_CALL(T.reduce_take(B.rank, B.ledger_q.data(), n));
+    for (Red &r : B.ledger_q) ledger_add<DIM, FXF>(C, B, r);
+    B.ledger_q.clear();
+  }
   return GRAN_SUCCESS;
 }
 
@@ -832,18 +863,26 @@ int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps
     tq = t;
   };
   double tsort = 0.0;
-  for (int64_t st = 0; st < nsteps; ++st) {
-    for (Brick &B : bs) GRAN_CALL((phase_stream<DIM, FXF>(C, B, T)));
-    lap(BP_STREAM);
-    for (Brick &B : bs) GRAN_CALL((phase_recv<DIM, FXF>(C, B, T)));
-    lap(BP_RECV);
-    for (Brick &B : bs) GRAN_CALL((phase_sums<DIM, FXF>(C, B, T)));
-    lap(BP_SUMS);
-    for (Brick &B : bs) GRAN_CALL((phase_thermo<DIM, FXF>(C, B, T)));
-    for (Brick &B : bs) GRAN_CALL((phase_collide<DIM, FXF>(C, B, T, prof ? &tsort : nullptr)));
-    lap(BP_COLL);
-    for (Brick &B : bs) GRAN_CALL((phase_finish<DIM, FXF>(C, B, T)));
-    lap(BP_RED);
+  auto steps = [&]() -> int {
+    for (int64_t st = 0; st < nsteps; ++st) {
+      for (Brick &B : bs) GRAN_CALL((phase_stream<DIM, FXF>(C, B, T)));
+      lap(BP_STREAM);
+      for (Brick &B : bs) GRAN_CALL((phase_recv<DIM, FXF>(C, B, T)));
+      lap(BP_RECV);
+      for (Brick &B : bs) GRAN_CALL((phase_sums<DIM, FXF>(C, B, T)));
+      lap(BP_SUMS);
+      for (Brick &B : bs) GRAN_CALL((phase_thermo<DIM, FXF>(C, B, T)));
+      for (Brick &B : bs) GRAN_CALL((phase_collide<DIM, FXF>(C, B, prof ? &tsort : nullptr)));
+      lap(BP_COLL);
+      for (Brick &B : bs) GRAN_CALL(phase_finish(C, B));
+      if (bs[0].ledger_q.size() >= kLedgerBatch || st + 1 == nsteps) GRAN_CALL((flush_ledger<DIM, FXF>(C, bs, T)));
+      lap(BP_RED);
+    }
+    return GRAN_SUCCESS;
+  };
+  if (const int e = steps()) { /* the steps done keep their ledger (bricks all in this process: the flush is local) */
+    if (bs.size() == (size_t)T.size()) (void)flush_ledger<DIM, FXF>(C, bs, T);
+    return e;
   }
   if (prof && nsteps > 0) {
     int64_t n = 0;
@@ -853,9 +892,9 @@ int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps
                  "GSRD bricks phases, ns per particle-step (%lld steps, %lld particles, %d bricks): stream + bin + pack "
                  "%.2f, receive + append %.2f, cell order + sums (+ rules + rotation without the global thermostat) %.2f, "
                  "rules + rotation after the thermostat's reduction, and the sort %.2f (sort %.2f of it), "
-                 "ledger %.2f\n",
+                 "ledger (all-reduced every %d steps) %.2f\n",
                  (long long)nsteps, (long long)n, (int)bs.size(), ph[BP_STREAM] * u, ph[BP_RECV] * u, ph[BP_SUMS] * u,
-                 ph[BP_COLL] * u, tsort * u, ph[BP_RED] * u);
+                 ph[BP_COLL] * u, tsort * u, (int)kLedgerBatch, ph[BP_RED] * u);
   }
   return GRAN_SUCCESS;
 }
@@ -1499,7 +1538,7 @@ int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_
     out->bytes_sent = t.bytes;
     out->particles_sent = B.moved;
     if (P > 1)
-      GRAN_CHECK(comm->allreduce(comm->ctx, &t, sizeof t, &merge_bytes<Tot>) == 0, GRAN_ERR_IO,
+      GRAN_CHECK(comm->allreduce(comm->ctx, &t, sizeof t, 1, &merge_bytes<Tot>) == 0, GRAN_ERR_IO,
                  "decomposed GSRD run: the final all-reduce of process %d failed", comm->rank);
     out->n = t.n;
     out->digest_particles = t.dp;

@@ -99,9 +99,10 @@ struct srd_bricks_comm {
    * in[rank] left empty). Usually only the bricks around a brick have messages for it, but any
    * process may send to any. */
   int (*round)(void *ctx, std::vector<std::vector<double>> &out, std::vector<std::vector<double>> &in) = nullptr;
-  /* all-reduce in place of the nbytes at buf with merge(inout, in), commutative and associative
-   * (an exact sum: any order gives the same bytes) */
-  int (*allreduce)(void *ctx, void *buf, size_t nbytes, void (*merge)(void *inout, const void *in)) = nullptr;
+  /* all-reduce in place of the count records of elem_bytes each at buf, element by element, with
+   * merge(inout, in), commutative and associative (an exact sum: any order gives the same bytes) */
+  int (*allreduce)(void *ctx, void *buf, size_t elem_bytes, size_t count,
+                   void (*merge)(void *inout, const void *in)) = nullptr;
 };
 
 /* One process's share of a decomposed run: the options' gas (creation must be
