@@ -10,7 +10,8 @@
 # Physics on every run: the particle count is the scene's, the ledger closes (kinetic energy =
 # initial + collisions + external work, to 1e-12 of the initial energy), the momentum of a
 # periodic gas without forces, shear or thermostat stays 0 (to 1e-12 of sum |v|); particles
-# change brick (the exchange is exercised); particles faster than a brick per step reach bricks
+# change brick (the exchange is exercised); rows of the global observables every K steps are the
+# same on every split, close the ledger and cool the inelastic gas; particles faster than a brick per step reach bricks
 # beyond the neighbouring ones (any process may send to any); a process killed during the steps
 # ends the run on every process within 30 s, the rank named. Bad input: each refusal names what
 # was wrong (a split's memory beyond the machine's included).
@@ -127,9 +128,38 @@ if bad or not b["messages_beyond_neighbours"] > 0:
     sys.exit(1)
 PYEOF
 
+# rows every 7 steps (--every): the same on every split and process count, the final state the
+# unchunked run's; each row's ledger closes, its temperature is (2 E - |P|^2 / N) / (d N), and
+# the inelastic gas cools
+"$cli" decompose "$tmp/periodic3.toml" --every 7 --json > "$tmp/rows1.json"
+"$cli" decompose "$tmp/periodic3.toml" --every 7 --bricks 3x2x1 --json > "$tmp/rows2.json"
+mpi 3 decompose "$tmp/periodic3.toml" --every 7 --bricks 1x3x1 --json > "$tmp/rows3.json"
+"$cli" decompose "$tmp/periodic3.toml" --json > "$tmp/rows0.json"
+python3 - "$tmp/rows0.json" "$tmp/rows1.json" "$tmp/rows2.json" "$tmp/rows3.json" <<'PYEOF' || fail=1
+import json, sys
+r0, r1, r2, r3 = (json.load(open(p)) for p in sys.argv[1:5])
+bad = []
+if not (r1["rows"] == r2["rows"] == r3["rows"]): bad.append("rows differ between splits")
+if [w["step"] for w in r1["rows"]] != [0, 7, 14, 21, 24]: bad.append("row steps %s" % [w["step"] for w in r1["rows"]])
+for k in ("digest_particles", "digest_cells", "e_coll", "kinetic_energy", "temperature"):
+    if r1[k] != r0[k]: bad.append("%s with --every %s, without %s" % (k, r1[k], r0[k]))
+N, d = r1["particles"], 3
+for w in r1["rows"]:
+    closure = w["kinetic_energy"] - (r1["e_initial"] + w["e_coll"] + w["e_ext"])
+    if not abs(closure) <= 1e-12 * r1["e_initial"]: bad.append("row %d ledger off by %g" % (w["step"], closure))
+    p2 = sum(x * x for x in w["momentum"])
+    T = (2 * w["kinetic_energy"] - p2 / N) / (d * N)
+    if not abs(T - w["temperature"]) <= 1e-12 * T: bad.append("row %d T %r, from E and P %r" % (w["step"], w["temperature"], T))
+Ts = [w["temperature"] for w in r1["rows"]]
+if not Ts[-1] < 0.5 * Ts[0]: bad.append("the eps = 0.7 gas did not cool: T %s" % Ts)
+if bad:
+    print("FAIL: rows: " + "; ".join(bad))
+    sys.exit(1)
+PYEOF
+
 # the default split on P processes is the automatic one: one brick each
 mpi 2 decompose "$tmp/periodic3.toml" --json > "$tmp/o.json"
-python3 -c "import json,sys; r=json.load(open(sys.argv[1])); b=r['bricks']; sys.exit(0 if b[0]*b[1]*b[2]==2 and r['processes']==2 and r['process_particles_min']>0 else 1)" "$tmp/o.json" ||
+python3 -c "import json,sys; r=json.load(open(sys.argv[1])); b=r['bricks']; sys.exit(0 if b[0]*b[1]*b[2]==2 and r['processes']==2 and r['brick_particles_min']>0 else 1)" "$tmp/o.json" ||
   { echo "FAIL: the default split on 2 processes: $(cat "$tmp/o.json")"; fail=1; }
 
 # a process killed during the steps: every process stops, and mpirun names the one that died
@@ -177,6 +207,7 @@ expect 2 "--bricks '2x0x1'" -- "$cli" decompose "$tmp/periodic3.toml" --bricks 2
 expect 2 "--bricks '2x2'" -- "$cli" decompose "$tmp/periodic3.toml" --bricks 2x2
 expect 1 "pgrid\[0\]" -- "$cli" decompose "$tmp/periodic3.toml" --bricks 8x1x1
 expect 2 "--steps '-3'" -- "$cli" decompose "$tmp/periodic3.toml" --steps -3
+expect 2 "--every '0'" -- "$cli" decompose "$tmp/periodic3.toml" --every 0
 expect 1 "no such file\|cannot\|not found\|open" -- "$cli" decompose "$tmp/absent.toml"
 expect 2 "3 bricks for 2 processes" -- mpi 2 decompose "$tmp/periodic3.toml" --bricks 3x1x1
 expect 2 "--reference runs in one process" -- mpi 2 decompose "$tmp/periodic3.toml" --reference

@@ -24,8 +24,8 @@ namespace {
 
 void usage(FILE *f) {
   std::fprintf(f,
-               "usage: granary decompose SCENE [--bricks auto|PxQxR] [--steps N] [--set KEY=VALUE]... [--reference]\n"
-               "                         [--json]\n"
+               "usage: granary decompose SCENE [--bricks auto|PxQxR] [--steps N] [--every K] [--set KEY=VALUE]...\n"
+               "                         [--reference] [--json]\n"
                "  Steps the scene's GSRD gas ([engine] type = \"srd\", creation = \"cells\") split into bricks of\n"
                "  its cell grid and prints the state's digests (the same for every split), the momentum, the\n"
                "  energy ledger and each process's rate. `mpirun -n P build/granary-mpi decompose ...` gives each\n"
@@ -33,6 +33,8 @@ void usage(FILE *f) {
                "  --bricks auto|PxQxR   the split (PxQ in 2-D); auto: the fewest cells on the cut planes.\n"
                "                        Default: one brick per process (build/granary: 1x1x1)\n"
                "  --steps N             steps (default: the scene's engine.steps)\n"
+               "  --every K             also a row every K steps (step, time, temperature, kinetic energy,\n"
+               "                        ledger, momentum: exact sums over the gas, the same for every split)\n"
                "  --set KEY=VALUE       override a scene key (as granary run)\n"
                "  --reference           (one process) also step the undivided engine (gran_srd_advance) and\n"
                "                        check that its digests are the bricks' (exit 1 otherwise)\n"
@@ -75,6 +77,7 @@ int cli_decompose(int argc, char **argv) {
   const char *scene_path = nullptr, *bricks = nullptr;
   long long steps = -1;
   bool json = false, reference = false;
+  long long every = 0;
   std::vector<std::pair<std::string, std::string>> sets;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
@@ -97,6 +100,15 @@ int cli_decompose(int argc, char **argv) {
       steps = std::strtoll(v, &end, 10);
       if (end == v || *end || steps < 0 || steps > 1000000000LL) {
         if (root) std::fprintf(stderr, "granary decompose: --steps '%s': expected an integer in [0, 1e9]\n", v);
+        return 2;
+      }
+    } else if (!std::strcmp(a, "--every")) {
+      const char *v = value(a);
+      if (!v) return 2;
+      char *end = nullptr;
+      every = std::strtoll(v, &end, 10);
+      if (end == v || *end || every < 1 || every > 1000000000LL) {
+        if (root) std::fprintf(stderr, "granary decompose: --every '%s': expected an integer in [1, 1e9]\n", v);
         return 2;
       }
     } else if (!std::strcmp(a, "--set")) {
@@ -184,7 +196,8 @@ int cli_decompose(int argc, char **argv) {
   { /* the memory of this process's share against the machine's, divided among its processes (a
      * scene's max_memory_gb, which may allow a gas larger than one machine, caps it only) */
     const bool one = P == 1 && nb > 1;
-    const double need = srd_bricks_memory_(&opt, (int)nb, one) + (reference ? srd_bricks_memory_(&opt, 1, 1) : 0.0);
+    const double need = srd_bricks_memory_(&opt, (int)nb, one) + (reference ? srd_bricks_memory_(&opt, 1, 1) : 0.0) +
+                        (every > 0 && nsteps / every < 1e7 ? (double)(nsteps / every + 2) * sizeof(srd_bricks_rank_out) : 0.0);
     const int local = cli_mpi_local_size() > 0 ? cli_mpi_local_size() : 1;
     const double avail = std::min(gran_scene_memory_limit_(scene), gran_memory_available_()) / local;
     if (!(need <= avail)) {
@@ -193,51 +206,38 @@ int cli_decompose(int argc, char **argv) {
                      "granary decompose: %s needs about %.3g GB (%s), more than the %.3g GB available%s; use more "
                      "processes (machines) or a smaller gas\n",
                      P > 1 ? "each process" : "the run", need / 1e9,
-                     one ? "all bricks in one process, and the undivided state" : "its brick's particles and cells",
+                     one ? "all bricks in one process" : "its brick's particles and cells",
                      avail / 1e9, local > 1 ? (" to each of the " + std::to_string(local) + " processes on this machine").c_str() : "");
       return 1;
     }
   }
   srd_bricks_rank_out r;
   std::memset(&r, 0, sizeof r);
-  if (P > 1 || nb == 1) {
-    if (srd_bricks_run_comm_(&opt, pg, nsteps, cli_mpi_bricks_comm(), &r)) {
-      fail("process " + std::to_string(cli_mpi_rank()));
+  std::vector<srd_bricks_rank_out> rows; /* every `every` steps, and the start */
+  {
+    srd_bricks_state *st = nullptr;
+    int e = srd_bricks_open_(&opt, pg, cli_mpi_bricks_comm(), &st);
+    if (!e && every > 0) {
+      rows.emplace_back();
+      e = srd_bricks_report_(st, &rows.back());
+    }
+    for (int64_t done = 0; !e && done < nsteps;) {
+      const int64_t k = every > 0 ? std::min<int64_t>(every, nsteps - done) : nsteps - done;
+      e = srd_bricks_step_(st, k);
+      done += k;
+      if (!e && every > 0 && done < nsteps) {
+        rows.emplace_back();
+        e = srd_bricks_report_(st, &rows.back());
+      }
+    }
+    if (!e) e = srd_bricks_report_(st, &r);
+    if (!e && every > 0) rows.push_back(r);
+    srd_bricks_close_(&st);
+    if (e) {
+      fail(P > 1 ? "process " + std::to_string(cli_mpi_rank()) : std::string("bricks"));
       if (P > 1) cli_mpi_abort(1); /* the other processes wait in the exchange: stop them all */
       return 1;
     }
-  } else { /* every brick in this process */
-    srd_bricks_out o;
-    if (srd_bricks_run_(&opt, pg, nsteps, 1, &o)) return fail("bricks");
-    srd_bricks_digest_(&o, opt.dim, &r.digest_particles, &r.digest_cells);
-    r.n = o.n;
-    gran_exactsum m[4]; /* exact sums, rounded once: the values of a split over processes */
-    for (gran_exactsum &a : m) gran_exactsum_init_(&a);
-    for (int64_t i = 0; i < o.n; ++i) {
-      const double vz = opt.dim == 3 ? o.vz[i] : 0.0;
-      gran_exactsum_add_(&m[0], o.vx[i]);
-      gran_exactsum_add_(&m[1], o.vy[i]);
-      if (opt.dim == 3) gran_exactsum_add_(&m[2], vz);
-      gran_exactsum_add_(&m[3], 0.5 * (o.vx[i] * o.vx[i] + o.vy[i] * o.vy[i] + vz * vz));
-    }
-    for (int k = 0; k < 3; ++k) r.momentum[k] = gran_exactsum_value_(&m[k]);
-    r.energy = gran_exactsum_value_(&m[3]);
-    r.time = o.time;
-    r.e_initial = o.e_initial;
-    r.e_coll = o.e_coll;
-    r.e_ext = o.e_ext;
-    r.flux_kin = o.flux_kin;
-    r.flux_coll = o.flux_coll;
-    for (int k = 0; k < 3; ++k) r.wall_impulse[k] = o.wall_impulse[k];
-    r.dt_max = o.dt_max;
-    r.step = o.step;
-    r.clamped = o.clamped;
-    r.n_local = o.n;
-    r.particle_steps = o.n * nsteps;
-    r.seconds = r.seconds_max = o.seconds;
-    r.bytes_sent = r.bytes_sent_all = o.bytes_sent;
-    r.particles_sent = r.particles_sent_all = o.particles_sent;
-    srd_bricks_out_free_(&o);
   }
   int ref_ok = 1;
   uint64_t ref_p = 0, ref_c = 0;
@@ -310,12 +310,39 @@ int cli_decompose(int argc, char **argv) {
     num("seconds_max", r.seconds_max);
     num("rank0_seconds", r.seconds);
     num("rank0_particle_steps_per_second", rate);
-    if (P > 1) { /* the balance of the split (per process) */
-      num("process_particles_min", (double)r.n_local_min);
-      num("process_particles_max", (double)r.n_local_max);
-    }
+    num("brick_particles_min", (double)r.n_local_min); /* the balance of the split */
+    num("brick_particles_max", (double)r.n_local_max);
     num("bytes_per_step_per_brick", bytes_step);
     num("particles_sent", (double)r.particles_sent_all);
+    num("temperature", r.temperature);
+    if (every > 0) { /* the rows: every `every` steps from the start, and the end */
+      key("rows");
+      o += "[";
+      for (size_t i = 0; i < rows.size(); ++i) {
+        const srd_bricks_rank_out &w = rows[i];
+        o += i ? ", {" : "{";
+        const size_t mark = o.size();
+        auto rnum = [&](const char *k, double v) {
+          if (o.size() > mark) o += ", ";
+          cli_json::str(o, k);
+          o += ": ";
+          cli_json::num(o, v);
+        };
+        rnum("step", (double)w.step);
+        rnum("time", w.time);
+        rnum("temperature", w.temperature);
+        rnum("kinetic_energy", w.energy);
+        rnum("e_coll", w.e_coll);
+        rnum("e_ext", w.e_ext);
+        o += ", \"momentum\": [";
+        for (int k = 0; k < 3; ++k) {
+          if (k) o += ", ";
+          cli_json::num(o, w.momentum[k]);
+        }
+        o += "]}";
+      }
+      o += "]";
+    }
     num("messages_beyond_neighbours", (double)r.far_messages_all);
     o += "}\n";
     std::fputs(o.c_str(), stdout);
@@ -329,13 +356,16 @@ int cli_decompose(int argc, char **argv) {
       std::printf("reference        particles %s, cells %s: %s\n", hex(ref_p).c_str(), hex(ref_c).c_str(),
                   ref_ok ? "the same" : "DIFFERENT");
     std::printf("momentum         %.17g %.17g %.17g\n", r.momentum[0], r.momentum[1], r.momentum[2]);
+    std::printf("temperature      %.17g\n", r.temperature);
     std::printf("energy           kinetic %.17g; ledger: initial %.17g, collisions %.17g, external work %.17g\n",
                 r.energy, r.e_initial, r.e_coll, r.e_ext);
-    if (P > 1)
-      std::printf("balance          %lld .. %lld particles per process\n", (long long)r.n_local_min,
-                  (long long)r.n_local_max);
+    std::printf("balance          %lld .. %lld particles per brick\n", (long long)r.n_local_min,
+                (long long)r.n_local_max);
     std::printf("speed            %.3f s (slowest process); process 0: %.4g particle-steps per second\n", r.seconds_max,
                 rate);
+    for (const srd_bricks_rank_out &w : rows)
+      std::printf("row              step %lld  t %.10g  T %.10g  E_kin %.10g  e_coll %.10g  e_ext %.10g\n",
+                  (long long)w.step, w.time, w.temperature, w.energy, w.e_coll, w.e_ext);
     std::printf("exchange         %.4g bytes per brick and step, %lld particles changed brick\n", bytes_step,
                 (long long)r.particles_sent_all);
     if (P > 1)

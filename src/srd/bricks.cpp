@@ -1414,7 +1414,6 @@ extern "C" double srd_bricks_memory_(const gran_srd_options *opt, int nbricks, i
   const double bpc = 24.0 + 32.0 + (double)sizeof(srd_cell_sum) + 4 + 1;
   const double share = all_in_one ? 1.0 : 1.0 / (double)std::max(1, nbricks);
   double b = 1.1 * N * share * bpp + bin * share * bpc + 1e6;
-  if (all_in_one) b += N * (16.0 * d) + bin * 56.0; /* the undivided state the bricks start from */
   return b;
 }
 
@@ -1464,14 +1463,27 @@ extern "C" int srd_bricks_auto_(const gran_srd_options *opt, int P, int pgrid[3]
   GRAN_CATCH
 }
 
-int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, const srd_bricks_comm *comm,
-                         srd_bricks_rank_out *out) {
+/* ---- a split gas held by this process: its bricks (one per process over a comm, or all) ---- */
+struct srd_bricks_state {
+  std::unique_ptr<gran_srd> shell; /* the options and the geometry, no arrays */
+  Ctx C;
+  std::vector<Brick> bs;
+  std::unique_ptr<LocalTransport> TL;
+  std::unique_ptr<CommTransport> TC;
+  Transport *T = nullptr;
+  srd_bricks_comm comm;
+  bool over_comm = false; /* one brick per process */
+  int pgrid[3] = {1, 1, 1};
+  double e0 = 0, seconds = 0;
+};
+
+int srd_bricks_open_(const gran_srd_options *opt, const int pgrid[3], const srd_bricks_comm *comm,
+                     srd_bricks_state **out) {
   GRAN_TRY {
     GRAN_CHECK_PTR(opt);
     GRAN_CHECK_PTR(pgrid);
-    GRAN_CHECK_PTR(comm);
     GRAN_CHECK_PTR(out);
-    std::memset(out, 0, sizeof *out);
+    *out = nullptr;
     GRAN_CHECK(opt->creation == GRAN_SRD_CREATE_CELLS, GRAN_ERR_ARG,
                "option 'creation' must be GRAN_SRD_CREATE_CELLS ([engine] creation = \"cells\": the decomposable "
                "engine) for a decomposed run (got %d)",
@@ -1479,74 +1491,135 @@ int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_
     GRAN_CHECK(opt->device == GRAN_SRD_DEVICE_CPU, GRAN_ERR_ARG,
                "a decomposed GSRD run steps on the CPU (option 'device' must be GRAN_SRD_DEVICE_CPU, got %d)",
                (int)opt->device);
-    GRAN_CHECK(nsteps >= 0, GRAN_ERR_ARG, "argument 'nsteps' must be >= 0 (got %lld)", (long long)nsteps);
-    const int P = comm->size;
-    GRAN_CHECK(P >= 1 && comm->rank >= 0 && comm->rank < P, GRAN_ERR_ARG,
-               "the process group: rank %d of %d processes is not a process of it", comm->rank, P);
-    GRAN_CHECK(P == 1 || (comm->round && comm->allreduce), GRAN_ERR_ARG,
-               "the process group of %d processes has no round or all-reduce function", P);
     for (int a = opt->dim; a < 3; ++a)
       GRAN_CHECK(pgrid[a] == 1, GRAN_ERR_ARG, "argument 'pgrid[%d]' must be 1 in %d-D (got %d)", a, (int)opt->dim,
                  pgrid[a]);
-    GRAN_CHECK((int64_t)pgrid[0] * pgrid[1] * pgrid[2] == P, GRAN_ERR_ARG,
-               "the split %d x %d x %d has %lld bricks, not one per process (%d processes)", pgrid[0], pgrid[1],
-               pgrid[2], (long long)pgrid[0] * pgrid[1] * pgrid[2], P);
-    GRAN_CALL(srd_check_options_(opt));
-    std::unique_ptr<gran_srd> shell(new gran_srd); /* the geometry, no arrays */
-    shell->opt = *opt;
-    GRAN_CALL(srd_alloc_geometry_(shell.get()));
-    Ctx C;
-    GRAN_CALL(make_ctx(shell.get(), pgrid, C));
-    std::vector<Brick> bs(1);
-    Brick &B = bs[0];
-    window_of(C, comm->rank, B);
-    scalars_from(shell.get(), B);
-    LocalTransport TL(1);
-    CommTransport TC(*comm, peers_of(C, comm->rank));
-    Transport &T = P == 1 ? (Transport &)TL : (Transport &)TC;
-    double e0 = 0;
-    GRAN_CALL(bricks_create(C, bs, T, &e0));
-    const double t0 = srd_clock_s();
-    GRAN_CALL(pick(opt->dim, srd_fx_of(opt))(C, bs, T, nsteps));
-    const double secs = srd_clock_s() - t0;
-    /* the totals of this process's brick, then of all */
-    const bool d3 = opt->dim == 3;
-    Tot t;
-    std::memset((void *)&t, 0, sizeof t);
-    for (int k = 0; k < 3; ++k) gran_exactsum_init_(&t.mom[k]);
-    gran_exactsum_init_(&t.en);
-    int64_t nl = 0;
-    for (size_t i = 0; i < B.x.size(); ++i) {
-      if (!B.dest.empty() && B.dest[i] >= 0) continue; /* a hole */
-      const double z = d3 ? B.z[i] : 0.0, vz = d3 ? B.vz[i] : 0.0;
-      t.dp += hash_particle(B.x[i], B.y[i], z, B.vx[i], B.vy[i], vz, d3);
-      gran_exactsum_add_(&t.mom[0], B.vx[i]);
-      gran_exactsum_add_(&t.mom[1], B.vy[i]);
-      if (d3) gran_exactsum_add_(&t.mom[2], vz);
-      gran_exactsum_add_(&t.en, 0.5 * (B.vx[i] * B.vx[i] + B.vy[i] * B.vy[i] + vz * vz));
-      ++nl;
+    const int64_t nb = (int64_t)pgrid[0] * pgrid[1] * pgrid[2];
+    const bool over = comm && comm->size > 1;
+    if (comm) {
+      GRAN_CHECK(comm->size >= 1 && comm->rank >= 0 && comm->rank < comm->size, GRAN_ERR_ARG,
+                 "the process group: rank %d of %d processes is not a process of it", comm->rank, comm->size);
+      GRAN_CHECK(!over || (comm->round && comm->allreduce), GRAN_ERR_ARG,
+                 "the process group of %d processes has no round or all-reduce function", comm->size);
+      GRAN_CHECK(!over || nb == comm->size, GRAN_ERR_ARG,
+                 "the split %d x %d x %d has %lld bricks, not one per process (%d processes)", pgrid[0], pgrid[1],
+                 pgrid[2], (long long)nb, comm->size);
     }
-    for (int64_t l = 0; l < B.ncl; ++l) t.dc += hash_cell(global_of(C, B, l), B.cell[(size_t)l].V, B.rng[(size_t)l].s);
-    t.n = t.nmin = t.nmax = nl;
-    t.bytes = P == 1 ? 0 : TC.bytes;
-    t.moved = B.moved;
-    t.far = P == 1 ? 0 : TC.far;
-    t.tmax = secs;
-    out->n_local = nl;
-    out->particle_steps = B.psteps;
-    out->seconds = secs;
+    GRAN_CALL(srd_check_options_(opt));
+    std::unique_ptr<srd_bricks_state> st(new srd_bricks_state);
+    st->shell.reset(new gran_srd);
+    st->shell->opt = *opt;
+    GRAN_CALL(srd_alloc_geometry_(st->shell.get()));
+    GRAN_CALL(make_ctx(st->shell.get(), pgrid, st->C));
+    for (int k = 0; k < 3; ++k) st->pgrid[k] = pgrid[k];
+    st->over_comm = over;
+    if (over) {
+      st->comm = *comm;
+      st->bs.resize(1);
+      window_of(st->C, comm->rank, st->bs[0]);
+      st->TC.reset(new CommTransport(*comm, peers_of(st->C, comm->rank)));
+      st->T = st->TC.get();
+    } else {
+      st->bs.resize((size_t)nb);
+      for (int r = 0; r < (int)nb; ++r) window_of(st->C, r, st->bs[(size_t)r]);
+      st->TL.reset(new LocalTransport((int)nb));
+      st->T = st->TL.get();
+    }
+    for (Brick &B : st->bs) scalars_from(st->shell.get(), B);
+    GRAN_CALL(bricks_create(st->C, st->bs, *st->T, &st->e0));
+    *out = st.release();
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+int srd_bricks_step_(srd_bricks_state *st, int64_t nsteps) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(st);
+    GRAN_CHECK(nsteps >= 0, GRAN_ERR_ARG, "argument 'nsteps' must be >= 0 (got %lld)", (long long)nsteps);
+    const double t0 = srd_clock_s();
+    const gran_srd_options &o = st->shell->opt;
+    const int e = pick(o.dim, srd_fx_of(&o))(st->C, st->bs, *st->T, nsteps);
+    st->seconds += srd_clock_s() - t0;
+    return e;
+  }
+  GRAN_CATCH
+}
+
+int srd_bricks_report_(srd_bricks_state *st, srd_bricks_rank_out *out) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(st);
+    GRAN_CHECK_PTR(out);
+    std::memset(out, 0, sizeof *out);
+    const gran_srd_options &o = st->shell->opt;
+    const bool d3 = o.dim == 3;
+    auto all = [&](Tot &t) -> int { /* over the processes (the bricks here are merged already) */
+      if (!st->over_comm) return GRAN_SUCCESS;
+      GRAN_CHECK(st->comm.allreduce(st->comm.ctx, &t, sizeof t, 1, &merge_bytes<Tot>) == 0, GRAN_ERR_IO,
+                 "decomposed GSRD run: the all-reduce of the report failed on process %d", st->comm.rank);
+      return GRAN_SUCCESS;
+    };
+    auto fresh = [](Tot &t) {
+      std::memset((void *)&t, 0, sizeof t);
+      t.nmin = INT64_MAX;
+      t.nmax = 0;
+      for (int k = 0; k < 3; ++k) gran_exactsum_init_(&t.mom[k]);
+      gran_exactsum_init_(&t.en);
+    };
+    Tot t;
+    fresh(t);
+    for (const Brick &B : st->bs) {
+      int64_t nl = 0;
+      for (size_t i = 0; i < B.x.size(); ++i) {
+        if (!B.dest.empty() && B.dest[i] >= 0) continue; /* a hole */
+        const double z = d3 ? B.z[i] : 0.0, vz = d3 ? B.vz[i] : 0.0;
+        t.dp += hash_particle(B.x[i], B.y[i], z, B.vx[i], B.vy[i], vz, d3);
+        gran_exactsum_add_(&t.mom[0], B.vx[i]);
+        gran_exactsum_add_(&t.mom[1], B.vy[i]);
+        if (d3) gran_exactsum_add_(&t.mom[2], vz);
+        gran_exactsum_add_(&t.en, 0.5 * (B.vx[i] * B.vx[i] + B.vy[i] * B.vy[i] + vz * vz));
+        ++nl;
+      }
+      for (int64_t l = 0; l < B.ncl; ++l)
+        t.dc += hash_cell(global_of(st->C, B, l), B.cell[(size_t)l].V, B.rng[(size_t)l].s);
+      t.n += nl;
+      t.nmin = std::min(t.nmin, nl);
+      t.nmax = std::max(t.nmax, nl);
+      t.moved += B.moved;
+      out->particle_steps += B.psteps;
+    }
+    t.bytes = st->over_comm ? st->TC->bytes : st->TL->bytes;
+    t.far = st->over_comm ? st->TC->far : 0;
+    t.tmax = st->seconds;
+    out->n_local = t.n;
+    out->seconds = st->seconds;
     out->bytes_sent = t.bytes;
-    out->particles_sent = B.moved;
-    if (P > 1)
-      GRAN_CHECK(comm->allreduce(comm->ctx, &t, sizeof t, 1, &merge_bytes<Tot>) == 0, GRAN_ERR_IO,
-                 "decomposed GSRD run: the final all-reduce of process %d failed", comm->rank);
+    int64_t moved_here = 0;
+    for (const Brick &B : st->bs) moved_here += B.moved;
+    out->particles_sent = moved_here;
+    GRAN_CALL(all(t));
     out->n = t.n;
     out->digest_particles = t.dp;
     out->digest_cells = t.dc;
     for (int k = 0; k < 3; ++k) out->momentum[k] = gran_exactsum_value_(&t.mom[k]);
     out->energy = gran_exactsum_value_(&t.en);
+    /* the temperature: sum |v - P/N|^2 / (d N), a second exact sum with the mean flow */
+    {
+      const double u[3] = {out->momentum[0] / (double)t.n, out->momentum[1] / (double)t.n, out->momentum[2] / (double)t.n};
+      Tot q;
+      fresh(q);
+      for (const Brick &B : st->bs)
+        for (size_t i = 0; i < B.x.size(); ++i) {
+          if (!B.dest.empty() && B.dest[i] >= 0) continue;
+          const double ux = B.vx[i] - u[0], uy = B.vy[i] - u[1], uz = d3 ? B.vz[i] - u[2] : 0.0;
+          gran_exactsum_add_(&q.en, ux * ux + uy * uy + uz * uz);
+        }
+      GRAN_CALL(all(q));
+      out->temperature = gran_exactsum_value_(&q.en) / (double)(o.dim * t.n);
+    }
+    const Brick &B = st->bs[0]; /* the scalar state is the same on every brick */
     out->time = B.time;
-    out->e_initial = e0;
+    out->e_initial = st->e0;
     out->e_coll = B.e_coll;
     out->e_ext = B.e_ext;
     out->flux_kin = B.flux_kin;
@@ -1555,7 +1628,7 @@ int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_
     out->dt_max = B.dt_max;
     out->step = B.step;
     out->clamped = B.clamped;
-    for (int k = 0; k < 3; ++k) out->bricks[k] = pgrid[k];
+    for (int k = 0; k < 3; ++k) out->bricks[k] = st->pgrid[k];
     out->seconds_max = t.tmax;
     out->bytes_sent_all = t.bytes;
     out->particles_sent_all = t.moved;
@@ -1563,6 +1636,30 @@ int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_
     out->n_local_max = t.nmax;
     out->far_messages_all = t.far;
     return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+void srd_bricks_close_(srd_bricks_state **st) {
+  if (!st) return;
+  delete *st;
+  *st = nullptr;
+}
+
+int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, const srd_bricks_comm *comm,
+                         srd_bricks_rank_out *out) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(comm);
+    GRAN_CHECK_PTR(out);
+    std::memset(out, 0, sizeof *out);
+    GRAN_CHECK((int64_t)pgrid[0] * pgrid[1] * pgrid[2] == comm->size, GRAN_ERR_ARG,
+               "the split %d x %d x %d has %lld bricks, not one per process (%d processes)", pgrid[0], pgrid[1],
+               pgrid[2], (long long)pgrid[0] * pgrid[1] * pgrid[2], comm->size);
+    srd_bricks_state *st = nullptr;
+    GRAN_CALL(srd_bricks_open_(opt, pgrid, comm, &st));
+    std::unique_ptr<srd_bricks_state, void (*)(srd_bricks_state *)> hold(st, [](srd_bricks_state *p) { srd_bricks_close_(&p); });
+    GRAN_CALL(srd_bricks_step_(st, nsteps));
+    return srd_bricks_report_(st, out);
   }
   GRAN_CATCH
 }

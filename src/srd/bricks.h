@@ -54,10 +54,11 @@ typedef struct srd_bricks_rank_out {
   int64_t n;                          /* particles of the gas */
   uint64_t digest_particles, digest_cells;
   double momentum[3], energy;         /* sum v, sum |v|^2 / 2 of the gas at the end */
+  double temperature;                 /* sum |v - P/N|^2 / (d N) */
   double time, e_initial, e_coll, e_ext, flux_kin, flux_coll, wall_impulse[3], dt_max;
   int64_t step, clamped;
   int bricks[3];                      /* the split */
-  /* this process */
+  /* this process (its bricks) */
   int64_t n_local;                    /* its particles at the end */
   int64_t particle_steps;             /* sum over the steps of its particles (its rate: / seconds) */
   double seconds;                     /* wall time of its steps */
@@ -65,14 +66,13 @@ typedef struct srd_bricks_rank_out {
   /* all processes */
   double seconds_max;                 /* the slowest process's steps */
   int64_t bytes_sent_all, particles_sent_all;
-  int64_t n_local_min, n_local_max;   /* the balance of the split at the end */
+  int64_t n_local_min, n_local_max;   /* the balance of the split at the end: particles per brick */
   int64_t far_messages_all;           /* messages to bricks beyond the 3^d - 1 around the sender */
 } srd_bricks_rank_out;
 
 /* The peak bytes of one process of a split run of these options into nbricks bricks (its brick's
  * share of the particles, with 10 % for the fluctuation of a brick's count, and of the cells, with
- * the step's work arrays); all_in_one = 1: all bricks in one process (srd_bricks_run_: the
- * undivided state too). */
+ * the step's work arrays); all_in_one = 1: all bricks in one process. */
 double srd_bricks_memory_(const gran_srd_options *opt, int nbricks, int all_in_one);
 
 /* Order-independent digests (as in srd_bricks_rank_out) of a gathered run or a plain state. */
@@ -104,6 +104,19 @@ struct srd_bricks_comm {
   int (*allreduce)(void *ctx, void *buf, size_t elem_bytes, size_t count,
                    void (*merge)(void *inout, const void *in)) = nullptr;
 };
+
+/* A split gas held by this process: with comm of size P > 1 its one brick (comm->rank of the
+ * pgrid split, whose product must be P); with comm NULL or of size 1 every brick of the split,
+ * stepped one after the other in this process. Open draws the bricks' particles (the creation by
+ * cells); step advances every brick nsteps (collective); report fills *out (collective: the gas's
+ * values the same on every process; also the temperature, sum |v - P/N|^2 / (d N)); close
+ * releases it. Errors as srd_bricks_run_comm_. */
+struct srd_bricks_state;
+int srd_bricks_open_(const gran_srd_options *opt, const int pgrid[3], const srd_bricks_comm *comm,
+                     srd_bricks_state **out);
+int srd_bricks_step_(srd_bricks_state *st, int64_t nsteps);
+int srd_bricks_report_(srd_bricks_state *st, srd_bricks_rank_out *out);
+void srd_bricks_close_(srd_bricks_state **st);
 
 /* One process's share of a decomposed run: the options' gas (creation must be
  * GRAN_SRD_CREATE_CELLS, the CPU) split into pgrid bricks (their product comm->size; one process
