@@ -4,6 +4,7 @@
  * (docs/guide/decompose.md). build/granary-mpi started on P processes gives each process one brick
  * (no process holds more); build/granary steps all bricks in its one process. The digests do not
  * depend on the split: equal digests mean the same particles and cells bit for bit. */
+#include <chrono>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -62,6 +63,10 @@ int parse_bricks(const char *v, int dim, int pg[3], bool *autos) {
     }
   }
   return (*p || n != dim) ? 1 : 0;
+}
+
+double cli_clock_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 std::string hex(uint64_t v) {
@@ -196,8 +201,9 @@ int cli_decompose(int argc, char **argv) {
   { /* the memory of this process's share against the machine's, divided among its processes (a
      * scene's max_memory_gb, which may allow a gas larger than one machine, caps it only) */
     const bool one = P == 1 && nb > 1;
+    const double rows_bytes = every > 0 ? ((double)nsteps / (double)every + 2) * 2.0 * sizeof(srd_bricks_rank_out) : 0.0;
     const double need = srd_bricks_memory_(&opt, (int)nb, one) + (reference ? srd_bricks_memory_(&opt, 1, 1) : 0.0) +
-                        (every > 0 && nsteps / every < 1e7 ? (double)(nsteps / every + 2) * sizeof(srd_bricks_rank_out) : 0.0);
+                        rows_bytes; /* the rows, and their text */
     const int local = cli_mpi_local_size() > 0 ? cli_mpi_local_size() : 1;
     const double avail = std::min(gran_scene_memory_limit_(scene), gran_memory_available_()) / local;
     if (!(need <= avail)) {
@@ -221,13 +227,32 @@ int cli_decompose(int argc, char **argv) {
       rows.emplace_back();
       e = srd_bricks_report_(st, &rows.back());
     }
+    /* the steps in chunks of about 5e7 particle-steps of a process (1-2 s; the same chunks on every
+     * process, as every step call is collective; the state does not depend on them), a progress
+     * line on stderr every 30 s */
+    double box = 1;
+    for (int k = 0; k < opt.dim; ++k) box *= (double)opt.cells[k];
+    const double n_here = std::max(1.0, opt.n0 * box / (double)(P > 1 ? P : 1));
+    const int64_t chunk = (int64_t)std::min(1e4, std::max(1.0, std::floor(5e7 / n_here)));
+    const double t0 = cli_clock_s();
+    double last = t0;
+    int64_t next_row = every > 0 ? every : nsteps;
     for (int64_t done = 0; !e && done < nsteps;) {
-      const int64_t k = every > 0 ? std::min<int64_t>(every, nsteps - done) : nsteps - done;
+      const int64_t k = std::min<int64_t>({chunk, nsteps - done, next_row - done});
       e = srd_bricks_step_(st, k);
+      const double c1 = cli_clock_s();
       done += k;
-      if (!e && every > 0 && done < nsteps) {
-        rows.emplace_back();
-        e = srd_bricks_report_(st, &rows.back());
+      if (!e && done == next_row) {
+        if (every > 0 && done < nsteps) {
+          rows.emplace_back();
+          e = srd_bricks_report_(st, &rows.back());
+        }
+        next_row = every > 0 ? std::min<int64_t>(done + every, nsteps) : nsteps;
+      }
+      if (root && c1 - last >= 30.0 && done < nsteps) {
+        std::fprintf(stderr, "granary decompose: step %lld of %lld, %.0f s, about %.0f s left\n", (long long)done,
+                     (long long)nsteps, c1 - t0, (c1 - t0) * (double)(nsteps - done) / (double)done);
+        last = c1;
       }
     }
     if (!e) e = srd_bricks_report_(st, &r);
