@@ -283,15 +283,15 @@ struct Brick {
   /* step work */
   srd_geom g;
   double sh[3] = {0, 0, 0};
+  /* dest[i]: -1 a particle of this brick, -2 one that arrived since the last sort (its slot is
+   * out of key order); >= 0 a hole: the slot of a particle that left (its destination until it is
+   * packed, then kHole), refilled by arrivals or dropped at the next sort */
   std::vector<int32_t> dest;
   std::vector<uint32_t> start, order;
   std::vector<srd_cell_sum> W;
   std::vector<std::vector<double>> out;
   std::vector<double> in, arr;
-  std::vector<int64_t> ord;
-  /* dest[i]: -1 a particle of this brick, -2 one that arrived since the last sort (its slot is
-   * out of key order); >= 0 a hole: the slot of a particle that left (its destination until it is
-   * packed, then kHole), refilled by arrivals or dropped at the next sort */
+  std::vector<int64_t> ord;                 /* the arrivals' slots (receive) */
   std::vector<int64_t> holes;               /* the holes' slots */
   std::vector<std::vector<int64_t>> leave;  /* per thread: the slots that left this step */
   int64_t late = 0;                         /* particles arrived since the last sort */
