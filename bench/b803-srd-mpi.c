@@ -46,36 +46,63 @@ typedef struct {
   double secs, rate, bytes, cpu, particles, far;
 } run_t;
 
-static run_t run(const char *cli, const char *scene, int P, int steps) {
-  const char *env = "OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-                    "OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_btl=self,vader OMPI_MCA_mpi_yield_when_idle=1";
-  char cmd[1024];
-  snprintf(cmd, sizeof cmd, "%s mpirun --oversubscribe -n %d %s decompose %s --bricks %s --steps %d --json 2>&1", env, P,
-           cli, scene, P == 1 ? "1x1x1" : "2x1x1", steps);
-  const double c0 = children_cpu();
+static const char *kEnv = "OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                          "OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_btl=self,vader "
+                          "OMPI_MCA_mpi_yield_when_idle=1";
+
+/* the JSON report of a started command (exits on failure) */
+static void report_of(FILE *p, const char *cmd, char *js, size_t njs) {
+  js[0] = 0;
+  char line[8192];
+  while (fgets(line, sizeof line, p))
+    if (line[0] == '{') snprintf(js, njs, "%s", line);
+  const int rc = pclose(p);
+  if (rc != 0 || !js[0]) {
+    fprintf(stderr, "b803: '%s' failed (status %d)\n", cmd, rc);
+    exit(1);
+  }
+}
+
+static FILE *start(const char *cmd) {
   FILE *p = popen(cmd, "r");
   if (!p) {
     fprintf(stderr, "b803: cannot run %s\n", cmd);
     exit(1);
   }
+  return p;
+}
+
+static run_t run(const char *cli, const char *scene, int P, int steps) {
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "%s mpirun --oversubscribe -n %d %s decompose %s --bricks %s --steps %d --json 2>&1", kEnv, P,
+           cli, scene, P == 1 ? "1x1x1" : "2x1x1", steps);
+  const double c0 = children_cpu();
   static char js[8192];
-  js[0] = 0;
-  char line[8192];
-  while (fgets(line, sizeof line, p))
-    if (line[0] == '{') snprintf(js, sizeof js, "%s", line);
-  const int rc = pclose(p);
+  report_of(start(cmd), cmd, js, sizeof js);
   run_t r;
   r.cpu = children_cpu() - c0;
-  if (rc != 0 || !js[0]) {
-    fprintf(stderr, "b803: '%s' failed (status %d)\n", cmd, rc);
-    exit(1);
-  }
   r.secs = jget(js, "seconds_max");
   r.rate = jget(js, "rank0_particle_steps_per_second");
   r.bytes = jget(js, "bytes_per_step_per_brick");
   r.particles = jget(js, "particles");
   r.far = P > 1 ? jget(js, "messages_beyond_neighbours") : 0;
   return r;
+}
+
+/* two undivided halves side by side (one process each, different seeds): the rate of each */
+static void run_halves(const char *cli, const char *half, int steps, double rate[2]) {
+  char cmd[2][1024];
+  FILE *p[2];
+  for (int k = 0; k < 2; ++k) {
+    snprintf(cmd[k], sizeof cmd[k], "%s mpirun --oversubscribe --bind-to none -n 1 %s decompose %s --bricks 1x1x1 --steps %d --set engine.seed=%d --json 2>&1",
+             kEnv, cli, half, steps, 11 + k);
+    p[k] = start(cmd[k]);
+  }
+  for (int k = 0; k < 2; ++k) {
+    static char js[8192];
+    report_of(p[k], cmd[k], js, sizeof js);
+    rate[k] = jget(js, "rank0_particle_steps_per_second");
+  }
 }
 
 static int cmp(const void *a, const void *b) {
@@ -102,9 +129,17 @@ int main(void) {
           "sort_every = 50\nsteps = %d\nseed = 1\nthreads = 1\ncreation = \"cells\"\n",
           L, L, L, steps);
   fclose(f);
+  const char *half = "/tmp/granary-b803-half.toml"; /* the brick of a process at P = 2, undivided */
+  f = fopen(half, "w");
+  if (!f) return 1;
+  fprintf(f,
+          "[engine]\ntype = \"srd\"\ndimension = 3\ncells = [%d, %d, %d]\nn0 = 10\ndt = 0.1\nT0 = 1\nalpha = 130\n"
+          "sort_every = 50\nsteps = %d\nseed = 1\nthreads = 1\ncreation = \"cells\"\n",
+          L / 2, L, L, steps);
+  fclose(f);
   double load[3] = {0, 0, 0};
   if (getloadavg(load, 3) < 1) load[0] = NAN;
-  double r1[8], r2[8], ratio[8], c1[8], c2[8];
+  double r1[8], r2[8], ratio[8], c1[8], c2[8], rh[8], ratio_h[8];
   run_t a = {0}, b = {0};
   for (int k = 0; k < rounds; ++k) {
     a = run(cli, scene, 1, steps);
@@ -114,6 +149,10 @@ int main(void) {
     ratio[k] = b.rate / a.rate;
     c1[k] = 1e9 * a.cpu / (a.particles * steps);
     c2[k] = 1e9 * b.cpu / (b.particles * steps);
+    double h[2];
+    run_halves(cli, half, steps, h);
+    rh[k] = 0.5 * (h[0] + h[1]);
+    ratio_h[k] = b.rate / rh[k];
   }
   double load_end[3] = {0, 0, 0};
   if (getloadavg(load_end, 3) < 1) load_end[0] = NAN;
@@ -124,6 +163,12 @@ int main(void) {
   printf("  rate per process, particle-steps/s: P = 1 %.4g, P = 2 (2 x 1 x 1) %.4g; ratio P = 2 / P = 1 per round:", m1, m2);
   for (int k = 0; k < rounds; ++k) printf(" %.3f", ratio[k]);
   printf(" (median %.3f; target >= 0.9)\n", mr);
+  printf("  two undivided halves (%d x %d x %d cells each) side by side, one process each: %.4g per process; the split / "
+         "the halves per round:",
+         L / 2, L, L, median(rh, rounds));
+  for (int k = 0; k < rounds; ++k) printf(" %.3f", ratio_h[k]);
+  printf(" (median %.3f: the cost of the split itself, the machine's shared memory and caches the same)\n",
+         median(ratio_h, rounds));
   printf("  CPU ns per particle-step, all processes (MPI waits spin): P = 1 %.1f, P = 2 %.1f\n", median(c1, rounds),
          median(c2, rounds));
   const double faces = 2.0; /* 2 x 1 x 1 periodic: each brick has two faces */
@@ -150,5 +195,6 @@ int main(void) {
     }
   }
   remove(scene);
+  remove(half);
   return 0;
 }
