@@ -185,6 +185,23 @@ if [ -z "$victim" ] || [ "$(cat "$tmp/kill.rc")" = 0 ] || [ $dt -gt 30 ] || ! gr
   fail=1
 fi
 
+# a scene that one process cannot read: every process stops before the first exchange, the
+# message names the file
+cat > "$tmp/one-rank.sh" <<EOF2
+#!/bin/sh
+if [ "\$OMPI_COMM_WORLD_RANK" = 1 ]; then exec "$mpicli" decompose "$tmp/absent.toml"; fi
+exec "$mpicli" decompose "$tmp/periodic3.toml" --steps 3
+EOF2
+chmod +x "$tmp/one-rank.sh"
+set +e
+timeout 60 mpirun --oversubscribe -n 2 "$tmp/one-rank.sh" > "$tmp/one.out" 2> "$tmp/one.err"
+rc=$?
+set -e
+if [ $rc = 0 ] || [ $rc = 124 ] || ! grep -q "absent.toml" "$tmp/one.err"; then
+  echo "FAIL: a scene one process cannot read: exit $rc (want non-zero, not the timeout), stderr: $(cat "$tmp/one.err")"
+  fail=1
+fi
+
 # refusals: exit status and a message naming what was wrong
 expect() { # expect STATUS WORDS -- command...: fails unless the command exits STATUS with WORDS on stderr
   want=$1; words=$2; shift 3

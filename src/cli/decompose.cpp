@@ -148,75 +148,87 @@ int cli_decompose(int argc, char **argv) {
     if (root || P > 1) std::fprintf(stderr, "granary decompose: %s: %s\n", what.c_str(), cli_error());
     return 1;
   };
+  /* the scene and the split, checked on every process; all go on only if all may (an input that
+   * one process cannot read would leave the others waiting in the first exchange) */
   gran_scene *scene = nullptr;
-  if (gran_scene_load(scene_path, &scene)) return fail("invalid scene");
   struct Hold {
     gran_scene *s;
     ~Hold() { gran_scene_destroy(&s); }
-  } hold{scene};
-  for (const auto &kv : sets)
-    if (gran_scene_set(scene, kv.first.c_str(), kv.second.c_str())) return fail("--set " + kv.first);
-  if (scene->engine_type != "srd") {
-    if (root)
-      std::fprintf(stderr, "granary decompose: scene '%s' is a %s scene; decompose steps GSRD scenes ([engine] type = \"srd\")\n",
-                   scene_path, scene->engine_type.c_str());
-    return 1;
-  }
-  gran_srd_options opt = scene->srd.opt;
-  if (opt.creation != GRAN_SRD_CREATE_CELLS) {
-    if (root)
-      std::fprintf(stderr,
-                   "granary decompose: scene '%s' creates its gas serially; a split gas needs [engine] creation = \"cells\" "
-                   "(or --set engine.creation='\"cells\"')\n",
-                   scene_path);
-    return 1;
-  }
-  if (scene->srd.device != "cpu") {
-    if (root)
-      std::fprintf(stderr, "granary decompose: [engine] device = \"%s\": a split gas steps on the CPU (device = \"cpu\")\n",
-                   scene->srd.device.c_str());
-    return 1;
-  }
-  const int64_t nsteps = steps >= 0 ? (int64_t)steps : scene->srd.steps;
+  } hold{nullptr};
+  gran_srd_options opt;
+  std::memset(&opt, 0, sizeof opt);
+  int64_t nsteps = 0;
   int pg[3] = {1, 1, 1};
-  bool autos = bricks == nullptr && P > 1;
-  if (bricks && parse_bricks(bricks, opt.dim, pg, &autos)) {
-    if (root)
-      std::fprintf(stderr, "granary decompose: --bricks '%s': expected auto or %s (positive integers)\n", bricks,
-                   opt.dim == 3 ? "PxQxR" : "PxQ");
-    return 2;
-  }
-  if (autos && srd_bricks_auto_(&opt, P, pg)) return fail("--bricks auto");
-  const long long nb = (long long)pg[0] * pg[1] * pg[2];
-  if (P > 1 && nb != P) {
-    if (root)
-      std::fprintf(stderr, "granary decompose: --bricks %dx%dx%d is %lld bricks for %d processes (one brick each)\n", pg[0],
-                   pg[1], pg[2], nb, P);
-    return 2;
-  }
-  if (reference && P > 1) {
-    if (root) std::fprintf(stderr, "granary decompose: --reference runs in one process (build/granary)\n");
-    return 2;
-  }
-  { /* the memory of this process's share against the machine's, divided among its processes (a
-     * scene's max_memory_gb, which may allow a gas larger than one machine, caps it only) */
-    const bool one = P == 1 && nb > 1;
-    const double rows_bytes = every > 0 ? ((double)nsteps / (double)every + 2) * 2.0 * sizeof(srd_bricks_rank_out) : 0.0;
-    const double need = srd_bricks_memory_(&opt, (int)nb, one) + (reference ? srd_bricks_memory_(&opt, 1, 1) : 0.0) +
-                        rows_bytes; /* the rows, and their text */
-    const int local = cli_mpi_local_size() > 0 ? cli_mpi_local_size() : 1;
-    const double avail = std::min(gran_scene_memory_limit_(scene), gran_memory_available_()) / local;
-    if (!(need <= avail)) {
+  long long nb = 1;
+  auto prepare = [&]() -> int {
+    if (gran_scene_load(scene_path, &scene)) return fail("invalid scene");
+    hold.s = scene;
+    for (const auto &kv : sets)
+      if (gran_scene_set(scene, kv.first.c_str(), kv.second.c_str())) return fail("--set " + kv.first);
+    if (scene->engine_type != "srd") {
       if (root)
-        std::fprintf(stderr,
-                     "granary decompose: %s needs about %.3g GB (%s), more than the %.3g GB available%s; use more "
-                     "processes (machines) or a smaller gas\n",
-                     P > 1 ? "each process" : "the run", need / 1e9,
-                     one ? "all bricks in one process" : "its brick's particles and cells",
-                     avail / 1e9, local > 1 ? (" to each of the " + std::to_string(local) + " processes on this machine").c_str() : "");
+        std::fprintf(stderr, "granary decompose: scene '%s' is a %s scene; decompose steps GSRD scenes ([engine] type = \"srd\")\n",
+                     scene_path, scene->engine_type.c_str());
       return 1;
     }
-  }
+    opt = scene->srd.opt;
+    if (opt.creation != GRAN_SRD_CREATE_CELLS) {
+      if (root)
+        std::fprintf(stderr,
+                     "granary decompose: scene '%s' creates its gas serially; a split gas needs [engine] creation = \"cells\" "
+                     "(or --set engine.creation='\"cells\"')\n",
+                     scene_path);
+      return 1;
+    }
+    if (scene->srd.device != "cpu") {
+      if (root)
+        std::fprintf(stderr, "granary decompose: [engine] device = \"%s\": a split gas steps on the CPU (device = \"cpu\")\n",
+                     scene->srd.device.c_str());
+      return 1;
+    }
+    nsteps = steps >= 0 ? (int64_t)steps : scene->srd.steps;
+    bool autos = bricks == nullptr && P > 1;
+    if (bricks && parse_bricks(bricks, opt.dim, pg, &autos)) {
+      if (root)
+        std::fprintf(stderr, "granary decompose: --bricks '%s': expected auto or %s (positive integers)\n", bricks,
+                     opt.dim == 3 ? "PxQxR" : "PxQ");
+      return 2;
+    }
+    if (autos && srd_bricks_auto_(&opt, P, pg)) return fail("--bricks auto");
+    nb = (long long)pg[0] * pg[1] * pg[2];
+    if (P > 1 && nb != P) {
+      if (root)
+        std::fprintf(stderr, "granary decompose: --bricks %dx%dx%d is %lld bricks for %d processes (one brick each)\n", pg[0],
+                     pg[1], pg[2], nb, P);
+      return 2;
+    }
+    if (reference && P > 1) {
+      if (root) std::fprintf(stderr, "granary decompose: --reference runs in one process (build/granary)\n");
+      return 2;
+    }
+    { /* the memory of this process's share against the machine's, divided among its processes (a
+       * scene's max_memory_gb, which may allow a gas larger than one machine, caps it only) */
+      const bool one = P == 1 && nb > 1;
+      const double rows_bytes = every > 0 ? ((double)nsteps / (double)every + 2) * 2.0 * sizeof(srd_bricks_rank_out) : 0.0;
+      const double need = srd_bricks_memory_(&opt, (int)nb, one) + (reference ? srd_bricks_memory_(&opt, 1, 1) : 0.0) +
+                          rows_bytes; /* the rows, and their text */
+      const int local = cli_mpi_local_size() > 0 ? cli_mpi_local_size() : 1;
+      const double avail = std::min(gran_scene_memory_limit_(scene), gran_memory_available_()) / local;
+      if (!(need <= avail)) {
+        if (root)
+          std::fprintf(stderr,
+                       "granary decompose: %s needs about %.3g GB (%s), more than the %.3g GB available%s; use more "
+                       "processes (machines) or a smaller gas\n",
+                       P > 1 ? "each process" : "the run", need / 1e9,
+                       one ? "all bricks in one process" : "its brick's particles and cells",
+                       avail / 1e9, local > 1 ? (" to each of the " + std::to_string(local) + " processes on this machine").c_str() : "");
+        return 1;
+      }
+    }
+    return 0;
+  };
+  const int pre = prepare();
+  if (!cli_mpi_all(pre == 0)) return pre ? pre : 1;
   srd_bricks_rank_out r;
   std::memset(&r, 0, sizeof r);
   std::vector<srd_bricks_rank_out> rows; /* every `every` steps, and the start */
