@@ -8,8 +8,8 @@
  *
  * And a srd_bricks_comm (src/srd/bricks.h) for `granary decompose`, one GSRD brick per process:
  * round = the non-blocking consensus exchange (MPI_Issend of the non-empty messages, MPI_Iprobe,
- * MPI_Ibarrier: below); allreduce = MPI_Allreduce of the record as one contiguous type with
- * an MPI_Op over libgranary's exact merge (commutative). */
+ * MPI_Ibarrier: below); allreduce = MPI_Allreduce of records, each one contiguous type, with an
+ * MPI_Op over libgranary's exact merge (commutative). */
 #ifdef GRAN_MPI
 #include <mpi.h>
 #endif

@@ -85,9 +85,10 @@ struct Red {
 /* ---- the transport between bricks ----
  * Messages are arrays of 8-byte words. A round: every brick posts one message to every other
  * brick (empty ones too), then takes the one from every other brick; an all-reduce: every brick
- * posts its record, then takes the merge of all of them (exact: the same for any merge order).
- * The in-process transport copies buffers; an MPI one maps send / recv to MPI_Isend / MPI_Recv and
- * the all-reduce to MPI_Allreduce with a user-defined merge. */
+ * posts its records, then takes their merge of all of them (exact: the same for any merge order).
+ * The in-process transport moves buffers between the bricks of this process; CommTransport (one
+ * brick per process) hands a round and an all-reduce to a srd_bricks_comm (bricks.h; over MPI in
+ * src/cli/mpi.cpp). */
 class Transport {
  public:
   virtual ~Transport() = default;
