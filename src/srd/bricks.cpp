@@ -1,6 +1,6 @@
 /* bricks.cpp - the decomposable GSRD engine: one box as P bricks of the binning grid (bricks.h;
  * design and measurements: docs/developers/domain-decomposition.md, "Step 2" and "Step 3"; one
- * brick per MPI process: srd_bricks_run_comm_).
+ * brick per MPI process: srd_bricks_open_).
  *
  * A brick holds a window [lo, lo + w) per axis of the binning grid (s->gm.nc cells per axis; the
  * wall axis has L + 1 layers), the cells' persistent data of that window (reference velocity V,
@@ -1645,22 +1645,4 @@ void srd_bricks_close_(srd_bricks_state **st) {
   if (!st) return;
   delete *st;
   *st = nullptr;
-}
-
-int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, const srd_bricks_comm *comm,
-                         srd_bricks_rank_out *out) {
-  GRAN_TRY {
-    GRAN_CHECK_PTR(comm);
-    GRAN_CHECK_PTR(out);
-    std::memset(out, 0, sizeof *out);
-    GRAN_CHECK((int64_t)pgrid[0] * pgrid[1] * pgrid[2] == comm->size, GRAN_ERR_ARG,
-               "the split %d x %d x %d has %lld bricks, not one per process (%d processes)", pgrid[0], pgrid[1],
-               pgrid[2], (long long)pgrid[0] * pgrid[1] * pgrid[2], comm->size);
-    srd_bricks_state *st = nullptr;
-    GRAN_CALL(srd_bricks_open_(opt, pgrid, comm, &st));
-    std::unique_ptr<srd_bricks_state, void (*)(srd_bricks_state *)> hold(st, [](srd_bricks_state *p) { srd_bricks_close_(&p); });
-    GRAN_CALL(srd_bricks_step_(st, nsteps));
-    return srd_bricks_report_(st, out);
-  }
-  GRAN_CATCH
 }

@@ -45,7 +45,7 @@ int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], int64_t nst
 int srd_bricks_gather_plain_(const gran_srd *s, srd_bricks_out *out);
 void srd_bricks_out_free_(srd_bricks_out *out);
 
-/* What one process of a decomposed run reports (srd_bricks_run_comm_). The whole gas's values are
+/* What one process of a decomposed run reports (srd_bricks_report_). The whole gas's values are
  * the same on every process and for any split: the state digests (sums mod 2^64 of a 64-bit hash
  * per particle, of its position and velocity bits, and per cell, of its global index, V and RNG
  * state: order-independent, so equal digests mean the same set of particle states and the same
@@ -110,22 +110,14 @@ struct srd_bricks_comm {
  * stepped one after the other in this process. Open draws the bricks' particles (the creation by
  * cells); step advances every brick nsteps (collective); report fills *out (collective: the gas's
  * values the same on every process; also the temperature, sum |v - P/N|^2 / (d N)); close
- * releases it. Errors as srd_bricks_run_comm_. */
+ * releases it. GRAN_ERR_ARG naming a bad option or pgrid entry (creation must be
+ * GRAN_SRD_CREATE_CELLS, the device the CPU); an error of the transport is GRAN_ERR_IO. */
 struct srd_bricks_state;
 int srd_bricks_open_(const gran_srd_options *opt, const int pgrid[3], const srd_bricks_comm *comm,
                      srd_bricks_state **out);
 int srd_bricks_step_(srd_bricks_state *st, int64_t nsteps);
 int srd_bricks_report_(srd_bricks_state *st, srd_bricks_rank_out *out);
 void srd_bricks_close_(srd_bricks_state **st);
-
-/* One process's share of a decomposed run: the options' gas (creation must be
- * GRAN_SRD_CREATE_CELLS, the CPU) split into pgrid bricks (their product comm->size; one process
- * with comm->size = 1 is the plain decomposable engine), this process holding brick comm->rank: it
- * draws its cells' particles, steps nsteps with the others and reports *out (the gas's values the
- * same on every process). No process ever holds more than its brick. GRAN_ERR_ARG naming a bad
- * option or pgrid entry; an error of the transport is GRAN_ERR_IO. */
-int srd_bricks_run_comm_(const gran_srd_options *opt, const int pgrid[3], int64_t nsteps, const srd_bricks_comm *comm,
-                         srd_bricks_rank_out *out);
 
 /* gran_srd_advance of the decomposable engine: steps s as one brick (engine.cpp calls it) */
 int srd_bricks_advance_(gran_srd *s, int64_t steps);
