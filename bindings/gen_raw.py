@@ -105,6 +105,7 @@ gran_theory_msd           msd_total=null
 gran_theory_msd_hcs_approx  msd_total=null
 gran_theory_msd_approx    msd_total=null
 gran_theory_msd_sonine    a20=null msd_total=null
+gran_theory_msd_sonine2   a20=null a30=null msd_total=null
 gran_theory_temperatures_sonine2  a20=null a30=null a2=null a3=null
 gran_theory_temperatures_driven  heating=null
 gran_theory_tamsd_parts   delta0=null xi=null

@@ -63,7 +63,7 @@ module granary
   ! GRAN_THEORY_MAXWELLIAN (reference) or GRAN_THEORY_SONINE (first Sonine level, docs/physics-sonine.md)
   public :: gran_theory_hcs_approx, gran_theory_sonine_rates, gran_theory_temperatures_approx
   public :: gran_theory_hcs_sonine2, gran_theory_sonine2_rates, gran_theory_hcs_sonine_n
-  public :: gran_theory_temperatures_sonine2
+  public :: gran_theory_temperatures_sonine2, gran_theory_msd_sonine2
   public :: gran_theory_diffusion_approx, gran_theory_msd_hcs_approx, gran_theory_msd_approx
   public :: gran_theory_tamsd_approx, gran_theory_msd_sonine
   public :: gran_theory_tamsd, gran_theory_tamsd_sampled, gran_theory_tamsd_parts, gran_theory_msd_mono, gran_theory_reduced_time
@@ -1224,6 +1224,50 @@ contains
     end if
     call gran_check(c_gran_theory_msd_sonine(mix, t0, pa, ca, size(t, kind=c_int64_t), t, rtol, msd, pt), ierr)
   end subroutine gran_theory_msd_sonine
+
+  !> Eq. 4 on the second Sonine trajectory from t0(M), a20(M) and a30(M) (absent: 0); correlation_a2
+  !> (absent: .false.) puts the a2(t1) of all species into the two-moment correlation.
+  subroutine gran_theory_msd_sonine2(mix, t0, t, rtol, msd, a20, a30, correlation_a2, msd_total, ierr)
+    type(c_ptr), intent(in) :: mix
+    real(c_double), intent(in) :: t0(:), t(:), rtol
+    real(c_double), intent(out) :: msd(:, :)
+    real(c_double), intent(in), target, contiguous, optional :: a20(:), a30(:)
+    logical, intent(in), optional :: correlation_a2
+    real(c_double), intent(out), target, contiguous, optional :: msd_total(:)
+    integer, intent(out), optional :: ierr
+    integer(c_int64_t) :: m
+    integer(c_int) :: ca
+    type(c_ptr) :: pa, pb, pt
+    m = gran_theory_m(mix)
+    ca = 0
+    if (present(correlation_a2)) then
+      if (correlation_a2) ca = 1
+    end if
+    pa = c_null_ptr
+    pb = c_null_ptr
+    pt = c_null_ptr
+    if (gran_theory_short(size(t0), m, 'gran_theory_msd_sonine2: size(t0) < M', ierr)) return
+    if (present(a20)) then
+      if (gran_theory_short(size(a20), m, 'gran_theory_msd_sonine2: size(a20) < M', ierr)) return
+      if (size(a20) > 0) pa = c_loc(a20(1))
+    end if
+    if (present(a30)) then
+      if (gran_theory_short(size(a30), m, 'gran_theory_msd_sonine2: size(a30) < M', ierr)) return
+      if (size(a30) > 0) pb = c_loc(a30(1))
+    end if
+    if (m > 0 .and. (size(msd, 1, kind=c_int64_t) /= m .or. size(msd, 2) /= size(t))) then
+      call gran_theory_shape_error('gran_theory_msd_sonine2: msd must be (M, size(t))', ierr)
+      return
+    end if
+    if (present(msd_total)) then
+      if (size(msd_total) /= size(t)) then
+        call gran_theory_shape_error('gran_theory_msd_sonine2: size(msd_total) /= size(t)', ierr)
+        return
+      end if
+      if (size(msd_total) > 0) pt = c_loc(msd_total(1))
+    end if
+    call gran_check(c_gran_theory_msd_sonine2(mix, t0, pa, pb, ca, size(t, kind=c_int64_t), t, rtol, msd, pt), ierr)
+  end subroutine gran_theory_msd_sonine2
 
   !> Eq. 27: tamsd(M, size(lag)) over the measurement time t_meas.
   subroutine gran_theory_tamsd(mix, t0, tau0, t_meas, lag, rtol, tamsd, ierr)

@@ -319,6 +319,14 @@ GRAN_EXTERN int gran_theory_msd_approx(const gran_mixture *mix, int approximatio
 GRAN_EXTERN int gran_theory_msd_sonine(const gran_mixture *mix, const double *T0, const double *a20,
                                        int correlation_a2, int64_t ntimes, const double *t, double rtol, double *msd,
                                        double *msd_total);
+/* MSD by Eq. 4 on the second Sonine trajectory (constant or matrix restitution): T_k(t), a2_k(t), a3_k(t) of
+ * gran_theory_temperatures_sonine2 from T0, a20 and a30 (M each, |a| < 1; NULL: 0), the two-moment correlation
+ * at T(t1) with the second-level cooling rate zeta_k(t1) (a3 enters there), and the a2_i(t1) in it when
+ * correlation_a2 = 1 (as gran_theory_msd_sonine). msd ntimes*M, msd_total ntimes or NULL.
+ * docs/physics-sonine.md Sec. 5. */
+GRAN_EXTERN int gran_theory_msd_sonine2(const gran_mixture *mix, const double *T0, const double *a20,
+                                        const double *a30, int correlation_a2, int64_t ntimes, const double *t,
+                                        double rtol, double *msd, double *msd_total);
 /* T_k(t) from T0 by Eq. 13 (GSL odeiv2, relative tolerance rtol); T is ntimes*M. */
 GRAN_EXTERN int gran_theory_temperatures(const gran_mixture *mix, const double *T0, int64_t ntimes,
                                          const double *t, double rtol, double *T);

@@ -1,7 +1,7 @@
 ! t418-sonine2-f.f90 - the Fortran bindings of the second Sonine approximation (bindings/granary.f90):
 ! gran_theory_hcs_sonine2, gran_theory_hcs_sonine_n (one species: a2, a3 of the linear second Sonine equations; binary: an HCS of the
 ! rates) and gran_theory_sonine2_rates, gran_theory_temperatures_sonine2 (stays at the HCS, reaches it from a Maxwellian
-! start), and refusals. Prints what it checks; error stop 1 on failure.
+! start), gran_theory_msd_sonine2 (the late slope from the HCS), and refusals. Prints what it checks; error stop 1 on failure.
 program t418_sonine2_f
   use, intrinsic :: iso_c_binding
   use granary
@@ -10,7 +10,7 @@ program t418_sonine2_f
   type(c_ptr) :: mix
   real(c_double) :: one(1), t1(1), a1(1), b1(1), tau0, dens(2), mass(2), sig(2)
   real(c_double) :: t0(2), a2(2), a3(2), zeta(2), d2(2), d3(2), tn(2), an(4), taun
-  real(c_double) :: tt(2), temp(2, 2), a2t(2, 2), a3t(2, 2)
+  real(c_double) :: tt(2), temp(2, 2), a2t(2, 2), a3t(2, 2), msd(2, 2), mtot(2), dk(2), dl
   integer :: ierr
 
   one = 1
@@ -46,6 +46,18 @@ program t418_sonine2_f
   call expect(ierr == GRAN_ERR_ARG, 'a30 = 1 refused (GRAN_ERR_ARG)')
   call gran_theory_temperatures_sonine2(mix, t0, tt, 1e-10_c_double, temp(:, 1:1), ierr=ierr)
   call expect(ierr /= 0, 'temp of the wrong shape refused')
+  tt = [50.0_c_double, 500.0_c_double] * tau0
+  call gran_theory_msd_sonine2(mix, t0, tt, 1e-9_c_double, msd, a20=a2, a30=a3, correlation_a2=.true., msd_total=mtot)
+  call gran_theory_diffusion_approx(mix, int(GRAN_THEORY_SONINE), t0, a2, [2.0_c_double, 2.0_c_double] / tau0, dk)
+  dl = tau0 * (log(501.0_c_double) - log(51.0_c_double))
+  call expect(all(abs((msd(:, 2) - msd(:, 1)) / (6 * dl) / dk - 1) < 1e-6_c_double), &
+              'gran_theory_msd_sonine2 from the second Sonine HCS: late slope 6 D_k(0) tau0')
+  call expect(abs(mtot(2) / ((msd(1, 2) + 0.5_c_double * msd(2, 2)) / 1.5_c_double) - 1) < 1e-13_c_double, &
+              'gran_theory_msd_sonine2: msd_total')
+  call gran_theory_msd_sonine2(mix, t0, tt, 1e-9_c_double, msd, a30=[0.0_c_double, 1.0_c_double], ierr=ierr)
+  call expect(ierr == GRAN_ERR_ARG, 'gran_theory_msd_sonine2: a30 = 1 refused (GRAN_ERR_ARG)')
+  call gran_theory_msd_sonine2(mix, t0, tt, 1e-9_c_double, msd(:, 1:1), ierr=ierr)
+  call expect(ierr /= 0, 'gran_theory_msd_sonine2: msd of the wrong shape refused')
   call gran_theory_hcs_sonine_n(mix, 3, int(GRAN_HCS_NORM_T1), 1.0_c_double, tn, an, taun)
   call expect(abs(tn(2) / tn(1) / 1.799810119285_c_double - 1) < 1e-10_c_double .and. &
               abs(an(1) - a2(1)) < 1e-10_c_double .and. abs(an(4) - a3(2)) < 1e-10_c_double, &

@@ -364,10 +364,64 @@ static void test_trajectory_refusals(void **state) {
   gran_mixture_destroy(&one);
 }
 
+/* gran_theory_msd_sonine2: (1) from the second Sonine HCS the MSD grows as 6 D_k(0) tau0 log(1 + t/tau0) at
+ * late times, D_k(0) the two-moment diffusion coefficient at the HCS (gran_theory_diffusion_approx with its a2 and
+ * zeta_k = 2/tau0): the trajectory, its cooling rate and the quadrature against the closed form; (2) an elastic
+ * mixture at equipartition (a2 = a3 = 0, zeta = 0 all along) gives gran_theory_msd_sonine's MSD; (3) refusals. */
+static void test_msd(void **state) {
+  (void)state;
+  const double m[2] = {1, 4}, s[2] = {1, 1.5}, n[2] = {0.1, 0.05};
+  gran_mixture *mix = make(2, m, s, n, 0.7);
+  double T0[2], a2h[2], a3h[2], tau0;
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_MEAN, 1.0, T0, a2h, a3h, &tau0));
+  const double t[2] = {50.0 * tau0, 500.0 * tau0}, zeta[2] = {2.0 / tau0, 2.0 / tau0};
+  double msd[4], tot[2], D[2];
+  GRAN_ASSERT_OK(gran_theory_msd_sonine2(mix, T0, a2h, a3h, 1, 2, t, 1e-9, msd, tot));
+  GRAN_ASSERT_OK(gran_theory_diffusion_approx(mix, GRAN_THEORY_SONINE, T0, a2h, zeta, D));
+  const double dL = tau0 * (log1p(t[1] / tau0) - log1p(t[0] / tau0));
+  for (int k = 0; k < 2; k++) {
+    const double slope = (msd[2 + k] - msd[k]) / (6.0 * dL);
+    print_message("second Sonine HCS, species %d: late MSD slope / 6 D(0) tau0 - 1 = %.3g\n", k + 1, slope / D[k] - 1);
+    GRAN_ASSERT_REL(slope, D[k], 1e-6);
+  }
+  for (int j = 0; j < 2; j++)
+    GRAN_ASSERT_REL(tot[j], (n[0] * msd[2 * j] + n[1] * msd[2 * j + 1]) / (n[0] + n[1]), 1e-14);
+  /* a2 out of the correlation is another MSD (the partners' f_i and the weight f_k) */
+  double msd0[4];
+  GRAN_ASSERT_OK(gran_theory_msd_sonine2(mix, T0, a2h, a3h, 0, 2, t, 1e-9, msd0, NULL));
+  print_message("a2 out of the correlation: MSD_1 / MSD_1(a2 in) - 1 = %.3g (a2 = %.4f %.4f)\n", msd0[2] / msd[2] - 1,
+                a2h[0], a2h[1]);
+  assert_true(fabs(msd0[2] / msd[2] - 1) > 1e-5);
+  /* refusals */
+  const double bad[2] = {0.0, -1.0};
+  GRAN_ASSERT_ERR(gran_theory_msd_sonine2(mix, T0, NULL, bad, 1, 2, t, 1e-9, msd, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'a30'[1]"));
+  GRAN_ASSERT_ERR(gran_theory_msd_sonine2(mix, T0, bad, NULL, 1, 2, t, 1e-9, msd, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'a20'[1]"));
+  GRAN_ASSERT_ERR(gran_theory_msd_sonine2(mix, T0, NULL, NULL, 2, 2, t, 1e-9, msd, NULL), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "correlation_a2"));
+  GRAN_ASSERT_ERR(gran_theory_msd_sonine2(mix, NULL, NULL, NULL, 1, 2, t, 1e-9, msd, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_ERR(gran_theory_msd_sonine2(mix, T0, NULL, NULL, 1, 2, t, 1e-9, NULL, NULL), GRAN_ERR_ARG);
+  GRAN_ASSERT_OK(gran_mixture_set_viscoelastic(mix, 0.1));
+  GRAN_ASSERT_ERR(gran_theory_msd_sonine2(mix, T0, NULL, NULL, 1, 2, t, 1e-9, msd, NULL), GRAN_ERR_DOMAIN);
+  gran_mixture_destroy(&mix);
+  /* eps = 1 at equipartition: the first and second levels are one MSD */
+  const double me[2] = {1, 7}, se[2] = {1, 1.9}, ne[2] = {0.4, 0.2}, Te[2] = {2.0, 2.0}, te[3] = {0.1, 10.0, 1e3};
+  gran_mixture *el = make(2, me, se, ne, 1.0);
+  double m1[6], m2[6];
+  for (int ca = 0; ca < 2; ca++) {
+    GRAN_ASSERT_OK(gran_theory_msd_sonine(el, Te, NULL, ca, 3, te, 1e-9, m1, NULL));
+    GRAN_ASSERT_OK(gran_theory_msd_sonine2(el, Te, NULL, NULL, ca, 3, te, 1e-9, m2, NULL));
+    for (int j = 0; j < 6; j++) GRAN_ASSERT_REL(m2[j], m1[j], 1e-8);
+  }
+  gran_mixture_destroy(&el);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {cmocka_unit_test(test_monodisperse), cmocka_unit_test(test_rates),
                                      cmocka_unit_test(test_hcs), cmocka_unit_test(test_limits),
                                      cmocka_unit_test(test_refusals), cmocka_unit_test(test_hierarchy),
-                                     cmocka_unit_test(test_trajectory), cmocka_unit_test(test_trajectory_refusals)};
+                                     cmocka_unit_test(test_trajectory), cmocka_unit_test(test_trajectory_refusals),
+                                     cmocka_unit_test(test_msd)};
   return cmocka_run_group_tests_name("t418-sonine2", tests, NULL, NULL);
 }

@@ -258,6 +258,9 @@ int cli_theory(int argc, char **argv) {
     if (nt && gran_theory_temperatures_approx(mix, GRAN_THEORY_SONINE, T0.data(), a20.data(), nt, times.data(), 1e-10,
                                               Tst.data(), a2t.data()))
       return fail("gran_theory_temperatures_approx (sonine) failed");
+    if (nmax)
+      not_covered.push_back("the Sonine hierarchy to a_" + std::to_string(nmax) +
+                            " (an HCS: none for viscoelastic restitution)");
   } else if (son) {
     double num = 0, den = 0;
     for (int64_t k = 0; k < M; k++) {
@@ -294,8 +297,6 @@ int cli_theory(int argc, char **argv) {
         Tn.clear();
       }
     }
-  } else if (son_visco && nmax) {
-    not_covered.push_back("the Sonine hierarchy to a_" + std::to_string(nmax) + " (an HCS: none for viscoelastic restitution)");
   }
 
   if (json) {

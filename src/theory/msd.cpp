@@ -77,8 +77,9 @@ void total(const gran_mixture *mix, int64_t ntimes, const double *msd, double *m
 /* Eq. 4 levels: the Maxwellian tau_v,k; the two-moment correlation (sonine_modes) at the Maxwellian
  * T(t1) with xi_k and a2 = 0; the first Sonine trajectory (z, u, a2) with the modes at T(t1) and
  * the Sonine zeta_k(t1) (the scaling term -(1/2) dlog T_k/dt of that trajectory), the a2_i(t1) in
- * the correlation (collision integrals and m(0)) when correlation_a2. */
-enum { EQ4_MAXWELL = 0, EQ4_MODES = 1, EQ4_SONINE = 2 };
+ * the correlation (collision integrals and m(0)) when correlation_a2; the second Sonine trajectory (z, u, a2,
+ * a3) likewise, with its zeta_k(t1) (a3 enters the cooling rate, not the correlation). */
+enum { EQ4_MAXWELL = 0, EQ4_MODES = 1, EQ4_SONINE = 2, EQ4_SONINE2 = 3 };
 struct Eq4 {
   const Traj *tr;
   const gran_mixture *mix;
@@ -87,7 +88,7 @@ struct Eq4 {
   std::vector<double> T;
   int status;
   int mode = EQ4_MAXWELL;
-  std::vector<double> a2;      /* EQ4_SONINE: a2_i(t1) */
+  std::vector<double> a2, a3;  /* EQ4_SONINE, EQ4_SONINE2: a2_i(t1) (and a3_i(t1)) */
   bool correlation_a2 = false; /* EQ4_SONINE: a2_i(t1) in the correlation */
   std::string message;         /* of the first failure of sonine_modes */
 };
@@ -104,9 +105,14 @@ double eq4_x(Eq4 *c, double s1, double *val) {
     cd lam[2], cw[2];
     double zk = NAN;
     const double *a2c = nullptr; /* the a2_i(t1) in the correlation (K and m(0)) */
-    if (c->mode == EQ4_SONINE) {
+    if (c->mode == EQ4_SONINE || c->mode == EQ4_SONINE2) {
       for (int64_t i = 0; i < tr.M; i++) c->a2[(size_t)i] = traj_eval_at(tr, j, s1, (int)(2 * tr.M + i));
-      zk = sonine_zeta_one(c->mix, c->T.data(), c->a2.data(), c->k);
+      if (c->mode == EQ4_SONINE2) {
+        for (int64_t i = 0; i < tr.M; i++) c->a3[(size_t)i] = traj_eval_at(tr, j, s1, (int)(3 * tr.M + i));
+        zk = sonine2_zeta_one(c->mix, c->T.data(), c->a2.data(), c->a3.data(), c->k);
+      } else {
+        zk = sonine_zeta_one(c->mix, c->T.data(), c->a2.data(), c->k);
+      }
       if (c->correlation_a2) a2c = c->a2.data();
     }
     const int st = sonine_modes(c->mix, c->T.data(), c->k, zk, a2c, lam, cw);
@@ -242,7 +248,7 @@ GRAN_EXTERN int gran_theory_msd_mono(const gran_mixture *mix, double T1, int64_t
  */
 namespace {
 int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t, double rtol, double *msd,
-            double *msd_total, int mode, const double *a20, bool correlation_a2);
+            double *msd_total, int mode, const double *a20, bool correlation_a2, const double *a30 = nullptr);
 }
 
 GRAN_EXTERN int gran_theory_msd(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t,
@@ -299,9 +305,40 @@ GRAN_EXTERN int gran_theory_msd_sonine(const gran_mixture *mix, const double *T0
   GRAN_CATCH
 }
 
+/**
+ * @brief MSD by Eq. 4 on the second Sonine trajectory: T_k(t), a2_k(t), a3_k(t) as
+ * gran_theory_temperatures_sonine2 from (T0, a20, a30), the two-moment correlation at T(t1) with the
+ * second-level zeta_k(t1) and, when correlation_a2 = 1, the a2_i(t1) in it (as gran_theory_msd_sonine;
+ * a3 enters through the temperatures and the cooling rate).
+ * @param[in] a20, a30 M start values each, |a| < 1 (NULL: 0)
+ * @param[in] correlation_a2 0 or 1
+ */
+GRAN_EXTERN int gran_theory_msd_sonine2(const gran_mixture *mix, const double *T0, const double *a20,
+                                        const double *a30, int correlation_a2, int64_t ntimes, const double *t,
+                                        double rtol, double *msd, double *msd_total) {
+  GRAN_TRY {
+    GRAN_CALL(check_mixture(mix, "mix"));
+    GRAN_CHECK(correlation_a2 == 0 || correlation_a2 == 1, GRAN_ERR_ARG,
+               "argument 'correlation_a2' = %d must be 0 or 1", correlation_a2);
+    GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
+               "mixture 'mix' has viscoelastic restitution: the second Sonine MSD is implemented for constant or "
+               "matrix restitution only");
+    const double *start[2] = {a20, a30};
+    const char *names[2] = {"a20", "a30"};
+    for (int q = 0; q < 2; q++)
+      if (start[q])
+        for (int64_t k = 0; k < mix->M; k++)
+          GRAN_CHECK(std::isfinite(start[q][k]) && std::fabs(start[q][k]) < 1.0, GRAN_ERR_ARG,
+                     "argument '%s'[%" PRId64 "] = %g: the second Sonine approximation needs |a| < 1", names[q], k,
+                     start[q][k]);
+    return msd_eq4(mix, T0, ntimes, t, rtol, msd, msd_total, EQ4_SONINE2, a20, correlation_a2 == 1, a30);
+  }
+  GRAN_CATCH
+}
+
 namespace {
 int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const double *t, double rtol, double *msd,
-            double *msd_total, int mode, const double *a20, bool correlation_a2) {
+            double *msd_total, int mode, const double *a20, bool correlation_a2, const double *a30) {
   GRAN_TRY {
     gsl_set_error_handler_off();
     GRAN_CALL(check_mixture(mix, "mix"));
@@ -313,7 +350,7 @@ int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const dou
     GRAN_CHECK_PTR(msd);
     const int64_t M = mix->M;
     Traj tr;
-    if (mode == EQ4_SONINE) { /* the time scale of traj_init: the shortest collision time at T0 */
+    if (mode == EQ4_SONINE || mode == EQ4_SONINE2) { /* the time scale of traj_init: the shortest collision time at T0 */
       std::vector<double> nu((size_t)M);
       collision_scale(mix, T0, nu.data());
       const double numax = *std::max_element(nu.begin(), nu.end());
@@ -335,11 +372,12 @@ int msd_eq4(const gran_mixture *mix, const double *T0, int64_t ntimes, const dou
     }
     const double ode_rtol = std::max(1e-14, 0.1 * rtol);
     if (mode == EQ4_SONINE) GRAN_CALL(sonine_traj_dense(tr, mix, T0, a20, tr.ts, ode_rtol, hmax, smax));
+    else if (mode == EQ4_SONINE2) GRAN_CALL(sonine2_traj_dense(tr, mix, T0, a20, a30, tr.ts, ode_rtol, hmax, smax));
     else GRAN_CALL(traj_run(tr, 0, nullptr, nullptr, ode_rtol, true, hmax, smax));
     gsl_integration_workspace *w = gsl_integration_workspace_alloc(2000);
     GRAN_CHECK(w != nullptr, GRAN_ERR_NOMEM, "cannot allocate a GSL integration workspace");
     Eq4 c{&tr, mix, 0, 0.0, std::vector<double>((size_t)M), 0, mode, std::vector<double>((size_t)M, 0.0),
-          correlation_a2, std::string()};
+          std::vector<double>((size_t)M, 0.0), correlation_a2, std::string()};
     gsl_function F{eq4_integrand, &c};
     int ret = GRAN_SUCCESS;
     for (int64_t j = 0; j < ntimes && ret == GRAN_SUCCESS; j++) {

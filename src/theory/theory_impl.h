@@ -163,6 +163,12 @@ struct Traj;
  * Traj with_u) and a2_k; s = log(1 + t/ts), out.ts = ts. GRAN_ERR_DOMAIN when some |a2_k| reaches 1. */
 int sonine_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, const double *a20, double ts, double rtol,
                       double hmax, double s_end);
+/* The second Sonine level (sonine2.cpp): zeta_k at (T, a2, a3) for one species, O(M); the dense trajectory from
+ * (T0, a20, a30; NULL: 0) with out.dim = 4M, the components of the first level's and a3_k after them.
+ * GRAN_ERR_DOMAIN when some |a2_k| or |a3_k| reaches 1. */
+double sonine2_zeta_one(const gran_mixture *mix, const double *T, const double *a2, const double *a3, int64_t k);
+int sonine2_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, const double *a20, const double *a30,
+                       double ts, double rtol, double hmax, double s_end);
 
 /* ---- HCS states (msd.cpp) ---------------------------------------------------------------------
  * Checks that (T0, tau0) is a homogeneous cooling state (|xi_k tau0/2 - 1| <= 1e-3; tau0 = inf:
