@@ -2,8 +2,9 @@
  * the first Sonine HCS of the library (gran_theory_hcs_approx, same mean temperature); with
  * --sonine-order 5 the hierarchy's HCS of the Fig. 3 ternary (gran_theory_hcs_sonine_n, to 1e-15),
  * whose T_k/T_1 lie within 0.5 % of the DSMC ratios 22.862, 38.085 (docs/physics-sonine.md Sec. 4,
- * N_k = 1e5; the first level is 1.7-2.2 % off), and --sonine-order 2 is the first level; bad values
- * exit 2 naming the option. */
+ * N_k = 1e5; the first level is 1.7-2.2 % off), and --sonine-order 2 is the first level; --sonine-order 3 with
+ * --times gives the second Sonine trajectory and its MSD (gran_theory_msd_sonine2); higher orders and
+ * viscoelastic restitution say what they do not give; bad values exit 2 naming the option. */
 #include "granary_test.h"
 
 #include <sys/wait.h>
@@ -129,8 +130,31 @@ static void test_order(void **state) {
   double a2[3];
   GRAN_ASSERT_OK(gran_theory_hcs_approx(mix, GRAN_THEORY_SONINE, GRAN_HCS_NORM_MEAN, mean, Tl, a2, &tau0));
   for (int k = 0; k < 3; k++) GRAN_ASSERT_REL(T[k], Tl[k], 1e-10);
+  /* order 3 with times: the second Sonine trajectory and Eq. 4 on it (a2 in the correlation), from the second
+   * Sonine HCS of the same mean temperature (the scene starts in the HCS) */
+  snprintf(cmd, sizeof cmd, "%s theory %s --approximation sonine --sonine-order 3 --times 1,100 --json", cli(), path);
+  assert_int_equal(sh(cmd, 0), 0);
+  ord = strstr(outbuf, "\"order\": {\"nmax\": 3");
+  assert_non_null(ord);
+  assert_non_null(strstr(ord, "\"a3_t\": [["));
+  double mt[2], T3[3], a3c[6], mref[6], mtref[2];
+  const double tq[2] = {1.0, 100.0};
+  assert_int_equal(json_array(ord, "\"msd_total\"", mt, 2), 2);
+  GRAN_ASSERT_OK(gran_theory_hcs_sonine_n(mix, 3, GRAN_HCS_NORM_MEAN, mean, T3, a3c, &tau0));
+  const double b2[3] = {a3c[0], a3c[2], a3c[4]}, b3[3] = {a3c[1], a3c[3], a3c[5]};
+  GRAN_ASSERT_OK(gran_theory_msd_sonine2(mix, T3, b2, b3, 1, 2, tq, 1e-8, mref, mtref));
+  for (int j = 0; j < 2; j++) GRAN_ASSERT_REL(mt[j], mtref[j], 1e-12);
+  /* beyond a_3 the trajectories are not there, and the output says so */
+  snprintf(cmd, sizeof cmd, "%s theory %s --approximation sonine --sonine-order 4 --times 1", cli(), path);
+  assert_int_equal(sh(cmd, 0), 0);
+  assert_non_null(strstr(outbuf, "beyond a_3"));
   gran_mixture_destroy(&mix);
   gran_scene_destroy(&scene);
+  /* viscoelastic restitution has no HCS: the hierarchy is not computed, and the output says so */
+  snprintf(cmd, sizeof cmd, "%s theory %s/scenes/quick/fig7.toml --approximation sonine --sonine-order 3 --times 1", cli(),
+           gran_test_source_dir());
+  assert_int_equal(sh(cmd, 0), 0);
+  assert_non_null(strstr(outbuf, "the Sonine hierarchy to a_3 (an HCS: none for viscoelastic restitution)"));
   /* usage: an order outside 2..5, no value, without --approximation sonine */
   const char *bad[3][2] = {{"--approximation sonine --sonine-order 6", "order 2..5"},
                            {"--approximation sonine --sonine-order", "order 2..5"},

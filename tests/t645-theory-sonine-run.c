@@ -2,7 +2,8 @@
  * Sonine theory (temperatures/T_theory_sonine, temperatures/a2_theory_sonine) beside T_theory, and
  * msd/msd_theory_sonine (the two-moment velocity correlation) beside msd_theory;
  * the values are gran_theory_temperatures_approx's from the scene's start (T0, a2 = 0) at the
- * output times (`sonine_order = 3`: gran_theory_temperatures_sonine2's, plus a3_theory_sonine); off by default;
+ * output times (`sonine_order = 3`: gran_theory_temperatures_sonine2's, plus a3_theory_sonine, and
+ * msd_theory_sonine from gran_theory_msd_sonine2 on that trajectory); off by default;
  * refused (GRAN_ERR_PARSE naming the key) where it has no meaning. */
 #include "io_test_util.h"
 
@@ -136,9 +137,9 @@ static void test_order(void **state) {
   (void)state;
   const char *o2 = io_path("order2.h5"), *o3 = io_path("order3.h5"), *od = io_path("orderd.h5");
   gran_mixture *mix = NULL;
-  run_scene("theory_sonine = true\nsonine_order = 3\n", o3, &mix);
-  run_scene("theory_sonine = true\nsonine_order = 2\n", o2, NULL);
-  run_scene("theory_sonine = true\n", od, NULL);
+  run_scene("msd = true\ntheory_sonine = true\nsonine_order = 3\n", o3, &mix);
+  run_scene("msd = true\ntheory_sonine = true\nsonine_order = 2\n", o2, NULL);
+  run_scene("msd = true\ntheory_sonine = true\n", od, NULL);
   size_t nt = 0, n0 = 0, n3 = 0, na2 = 0, na3 = 0, n2 = 0, nd = 0, nb2 = 0, nbd = 0;
   hid_t f = H5Fopen(o3, H5F_ACC_RDONLY, H5P_DEFAULT);
   assert_true(f >= 0);
@@ -147,7 +148,17 @@ static void test_order(void **state) {
   double *T3 = io_h5_read_double(f, "temperatures/T_theory_sonine", &n3);
   double *a2 = io_h5_read_double(f, "temperatures/a2_theory_sonine", &na2);
   double *a3 = io_h5_read_double(f, "temperatures/a3_theory_sonine", &na3);
+  size_t nm3 = 0, nm2 = 0, nmd = 0;
+  double *ms3 = io_h5_read_double(f, "msd/msd_theory_sonine", &nm3);
   assert_non_null(t), assert_non_null(T0), assert_non_null(T3), assert_non_null(a2), assert_non_null(a3);
+  assert_non_null(ms3);
+  assert_int_equal(nm3, NT * M);
+  hid_t dm = H5Dopen2(f, "msd/msd_theory_sonine", H5P_DEFAULT);
+  char *desc = io_h5_attr_string(dm, "description");
+  H5Dclose(dm);
+  assert_non_null(desc);
+  assert_non_null(strstr(desc, "gran_theory_msd_sonine2"));
+  free(desc);
   assert_int_equal(nt, NT);
   assert_int_equal(n3, NT * M);
   assert_int_equal(na3, NT * M);
@@ -165,6 +176,10 @@ static void test_order(void **state) {
     GRAN_ASSERT_ABS(a2[j], ar2[j], 1e-15);
     GRAN_ASSERT_ABS(a3[j], ar3[j], 1e-15);
   }
+  /* msd_theory_sonine: Eq. 4 on the same trajectory, a2 in the correlation */
+  double mr[NT * M];
+  GRAN_ASSERT_OK(gran_theory_msd_sonine2(mix, T0, NULL, NULL, 1, NT, t, 1e-8, mr, NULL));
+  for (int j = 0; j < NT * M; j++) GRAN_ASSERT_REL(ms3[j], mr[j], 1e-14);
   /* a3 grows from 0 towards the second Sonine HCS values (same sign) */
   double Th[M], a2h[M], a3h[M];
   GRAN_ASSERT_OK(gran_theory_hcs_sonine2(mix, GRAN_HCS_NORM_T1, 1.0, Th, a2h, a3h, NULL));
@@ -176,6 +191,7 @@ static void test_order(void **state) {
   double *T2 = io_h5_read_double(f, "temperatures/T_theory_sonine", &n2);
   double *b2 = io_h5_read_double(f, "temperatures/a2_theory_sonine", &nb2);
   assert_int_equal(H5Lexists(f, "temperatures/a3_theory_sonine", H5P_DEFAULT), 0);
+  double *ms2 = io_h5_read_double(f, "msd/msd_theory_sonine", &nm2);
   g = H5Gopen2(f, "temperatures", H5P_DEFAULT);
   assert_int_equal(H5Aexists(g, "theory_sonine_level"), 0);
   H5Gclose(g);
@@ -183,15 +199,20 @@ static void test_order(void **state) {
   f = H5Fopen(od, H5F_ACC_RDONLY, H5P_DEFAULT);
   double *Td = io_h5_read_double(f, "temperatures/T_theory_sonine", &nd);
   double *bd = io_h5_read_double(f, "temperatures/a2_theory_sonine", &nbd);
+  double *msd_d = io_h5_read_double(f, "msd/msd_theory_sonine", &nmd);
   H5Fclose(f);
   assert_int_equal(n2, NT * M), assert_int_equal(nd, NT * M);
   assert_memory_equal(T2, Td, NT * M * sizeof(double));
   assert_memory_equal(b2, bd, NT * M * sizeof(double));
+  assert_int_equal(nm2, NT * M), assert_int_equal(nmd, NT * M);
+  assert_memory_equal(ms2, msd_d, NT * M * sizeof(double));
+  /* the levels' MSDs differ */
+  assert_true(fabs(ms3[NT * M - 2] / ms2[NT * M - 2] - 1) > 1e-4);
   /* the two levels differ: T_2/T_1 at t_end 1.41186 against 1.41328 at the first level */
   const double r3 = T3[(NT - 1) * M + 1] / T3[(NT - 1) * M], r2 = T2[(NT - 1) * M + 1] / T2[(NT - 1) * M];
   print_message("t_end: T2/T1 first level %.6f, second %.6f\n", r2, r3);
   assert_true(fabs(r3 / r2 - 1) > 1e-4);
-  free(t), free(T0), free(T3), free(a2), free(a3), free(T2), free(b2), free(Td), free(bd);
+  free(t), free(T0), free(T3), free(a2), free(a3), free(T2), free(b2), free(Td), free(bd), free(ms3), free(ms2), free(msd_d);
   gran_mixture_destroy(&mix);
 }
 

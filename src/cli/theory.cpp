@@ -243,6 +243,8 @@ int cli_theory(int argc, char **argv) {
   std::vector<double> msds((size_t)(nt * M)), msds_tot((size_t)nt), Ds((size_t)M);
   double tau0s = NAN, tau0n = NAN;
   std::vector<double> Tn, an; /* --sonine-order: T_k and a_q,k of the hierarchy's HCS (empty: none) */
+  /* --sonine-order 3 with times: T_k(t), a2_k(t), a3_k(t) and the MSD of the second Sonine trajectory (empty: none) */
+  std::vector<double> T2t, a22t, a32t, msd2, msd2_tot;
   /* viscoelastic: the trajectories only (no HCS; the two-moment correlation needs constant or
    * matrix restitution) */
   const bool son_visco = son && model == GRAN_RESTITUTION_VISCOELASTIC;
@@ -297,6 +299,32 @@ int cli_theory(int argc, char **argv) {
         Tn.clear();
       }
     }
+    /* --sonine-order 3 with times: the second Sonine trajectory and Eq. 4 on it (a2 in the correlation), from
+     * the scene's start (a2 = a3 = 0) or, for an HCS start, from the second Sonine HCS (as the first level's) */
+    if (nmax == 3 && nt && !Tn.empty()) {
+      std::vector<double> Tst2(T0), b2((size_t)M, 0.0), b3((size_t)M, 0.0);
+      if (hcs_start)
+        for (int64_t k = 0; k < M; k++) {
+          Tst2[(size_t)k] = Tn[(size_t)k];
+          b2[(size_t)k] = an[(size_t)(2 * k)];
+          b3[(size_t)k] = an[(size_t)(2 * k + 1)];
+        }
+      T2t.resize((size_t)(nt * M));
+      a22t.resize((size_t)(nt * M));
+      a32t.resize((size_t)(nt * M));
+      msd2.resize((size_t)(nt * M));
+      msd2_tot.resize((size_t)nt);
+      if (gran_theory_temperatures_sonine2(mix, Tst2.data(), b2.data(), b3.data(), nt, times.data(), 1e-10, T2t.data(),
+                                           a22t.data(), a32t.data()) ||
+          gran_theory_msd_sonine2(mix, Tst2.data(), b2.data(), b3.data(), 1, nt, times.data(), 1e-8, msd2.data(),
+                                  msd2_tot.data())) {
+        not_covered.push_back(std::string("the second Sonine trajectory: ") + cli_error());
+        T2t.clear();
+      }
+    } else if (nmax > 3 && nt) {
+      not_covered.push_back("T_k(t) and the MSD of the Sonine hierarchy beyond a_3 (--sonine-order 3 gives the "
+                            "second Sonine trajectory)");
+    }
   }
 
   if (json) {
@@ -341,6 +369,18 @@ int cli_theory(int argc, char **argv) {
         jarr(o, gn.data(), M);
         o += ", \"a\": ";
         jmat(o, an.data(), M, nmax - 1);
+        if (!T2t.empty()) {
+          o += ", \"T\": ";
+          jmat(o, T2t.data(), nt, M);
+          o += ", \"a2_t\": ";
+          jmat(o, a22t.data(), nt, M);
+          o += ", \"a3_t\": ";
+          jmat(o, a32t.data(), nt, M);
+          o += ", \"msd\": ";
+          jmat(o, msd2.data(), nt, M);
+          o += ", \"msd_total\": ";
+          jarr(o, msd2_tot.data(), nt);
+        }
         o += "}";
       }
       if (nt) {
@@ -475,6 +515,21 @@ int cli_theory(int argc, char **argv) {
         for (int q = 2; q <= nmax; q++) std::printf(" %13.6g", an[(size_t)(k * (nmax - 1) + q - 2)]);
         std::printf("\n");
       }
+    }
+    if (!T2t.empty()) {
+      std::printf("\nT_k(t), a2_k(t) and a3_k(t), second Sonine approximation (from %s)\n",
+                  hcs_start ? "its HCS with the same mean temperature" : "the scene's start, a2 = a3 = 0");
+      std::printf("%14s %4s %16s %14s %14s\n", "t", "k", "T_k(t)", "a2_k(t)", "a3_k(t)");
+      for (int64_t i = 0; i < nt; i++)
+        for (int64_t k = 0; k < M; k++)
+          std::printf("%14.8g %4" PRId64 " %16.10g %14.8g %14.8g\n", times[(size_t)i], k + 1, T2t[(size_t)(i * M + k)],
+                      a22t[(size_t)(i * M + k)], a32t[(size_t)(i * M + k)]);
+      std::printf("\nMSD_k(t) by Eq. 4 on the second Sonine trajectory (two-moment correlation, a2 in it)\n");
+      std::printf("%14s %4s %16s %16s\n", "t", "k", "MSD_k(t)", "/ Maxwellian");
+      for (int64_t i = 0; i < nt; i++)
+        for (int64_t k = 0; k < M; k++)
+          std::printf("%14.8g %4" PRId64 " %16.10g %16.10g\n", times[(size_t)i], k + 1, msd2[(size_t)(i * M + k)],
+                      msd2[(size_t)(i * M + k)] / msd[(size_t)(i * M + k)]);
     }
     std::printf("\nD_k(0) with the two-moment velocity correlation:");
     for (int64_t k = 0; k < M; k++) std::printf(" %.8g", Ds[(size_t)k]);

@@ -646,7 +646,7 @@ void parse_observables(Ctx &c) {
  * (8, as measured for 1e4 - 3e4 species), and the ODE trajectories of the theory observables (at
  * least one pass per output time: T_theory, msd_theory unless the HCS closed form serves it, the
  * first Sonine trajectory at about 11 Maxwellian passes, the second (sonine_order = 3) at 400: 40x the first
- * at M = 100, measured; the TAMSD at one per lag). Above the
+ * at M = 100, measured, and as much again for its msd_theory_sonine; the TAMSD at one per lag). Above the
  * bound the scene is refused naming mixture.nspecies; above the warning level it warns. */
 void check_theory_work(Ctx &c) {
   const gran_scene &s = c.s;
@@ -659,6 +659,7 @@ void check_theory_work(Ctx &c) {
     const bool msd_closed = s.init == SCENE_INIT_HCS && s.model != GRAN_RESTITUTION_VISCOELASTIC;
     if (s.obs_msd && !msd_closed) passes += nt;
     if (s.obs_theory_sonine) passes += (s.theory_sonine_order == 3 ? 400.0 : 11.0) * nt;
+    if (s.obs_theory_sonine && s.obs_msd && s.theory_sonine_order == 3) passes += 400.0 * nt; /* its MSD trajectory */
     if (s.obs_tamsd) passes += (double)s.tamsd_lags.size();
   }
   char why[320];

@@ -449,16 +449,25 @@ class DsmcEngine : public gran_engine {
         GRAN_CALL(gran_h5::attr_string(g.id, "theory_error", gran_last_error_message(), file));
       }
       if (s->obs_theory_sonine) {
-        /* the two-moment velocity correlation from the same start (Maxwellian velocities: a2 = 0) */
-        st = hcs ? gran_theory_msd_hcs_approx(mix_, GRAN_THEORY_SONINE, T0_.data(), nullptr, tau0_, nt, tt.data(),
+        /* from the same start (Maxwellian velocities: a2 = 0): sonine_order = 2 the two-moment velocity
+         * correlation with the Maxwellian T_k(t); 3 Eq. 4 on the second Sonine trajectory of T_theory_sonine,
+         * a2 in the correlation */
+        const bool second = s->theory_sonine_order == 3;
+        st = second ? gran_theory_msd_sonine2(mix_, T0_.data(), nullptr, nullptr, 1, nt, tt.data(), s->theory_rtol,
                                               m.data(), mt.data())
-                 : gran_theory_msd_approx(mix_, GRAN_THEORY_SONINE, T0_.data(), nt, tt.data(), s->theory_rtol, m.data(),
-                                          mt.data());
+             : hcs  ? gran_theory_msd_hcs_approx(mix_, GRAN_THEORY_SONINE, T0_.data(), nullptr, tau0_, nt, tt.data(),
+                                                 m.data(), mt.data())
+                    : gran_theory_msd_approx(mix_, GRAN_THEORY_SONINE, T0_.data(), nt, tt.data(), s->theory_rtol,
+                                             m.data(), mt.data());
         if (st == GRAN_SUCCESS) {
           GRAN_CALL(gran_h5::write_double(g.id, "msd_theory_sonine", dims, m.data(), file));
-          GRAN_CALL(gran_describe_(g.id, "msd_theory_sonine", "length^2",
-                                   "mean-squared displacement with the two-moment (second Sonine) velocity correlation "
-                                   "(gran_theory_msd_hcs_approx / gran_theory_msd_approx) [time][k]", file));
+          GRAN_CALL(gran_describe_(
+              g.id, "msd_theory_sonine", "length^2",
+              second ? "mean-squared displacement by Eq. 4 on the second Sonine trajectory, with the two-moment velocity "
+                       "correlation and a2 in it (gran_theory_msd_sonine2) [time][k]"
+                     : "mean-squared displacement with the two-moment (second Sonine) velocity correlation "
+                       "(gran_theory_msd_hcs_approx / gran_theory_msd_approx) [time][k]",
+              file));
           GRAN_CALL(gran_attach_scales_(g.id, "msd_theory_sonine", {"time", "species"}, file));
           GRAN_CALL(gran_h5::write_double(g.id, "msd_total_theory_sonine", {nt}, mt.data(), file));
           GRAN_CALL(gran_describe_(g.id, "msd_total_theory_sonine", "length^2",
