@@ -135,7 +135,7 @@ const gran_scene_key gran_dsmc_scene_keys_[] = {
     {"observables", "theory_sonine", "boolean", "false", "", "", "also the first Sonine T_k(t), a2_k(t)",
      "gran_scene.obs_theory_sonine", ""},
     {"observables", "sonine_order", "integer", "2", "[2, 3]", "",
-     "level of theory_sonine: 2 the first Sonine (a2), 3 the second (a2, a3)", "gran_scene.theory_sonine_order",
+     "level of theory_sonine: 2 the first Sonine (a2), 3 the second (a2, a3; msd_theory_sonine on its trajectory)", "gran_scene.theory_sonine_order",
      "must be 2 (first Sonine level: a2) or 3 (second: a2, a3), got {}"},
     {"observables", "velocity_distribution", "boolean | table", "false", "", "",
      "density of c = |v - u_k| / sqrt(2 T_k/m_k) per species", "gran_scene.obs_veldist", ""},
