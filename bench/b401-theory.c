@@ -178,6 +178,69 @@ static void bench_sonine(void) {
   }
 }
 
+/* MSD by Eq. 4 at the four levels (CPU time; 41 log-spaced times 1e-3 .. 1e5 from the Maxwellian HCS, eps = 0.5):
+ * the Fig. 3 ternary (m = 1, 100, 500, sigma = m^(1/3), equal n) and the geometric mixtures of section 5. Accuracy
+ * against DSMC is t415's (docs/physics-sonine.md Sec. 5); here the cost and how far each level moves MSD_1(t = 100)
+ * from the Maxwellian Eq. 4. */
+static void bench_msd_levels(void) {
+  printf("\n6. MSD by Eq. 4: Maxwellian, two moments (Maxwellian T), first and second Sonine trajectory (a2 in the\n"
+         "   correlation); 41 times to 1e5 from the Maxwellian HCS, eps = 0.5 (CPU seconds; ratio to the Maxwellian;\n"
+         "   shift = MSD_1(t = 100) / Maxwellian - 1)\n");
+  printf("%10s | %9s | %9s %6s %8s | %9s %6s %8s | %9s %6s %8s\n", "mixture", "Maxw. [s]", "2 mom [s]", "ratio",
+         "shift", "1st [s]", "ratio", "shift", "2nd [s]", "ratio", "shift");
+  enum { NT = 41 };
+  double t[NT + 1];
+  for (int j = 0; j < NT; j++) t[j] = pow(10.0, -3.0 + 8.0 * j / (NT - 1));
+  t[NT] = 100.0;
+  const int64_t Ms[3] = {3, 10, 32};
+  for (int i = 0; i < 3; i++) {
+    const int64_t M = Ms[i];
+    if (M > 10 && bench_quick()) {
+      printf("%10" PRId64 " | (skipped: BENCH_QUICK)\n", M);
+      continue;
+    }
+    double *m = malloc(sizeof(double) * (size_t)M), *sg = malloc(sizeof(double) * (size_t)M),
+           *n = malloc(sizeof(double) * (size_t)M), *T = malloc(sizeof(double) * (size_t)M),
+           *out = malloc(sizeof(double) * (size_t)(M * (NT + 1) * 4));
+    for (int64_t k = 0; k < M; k++) {
+      if (M == 3) {
+        const double f3[3] = {1, 100, 500};
+        m[k] = f3[k];
+        n[k] = 0.1;
+      } else {
+        m[k] = pow(10.0, (double)k / (double)(M - 1));
+        n[k] = pow(m[k], -2.0) / (double)M;
+      }
+      sg[k] = cbrt(m[k]);
+    }
+    gran_mixture *mix = NULL;
+    BENCH_CHECK(gran_mixture_create(M, m, sg, n, &mix));
+    BENCH_CHECK(gran_mixture_set_restitution(mix, 0.5));
+    double tau0;
+    BENCH_CHECK(gran_theory_hcs(mix, GRAN_HCS_NORM_MEAN, 1.0, T, &tau0));
+    double sec[4];
+    for (int l = 0; l < 4; l++) {
+      double *o = out + (size_t)l * (size_t)(M * (NT + 1));
+      const double t0 = bench_cpu_now();
+      if (l == 0) BENCH_CHECK(gran_theory_msd(mix, T, NT + 1, t, 1e-8, o, NULL));
+      if (l == 1) BENCH_CHECK(gran_theory_msd_approx(mix, GRAN_THEORY_SONINE, T, NT + 1, t, 1e-8, o, NULL));
+      if (l == 2) BENCH_CHECK(gran_theory_msd_sonine(mix, T, NULL, 1, NT + 1, t, 1e-8, o, NULL));
+      if (l == 3) BENCH_CHECK(gran_theory_msd_sonine2(mix, T, NULL, NULL, 1, NT + 1, t, 1e-8, o, NULL));
+      sec[l] = bench_cpu_now() - t0;
+    }
+    char name[32];
+    snprintf(name, sizeof name, M == 3 ? "Fig. 3" : "M = %" PRId64, M);
+    printf("%10s | %9.3f", name, sec[0]);
+    const double ref = out[NT * M];
+    for (int l = 1; l < 4; l++)
+      printf(" | %9.3f %6.1f %+8.4f", sec[l], sec[l] / fmax(sec[0], 1e-6),
+             out[(size_t)l * (size_t)(M * (NT + 1)) + NT * M] / ref - 1);
+    printf("\n");
+    free(m), free(sg), free(n), free(T), free(out);
+    gran_mixture_destroy(&mix);
+  }
+}
+
 int main(void) {
   printf("b401-theory: kinetic theory numerics (accuracy versus cost). Timings are wall-clock on a shared\n"
          "machine: compare rows, not absolute values.\n");
@@ -186,6 +249,7 @@ int main(void) {
   bench_tamsd();
   bench_hcs();
   bench_sonine();
+  bench_msd_levels();
   printf("\npeak RSS %.1f MB\n", bench_peak_rss() / 1048576.0);
   return 0;
 }
