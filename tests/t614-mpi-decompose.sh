@@ -13,7 +13,8 @@
 # change brick (the exchange is exercised); rows of the global observables every K steps are the
 # same on every split, close the ledger and cool the inelastic gas; particles faster than a brick per step reach bricks
 # beyond the neighbouring ones (any process may send to any); a process killed during the steps
-# ends the run on every process within 30 s, the rank named. Bad input: each refusal names what
+# ends the run on every process within 30 s, the rank named; one stopped (SIGSTOP, alive but not
+# answering) ends it after --timeout, said so. Bad input: each refusal names what
 # was wrong (a split's memory beyond the machine's included).
 # Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
 set -eu
@@ -182,6 +183,43 @@ wait
 dt=$(( $(date +%s) - t0 ))
 if [ -z "$victim" ] || [ "$(cat "$tmp/kill.rc")" = 0 ] || [ $dt -gt 30 ] || ! grep -q "rank" "$tmp/kill.err"; then
   echo "FAIL: a killed process: exit $(cat "$tmp/kill.rc" 2>/dev/null) after ${dt} s (want non-zero within 30 s, naming the rank): $(cat "$tmp/kill.err")"
+  fail=1
+fi
+
+# a process that stops answering without dying (SIGSTOP): the others wait at most --timeout in the
+# exchange, then stop every process (naming the one that does not answer when it holds a message of
+# theirs; one that has sent everything cannot tell which process is missing)
+cp "$tmp/periodic3.toml" "$tmp/hang.toml"
+( if mpi 2 decompose "$tmp/hang.toml" --steps 100000000 --timeout 2 > "$tmp/hang.out" 2> "$tmp/hang.err"; then echo 0;
+  else echo $?; fi > "$tmp/hang.rc" ) &
+runner=$!
+ranks=""
+for i in $(seq 1 100); do
+  ranks=$(for p in $(pgrep -f "decompose $tmp/hang.toml" || true); do
+             [ "$(cat /proc/$p/comm 2>/dev/null || true)" != granary-mpi ] || echo $p
+           done)
+  [ "$(echo "$ranks" | grep -c . || true)" != 2 ] || break
+  sleep 0.1
+done
+sleep 1
+victim=$(echo "$ranks" | tail -n 1)
+t0=$(date +%s)
+[ -n "$victim" ] && kill -STOP "$victim"
+# a watchdog, so that a missing timeout fails this test instead of hanging it
+( sleep 60; kill -9 "$victim" 2>/dev/null ) &
+watchdog=$!
+wait "$runner" || true
+dt=$(( $(date +%s) - t0 ))
+kill "$watchdog" 2>/dev/null || true
+kill -9 "$victim" 2>/dev/null || true
+if [ -z "$victim" ] || [ "$(cat "$tmp/hang.rc" 2>/dev/null)" = 0 ] || [ $dt -gt 30 ] ||
+   ! grep -q "granary-mpi: rank [01]: waited [0-9]* s in the particle exchange for .*stopping every process (the limit: --timeout 2)" "$tmp/hang.err"; then
+  echo "FAIL: a stopped process: exit $(cat "$tmp/hang.rc" 2>/dev/null) after ${dt} s (want non-zero within 30 s, naming the rank): $(cat "$tmp/hang.err")"
+  fail=1
+fi
+# --timeout takes seconds >= 0
+if "$cli" decompose "$tmp/periodic3.toml" --timeout -1 > /dev/null 2> "$tmp/to.err" || ! grep -q "\-\-timeout '-1'" "$tmp/to.err"; then
+  echo "FAIL: --timeout -1 not refused: $(cat "$tmp/to.err")"
   fail=1
 fi
 

@@ -26,7 +26,7 @@ namespace {
 void usage(FILE *f) {
   std::fprintf(f,
                "usage: granary decompose SCENE [--bricks auto|PxQxR] [--steps N] [--every K] [--set KEY=VALUE]...\n"
-               "                         [--reference] [--json]\n"
+               "                         [--timeout S] [--reference] [--json]\n"
                "  Steps the scene's GSRD gas ([engine] type = \"srd\", creation = \"cells\") split into bricks of\n"
                "  its cell grid and prints the state's digests (the same for every split), the momentum, the\n"
                "  energy ledger and each process's rate. `mpirun -n P build/granary-mpi decompose ...` gives each\n"
@@ -37,6 +37,9 @@ void usage(FILE *f) {
                "  --every K             also a row every K steps (step, time, temperature, kinetic energy,\n"
                "                        ledger, momentum: exact sums over the gas, the same for every split)\n"
                "  --set KEY=VALUE       override a scene key (as granary run)\n"
+               "  --timeout S           (granary-mpi) the longest a process waits in one exchange before it\n"
+               "                        stops every process, naming the one that does not answer (default 600;\n"
+               "                        0: no limit)\n"
                "  --reference           (one process) also step the undivided engine (gran_srd_advance) and\n"
                "                        check that its digests are the bricks' (exit 1 otherwise)\n"
                "  --json                the report as one JSON object\n");
@@ -116,6 +119,16 @@ int cli_decompose(int argc, char **argv) {
         if (root) std::fprintf(stderr, "granary decompose: --every '%s': expected an integer in [1, 1e9]\n", v);
         return 2;
       }
+    } else if (!std::strcmp(a, "--timeout")) {
+      const char *v = value(a);
+      if (!v) return 2;
+      char *end = nullptr;
+      const double sec = std::strtod(v, &end);
+      if (end == v || *end || !(sec >= 0.0 && sec <= 1e7)) {
+        if (root) std::fprintf(stderr, "granary decompose: --timeout '%s': expected seconds in [0, 1e7] (0: no limit)\n", v);
+        return 2;
+      }
+      cli_mpi_set_timeout(sec);
     } else if (!std::strcmp(a, "--set")) {
       const char *v = value(a);
       if (!v) return 2;

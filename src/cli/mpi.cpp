@@ -8,8 +8,11 @@
  *
  * And a srd_bricks_comm (src/srd/bricks.h) for `granary decompose`, one GSRD brick per process:
  * round = the non-blocking consensus exchange (MPI_Issend of the non-empty messages, MPI_Iprobe,
- * MPI_Ibarrier: below); allreduce = MPI_Allreduce of records, each one contiguous type, with an
- * MPI_Op over libgranary's exact merge (commutative). */
+ * MPI_Ibarrier: below); allreduce = MPI_Iallreduce of records, each one contiguous type, with an
+ * MPI_Op over libgranary's exact merge (commutative). A process waits in one round or reduction at
+ * most the timeout (cli_mpi_set_timeout; `granary decompose --timeout`): beyond it, a process that
+ * stopped answering without dying (stopped, hung, its machine gone quiet) is named where the
+ * exchange knows it, and the round fails, which stops every process. */
 #ifdef GRAN_MPI
 #include <mpi.h>
 #endif
@@ -17,6 +20,7 @@
 #include <algorithm>
 #include <climits>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -27,6 +31,7 @@
 
 namespace {
 int g_rank = 0, g_size = 1, g_local = 1;
+double g_timeout = 600.0; /* seconds one process waits in one round or reduction; 0: no limit */
 long long g_steps = 0, g_bytes = 0; /* collective gathers and bytes rank 0 received from the others */
 }  // namespace
 
@@ -72,16 +77,51 @@ int gather(void *, const std::string &mine, std::vector<std::string> *all) {
  * round ends when the barrier completes (every process's sends received). No counts, no
  * all-to-all: a process only talks to the processes it has particles for. Rounds alternate tags,
  * so that a process one round ahead cannot be mistaken for this round's sender. */
+/* false while the wait that began at t0 is within the timeout; beyond it, says why on stderr and stops
+ * every process */
+bool overdue(double t0, const char *what, int peer) {
+  if (!(g_timeout > 0.0)) return false;
+  const double waited = MPI_Wtime() - t0;
+  if (waited <= g_timeout) return false;
+  if (peer >= 0)
+    std::fprintf(stderr,
+                 "granary-mpi: rank %d: waited %.0f s in %s for rank %d, which does not answer (stopped or hung); "
+                 "stopping every process (the limit: --timeout %g)\n",
+                 g_rank, waited, what, peer, g_timeout);
+  else
+    std::fprintf(stderr,
+                 "granary-mpi: rank %d: waited %.0f s in %s for a process that has not reached it (stopped, hung or "
+                 "far slower); stopping every process (the limit: --timeout %g)\n",
+                 g_rank, waited, what, g_timeout);
+  /* the others may never answer again (MPI_Finalize would wait for them too): stop here */
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  return true;
+}
+
+/* waits for req, at most the timeout */
+int wait_for(MPI_Request *req, const char *what) {
+  const double t0 = MPI_Wtime();
+  for (;;) {
+    int done = 0;
+    if (MPI_Test(req, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS) return 1;
+    if (done) return 0;
+    if (overdue(t0, what, -1)) return 1;
+  }
+}
+
 int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std::vector<double>> &in) {
   static int parity = 0;
   const int tag = 7 + parity;
   parity ^= 1;
   const int P = g_size;
+  const double t0 = MPI_Wtime();
   std::vector<MPI_Request> sq;
+  std::vector<int> dest;
   for (int p = 0; p < P; ++p) {
     in[(size_t)p].clear();
     if (p == g_rank || out[(size_t)p].empty()) continue;
     if (out[(size_t)p].size() > (size_t)INT_MAX) return 1;
+    dest.push_back(p);
     sq.emplace_back();
     if (MPI_Issend(out[(size_t)p].data(), (int)out[(size_t)p].size(), MPI_DOUBLE, p, tag, MPI_COMM_WORLD, &sq.back()) !=
         MPI_SUCCESS)
@@ -113,6 +153,15 @@ int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std:
       if (MPI_Test(&barrier, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS) return 1;
       if (done) return 0;
     }
+    if (g_timeout > 0.0 && MPI_Wtime() - t0 > g_timeout) {
+      int peer = -1; /* the first process that has not taken this one's message */
+      for (size_t i = 0; i < sq.size() && !in_barrier && peer < 0; ++i) {
+        int one = 0;
+        if (MPI_Test(&sq[i], &one, MPI_STATUS_IGNORE) != MPI_SUCCESS) return 1;
+        if (!one) peer = dest[i];
+      }
+      if (overdue(t0, "the particle exchange", peer)) return 1;
+    }
   }
 }
 
@@ -139,7 +188,9 @@ int bricks_allreduce(void *, void *buf, size_t nbytes, size_t count, void (*merg
   g_merge = merge;
   g_merge_bytes = nbytes;
   std::vector<char> res(nbytes * count);
-  if (MPI_Allreduce(buf, res.data(), (int)count, type, op, MPI_COMM_WORLD) != MPI_SUCCESS) return 1;
+  MPI_Request req = MPI_REQUEST_NULL;
+  if (MPI_Iallreduce(buf, res.data(), (int)count, type, op, MPI_COMM_WORLD, &req) != MPI_SUCCESS) return 1;
+  if (wait_for(&req, "an all-reduce of the exact sums")) return 1;
   std::memcpy(buf, res.data(), nbytes * count);
   return 0;
 }
@@ -187,7 +238,10 @@ void cli_mpi_abort(int code) { MPI_Abort(MPI_COMM_WORLD, code); }
 
 int cli_mpi_all(int ok) {
   int in = ok ? 1 : 0, out = 0;
-  MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Request req = MPI_REQUEST_NULL;
+  if (MPI_Iallreduce(&in, &out, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD, &req) != MPI_SUCCESS ||
+      wait_for(&req, "the agreement before the steps"))
+    return 0;
   return out;
 }
 
@@ -207,6 +261,7 @@ void cli_mpi_abort(int) {}
 int cli_mpi_rank(void) { return g_rank; }
 int cli_mpi_size(void) { return g_size; }
 int cli_mpi_local_size(void) { return g_local; }
+void cli_mpi_set_timeout(double seconds) { g_timeout = seconds; }
 void cli_mpi_stats(long long *steps, long long *bytes) {
   *steps = g_steps;
   *bytes = g_bytes;
