@@ -174,6 +174,11 @@ int cli_decompose(int argc, char **argv) {
   int pg[3] = {1, 1, 1};
   long long nb = 1;
   auto prepare = [&]() -> int {
+    /* the whole gas need not fit one machine: each process's share is checked below */
+    struct Defer {
+      Defer() { gran_scene_defer_memory_check_(1); }
+      ~Defer() { gran_scene_defer_memory_check_(0); }
+    } defer;
     if (gran_scene_load(scene_path, &scene)) return fail("invalid scene");
     hold.s = scene;
     for (const auto &kv : sets)
@@ -220,7 +225,7 @@ int cli_decompose(int argc, char **argv) {
       return 2;
     }
     { /* the memory of this process's share against the machine's, divided among its processes (a
-       * scene's max_memory_gb, which may allow a gas larger than one machine, caps it only) */
+       * scene's max_memory_gb caps it) */
       const bool one = P == 1 && nb > 1;
       const double rows_bytes = every > 0 ? ((double)nsteps / (double)every + 2) * 2.0 * sizeof(srd_bricks_rank_out) : 0.0;
       const double need = srd_bricks_memory_(&opt, (int)nb, one) + (reference ? srd_bricks_memory_(&opt, 1, 1) : 0.0) +

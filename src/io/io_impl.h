@@ -178,6 +178,10 @@ int gran_scene_check_memory_(const gran_scene *s, const char *key);
 double gran_scene_memory_limit_(const gran_scene *s);
 /* MemAvailable of this machine now (bytes; what the kernel can hand out without swapping). */
 double gran_memory_available_(void);
+/* on != 0: the scenes this thread loads or overrides (gran_scene_load, gran_scene_parse, gran_scene_set)
+ * skip the check of the whole run's memory against one machine's; the caller checks what each process
+ * will hold (granary decompose: each brick's share) before it creates anything. 0: the check again. */
+void gran_scene_defer_memory_check_(int on);
 
 /* h5.cpp: thin helpers. Every function returns a granary status; the file name goes in messages. */
 namespace gran_h5 {

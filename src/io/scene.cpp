@@ -279,6 +279,8 @@ double gran_scene_io::memory_available_bytes() {
 
 namespace {
 
+thread_local bool g_defer_memory_check = false; /* gran_scene_defer_memory_check_ */
+
 /* [engine] max_memory_gb in bytes (0: not given), read before the tables that allocate
  * (validated again with [engine]) */
 double memory_limit_explicit(const toml::value &root) {
@@ -434,7 +436,8 @@ std::string engine_types() {
 
 void parse_scene(const toml::value &root, gran_scene &s) {
   const std::string &F = s.name;
-  const double mem_limit = memory_limit_bytes(root);
+  /* a split gas (granary decompose) checks each process's share itself, after the load */
+  const double mem_limit = g_defer_memory_check ? HUGE_VAL : memory_limit_bytes(root);
   s.max_memory = memory_limit_explicit(root);
   const gran_engine_entry *eng = scene_engine(root);
   const gran_scene_schema schema = {kCommonKeys, sizeof kCommonKeys / sizeof kCommonKeys[0], eng->keys, eng->nkeys};
@@ -539,6 +542,8 @@ double gran_scene_memory_limit_(const gran_scene *s) {
 }
 
 double gran_memory_available_(void) { return memory_available_bytes(); }
+
+void gran_scene_defer_memory_check_(int on) { g_defer_memory_check = on != 0; }
 
 int gran_scene_check_memory_(const gran_scene *s, const char *key) {
   std::vector<MemPart> parts;
