@@ -10,8 +10,7 @@
  *    brick creates its own cells' particles and streams (momentum and energy all-reduced);
  *  - P = 1 bricks equal the plain engine in the decomposable mode (gran_srd_advance, creation =
  *    GRAN_SRD_CREATE_CELLS), also when advanced in two calls; 3 threads (P = 1 and the first
- *    split) equal 1; the slots re-ordered into key order between sorts every 2 steps, or never,
- *    equal the default (every 10);
+ *    split) equal 1;
  *  - physics that can fail: the particle number; the momentum (periodic, no thermostat, no
  *    gravity, no shear) conserved to 1e-10 (rounding of ~1e5 additions of O(1) velocities: ~1e-12); the energy
  *    ledger E - E0 = e_coll + e_ext to 1e-12 relative, for every effect set and split;
@@ -20,7 +19,6 @@
  *    seeds' spread), and its ledger closes to 1e-12;
  *  - bad arguments (serial creation, a pgrid entry beyond the grid or beyond dim) are refused
  *    naming them. */
-#define _DEFAULT_SOURCE /* setenv */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -148,18 +146,6 @@ static void check_splits(const gran_srd_options *o, const int (*grids)[3], int n
     GRAN_ASSERT_OK(srd_bricks_run_(o, grids[g], NSTEPS, 1, &r));
     snprintf(what, sizeof what, "%s: %d x %d x %d bricks created in the bricks vs 1", name, grids[g][0], grids[g][1],
              grids[g][2]);
-    assert_same_out(&one, &r, o->dim, what);
-    srd_bricks_out_free_(&r);
-  }
-  /* the re-ordering of the slots between sorts (every 10 steps; here every 2, and never) changes nothing */
-  for (int v = 0; v < 2; ++v) {
-    srd_bricks_out r;
-    setenv("GRAN_SRD_REORDER", v == 0 ? "2" : "0", 1);
-    const int st = srd_bricks_run_(o, grids[0], NSTEPS, 0, &r);
-    unsetenv("GRAN_SRD_REORDER");
-    GRAN_ASSERT_OK(st);
-    snprintf(what, sizeof what, "%s: the first split, slots re-ordered %s between sorts", name,
-             v == 0 ? "every 2 steps" : "never");
     assert_same_out(&one, &r, o->dim, what);
     srd_bricks_out_free_(&r);
   }

@@ -304,17 +304,12 @@ struct Brick {
   int64_t psteps = 0; /* particle-steps of this brick (its particles summed over the steps) */
 };
 
-/* Steps between re-orderings of a brick's slots into key order (without new keys) while arrivals
- * are out of order (0: only at the sorts). docs/developers/domain-decomposition.md, Step 3. */
-constexpr int kReorderEvery = 10;
-
 struct Ctx {
   const gran_srd_options *o;
   srd_geom gm;
   srd_rule_const K;
   Split sp;
   int nth = 1; /* threads of a brick's loops (the results do not depend on them) */
-  int reorder_every = kReorderEvery; /* GRAN_SRD_REORDER (measurements) */
 };
 
 constexpr uint32_t kLeBit = 0x80000000u;
@@ -755,51 +750,6 @@ int phase_thermo(const Ctx &C, Brick &B, Transport &T) {
   return GRAN_SUCCESS;
 }
 
-/* Between sorts: the slots into key order, the keys kept, the holes dropped. The residents are in key
- * order already (a sort left them so, and leaving or arriving does not move them); the arrivals since
- * (dest kLate) are sorted by key and merged in. The state is the same (every cell's particles are
- * summed and rotated in key order either way); the cell lists then need no insertion by key, and the
- * arrivals sit beside the residents of neighbouring keys (their cells' rows) in memory. */
-template <int DIM>
-void reorder_by_key(const Ctx &C, Brick &B) {
-  const int64_t n = (int64_t)B.x.size();
-  const int32_t *dest = B.dest.data();
-  const uint64_t *key = B.key.data();
-  std::vector<uint32_t> res, arr;
-  res.reserve((size_t)n);
-  for (int64_t i = 0; i < n; ++i) {
-    if (dest[i] == -1) res.push_back((uint32_t)i);
-    else if (dest[i] == kLate) arr.push_back((uint32_t)i);
-  }
-  std::sort(arr.begin(), arr.end(), [key](uint32_t a, uint32_t b) { return key[a] < key[b]; });
-  std::vector<uint32_t> perm(res.size() + arr.size());
-  std::merge(res.begin(), res.end(), arr.begin(), arr.end(), perm.begin(),
-             [key](uint32_t a, uint32_t b) { return key[a] < key[b]; });
-  const int64_t m = (int64_t)perm.size();
-  const uint32_t *pm = perm.data();
-  std::vector<double> tmp((size_t)m);
-  std::vector<double> *arrs[6] = {&B.x, &B.y, &B.z, &B.vx, &B.vy, &B.vz};
-  for (int q = 0; q < 6; ++q) {
-    if (DIM == 2 && (q == 2 || q == 5)) continue;
-    std::vector<double> &A = *arrs[q];
-    tmp.resize((size_t)m);
-#pragma omp parallel for schedule(static) num_threads(C.nth)
-    for (int64_t j = 0; j < m; ++j) tmp[(size_t)j] = A[pm[j]];
-    A.swap(tmp);
-  }
-  std::vector<uint64_t> kt((size_t)m);
-  std::vector<uint32_t> lt((size_t)m);
-  for (int64_t j = 0; j < m; ++j) {
-    kt[(size_t)j] = key[pm[j]];
-    lt[(size_t)j] = B.lc[pm[j]];
-  }
-  B.key.swap(kt);
-  B.lc.swap(lt);
-  B.dest.assign((size_t)m, -1);
-  B.holes.clear();
-  B.late = 0;
-}
-
 /* with the global thermostat the cells' rules and the rotation (else done in the sums pass); the sort;
  * the step's ledger record queued */
 template <int DIM, int FXF>
@@ -854,10 +804,6 @@ int phase_collide(const Ctx &C, Brick &B, double *t_sort) {
     B.dest.assign((size_t)n, -1);
     B.holes.clear();
     B.late = 0;
-    if (t_sort) *t_sort += srd_clock_s() - t0;
-  } else if (B.late > 0 && C.reorder_every > 0 && (B.step + 1) % C.reorder_every == 0) {
-    const double t0 = t_sort ? srd_clock_s() : 0.0;
-    reorder_by_key<DIM>(C, B);
     if (t_sort) *t_sort += srd_clock_s() - t0;
   }
   B.ledger_q.push_back(B.red); /* all-reduced in batches (flush_ledger) */
@@ -976,7 +922,6 @@ int make_ctx(const gran_srd *s, const int pg[3], Ctx &C) {
   const gran_cuda_srd_params prm = srd_params_of(s);
   C.K = srd_rule_const_of(&prm);
   C.nth = srd_threads_used(s->opt.threads);
-  if (const char *e = std::getenv("GRAN_SRD_REORDER")) C.reorder_every = std::max(0, std::atoi(e));
   for (int a = 0; a < 3; ++a) {
     const int64_t nc = s->gm.nc[a];
     GRAN_CHECK(pg[a] >= 1 && (int64_t)pg[a] <= nc, GRAN_ERR_ARG,
