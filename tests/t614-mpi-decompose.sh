@@ -163,20 +163,26 @@ mpi 2 decompose "$tmp/periodic3.toml" --json > "$tmp/o.json"
 python3 -c "import json,sys; r=json.load(open(sys.argv[1])); b=r['bricks']; sys.exit(0 if b[0]*b[1]*b[2]==2 and r['processes']==2 and r['brick_particles_min']>0 else 1)" "$tmp/o.json" ||
   { echo "FAIL: the default split on 2 processes: $(cat "$tmp/o.json")"; fail=1; }
 
+# second_rank SCENE: the pid of the second of the two granary-mpi processes stepping SCENE (their
+# command lines name it), once both run and a second more has passed
+second_rank() {
+  ranks=""
+  for i in $(seq 1 100); do
+    ranks=$(for p in $(pgrep -f "decompose $1" || true); do
+               [ "$(cat /proc/$p/comm 2>/dev/null || true)" != granary-mpi ] || echo $p
+             done)
+    [ "$(echo "$ranks" | grep -c . || true)" != 2 ] || break
+    sleep 0.1
+  done
+  sleep 1
+  echo "$ranks" | tail -n 1
+}
+
 # a process killed during the steps: every process stops, and mpirun names the one that died
 cp "$tmp/periodic3.toml" "$tmp/kill.toml"
 ( if mpi 2 decompose "$tmp/kill.toml" --steps 100000000 > "$tmp/kill.out" 2> "$tmp/kill.err"; then echo 0; else echo $?; fi \
     > "$tmp/kill.rc" ) &
-ranks=""
-for i in $(seq 1 100); do # the two processes running (their command lines name this scene)
-  ranks=$(for p in $(pgrep -f "decompose $tmp/kill.toml" || true); do
-             [ "$(cat /proc/$p/comm 2>/dev/null || true)" != granary-mpi ] || echo $p
-           done)
-  [ "$(echo "$ranks" | grep -c . || true)" != 2 ] || break
-  sleep 0.1
-done
-sleep 1
-victim=$(echo "$ranks" | tail -n 1)
+victim=$(second_rank "$tmp/kill.toml")
 t0=$(date +%s)
 [ -n "$victim" ] && kill -9 "$victim"
 wait
@@ -193,16 +199,7 @@ cp "$tmp/periodic3.toml" "$tmp/hang.toml"
 ( if mpi 2 decompose "$tmp/hang.toml" --steps 100000000 --timeout 2 > "$tmp/hang.out" 2> "$tmp/hang.err"; then echo 0;
   else echo $?; fi > "$tmp/hang.rc" ) &
 runner=$!
-ranks=""
-for i in $(seq 1 100); do
-  ranks=$(for p in $(pgrep -f "decompose $tmp/hang.toml" || true); do
-             [ "$(cat /proc/$p/comm 2>/dev/null || true)" != granary-mpi ] || echo $p
-           done)
-  [ "$(echo "$ranks" | grep -c . || true)" != 2 ] || break
-  sleep 0.1
-done
-sleep 1
-victim=$(echo "$ranks" | tail -n 1)
+victim=$(second_rank "$tmp/hang.toml")
 t0=$(date +%s)
 [ -n "$victim" ] && kill -STOP "$victim"
 # a watchdog, so that a missing timeout fails this test instead of hanging it

@@ -1144,6 +1144,59 @@ double sonine_zeta_one(const gran_mixture *mix, const double *T, const double *a
   return z;
 }
 
+int sonine_dense_evolve(Traj &out, gsl_odeiv2_system sys, std::vector<double> &y, std::vector<double> &scale, double ts,
+                        double rtol, double hmax, double s_end, const char *what, unsigned long maxsteps,
+                        int (*check)(const double *y, int64_t M, double t)) {
+  const size_t dim = sys.dimension;
+  const int64_t M = out.M;
+  std::vector<double> f(dim);
+  gsl_odeiv2_step *stp = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, dim);
+  gsl_odeiv2_control *ctl = gsl_odeiv2_control_scaled_new(rtol, rtol, 1.0, 0.0, scale.data(), dim);
+  gsl_odeiv2_evolve *ev = gsl_odeiv2_evolve_alloc(dim);
+  int ret = GRAN_SUCCESS;
+  if (!stp || !ctl || !ev) ret = GRAN_ERROR(GRAN_ERR_NOMEM, "cannot allocate the ODE solver (M = %" PRId64 ")", M);
+  double s = 0.0, h = std::min(1e-6, hmax);
+  auto store = [&]() -> int {
+    const int st = sys.function(s, y.data(), f.data(), sys.params);
+    if (st != GSL_SUCCESS) return st;
+    out.s.push_back(s);
+    out.Y.insert(out.Y.end(), y.begin(), y.end());
+    out.F.insert(out.F.end(), f.begin(), f.end());
+    return GSL_SUCCESS;
+  };
+  if (ret == GRAN_SUCCESS && store() != GSL_SUCCESS)
+    ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "%s: rates at the start are not finite", what);
+  while (ret == GRAN_SUCCESS && s < s_end) {
+    h = std::min(h, hmax);
+    int st = gsl_odeiv2_evolve_apply(ev, ctl, stp, &sys, &s, std::min(s_end, s + hmax), &h, y.data());
+    if (st == GSL_SUCCESS && !(h > 0.0 && std::isfinite(h))) st = GSL_FAILURE;
+    if (st == GSL_SUCCESS) st = store();
+    if (st == GSL_SUCCESS) ret = check(y.data(), M, ts * std::expm1(s));
+    if (st != GSL_SUCCESS)
+      ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "%s (M = %" PRId64 ") failed at t = %g (GSL: %s)", what, M, ts * std::expm1(s),
+                       gsl_strerror(st));
+    if (ret == GRAN_SUCCESS && ev->count > maxsteps)
+      ret = GRAN_ERROR(GRAN_ERR_NOCONV, "%s: more than %.0e steps (t = %g)", what, (double)maxsteps, ts * std::expm1(s));
+  }
+  if (ev) gsl_odeiv2_evolve_free(ev);
+  if (ctl) gsl_odeiv2_control_free(ctl);
+  if (stp) gsl_odeiv2_step_free(stp);
+  return ret;
+}
+
+namespace {
+/* |a2_k| < 1 along the first Sonine trajectory (y = z, u, a2) */
+int check_first(const double *y, int64_t M, double t) {
+  for (int64_t k = 0; k < M; k++)
+    if (!(std::fabs(y[2 * M + k]) < 1.0))
+      return GRAN_ERROR(GRAN_ERR_DOMAIN,
+                        "Sonine trajectory: a2 of species %" PRId64 " reaches %g at t = %g (|a2| >= 1: the first "
+                        "Sonine approximation fails)",
+                        k, y[2 * M + k], t);
+  return GRAN_SUCCESS;
+}
+}  // namespace
+
 int sonine_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, const double *a20, double ts, double rtol,
                       double hmax, double s_end) {
   GRAN_CALL(check_sonine_model(mix));
@@ -1159,52 +1212,13 @@ int sonine_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, cons
   out.ts = tr.ts;
   out.T0 = tr.T0;
   const size_t dim = (size_t)(3 * M);
-  std::vector<double> y(dim, 0.0), f(dim), scale(dim, 1.0);
+  std::vector<double> y(dim, 0.0), scale(dim, 1.0);
   for (int64_t k = 0; k < M; k++) {
     y[(size_t)(2 * M + k)] = tr.a2[(size_t)k];
     scale[(size_t)(M + k)] = 1e-30 * tr.ts; /* u_k: relative error control (u -> 0 at s -> 0) */
   }
   gsl_odeiv2_system sys{dense_rhs, nullptr, dim, &tr};
-  gsl_odeiv2_step *stp = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, dim);
-  gsl_odeiv2_control *ctl = gsl_odeiv2_control_scaled_new(rtol, rtol, 1.0, 0.0, scale.data(), dim);
-  gsl_odeiv2_evolve *ev = gsl_odeiv2_evolve_alloc(dim);
-  int ret = GRAN_SUCCESS;
-  if (!stp || !ctl || !ev) ret = GRAN_ERROR(GRAN_ERR_NOMEM, "cannot allocate the ODE solver (M = %" PRId64 ")", M);
-  double s = 0.0, h = std::min(1e-6, hmax);
-  auto store = [&]() -> int {
-    const int st = dense_rhs(s, y.data(), f.data(), &tr);
-    if (st != GSL_SUCCESS) return st;
-    out.s.push_back(s);
-    out.Y.insert(out.Y.end(), y.begin(), y.end());
-    out.F.insert(out.F.end(), f.begin(), f.end());
-    return GSL_SUCCESS;
-  };
-  if (ret == GRAN_SUCCESS && store() != GSL_SUCCESS)
-    ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine trajectory: rates at the start are not finite");
-  while (ret == GRAN_SUCCESS && s < s_end) {
-    h = std::min(h, hmax);
-    int st = gsl_odeiv2_evolve_apply(ev, ctl, stp, &sys, &s, std::min(s_end, s + hmax), &h, y.data());
-    if (st == GSL_SUCCESS && !(h > 0.0 && std::isfinite(h))) st = GSL_FAILURE;
-    if (st == GSL_SUCCESS) st = store();
-    if (st == GSL_SUCCESS)
-      for (int64_t k = 0; k < M; k++)
-        if (!(std::fabs(y[(size_t)(2 * M + k)]) < 1.0)) {
-          ret = GRAN_ERROR(GRAN_ERR_DOMAIN,
-                           "Sonine trajectory: a2 of species %" PRId64 " reaches %g at t = %g (|a2| >= 1: the first "
-                           "Sonine approximation fails)",
-                           k, y[(size_t)(2 * M + k)], tr.ts * std::expm1(s));
-          break;
-        }
-    if (st != GSL_SUCCESS)
-      ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "Sonine trajectory (M = %" PRId64 ") failed at t = %g (GSL: %s)", M,
-                       tr.ts * std::expm1(s), gsl_strerror(st));
-    if (ret == GRAN_SUCCESS && ev->count > 50000000UL)
-      ret = GRAN_ERROR(GRAN_ERR_NOCONV, "Sonine trajectory: more than 5e7 steps (t = %g)", tr.ts * std::expm1(s));
-  }
-  if (ev) gsl_odeiv2_evolve_free(ev);
-  if (ctl) gsl_odeiv2_control_free(ctl);
-  if (stp) gsl_odeiv2_step_free(stp);
-  return ret;
+  return sonine_dense_evolve(out, sys, y, scale, tr.ts, rtol, hmax, s_end, "Sonine trajectory", 50000000UL, check_first);
 }
 
 } // namespace gran

@@ -189,14 +189,18 @@ struct Traj2 {
   Pass2 P;
 };
 
-int traj2_rhs(double s, const double y[], double f[], void *params) {
+/* The right-hand side in the layout y = (z_k, [u_k,] a2_k, a3_k): WITH_U adds u_k = int_0^t sqrt(T_k/T0_k) dt'
+ * (du_k/ds = ts exp(z_k/2)) after z, the dense trajectory of Eq. 4 (the first level's layout, sonine.cpp, with
+ * a3 after it). */
+template <bool WITH_U>
+int rhs2(double s, const double y[], double f[], void *params) {
   Traj2 *tr = static_cast<Traj2 *>(params);
-  const int64_t M = tr->M;
+  const int64_t M = tr->M, o2 = WITH_U ? 2 * M : M, o3 = o2 + M;
   for (int64_t k = 0; k < M; k++) {
-    if (!std::isfinite(y[k]) || !std::isfinite(y[M + k]) || !std::isfinite(y[2 * M + k])) return GSL_EBADFUNC;
+    if (!std::isfinite(y[k]) || !std::isfinite(y[o2 + k]) || !std::isfinite(y[o3 + k])) return GSL_EBADFUNC;
     tr->T[(size_t)k] = tr->T0[(size_t)k] * std::exp(y[k] - 2.0 * s);
-    tr->a2[(size_t)k] = y[M + k];
-    tr->a3[(size_t)k] = y[2 * M + k];
+    tr->a2[(size_t)k] = y[o2 + k];
+    tr->a3[(size_t)k] = y[o3 + k];
   }
   pass2(tr->mix, tr->T.data(), tr->a2.data(), tr->a3.data(), tr->P);
   const double g = tr->ts * std::exp(s);
@@ -205,33 +209,9 @@ int traj2_rhs(double s, const double y[], double f[], void *params) {
     rates2(tr->P, tr->a2.data(), tr->a3.data(), k, &z, &p2, &p3);
     if (!std::isfinite(z) || !std::isfinite(p2) || !std::isfinite(p3)) return GSL_EBADFUNC;
     f[k] = 2.0 - g * z;
-    f[M + k] = g * p2;
-    f[2 * M + k] = g * p3;
-  }
-  return GSL_SUCCESS;
-}
-
-/* Dense trajectory for Eq. 4 at the second Sonine level: y = (z_k, u_k, a2_k, a3_k), dim 4M, the layout
- * of the first level's (sonine.cpp) with a3 after it. */
-int dense2_rhs(double s, const double y[], double f[], void *params) {
-  Traj2 *tr = static_cast<Traj2 *>(params);
-  const int64_t M = tr->M;
-  for (int64_t k = 0; k < M; k++) {
-    if (!std::isfinite(y[k]) || !std::isfinite(y[2 * M + k]) || !std::isfinite(y[3 * M + k])) return GSL_EBADFUNC;
-    tr->T[(size_t)k] = tr->T0[(size_t)k] * std::exp(y[k] - 2.0 * s);
-    tr->a2[(size_t)k] = y[2 * M + k];
-    tr->a3[(size_t)k] = y[3 * M + k];
-  }
-  pass2(tr->mix, tr->T.data(), tr->a2.data(), tr->a3.data(), tr->P);
-  const double g = tr->ts * std::exp(s);
-  for (int64_t k = 0; k < M; k++) {
-    double z, p2, p3;
-    rates2(tr->P, tr->a2.data(), tr->a3.data(), k, &z, &p2, &p3);
-    if (!std::isfinite(z) || !std::isfinite(p2) || !std::isfinite(p3)) return GSL_EBADFUNC;
-    f[k] = 2.0 - g * z;
-    f[M + k] = tr->ts * std::exp(0.5 * y[k]);
-    f[2 * M + k] = g * p2;
-    f[3 * M + k] = g * p3;
+    if (WITH_U) f[M + k] = tr->ts * std::exp(0.5 * y[k]);
+    f[o2 + k] = g * p2;
+    f[o3 + k] = g * p3;
   }
   return GSL_SUCCESS;
 }
@@ -239,6 +219,21 @@ int dense2_rhs(double s, const double y[], double f[], void *params) {
 } // namespace
 
 namespace gran {
+
+namespace {
+/* |a2_k|, |a3_k| < 1 along the dense second Sonine trajectory (y = z, u, a2, a3) */
+int check_second(const double *y, int64_t M, double t) {
+  for (int64_t k = 0; k < M; k++) {
+    const double b2 = y[2 * M + k], b3 = y[3 * M + k];
+    if (!(std::fabs(b2) < 1.0 && std::fabs(b3) < 1.0))
+      return GRAN_ERROR(GRAN_ERR_DOMAIN,
+                        "second Sonine trajectory: species %" PRId64 " reaches a2 = %g, a3 = %g at t = %g (|a| >= 1: "
+                        "the second Sonine approximation fails)",
+                        k, b2, b3, t);
+  }
+  return GRAN_SUCCESS;
+}
+}  // namespace
 
 double sonine2_zeta_one(const gran_mixture *mix, const double *T, const double *a2, const double *a3, int64_t k) {
   double z = 0.0;
@@ -274,55 +269,15 @@ int sonine2_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, con
   out.ts = ts;
   out.T0 = tr.T0;
   const size_t dim = (size_t)(4 * M);
-  std::vector<double> y(dim, 0.0), f(dim), scale(dim, 1.0);
+  std::vector<double> y(dim, 0.0), scale(dim, 1.0);
   for (int64_t k = 0; k < M; k++) {
     y[(size_t)(2 * M + k)] = a20 ? a20[k] : 0.0;
     y[(size_t)(3 * M + k)] = a30 ? a30[k] : 0.0;
     scale[(size_t)(M + k)] = 1e-30 * ts; /* u_k: relative error control (u -> 0 at s -> 0) */
   }
-  gsl_odeiv2_system sys{dense2_rhs, nullptr, dim, &tr};
-  gsl_odeiv2_step *stp = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, dim);
-  gsl_odeiv2_control *ctl = gsl_odeiv2_control_scaled_new(rtol, rtol, 1.0, 0.0, scale.data(), dim);
-  gsl_odeiv2_evolve *ev = gsl_odeiv2_evolve_alloc(dim);
-  int ret = GRAN_SUCCESS;
-  if (!stp || !ctl || !ev) ret = GRAN_ERROR(GRAN_ERR_NOMEM, "cannot allocate the ODE solver (M = %" PRId64 ")", M);
-  double s = 0.0, h = std::min(1e-6, hmax);
-  auto store = [&]() -> int {
-    const int st = dense2_rhs(s, y.data(), f.data(), &tr);
-    if (st != GSL_SUCCESS) return st;
-    out.s.push_back(s);
-    out.Y.insert(out.Y.end(), y.begin(), y.end());
-    out.F.insert(out.F.end(), f.begin(), f.end());
-    return GSL_SUCCESS;
-  };
-  if (ret == GRAN_SUCCESS && store() != GSL_SUCCESS)
-    ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "second Sonine trajectory: rates at the start are not finite");
-  while (ret == GRAN_SUCCESS && s < s_end) {
-    h = std::min(h, hmax);
-    int st = gsl_odeiv2_evolve_apply(ev, ctl, stp, &sys, &s, std::min(s_end, s + hmax), &h, y.data());
-    if (st == GSL_SUCCESS && !(h > 0.0 && std::isfinite(h))) st = GSL_FAILURE;
-    if (st == GSL_SUCCESS) st = store();
-    if (st == GSL_SUCCESS)
-      for (int64_t k = 0; k < M; k++) {
-        const double b2 = y[(size_t)(2 * M + k)], b3 = y[(size_t)(3 * M + k)];
-        if (!(std::fabs(b2) < 1.0 && std::fabs(b3) < 1.0)) {
-          ret = GRAN_ERROR(GRAN_ERR_DOMAIN,
-                           "second Sonine trajectory: species %" PRId64 " reaches a2 = %g, a3 = %g at t = %g (|a| >= 1: "
-                           "the second Sonine approximation fails)",
-                           k, b2, b3, ts * std::expm1(s));
-          break;
-        }
-      }
-    if (st != GSL_SUCCESS)
-      ret = GRAN_ERROR(GRAN_ERR_NUMERIC, "second Sonine trajectory (M = %" PRId64 ") failed at t = %g (GSL: %s)", M,
-                       ts * std::expm1(s), gsl_strerror(st));
-    if (ret == GRAN_SUCCESS && ev->count > 10000000UL)
-      ret = GRAN_ERROR(GRAN_ERR_NOCONV, "second Sonine trajectory: more than 1e7 steps (t = %g)", ts * std::expm1(s));
-  }
-  if (ev) gsl_odeiv2_evolve_free(ev);
-  if (ctl) gsl_odeiv2_control_free(ctl);
-  if (stp) gsl_odeiv2_step_free(stp);
-  return ret;
+  gsl_odeiv2_system sys{rhs2<true>, nullptr, dim, &tr};
+  return sonine_dense_evolve(out, sys, y, scale, ts, rtol, hmax, s_end, "second Sonine trajectory", 10000000UL,
+                             check_second);
 }
 
 } // namespace gran
@@ -470,7 +425,7 @@ GRAN_EXTERN int gran_theory_temperatures_sonine2(const gran_mixture *mix, const 
       y[(size_t)(M + k)] = tr.a2[(size_t)k];
       y[(size_t)(2 * M + k)] = tr.a3[(size_t)k];
     }
-    gsl_odeiv2_system sys{traj2_rhs, nullptr, dim, &tr};
+    gsl_odeiv2_system sys{rhs2<false>, nullptr, dim, &tr};
     /* local tolerance rtol/10 (as gran_theory_temperatures); absolute 1e-3 rtol on z, a2, a3 */
     gsl_odeiv2_step *stp = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, dim);
     gsl_odeiv2_control *ctl = gsl_odeiv2_control_y_new(1e-3 * rtol, std::max(1e-15, 0.1 * rtol));

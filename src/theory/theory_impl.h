@@ -11,6 +11,8 @@
 #include <complex>
 #include <vector>
 
+#include <gsl/gsl_odeiv2.h>
+
 /* Viscoelastic source of beta_ij (GRAN_RESTITUTION_VISCOELASTIC). */
 enum gran_visco_kind { GRAN_VISCO_CONSTANT = 0, GRAN_VISCO_MATRIX = 1, GRAN_VISCO_MATERIAL = 2 };
 
@@ -163,6 +165,13 @@ struct Traj;
  * Traj with_u) and a2_k; s = log(1 + t/ts), out.ts = ts. GRAN_ERR_DOMAIN when some |a2_k| reaches 1. */
 int sonine_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, const double *a20, double ts, double rtol,
                       double hmax, double s_end);
+/* The dense output of a Sonine trajectory (sonine.cpp): sys from s = 0 (y the start, overwritten) to s_end,
+ * steps <= hmax, GSL rk8pd with the error control scaled by `scale` (tolerance rtol), every accepted step stored
+ * in out.s, out.Y, out.F; after each step check(y, M, t) returns GRAN_SUCCESS or the error of a closure that
+ * breaks down; `what` names the trajectory in the other errors; at most maxsteps steps. */
+int sonine_dense_evolve(Traj &out, gsl_odeiv2_system sys, std::vector<double> &y, std::vector<double> &scale, double ts,
+                        double rtol, double hmax, double s_end, const char *what, unsigned long maxsteps,
+                        int (*check)(const double *y, int64_t M, double t));
 /* The second Sonine level (sonine2.cpp): zeta_k at (T, a2, a3) for one species, O(M); the dense trajectory from
  * (T0, a20, a30; NULL: 0) with out.dim = 4M, the components of the first level's and a3_k after them.
  * GRAN_ERR_DOMAIN when some |a2_k| or |a3_k| reaches 1. */
