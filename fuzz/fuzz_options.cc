@@ -51,8 +51,8 @@ void bricks_against_plain(const gran_srd_options &o, fz::Bytes &in) {
   if (ep == GRAN_SUCCESS) ep = srd_bricks_gather_plain_(s, &p);
   gran_srd_destroy(&s);
   if ((eb == GRAN_SUCCESS) != (ep == GRAN_SUCCESS)) {
-    std::fprintf(stderr, "fuzz: bricks %d x %d x %d, %lld steps: status %d, the undivided engine %d\n", pg[0], pg[1], pg[2],
-                 (long long)steps, eb, ep);
+    std::fprintf(stderr, "fuzz: bricks %d x %d x %d, %lld steps: status %d, the undivided engine %d (%s)\n", pg[0], pg[1],
+                 pg[2], (long long)steps, eb, ep, gran_last_error_message());
     fz::fail("srd_bricks_run_ and gran_srd_advance disagree on success", "bricks");
   }
   if (eb != GRAN_SUCCESS) return;

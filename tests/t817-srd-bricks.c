@@ -17,6 +17,7 @@
  *  - the decomposable engine's T at t = 10, 20, 30 of a cooling 3-D gas agrees with the serial
  *    engine's within 4 standard errors (6 seeds each; se of the difference of the means from the
  *    seeds' spread), and its ledger closes to 1e-12;
+ *  - a sparse gas (most cells empty; bricks without particles) split as one brick;
  *  - bad arguments (serial creation, a pgrid entry beyond the grid or beyond dim) are refused
  *    naming them. */
 #include <float.h>
@@ -293,6 +294,27 @@ static void test_cooling(void **state) {
   }
 }
 
+/* a sparse gas (n0 = 0.05: most cells empty): bricks whose first rows, or all rows, hold no particle are
+ * created and stepped like the others, the same run as one brick */
+static void test_sparse(void **state) {
+  (void)state;
+  gran_srd_options o = base_opts(3);
+  o.n0 = 0.05;
+  const int p1[3] = {1, 1, 1}, grids[2][3] = {{3, 2, 2}, {4, 1, 3}};
+  srd_bricks_out one;
+  GRAN_ASSERT_OK(srd_bricks_run_(&o, p1, NSTEPS, 1, &one));
+  assert_true(one.n > 0);
+  for (int g = 0; g < 2; ++g) {
+    srd_bricks_out r;
+    GRAN_ASSERT_OK(srd_bricks_run_(&o, grids[g], NSTEPS, 1, &r));
+    char what[96];
+    snprintf(what, sizeof what, "sparse gas: %d x %d x %d bricks vs 1", grids[g][0], grids[g][1], grids[g][2]);
+    assert_same_out(&one, &r, 3, what);
+    srd_bricks_out_free_(&r);
+  }
+  srd_bricks_out_free_(&one);
+}
+
 static void test_bad_args(void **state) {
   (void)state;
   gran_srd_options o = base_opts(3);
@@ -314,7 +336,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_periodic),    cmocka_unit_test(test_dissipation), cmocka_unit_test(test_thermostats),
       cmocka_unit_test(test_lees_edwards), cmocka_unit_test(test_walls),      cmocka_unit_test(test_cooling),
-      cmocka_unit_test(test_bad_args),
+      cmocka_unit_test(test_sparse), cmocka_unit_test(test_bad_args),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1085,6 +1085,7 @@ int bricks_create(const Ctx &C, std::vector<Brick> &bs, Transport &T, double *e_
         GRAN_CALL(gran_srd_cell_counts_(o, c0, c1, count.data()));
         int64_t m = 0;
         for (int64_t q : count) m += q;
+        if (m == 0) continue; /* a row of empty cells: nothing to draw (and no array to draw into yet) */
         const size_t at = B.x.size();
         for (std::vector<double> *v : {&B.x, &B.y, &B.vx, &B.vy}) v->resize(at + (size_t)m);
         if (d == 3) {
