@@ -89,7 +89,7 @@ struct Eq4 {
   int status;
   int mode = EQ4_MAXWELL;
   std::vector<double> a2, a3;  /* EQ4_SONINE, EQ4_SONINE2: a2_i(t1) (and a3_i(t1)) */
-  bool correlation_a2 = false; /* EQ4_SONINE: a2_i(t1) in the correlation */
+  bool correlation_a2 = false; /* EQ4_SONINE, EQ4_SONINE2: a2_i(t1) in the correlation */
   std::string message;         /* of the first failure of sonine_modes */
 };
 
