@@ -196,10 +196,13 @@ fi
 # exchange, then stop every process (naming the one that does not answer when it holds a message of
 # theirs; one that has sent everything cannot tell which process is missing)
 cp "$tmp/periodic3.toml" "$tmp/hang.toml"
-( if mpi 2 decompose "$tmp/hang.toml" --steps 100000000 --timeout 2 > "$tmp/hang.out" 2> "$tmp/hang.err"; then echo 0;
-  else echo $?; fi > "$tmp/hang.rc" ) &
+( if mpi 2 decompose "$tmp/hang.toml" --steps 100000000 --timeout 2 --progress 0.01 > "$tmp/hang.out" 2> "$tmp/hang.err";
+  then echo 0; else echo $?; fi > "$tmp/hang.rc" ) &
 runner=$!
 victim=$(second_rank "$tmp/hang.toml")
+# the steps have begun (a progress line), so the stopped process stops the others in an exchange (a process
+# stopped inside MPI_Init would hold the others there, where no timeout reaches)
+for i in $(seq 1 300); do grep -q "granary decompose: step" "$tmp/hang.err" 2>/dev/null && break; sleep 0.1; done
 t0=$(date +%s)
 [ -n "$victim" ] && kill -STOP "$victim"
 # a watchdog, so that a missing timeout fails this test instead of hanging it
@@ -260,6 +263,7 @@ expect 2 "--bricks '2x2'" -- "$cli" decompose "$tmp/periodic3.toml" --bricks 2x2
 expect 1 "pgrid\[0\]" -- "$cli" decompose "$tmp/periodic3.toml" --bricks 8x1x1
 expect 2 "--steps '-3'" -- "$cli" decompose "$tmp/periodic3.toml" --steps -3
 expect 2 "--every '0'" -- "$cli" decompose "$tmp/periodic3.toml" --every 0
+expect 2 "--progress 'x'" -- "$cli" decompose "$tmp/periodic3.toml" --progress x
 expect 1 "no such file\|cannot\|not found\|open" -- "$cli" decompose "$tmp/absent.toml"
 expect 2 "3 bricks for 2 processes" -- mpi 2 decompose "$tmp/periodic3.toml" --bricks 3x1x1
 expect 2 "--reference runs in one process" -- mpi 2 decompose "$tmp/periodic3.toml" --reference

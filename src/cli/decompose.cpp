@@ -26,7 +26,7 @@ namespace {
 void usage(FILE *f) {
   std::fprintf(f,
                "usage: granary decompose SCENE [--bricks auto|PxQxR] [--steps N] [--every K] [--set KEY=VALUE]...\n"
-               "                         [--timeout S] [--reference] [--json]\n"
+               "                         [--progress S] [--timeout S] [--reference] [--json]\n"
                "  Steps the scene's GSRD gas ([engine] type = \"srd\", creation = \"cells\") split into bricks of\n"
                "  its cell grid and prints the state's digests (the same for every split), the momentum, the\n"
                "  energy ledger and each process's rate. `mpirun -n P build/granary-mpi decompose ...` gives each\n"
@@ -37,6 +37,7 @@ void usage(FILE *f) {
                "  --every K             also a row every K steps (step, time, temperature, kinetic energy,\n"
                "                        ledger, momentum: exact sums over the gas, the same for every split)\n"
                "  --set KEY=VALUE       override a scene key (as granary run)\n"
+               "  --progress S          a progress line on stderr every S seconds (default 30; 0: none)\n"
                "  --timeout S           (granary-mpi) the longest a process waits in one exchange before it\n"
                "                        stops every process, naming the one that does not answer (default 600;\n"
                "                        0: no limit)\n"
@@ -86,6 +87,7 @@ int cli_decompose(int argc, char **argv) {
   long long steps = -1;
   bool json = false, reference = false;
   long long every = 0;
+  double progress = 30.0; /* seconds between progress lines; 0: none */
   std::vector<std::pair<std::string, std::string>> sets;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
@@ -117,6 +119,15 @@ int cli_decompose(int argc, char **argv) {
       every = std::strtoll(v, &end, 10);
       if (end == v || *end || every < 1 || every > 1000000000LL) {
         if (root) std::fprintf(stderr, "granary decompose: --every '%s': expected an integer in [1, 1e9]\n", v);
+        return 2;
+      }
+    } else if (!std::strcmp(a, "--progress")) {
+      const char *v = value(a);
+      if (!v) return 2;
+      char *end = nullptr;
+      progress = std::strtod(v, &end);
+      if (end == v || *end || !(progress >= 0.0 && progress <= 1e7)) {
+        if (root) std::fprintf(stderr, "granary decompose: --progress '%s': expected seconds in [0, 1e7] (0: none)\n", v);
         return 2;
       }
     } else if (!std::strcmp(a, "--timeout")) {
@@ -259,7 +270,7 @@ int cli_decompose(int argc, char **argv) {
     }
     /* the steps in chunks of about 5e7 particle-steps of a process (1-2 s; the same chunks on every
      * process, as every step call is collective; the state does not depend on them), a progress
-     * line on stderr every 30 s */
+     * line on stderr every `progress` seconds (after the chunk that passes it) */
     double box = 1;
     for (int k = 0; k < opt.dim; ++k) box *= (double)opt.cells[k];
     const double n_here = std::max(1.0, opt.n0 * box / (double)(P > 1 ? P : 1));
@@ -279,7 +290,7 @@ int cli_decompose(int argc, char **argv) {
         }
         next_row = every > 0 ? std::min<int64_t>(done + every, nsteps) : nsteps;
       }
-      if (root && c1 - last >= 30.0 && done < nsteps) {
+      if (root && progress > 0.0 && c1 - last >= progress && done < nsteps) {
         std::fprintf(stderr, "granary decompose: step %lld of %lld, %.0f s, about %.0f s left\n", (long long)done,
                      (long long)nsteps, c1 - t0, (c1 - t0) * (double)(nsteps - done) / (double)done);
         last = c1;
