@@ -213,7 +213,7 @@ dt=$(( $(date +%s) - t0 ))
 kill "$watchdog" 2>/dev/null || true
 kill -9 "$victim" 2>/dev/null || true
 if [ -z "$victim" ] || [ "$(cat "$tmp/hang.rc" 2>/dev/null)" = 0 ] || [ $dt -gt 30 ] ||
-   ! grep -q "granary-mpi: rank [01]: waited [0-9]* s in the particle exchange for .*stopping every process (the limit: --timeout 2)" "$tmp/hang.err"; then
+   ! grep -q "granary-mpi: rank [01]: waited [0-9]* s in .* for .*stopping every process (the limit: --timeout 2)" "$tmp/hang.err"; then
   echo "FAIL: a stopped process: exit $(cat "$tmp/hang.rc" 2>/dev/null) after ${dt} s (want non-zero within 30 s, naming the rank): $(cat "$tmp/hang.err")"
   fail=1
 fi
