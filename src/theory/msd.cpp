@@ -323,14 +323,8 @@ GRAN_EXTERN int gran_theory_msd_sonine2(const gran_mixture *mix, const double *T
     GRAN_CHECK(mix->model != GRAN_RESTITUTION_VISCOELASTIC, GRAN_ERR_DOMAIN,
                "mixture 'mix' has viscoelastic restitution: the second Sonine MSD is implemented for constant or "
                "matrix restitution only");
-    const double *start[2] = {a20, a30};
-    const char *names[2] = {"a20", "a30"};
-    for (int q = 0; q < 2; q++)
-      if (start[q])
-        for (int64_t k = 0; k < mix->M; k++)
-          GRAN_CHECK(std::isfinite(start[q][k]) && std::fabs(start[q][k]) < 1.0, GRAN_ERR_ARG,
-                     "argument '%s'[%" PRId64 "] = %g: the second Sonine approximation needs |a| < 1", names[q], k,
-                     start[q][k]);
+    if (a20) GRAN_CALL(sonine2_check_coeffs(a20, mix->M, "a20"));
+    if (a30) GRAN_CALL(sonine2_check_coeffs(a30, mix->M, "a30"));
     return msd_eq4(mix, T0, ntimes, t, rtol, msd, msd_total, EQ4_SONINE2, a20, correlation_a2 == 1, a30);
   }
   GRAN_CATCH

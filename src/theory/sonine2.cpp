@@ -171,14 +171,6 @@ int newton2(Sys2 &h, const std::vector<double> &T, std::vector<double> &b2, size
   return status;
 }
 
-int check_coeffs(const double *c, int64_t M, const char *name) {
-  GRAN_CHECK(c != nullptr, GRAN_ERR_ARG, "argument '%s' is NULL", name);
-  for (int64_t k = 0; k < M; k++)
-    GRAN_CHECK(std::isfinite(c[k]) && std::fabs(c[k]) < 1.0, GRAN_ERR_ARG,
-               "argument '%s'[%" PRId64 "] = %g: the second Sonine approximation needs a finite |%s| < 1", name, k, c[k],
-               name);
-  return GRAN_SUCCESS;
-}
 
 /* the second Sonine trajectory: the start and the state the right-hand side works on */
 struct Traj2 {
@@ -187,6 +179,17 @@ struct Traj2 {
   double ts;
   std::vector<double> T0, T, a2, a3;
   Pass2 P;
+  /* the start: T0 (M), a20 and a30 (M each; NULL: 0) */
+  void start(const gran_mixture *m, const double *T0_, const double *a20, const double *a30) {
+    mix = m;
+    M = m->M;
+    T0.assign(T0_, T0_ + M);
+    T = T0;
+    a2.assign((size_t)M, 0.0);
+    a3.assign((size_t)M, 0.0);
+    if (a20) a2.assign(a20, a20 + M);
+    if (a30) a3.assign(a30, a30 + M);
+  }
 };
 
 /* The right-hand side in the layout y = (z_k, [u_k,] a2_k, a3_k): WITH_U adds u_k = int_0^t sqrt(T_k/T0_k) dt'
@@ -219,6 +222,15 @@ int rhs2(double s, const double y[], double f[], void *params) {
 } // namespace
 
 namespace gran {
+
+int sonine2_check_coeffs(const double *c, int64_t M, const char *name) {
+  GRAN_CHECK(c != nullptr, GRAN_ERR_ARG, "argument '%s' is NULL", name);
+  for (int64_t k = 0; k < M; k++)
+    GRAN_CHECK(std::isfinite(c[k]) && std::fabs(c[k]) < 1.0, GRAN_ERR_ARG,
+               "argument '%s'[%" PRId64 "] = %g: the second Sonine approximation needs a finite |%s| < 1", name, k, c[k],
+               name);
+  return GRAN_SUCCESS;
+}
 
 namespace {
 /* |a2_k|, |a3_k| < 1 along the dense second Sonine trajectory (y = z, u, a2, a3) */
@@ -254,13 +266,8 @@ int sonine2_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, con
              "mixture 'mix' has viscoelastic restitution: the second Sonine trajectory is implemented for constant or "
              "matrix restitution only");
   Traj2 tr;
-  tr.mix = mix;
-  tr.M = M;
+  tr.start(mix, T0, a20, a30);
   tr.ts = ts;
-  tr.T0.assign(T0, T0 + M);
-  tr.T = tr.T0;
-  tr.a2.assign((size_t)M, 0.0);
-  tr.a3.assign((size_t)M, 0.0);
   out = Traj();
   out.mix = mix;
   out.M = M;
@@ -271,8 +278,8 @@ int sonine2_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, con
   const size_t dim = (size_t)(4 * M);
   std::vector<double> y(dim, 0.0), scale(dim, 1.0);
   for (int64_t k = 0; k < M; k++) {
-    y[(size_t)(2 * M + k)] = a20 ? a20[k] : 0.0;
-    y[(size_t)(3 * M + k)] = a30 ? a30[k] : 0.0;
+    y[(size_t)(2 * M + k)] = tr.a2[(size_t)k];
+    y[(size_t)(3 * M + k)] = tr.a3[(size_t)k];
     scale[(size_t)(M + k)] = 1e-30 * ts; /* u_k: relative error control (u -> 0 at s -> 0) */
   }
   gsl_odeiv2_system sys{rhs2<true>, nullptr, dim, &tr};
@@ -295,8 +302,8 @@ GRAN_EXTERN int gran_theory_sonine2_rates(const gran_mixture *mix, const double 
                "mixture 'mix' has viscoelastic restitution: the second Sonine rates are implemented for constant or "
                "matrix restitution only");
     GRAN_CALL(check_array(T, mix->M, "T", 1));
-    GRAN_CALL(check_coeffs(a2, mix->M, "a2"));
-    GRAN_CALL(check_coeffs(a3, mix->M, "a3"));
+    GRAN_CALL(sonine2_check_coeffs(a2, mix->M, "a2"));
+    GRAN_CALL(sonine2_check_coeffs(a3, mix->M, "a3"));
     Pass2 P;
     pass2(mix, T, a2, a3, P);
     for (int64_t k = 0; k < mix->M; k++) {
@@ -396,20 +403,13 @@ GRAN_EXTERN int gran_theory_temperatures_sonine2(const gran_mixture *mix, const 
                "or matrix restitution only");
     const int64_t M = mix->M;
     GRAN_CALL(check_array(T0, M, "T0", 1));
-    if (a20) GRAN_CALL(check_coeffs(a20, M, "a20"));
-    if (a30) GRAN_CALL(check_coeffs(a30, M, "a30"));
+    if (a20) GRAN_CALL(sonine2_check_coeffs(a20, M, "a20"));
+    if (a30) GRAN_CALL(sonine2_check_coeffs(a30, M, "a30"));
     GRAN_CALL(check_output_times(ntimes, t, T, "T"));
     GRAN_CALL(check_rtol(rtol, "rtol"));
     if (ntimes == 0) return GRAN_SUCCESS;
     Traj2 tr;
-    tr.mix = mix;
-    tr.M = M;
-    tr.T0.assign(T0, T0 + M);
-    tr.T = tr.T0;
-    tr.a2.assign((size_t)M, 0.0);
-    tr.a3.assign((size_t)M, 0.0);
-    if (a20) tr.a2.assign(a20, a20 + M);
-    if (a30) tr.a3.assign(a30, a30 + M);
+    tr.start(mix, T0, a20, a30);
     pass2(mix, tr.T.data(), tr.a2.data(), tr.a3.data(), tr.P);
     double numax = 0.0;
     for (double v : tr.P.nu) numax = std::max(numax, v);

@@ -176,6 +176,8 @@ int sonine_dense_evolve(Traj &out, gsl_odeiv2_system sys, std::vector<double> &y
  * (T0, a20, a30; NULL: 0) with out.dim = 4M, the components of the first level's and a3_k after them.
  * GRAN_ERR_DOMAIN when some |a2_k| or |a3_k| reaches 1. */
 double sonine2_zeta_one(const gran_mixture *mix, const double *T, const double *a2, const double *a3, int64_t k);
+/* GRAN_ERR_ARG naming argument `name`[k] unless c is not NULL and every |c[k]| < 1 (finite) */
+int sonine2_check_coeffs(const double *c, int64_t M, const char *name);
 int sonine2_traj_dense(Traj &out, const gran_mixture *mix, const double *T0, const double *a20, const double *a30,
                        double ts, double rtol, double hmax, double s_end);
 
