@@ -65,7 +65,7 @@ CUDA_FFT_LIBS = -lcufft -Wl,-rpath,$(CUDA_HOME)/lib64
 # ---- end CUDA block ----
 
 PKGS     := gsl fftw3 hdf5 cmocka zlib
-DEB_PKGS := pkg-config zlib1g-dev libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran libopenmpi-dev openmpi-bin
+DEB_PKGS := pkg-config zlib1g-dev libgsl-dev libfftw3-dev libhdf5-dev libcmocka-dev libtoml11-dev gfortran libopenmpi-dev openmpi-bin libfftw3-mpi-dev
 DEPS_OK   = pkg-config --exists $(PKGS) 2>/dev/null && [ -f /usr/include/toml.hpp ] && command -v $(FC) >/dev/null 2>&1
 
 # ---- configuration, cached in $(BUILD)/config.mk (installs missing packages first) ------------
@@ -438,15 +438,24 @@ figures-deps-soft:
 # when an MPI compiler wrapper is found (Debian: libopenmpi-dev openmpi-bin; `make deps` tries
 # them). `mpirun -n P build/granary-mpi run SCENE` spreads the replicas over P processes. The
 # libraries and build/granary never link MPI (src/io/run_comm.h says how). `make MPICXX=` skips it.
-MPI_DEB_PKGS := libopenmpi-dev openmpi-bin
+# FFTW's MPI interface (Debian libfftw3-mpi-dev) gives `granary decompose --sk` its distributed
+# transform; without it build/granary-mpi refuses S(k) of a gas split over processes.
+MPI_DEB_PKGS := libopenmpi-dev openmpi-bin libfftw3-mpi-dev
 MPICXX   ?= $(shell command -v mpicxx 2>/dev/null)
 CLI_MPI  := $(if $(MPICXX),$(BUILD)/granary-mpi,)
 CLI_MPI_OBJ := $(CLI_SRC:%.cpp=$(BUILD)/obj-mpi/%.o)
-$(BUILD)/obj-mpi/%.o: %.cpp $(CONFIG) $(FLAGS_STAMP)
+FFTW_MPI := $(if $(MPICXX),$(shell printf '\043include <fftw3-mpi.h>\n' | $(MPICXX) -E -x c++ - >/dev/null 2>&1 && echo 1),)
+CLI_MPI_DEFS := $(if $(FFTW_MPI),-DGRAN_HAVE_FFTW_MPI,)
+CLI_MPI_LIBS := $(if $(FFTW_MPI),-lfftw3_mpi,)
+MPI_STAMP := $(BUILD)/stamp/mpi
+ifeq ($(filter $(NOCONFIG_GOALS),$(MAKECMDGOALS)),)
+$(if $(MPICXX),$(call stamp,$(MPI_STAMP),$(MPICXX) $(CLI_MPI_DEFS) $(CLI_MPI_LIBS)))
+endif
+$(BUILD)/obj-mpi/%.o: %.cpp $(CONFIG) $(FLAGS_STAMP) $(MPI_STAMP)
 	@mkdir -p $(@D)
-	$(MPICXX) -DGRAN_MPI -DOMPI_SKIP_MPICXX=1 -DMPICH_SKIP_MPICXX=1 $(CPPFLAGS) $(PKG_CFLAGS) $(CXXFLAGS) -c $< -o $@
-$(BUILD)/granary-mpi: $(CLI_MPI_OBJ) $(LIB_A)
-	$(MPICXX) $(SAN) -o $@ $(CLI_MPI_OBJ) $(LIB_A) $(LDLIBS)
+	$(MPICXX) -DGRAN_MPI $(CLI_MPI_DEFS) -DOMPI_SKIP_MPICXX=1 -DMPICH_SKIP_MPICXX=1 $(CPPFLAGS) $(PKG_CFLAGS) $(CXXFLAGS) -c $< -o $@
+$(BUILD)/granary-mpi: $(CLI_MPI_OBJ) $(LIB_A) $(MPI_STAMP)
+	$(MPICXX) $(SAN) -o $@ $(CLI_MPI_OBJ) $(LIB_A) $(CLI_MPI_LIBS) $(LDLIBS)
 all: $(CLI_MPI)
 test: $(CLI_MPI)
 bench: $(CLI_MPI)
@@ -457,7 +466,7 @@ install-mpi: all
 	$(if $(CLI_MPI),install -d $(DESTDIR)$(prefix)/bin && install -m 755 $(CLI_MPI) $(DESTDIR)$(prefix)/bin/,@true)
 deps: mpi-deps-soft
 mpi-deps-soft:
-	@if ! command -v mpicxx >/dev/null 2>&1; then \
+	@if ! command -v mpicxx >/dev/null 2>&1 || [ ! -f /usr/include/fftw3-mpi.h ]; then \
 	  ( $(call apt_install,$(MPI_DEB_PKGS),deps (MPI: only build/granary-mpi needs it),exit 0) ) || \
 	  echo "deps: MPI not installed (only build/granary-mpi needs it)"; fi
 -include $(shell find $(BUILD)/obj-mpi -name "*.d" 2>/dev/null)

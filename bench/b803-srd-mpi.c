@@ -10,7 +10,8 @@
  * particle-steps over the wall time of its steps (creation left out); with 2 processes on 2 cores
  * the measurement needs the machine otherwise idle (the load is printed: above about 0.5 the
  * ratio measures the other work). Also printed: the CPU seconds of all processes per
- * particle-step (an MPI process that waits spins, so it includes the waits).
+ * particle-step (an MPI process that waits spins, so it includes the waits), and the time of one
+ * S(k) of the final state (`--sk 32`) in each, against the time of one step.
  *
  * Model (per step of a process holding a 64^3 brick in a 3-D split of P processes, 26 neighbours):
  * t = t_comp + t_comm, t_comp = n_rank / r2 (r2 the measured rate per process at P = 2),
@@ -43,9 +44,10 @@ static double jget(const char *js, const char *key) {
 }
 
 typedef struct {
-  double secs, rate, bytes, cpu, particles, far;
+  double secs, rate, bytes, cpu, particles, far, sk;
 } run_t;
 
+enum { kSkBins = 32 }; /* S(k) of the final state, in as many shells */
 static const char *kEnv = "OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
                           "OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_btl=self,vader "
                           "OMPI_MCA_mpi_yield_when_idle=1";
@@ -74,8 +76,8 @@ static FILE *start(const char *cmd) {
 
 static run_t run(const char *cli, const char *scene, int P, int steps) {
   char cmd[1024];
-  snprintf(cmd, sizeof cmd, "%s mpirun --oversubscribe -n %d %s decompose %s --bricks %s --steps %d --json 2>&1", kEnv, P,
-           cli, scene, P == 1 ? "1x1x1" : "2x1x1", steps);
+  snprintf(cmd, sizeof cmd, "%s mpirun --oversubscribe -n %d %s decompose %s --bricks %s --steps %d --sk %d --json 2>&1", kEnv, P,
+           cli, scene, P == 1 ? "1x1x1" : "2x1x1", steps, kSkBins);
   const double c0 = children_cpu();
   static char js[8192];
   report_of(start(cmd), cmd, js, sizeof js);
@@ -86,6 +88,7 @@ static run_t run(const char *cli, const char *scene, int P, int steps) {
   r.bytes = jget(js, "bytes_per_step_per_brick");
   r.particles = jget(js, "particles");
   r.far = P > 1 ? jget(js, "messages_beyond_neighbours") : 0;
+  r.sk = jget(js, "sk_seconds");
   return r;
 }
 
@@ -139,7 +142,7 @@ int main(void) {
   fclose(f);
   double load[3] = {0, 0, 0};
   if (getloadavg(load, 3) < 1) load[0] = NAN;
-  double r1[8], r2[8], ratio[8], c1[8], c2[8], rh[8], ratio_h[8];
+  double r1[8], r2[8], ratio[8], c1[8], c2[8], rh[8], ratio_h[8], sk1[8], sk2[8];
   run_t a = {0}, b = {0};
   for (int k = 0; k < rounds; ++k) {
     a = run(cli, scene, 1, steps);
@@ -147,6 +150,8 @@ int main(void) {
     r1[k] = a.rate;
     r2[k] = b.rate;
     ratio[k] = b.rate / a.rate;
+    sk1[k] = a.sk;
+    sk2[k] = b.sk;
     c1[k] = 1e9 * a.cpu / (a.particles * steps);
     c2[k] = 1e9 * b.cpu / (b.particles * steps);
     double h[2];
@@ -171,6 +176,14 @@ int main(void) {
          median(ratio_h, rounds));
   printf("  CPU ns per particle-step, all processes (MPI waits spin): P = 1 %.1f, P = 2 %.1f\n", median(c1, rounds),
          median(c2, rounds));
+  {
+    const double s1 = median(sk1, rounds), s2 = median(sk2, rounds), step1 = a.particles / m1,
+                 step2 = 0.5 * b.particles / m2;
+    printf("  S(k) of the final state (%d shells): P = 1 %.3g s (FFTW in the process), P = 2 %.3g s (the counts sent to "
+           "FFTW-MPI's slabs, the distributed transform, the shells all-reduced); one S(k) costs %.2f steps at P = 1 "
+           "(%.3g s each) and %.2f at P = 2 (%.3g s)\n",
+           kSkBins, s1, s2, s1 / step1, step1, s2 / step2, step2);
+  }
   const double faces = 2.0; /* 2 x 1 x 1 periodic: each brick has two faces */
   const double face_bytes = b.bytes / faces, face_cells = (double)L * L;
   printf("  exchanged per process and step: %.4g B (%.4g B per face of %d x %d cells: %.3g B per face cell); %g "

@@ -42,14 +42,35 @@ void bricks_against_plain(const gran_srd_options &o, fz::Bytes &in) {
   const int d = o.dim == 3 ? 3 : 2;
   int pg[3] = {1, 1, 1};
   for (int a = 0; a < d; ++a) pg[a] = 1 + (int)(in.u8() % (uint8_t)std::min<int64_t>(4, o.cells[a] + (a == o.wall_axis)));
-  const int64_t steps = 1 + in.u8() % 6;
+  const int64_t steps = 1 + in.u8() % 6, nbins = 1 + in.u8() % 8;
   srd_bricks_out b, p;
   const int eb = srd_bricks_run_(&o, pg, steps, 1, &b);
   gran_srd *s = nullptr;
   int ep = gran_srd_create(&o, &s);
   if (ep == GRAN_SUCCESS) ep = gran_srd_advance(s, steps);
+  double kp[8], sp[8], kb[8], sb[8];
+  int64_t cp[8], cb[8];
+  const int esp = ep == GRAN_SUCCESS ? gran_srd_structure_factor(s, nbins, kp, sp, cp) : ep;
   if (ep == GRAN_SUCCESS) ep = srd_bricks_gather_plain_(s, &p);
   gran_srd_destroy(&s);
+  if (ep == GRAN_SUCCESS) { /* S(k) of the split gas: the undivided engine's status and bits */
+    srd_bricks_state *st = nullptr;
+    int esb = srd_bricks_open_(&o, pg, nullptr, &st);
+    if (esb == GRAN_SUCCESS) esb = srd_bricks_step_(st, steps);
+    if (esb == GRAN_SUCCESS) esb = srd_bricks_structure_factor_(st, nbins, kb, sb, cb);
+    srd_bricks_close_(&st);
+    if ((esb == GRAN_SUCCESS) != (esp == GRAN_SUCCESS)) {
+      std::fprintf(stderr, "fuzz: S(k) of bricks %d x %d x %d: status %d, the undivided engine %d (%s)\n", pg[0], pg[1],
+                   pg[2], esb, esp, gran_last_error_message());
+      fz::fail("srd_bricks_structure_factor_ and gran_srd_structure_factor disagree on success", "bricks S(k)");
+    }
+    if (esb == GRAN_SUCCESS)
+      for (int64_t q = 0; q < nbins; ++q) {
+        fz::finite_or_fail(sb[q], "the split gas's S(k)");
+        if (cb[q] != cp[q] || std::memcmp(&sb[q], &sp[q], sizeof sb[q]) || std::memcmp(&kb[q], &kp[q], sizeof kb[q]))
+          fz::fail("the split gas's S(k) differs from the undivided engine's", "bricks S(k)");
+      }
+  }
   if ((eb == GRAN_SUCCESS) != (ep == GRAN_SUCCESS)) {
     std::fprintf(stderr, "fuzz: bricks %d x %d x %d, %lld steps: status %d, the undivided engine %d (%s)\n", pg[0], pg[1],
                  pg[2], (long long)steps, eb, ep, gran_last_error_message());

@@ -4,7 +4,8 @@
 # threaded run (every dataset of the file, X, X_se and X_replicas included, compared byte for
 # byte by a small HDF5 program built here); a run stopped after 2 checkpoints on 2 processes and
 # resumed on 3 (and one resumed without MPI) also; more processes than replicas (idle ranks)
-# also; an error on rank 0 (output not writable) ends every process with one message.
+# also; an error on rank 0 (output not writable) ends every process with one message; a process
+# that stops answering (SIGSTOP) ends the run after `--timeout`, named.
 # Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
 set -eu
 name=t611
@@ -116,4 +117,35 @@ if mpi 3 run ens.toml -o notafolder/out.h5 --quiet > err.log 2>&1; then echo "FA
 n=$(grep -c "granary run: run failed:.*notafolder" err.log || true)
 [ "$n" = 1 ] || { echo "FAIL: expected the error once, got $n times:"; cat err.log; exit 1; }
 echo "ok: unwritable output on rank 0 ends all 3 processes, message printed once"
-echo "7 passed, 0 failed"
+# a process that stops answering without dying (SIGSTOP on rank 1): rank 0 waits at most --timeout
+# in the gather of the replicas' output, names rank 1 and stops every process; --timeout takes
+# seconds >= 0
+( if mpi 2 run ens.toml -o hang.h5 --quiet --no-checkpoint --replicas 2 --timeout 2 --set restitution.eps=1 \
+      --set engine.t_end=1e5 --set 'observables.times={linear = {start = 1, stop = 1e5, n = 10000}}' > hang.out 2> hang.err;
+  then echo 0; else echo $?; fi > hang.rc ) &
+runner=$!
+second_rank "run ens.toml -o hang.h5" > /dev/null
+victim=""
+for p in $(pgrep -f "run ens.toml -o hang.h5" || true); do
+  [ "$(cat /proc/$p/comm 2>/dev/null || true)" = granary-mpi ] &&
+    tr '\0' '\n' < /proc/$p/environ 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" && victim=$p
+done
+t0=$(date +%s)
+[ -n "$victim" ] && kill -STOP "$victim"
+( sleep 60; kill -9 "$victim" 2>/dev/null ) & # a missing timeout fails the test instead of hanging it
+watchdog=$!
+wait "$runner" || true
+dt=$(( $(date +%s) - t0 ))
+kill "$watchdog" 2>/dev/null || true
+kill -9 "$victim" 2>/dev/null || true
+if [ -z "$victim" ] || [ "$(cat hang.rc 2>/dev/null)" = 0 ] || [ $dt -gt 30 ] ||
+   ! grep -q "granary-mpi: rank 0: waited [0-9]* s in the gather of the replicas' output for rank 1, which does not answer .*(the limit: --timeout 2)" hang.err; then
+  echo "FAIL: a stopped process: exit $(cat hang.rc 2>/dev/null) after ${dt} s (want non-zero within 30 s, naming rank 1): $(cat hang.err)"
+  exit 1
+fi
+[ ! -f hang.h5 ] || { echo "FAIL: the stopped run left hang.h5"; exit 1; }
+echo "ok: a stopped process ends the run after --timeout 2 (in ${dt} s), rank 1 named"
+if "$cli" run ens.toml -o x.h5 --timeout -1 > /dev/null 2> to.err || ! grep -q "\-\-timeout '-1'" to.err; then
+  echo "FAIL: --timeout -1 not refused: $(cat to.err)"; exit 1
+fi
+echo "9 passed, 0 failed"

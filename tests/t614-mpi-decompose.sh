@@ -158,31 +158,65 @@ if bad:
     sys.exit(1)
 PYEOF
 
+# S(k) of the split gas (--sk): the undivided engine's bit for bit (--reference checks it, exit 1
+# otherwise), all modes in the shells, and the same bits on every split in one process and on
+# 2, 3, 4 processes (FFTW's MPI transform over slabs of the last axis: the counts of the bricks'
+# cells are sent to the slab that holds them), at every row too; periodic 3-D with eps < 1,
+# 3-D Lees-Edwards (particles whose unshifted cell lies across the sheared boundary), 2-D
+# Lees-Edwards and 2-D with the cell thermostat; 4 processes on 5 layers leave one without a slab
+# (granary-mpi built without FFTW's MPI interface refuses S(k) on several processes: those runs are
+# skipped, saying so; make deps and CI install it)
+sk_mpi=1
+if ! mpi 2 decompose "$tmp/periodic3.toml" --steps 0 --sk 2 > /dev/null 2> "$tmp/err"; then
+  if grep -q "built without it" "$tmp/err"; then
+    echo "SKIP: S(k) on several processes: granary-mpi was built without FFTW's MPI interface (libfftw3-mpi-dev)"
+    sk_mpi=0
+  else
+    echo "FAIL: S(k) on 2 processes: $(cat "$tmp/err")"; fail=1
+  fi
+fi
+for name in periodic3 shear3 shear2 thermo2; do
+  "$cli" decompose "$tmp/$name.toml" --sk 9 --every 8 --reference --json > "$tmp/sk-ref.json" 2> "$tmp/err" ||
+    { echo "FAIL: S(k) of $name: not the undivided engine's, or the run failed: $(cat "$tmp/err")"; fail=1; }
+  case $name in *3) splits="1:2x2x1 2:2x1x1 3:1x3x1 4:1x2x2 4:4x1x1" ;; *) splits="1:3x2 2:1x2 3:3x1 4:2x2" ;; esac
+  for pb in $splits; do
+    n=${pb%%:*}; b=${pb#*:}
+    if [ "$n" = 1 ]; then run="$cli"; else run="mpi $n"; [ $sk_mpi = 1 ] || continue; fi
+    $run decompose "$tmp/$name.toml" --sk 9 --every 8 --bricks "$b" --json > "$tmp/sk.json" 2> "$tmp/err" ||
+      { echo "FAIL: S(k) of $name on $n processes, bricks $b: the run failed: $(cat "$tmp/err")"; fail=1; continue; }
+    python3 - "$tmp/sk-ref.json" "$tmp/sk.json" "$name $n x $b" <<'PYEOF' || fail=1
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+bad = []
+if a["reference_sk_max_rel_diff"] != 0: bad.append("the undivided engine's S(k) differs by %g" % a["reference_sk_max_rel_diff"])
+cells = {"periodic3": 7 * 6 * 5, "shear3": 6 * 6 * 5, "shear2": 9 * 8, "thermo2": 10 * 7}[sys.argv[3].split()[0]]
+if sum(a["sk"]["count"]) != cells - 1: bad.append("%d modes in the shells, not %d" % (sum(a["sk"]["count"]), cells - 1))
+if a["sk"] != b["sk"]: bad.append("S(k) %s, not %s" % (b["sk"]["s"], a["sk"]["s"]))
+if [w["sk"] for w in a["rows"]] != [w["sk"] for w in b["rows"]]: bad.append("the rows' S(k) differ")
+if [w["step"] for w in a["rows"]] != [0, 8, 16, 24] or any(len(w["sk"]) != 9 for w in a["rows"]): bad.append("rows %d" % len(a["rows"]))
+if bad:
+    print("FAIL: S(k), %s: %s" % (sys.argv[3], "; ".join(bad)))
+    sys.exit(1)
+PYEOF
+  done
+done
+expect_sk() { # the refusals of --sk (after expect is defined below)
+  expect 2 "S(k) needs a periodic box" -- "$cli" decompose "$tmp/walls2.toml" --sk 8
+  expect 2 "--sk '0'" -- "$cli" decompose "$tmp/periodic3.toml" --sk 0
+  expect 2 "--sk '4097'" -- "$cli" decompose "$tmp/periodic3.toml" --sk 4097
+  expect 2 "S(k) needs a periodic box" -- mpi 2 decompose "$tmp/walls3.toml" --sk 8
+}
+
 # the default split on P processes is the automatic one: one brick each
 mpi 2 decompose "$tmp/periodic3.toml" --json > "$tmp/o.json"
 python3 -c "import json,sys; r=json.load(open(sys.argv[1])); b=r['bricks']; sys.exit(0 if b[0]*b[1]*b[2]==2 and r['processes']==2 and r['brick_particles_min']>0 else 1)" "$tmp/o.json" ||
   { echo "FAIL: the default split on 2 processes: $(cat "$tmp/o.json")"; fail=1; }
 
-# second_rank SCENE: the pid of the second of the two granary-mpi processes stepping SCENE (their
-# command lines name it), once both run and a second more has passed
-second_rank() {
-  ranks=""
-  for i in $(seq 1 100); do
-    ranks=$(for p in $(pgrep -f "decompose $1" || true); do
-               [ "$(cat /proc/$p/comm 2>/dev/null || true)" != granary-mpi ] || echo $p
-             done)
-    [ "$(echo "$ranks" | grep -c . || true)" != 2 ] || break
-    sleep 0.1
-  done
-  sleep 1
-  echo "$ranks" | tail -n 1
-}
-
 # a process killed during the steps: every process stops, and mpirun names the one that died
 cp "$tmp/periodic3.toml" "$tmp/kill.toml"
 ( if mpi 2 decompose "$tmp/kill.toml" --steps 100000000 > "$tmp/kill.out" 2> "$tmp/kill.err"; then echo 0; else echo $?; fi \
     > "$tmp/kill.rc" ) &
-victim=$(second_rank "$tmp/kill.toml")
+victim=$(second_rank "decompose $tmp/kill.toml")
 t0=$(date +%s)
 [ -n "$victim" ] && kill -9 "$victim"
 wait
@@ -199,7 +233,7 @@ cp "$tmp/periodic3.toml" "$tmp/hang.toml"
 ( if mpi 2 decompose "$tmp/hang.toml" --steps 100000000 --timeout 2 --progress 0.01 > "$tmp/hang.out" 2> "$tmp/hang.err";
   then echo 0; else echo $?; fi > "$tmp/hang.rc" ) &
 runner=$!
-victim=$(second_rank "$tmp/hang.toml")
+victim=$(second_rank "decompose $tmp/hang.toml")
 # the steps have begun (a progress line), so the stopped process stops the others in an exchange (a process
 # stopped inside MPI_Init would hold the others there, where no timeout reaches)
 for i in $(seq 1 300); do grep -q "granary decompose: step" "$tmp/hang.err" 2>/dev/null && break; sleep 0.1; done
@@ -264,6 +298,7 @@ expect 1 "pgrid\[0\]" -- "$cli" decompose "$tmp/periodic3.toml" --bricks 8x1x1
 expect 2 "--steps '-3'" -- "$cli" decompose "$tmp/periodic3.toml" --steps -3
 expect 2 "--every '0'" -- "$cli" decompose "$tmp/periodic3.toml" --every 0
 expect 2 "--progress 'x'" -- "$cli" decompose "$tmp/periodic3.toml" --progress x
+expect_sk
 expect 1 "no such file\|cannot\|not found\|open" -- "$cli" decompose "$tmp/absent.toml"
 expect 2 "3 bricks for 2 processes" -- mpi 2 decompose "$tmp/periodic3.toml" --bricks 3x1x1
 expect 2 "--reference runs in one process" -- mpi 2 decompose "$tmp/periodic3.toml" --reference

@@ -18,6 +18,12 @@
  *    engine's within 4 standard errors (6 seeds each; se of the difference of the means from the
  *    seeds' spread), and its ledger closes to 1e-12;
  *  - a sparse gas (most cells empty; bricks without particles) split as one brick;
+ *  - S(k) of a split gas (srd_bricks_structure_factor_, all bricks in this process): the undivided
+ *    engine's (gran_srd_structure_factor) bit for bit, for every split (3-D with eps < 1 after 30
+ *    steps, 2-D Lees-Edwards); the initial
+ *    ideal gas (multinomial cell counts) has S = 1 over all modes within 4 standard errors
+ *    (se = sqrt(2 / modes): the half spectrum's modes come in conjugate pairs); walls and a number
+ *    of shells outside [1, SRD_BRICKS_SK_MAX_BINS] are refused, naming them;
  *  - bad arguments (serial creation, a pgrid entry beyond the grid or beyond dim) are refused
  *    naming them. */
 #include <float.h>
@@ -315,6 +321,94 @@ static void test_sparse(void **state) {
   srd_bricks_out_free_(&one);
 }
 
+enum { SK_BINS = 10 };
+
+/* S(k) of the split gas after nsteps, into k, sk, count (SK_BINS each) */
+static void split_sk(const gran_srd_options *o, const int pg[3], int64_t nsteps, double *k, double *sk, int64_t *count) {
+  srd_bricks_state *st = NULL;
+  GRAN_ASSERT_OK(srd_bricks_open_(o, pg, NULL, &st));
+  GRAN_ASSERT_OK(srd_bricks_step_(st, nsteps));
+  GRAN_ASSERT_OK(srd_bricks_structure_factor_(st, SK_BINS, k, sk, count));
+  srd_bricks_close_(&st);
+}
+
+static void check_sk(const gran_srd_options *o, const int (*grids)[3], int ng, const char *what) {
+  double k0[SK_BINS], s0[SK_BINS], kr[SK_BINS], sr[SK_BINS];
+  int64_t c0[SK_BINS], cr[SK_BINS];
+  gran_srd *e = NULL; /* the undivided engine */
+  GRAN_ASSERT_OK(gran_srd_create(o, &e));
+  GRAN_ASSERT_OK(gran_srd_advance(e, NSTEPS));
+  GRAN_ASSERT_OK(gran_srd_structure_factor(e, SK_BINS, kr, sr, cr));
+  gran_srd_destroy(&e);
+  for (int g = 0; g < ng; ++g) {
+    double k[SK_BINS], sk[SK_BINS];
+    int64_t c[SK_BINS];
+    split_sk(o, grids[g], NSTEPS, k, sk, c);
+    if (g == 0) {
+      memcpy(k0, k, sizeof k);
+      memcpy(s0, sk, sizeof sk);
+      memcpy(c0, c, sizeof c);
+      int64_t modes = 0;
+      for (int b = 0; b < SK_BINS; ++b) {
+        assert_int_equal(c[b], cr[b]);
+        modes += c[b];
+        if (!same(&k[b], &kr[b], sizeof k[b]) || !same(&sk[b], &sr[b], sizeof sk[b]))
+          fail_msg("%s: shell %d: k %.17g S %.17g against the undivided engine's %.17g %.17g", what, b, k[b], sk[b], kr[b],
+                   sr[b]);
+      }
+      assert_true(modes > 100);
+    } else if (!same(k, k0, sizeof k) || !same(sk, s0, sizeof sk) || !same(c, c0, sizeof c)) {
+      fail_msg("%s: S(k) of %d x %d x %d bricks differs from %d x %d x %d", what, grids[g][0], grids[g][1], grids[g][2],
+               grids[0][0], grids[0][1], grids[0][2]);
+    }
+  }
+}
+
+static void test_structure_factor(void **state) {
+  (void)state;
+  static const int g3[3][3] = {{1, 1, 1}, {2, 2, 1}, {3, 1, 2}}, g2[3][3] = {{1, 1, 1}, {3, 2, 1}, {1, 4, 1}};
+  gran_srd_options o = base_opts(3);
+  o.eps = 0.7;
+  o.sigma = 0.6;
+  check_sk(&o, g3, 3, "S(k), eps < 1, 3-D");
+  o = base_opts(2);
+  o.shear_rate = 0.07;
+  check_sk(&o, g2, 3, "S(k), Lees-Edwards, 2-D");
+  /* the initial ideal gas: multinomial counts, S = 1 for every k != 0 */
+  o = base_opts(3);
+  o.cells[0] = o.cells[1] = o.cells[2] = 16;
+  const int p[3] = {2, 1, 2};
+  double k[SK_BINS], sk[SK_BINS];
+  int64_t c[SK_BINS];
+  split_sk(&o, p, 0, k, sk, c);
+  double sum = 0;
+  int64_t modes = 0;
+  for (int b = 0; b < SK_BINS; ++b) {
+    sum += sk[b] * (double)c[b];
+    modes += c[b];
+  }
+  assert_int_equal(modes, 16 * 16 * 16 - 1);
+  const double mean = sum / (double)modes, se = sqrt(2.0 / (double)modes);
+  if (!(fabs(mean - 1.0) <= 4 * se)) fail_msg("S of the ideal gas: %.6f, not 1 within 4 se (%.4f)", mean, se);
+  /* refusals */
+  srd_bricks_state *st = NULL;
+  GRAN_ASSERT_OK(srd_bricks_open_(&o, p, NULL, &st));
+  GRAN_ASSERT_ERR(srd_bricks_structure_factor_(st, 0, k, sk, c), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'nbins'"));
+  double big[SRD_BRICKS_SK_MAX_BINS + 1];
+  int64_t bigc[SRD_BRICKS_SK_MAX_BINS + 1];
+  GRAN_ASSERT_ERR(srd_bricks_structure_factor_(st, SRD_BRICKS_SK_MAX_BINS + 1, big, big, bigc), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "'nbins'"));
+  srd_bricks_close_(&st);
+  o = base_opts(2);
+  o.wall_axis = 1;
+  const int p2[3] = {2, 1, 1};
+  GRAN_ASSERT_OK(srd_bricks_open_(&o, p2, NULL, &st));
+  GRAN_ASSERT_ERR(srd_bricks_structure_factor_(st, SK_BINS, k, sk, c), GRAN_ERR_ARG);
+  assert_non_null(strstr(gran_last_error_message(), "periodic"));
+  srd_bricks_close_(&st);
+}
+
 static void test_bad_args(void **state) {
   (void)state;
   gran_srd_options o = base_opts(3);
@@ -336,7 +430,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_periodic),    cmocka_unit_test(test_dissipation), cmocka_unit_test(test_thermostats),
       cmocka_unit_test(test_lees_edwards), cmocka_unit_test(test_walls),      cmocka_unit_test(test_cooling),
-      cmocka_unit_test(test_sparse), cmocka_unit_test(test_bad_args),
+      cmocka_unit_test(test_sparse), cmocka_unit_test(test_structure_factor), cmocka_unit_test(test_bad_args),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -25,8 +25,8 @@ namespace {
 
 void usage(FILE *f) {
   std::fprintf(f,
-               "usage: granary decompose SCENE [--bricks auto|PxQxR] [--steps N] [--every K] [--set KEY=VALUE]...\n"
-               "                         [--progress S] [--timeout S] [--reference] [--json]\n"
+               "usage: granary decompose SCENE [--bricks auto|PxQxR] [--steps N] [--every K] [--sk NBINS]\n"
+               "                         [--set KEY=VALUE]... [--progress S] [--timeout S] [--reference] [--json]\n"
                "  Steps the scene's GSRD gas ([engine] type = \"srd\", creation = \"cells\") split into bricks of\n"
                "  its cell grid and prints the state's digests (the same for every split), the momentum, the\n"
                "  energy ledger and each process's rate. `mpirun -n P build/granary-mpi decompose ...` gives each\n"
@@ -36,13 +36,15 @@ void usage(FILE *f) {
                "  --steps N             steps (default: the scene's engine.steps)\n"
                "  --every K             also a row every K steps (step, time, temperature, kinetic energy,\n"
                "                        ledger, momentum: exact sums over the gas, the same for every split)\n"
+               "  --sk NBINS            also the density structure factor S(k) in NBINS shells (1 .. 4096) at the\n"
+               "                        end and at every row (periodic box; granary-mpi: FFTW's MPI transform)\n"
                "  --set KEY=VALUE       override a scene key (as granary run)\n"
                "  --progress S          a progress line on stderr every S seconds (default 30; 0: none)\n"
                "  --timeout S           (granary-mpi) the longest a process waits in one exchange before it\n"
                "                        stops every process, naming the one that does not answer (default 600;\n"
                "                        0: no limit)\n"
                "  --reference           (one process) also step the undivided engine (gran_srd_advance) and\n"
-               "                        check that its digests are the bricks' (exit 1 otherwise)\n"
+               "                        check that its digests and its S(k) are the bricks' (exit 1 otherwise)\n"
                "  --json                the report as one JSON object\n");
 }
 
@@ -86,7 +88,7 @@ int cli_decompose(int argc, char **argv) {
   const char *scene_path = nullptr, *bricks = nullptr;
   long long steps = -1;
   bool json = false, reference = false;
-  long long every = 0;
+  long long every = 0, sk_bins = 0;
   double progress = 30.0; /* seconds between progress lines; 0: none */
   std::vector<std::pair<std::string, std::string>> sets;
   for (int i = 1; i < argc; ++i) {
@@ -119,6 +121,17 @@ int cli_decompose(int argc, char **argv) {
       every = std::strtoll(v, &end, 10);
       if (end == v || *end || every < 1 || every > 1000000000LL) {
         if (root) std::fprintf(stderr, "granary decompose: --every '%s': expected an integer in [1, 1e9]\n", v);
+        return 2;
+      }
+    } else if (!std::strcmp(a, "--sk")) {
+      const char *v = value(a);
+      if (!v) return 2;
+      char *end = nullptr;
+      sk_bins = std::strtoll(v, &end, 10);
+      if (end == v || *end || sk_bins < 1 || sk_bins > SRD_BRICKS_SK_MAX_BINS) {
+        if (root)
+          std::fprintf(stderr, "granary decompose: --sk '%s': expected a number of shells in [1, %d]\n", v,
+                       SRD_BRICKS_SK_MAX_BINS);
         return 2;
       }
     } else if (!std::strcmp(a, "--progress")) {
@@ -235,12 +248,30 @@ int cli_decompose(int argc, char **argv) {
       if (root) std::fprintf(stderr, "granary decompose: --reference runs in one process (build/granary)\n");
       return 2;
     }
+    if (sk_bins > 0 && opt.wall_axis >= 0) {
+      if (root)
+        std::fprintf(stderr, "granary decompose: --sk: S(k) needs a periodic box, and scene '%s' has walls (wall axis %d)\n",
+                     scene_path, (int)opt.wall_axis);
+      return 2;
+    }
+    if (sk_bins > 0 && P > 1 && !cli_mpi_bricks_comm()->fft_r2c) {
+      if (root)
+        std::fprintf(stderr, "granary decompose: --sk on %d processes needs FFTW's MPI interface, and this granary-mpi "
+                             "was built without it (install Debian libfftw3-mpi-dev, then make)\n", P);
+      return 1;
+    }
     { /* the memory of this process's share against the machine's, divided among its processes (a
        * scene's max_memory_gb caps it) */
       const bool one = P == 1 && nb > 1;
-      const double rows_bytes = every > 0 ? ((double)nsteps / (double)every + 2) * 2.0 * sizeof(srd_bricks_rank_out) : 0.0;
+      const double nrows = every > 0 ? (double)nsteps / (double)every + 2 : 0.0;
+      const double rows_bytes = nrows * 2.0 * (sizeof(srd_bricks_rank_out) + 24.0 * (double)sk_bins);
+      double box = 1;
+      for (int k = 0; k < opt.dim; ++k) box *= (double)opt.cells[k];
+      /* S(k): the slab's counts, the half spectrum and its power (48 B per cell of the slab), and
+       * (one process) the reference engine's copy */
+      const double sk_bytes = sk_bins > 0 ? 48.0 * box / (double)(P > 1 ? P : 1) * (reference ? 2.0 : 1.0) : 0.0;
       const double need = srd_bricks_memory_(&opt, (int)nb, one) + (reference ? srd_bricks_memory_(&opt, 1, 1) : 0.0) +
-                          rows_bytes; /* the rows, and their text */
+                          rows_bytes + sk_bytes; /* the rows, and their text */
       const int local = cli_mpi_local_size() > 0 ? cli_mpi_local_size() : 1;
       const double avail = std::min(gran_scene_memory_limit_(scene), gran_memory_available_()) / local;
       if (!(need <= avail)) {
@@ -261,13 +292,35 @@ int cli_decompose(int argc, char **argv) {
   srd_bricks_rank_out r;
   std::memset(&r, 0, sizeof r);
   std::vector<srd_bricks_rank_out> rows; /* every `every` steps, and the start */
+  struct Sk {
+    std::vector<double> k, s;
+    std::vector<int64_t> count;
+  };
+  std::vector<Sk> row_sk; /* with --sk: S(k) at each row */
+  Sk sk_end;
+  double sk_seconds = 0; /* the slowest S(k) of process 0 */
   {
     srd_bricks_state *st = nullptr;
-    int e = srd_bricks_open_(&opt, pg, cli_mpi_bricks_comm(), &st);
-    if (!e && every > 0) {
+    auto structure = [&](Sk &q) -> int {
+      q.k.resize((size_t)sk_bins);
+      q.s.resize((size_t)sk_bins);
+      q.count.resize((size_t)sk_bins);
+      const double c0 = cli_clock_s();
+      const int e = srd_bricks_structure_factor_(st, sk_bins, q.k.data(), q.s.data(), q.count.data());
+      sk_seconds = std::max(sk_seconds, cli_clock_s() - c0);
+      return e;
+    };
+    auto row = [&]() -> int {
       rows.emplace_back();
-      e = srd_bricks_report_(st, &rows.back());
-    }
+      int e = srd_bricks_report_(st, &rows.back());
+      if (!e && sk_bins > 0) {
+        row_sk.emplace_back();
+        e = structure(row_sk.back());
+      }
+      return e;
+    };
+    int e = srd_bricks_open_(&opt, pg, cli_mpi_bricks_comm(), &st);
+    if (!e && every > 0) e = row();
     /* the steps in chunks of about 5e7 particle-steps of a process (1-2 s; the same chunks on every
      * process, as every step call is collective; the state does not depend on them), a progress
      * line on stderr every `progress` seconds (after the chunk that passes it) */
@@ -284,10 +337,7 @@ int cli_decompose(int argc, char **argv) {
       const double c1 = cli_clock_s();
       done += k;
       if (!e && done == next_row) {
-        if (every > 0 && done < nsteps) {
-          rows.emplace_back();
-          e = srd_bricks_report_(st, &rows.back());
-        }
+        if (every > 0 && done < nsteps) e = row();
         next_row = every > 0 ? std::min<int64_t>(done + every, nsteps) : nsteps;
       }
       if (root && progress > 0.0 && c1 - last >= progress && done < nsteps) {
@@ -297,7 +347,11 @@ int cli_decompose(int argc, char **argv) {
       }
     }
     if (!e) e = srd_bricks_report_(st, &r);
-    if (!e && every > 0) rows.push_back(r);
+    if (!e && sk_bins > 0) e = structure(sk_end);
+    if (!e && every > 0) {
+      rows.push_back(r);
+      if (sk_bins > 0) row_sk.push_back(sk_end);
+    }
     srd_bricks_close_(&st);
     if (e) {
       fail(P > 1 ? "process " + std::to_string(cli_mpi_rank()) : std::string("bricks"));
@@ -307,17 +361,32 @@ int cli_decompose(int argc, char **argv) {
   }
   int ref_ok = 1;
   uint64_t ref_p = 0, ref_c = 0;
+  double ref_sk_diff = 0; /* the largest relative difference of S(k) and k from the undivided engine's */
   if (reference) { /* the undivided decomposable engine */
     gran_srd *s = nullptr;
     if (gran_srd_create(&opt, &s)) return fail("reference");
+    Sk q; /* its S(k) */
+    q.k.resize((size_t)sk_bins);
+    q.s.resize((size_t)sk_bins);
+    q.count.resize((size_t)sk_bins);
     int e = gran_srd_advance(s, nsteps);
     srd_bricks_out o;
+    if (!e && sk_bins > 0) e = gran_srd_structure_factor(s, sk_bins, q.k.data(), q.s.data(), q.count.data());
     if (!e) e = srd_bricks_gather_plain_(s, &o);
     gran_srd_destroy(&s);
     if (e) return fail("reference");
     srd_bricks_digest_(&o, opt.dim, &ref_p, &ref_c);
     srd_bricks_out_free_(&o);
     ref_ok = ref_p == r.digest_particles && ref_c == r.digest_cells;
+    /* S(k): the same bits (the largest relative difference reported) */
+    for (size_t i = 0; i < q.count.size(); ++i) {
+      if (q.count[i] != sk_end.count[i]) ref_sk_diff = INFINITY;
+      if (q.count[i] > 0)
+        for (double v : {std::fabs(sk_end.k[i] - q.k[i]) / std::fabs(q.k[i]),
+                         std::fabs(sk_end.s[i] - q.s[i]) / std::max(std::fabs(q.s[i]), 1e-300)})
+          ref_sk_diff = std::max(ref_sk_diff, v);
+    }
+    ref_ok = ref_ok && ref_sk_diff == 0.0;
   }
   if (!root) return 0;
   const double rate = r.seconds > 0 ? (double)r.particle_steps / r.seconds : 0.0;
@@ -350,6 +419,7 @@ int cli_decompose(int argc, char **argv) {
     if (reference) {
       str("reference_digest_particles", hex(ref_p));
       str("reference_digest_cells", hex(ref_c));
+      if (sk_bins > 0) num("reference_sk_max_rel_diff", ref_sk_diff);
     }
     key("momentum");
     o += "[";
@@ -381,6 +451,25 @@ int cli_decompose(int argc, char **argv) {
     num("bytes_per_step_per_brick", bytes_step);
     num("particles_sent", (double)r.particles_sent_all);
     num("temperature", r.temperature);
+    auto arr = [&](const std::vector<double> &v) {
+      o += "[";
+      for (size_t i = 0; i < v.size(); ++i) {
+        if (i) o += ", ";
+        cli_json::num(o, v[i]);
+      }
+      o += "]";
+    };
+    if (sk_bins > 0) {
+      key("sk");
+      o += "{\"k\": ";
+      arr(sk_end.k);
+      o += ", \"s\": ";
+      arr(sk_end.s);
+      o += ", \"count\": ";
+      arr(std::vector<double>(sk_end.count.begin(), sk_end.count.end()));
+      o += "}";
+      num("sk_seconds", sk_seconds);
+    }
     if (every > 0) { /* the rows: every `every` steps from the start, and the end */
       key("rows");
       o += "[";
@@ -405,7 +494,12 @@ int cli_decompose(int argc, char **argv) {
           if (k) o += ", ";
           cli_json::num(o, w.momentum[k]);
         }
-        o += "]}";
+        o += "]";
+        if (sk_bins > 0) {
+          o += ", \"sk\": ";
+          arr(row_sk[i].s);
+        }
+        o += "}";
       }
       o += "]";
     }
@@ -432,6 +526,15 @@ int cli_decompose(int argc, char **argv) {
     for (const srd_bricks_rank_out &w : rows)
       std::printf("row              step %lld  t %.10g  T %.10g  E_kin %.10g  e_coll %.10g  e_ext %.10g\n",
                   (long long)w.step, w.time, w.temperature, w.energy, w.e_coll, w.e_ext);
+    if (sk_bins > 0) {
+      std::printf("S(k)             %lld shells at the end (%.3g s)%s\n", sk_bins, sk_seconds,
+                  reference ? (ref_sk_diff == 0.0 ? "; the undivided engine's, bit for bit" : "; DIFFERENT from the undivided engine's")
+                            : "");
+      for (long long b = 0; b < sk_bins; ++b)
+        if (sk_end.count[(size_t)b] > 0)
+          std::printf("  k %.10g  S %.10g  modes %lld\n", sk_end.k[(size_t)b], sk_end.s[(size_t)b],
+                      (long long)sk_end.count[(size_t)b]);
+    }
     std::printf("exchange         %.4g bytes per brick and step, %lld particles changed brick\n", bytes_step,
                 (long long)r.particles_sent_all);
     if (P > 1)

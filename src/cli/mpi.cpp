@@ -4,7 +4,9 @@
  * Installs a gran_run_comm (src/io/run_comm.h) over MPI_COMM_WORLD: gather = every rank sends its
  * bytes to rank 0, which receives them in rank order (point to point, 1 GiB pieces, so a
  * checkpoint's engine states may exceed 2 GiB); bcast = rank 0's bytes to every rank. The run
- * driver in libgranary calls them from its main thread only (MPI_THREAD_FUNNELED).
+ * driver in libgranary calls them from its main thread only (MPI_THREAD_FUNNELED). Both are
+ * non-blocking calls waited for at most the timeout (`granary run --timeout`; none by default:
+ * a process honestly waits there for the slowest replica's steps and for rank 0's writing).
  *
  * And a srd_bricks_comm (src/srd/bricks.h) for `granary decompose`, one GSRD brick per process:
  * round = the non-blocking consensus exchange (MPI_Issend of the non-empty messages, MPI_Iprobe,
@@ -12,13 +14,20 @@
  * MPI_Op over libgranary's exact merge (commutative). A process waits in one round or reduction at
  * most the timeout (cli_mpi_set_timeout; `granary decompose --timeout`): beyond it, a process that
  * stopped answering without dying (stopped, hung, its machine gone quiet) is named where the
- * exchange knows it, and the round fails, which stops every process. */
+ * exchange knows it, and the round fails, which stops every process. With FFTW's MPI interface
+ * (GRAN_HAVE_FFTW_MPI: Debian libfftw3-mpi-dev) also fft_r2c = FFTW's distributed real-to-complex
+ * transform (fftw_mpi_plan_many_dft_r2c in the slabs libgranary chose, planned once per shape; its
+ * collective calls block, so the timeout does not reach inside the transform). */
 #ifdef GRAN_MPI
 #include <mpi.h>
+#ifdef GRAN_HAVE_FFTW_MPI
+#include <fftw3-mpi.h>
+#endif
 #endif
 
 #include <algorithm>
 #include <climits>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -39,22 +48,34 @@ long long g_steps = 0, g_bytes = 0; /* collective gathers and bytes rank 0 recei
 namespace {
 const size_t kPiece = (size_t)1 << 30;
 
+int wait_for(MPI_Request *req, const char *what, int peer = -1);
+
+/* the run driver's point-to-point pieces, each waited for at most the timeout (the process on the
+ * other side named) */
 int send_bytes(const std::string &b, int dest) {
+  const char *what = "the gather of the replicas' output";
   int64_t n = (int64_t)b.size();
-  if (MPI_Send(&n, 1, MPI_INT64_T, dest, 1, MPI_COMM_WORLD) != MPI_SUCCESS) return 1;
+  MPI_Request req = MPI_REQUEST_NULL;
+  if (MPI_Isend(&n, 1, MPI_INT64_T, dest, 1, MPI_COMM_WORLD, &req) != MPI_SUCCESS || wait_for(&req, what, dest)) return 1;
   for (size_t at = 0; at < b.size(); at += kPiece)
-    if (MPI_Send(b.data() + at, (int)std::min(kPiece, b.size() - at), MPI_BYTE, dest, 2, MPI_COMM_WORLD) != MPI_SUCCESS)
+    if (MPI_Isend(b.data() + at, (int)std::min(kPiece, b.size() - at), MPI_BYTE, dest, 2, MPI_COMM_WORLD, &req) !=
+            MPI_SUCCESS ||
+        wait_for(&req, what, dest))
       return 1;
   return 0;
 }
 
 int recv_bytes(std::string *b, int src) {
+  const char *what = "the gather of the replicas' output";
   int64_t n = 0;
-  if (MPI_Recv(&n, 1, MPI_INT64_T, src, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS || n < 0) return 1;
+  MPI_Request req = MPI_REQUEST_NULL;
+  if (MPI_Irecv(&n, 1, MPI_INT64_T, src, 1, MPI_COMM_WORLD, &req) != MPI_SUCCESS || wait_for(&req, what, src) || n < 0)
+    return 1;
   b->resize((size_t)n);
   for (size_t at = 0; at < b->size(); at += kPiece)
-    if (MPI_Recv(&(*b)[at], (int)std::min(kPiece, b->size() - at), MPI_BYTE, src, 2, MPI_COMM_WORLD,
-                 MPI_STATUS_IGNORE) != MPI_SUCCESS)
+    if (MPI_Irecv(&(*b)[at], (int)std::min(kPiece, b->size() - at), MPI_BYTE, src, 2, MPI_COMM_WORLD, &req) !=
+            MPI_SUCCESS ||
+        wait_for(&req, what, src))
       return 1;
   return 0;
 }
@@ -98,14 +119,14 @@ bool overdue(double t0, const char *what, int peer) {
   return true;
 }
 
-/* waits for req, at most the timeout */
-int wait_for(MPI_Request *req, const char *what) {
+/* waits for req, at most the timeout (peer: the process it waits for, -1 when it cannot tell) */
+int wait_for(MPI_Request *req, const char *what, int peer) {
   const double t0 = MPI_Wtime();
   for (;;) {
     int done = 0;
     if (MPI_Test(req, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS) return 1;
     if (done) return 0;
-    if (overdue(t0, what, -1)) return 1;
+    if (overdue(t0, what, peer)) return 1;
   }
 }
 
@@ -195,14 +216,86 @@ int bricks_allreduce(void *, void *buf, size_t nbytes, size_t count, void (*merg
   return 0;
 }
 
+#ifdef GRAN_HAVE_FFTW_MPI
+/* the plan and its padded buffers, kept for the next transform of the same shape */
+struct Fft {
+  int dim = 0;
+  ptrdiff_t n[3] = {0, 0, 0}, block = 0, rows = 0, alloc = 0;
+  fftw_plan plan = nullptr;
+  double *rin = nullptr;
+  fftw_complex *cout = nullptr;
+  void clear() {
+    if (plan) fftw_destroy_plan(plan);
+    fftw_free(rin);
+    fftw_free(cout);
+    plan = nullptr;
+    rin = nullptr;
+    cout = nullptr;
+    dim = 0;
+  }
+} g_fft;
+bool g_fftw_mpi = false;
+
+int bricks_fft(void *, int dim, const int64_t n[3], int64_t block, const double *in, double *out) {
+  if (dim < 2 || dim > 3) return 1;
+  Fft &f = g_fft;
+  bool same = f.plan && f.dim == dim && f.block == block;
+  for (int a = 0; a < dim; ++a) same = same && f.n[a] == (ptrdiff_t)n[a];
+  if (!same) {
+    f.clear();
+    if (!g_fftw_mpi) {
+      fftw_mpi_init();
+      g_fftw_mpi = true;
+    }
+    ptrdiff_t nc[3];
+    for (int a = 0; a < dim; ++a) nc[a] = f.n[a] = (ptrdiff_t)n[a];
+    nc[dim - 1] = n[dim - 1] / 2 + 1;
+    ptrdiff_t start = 0;
+    f.alloc = fftw_mpi_local_size_many(dim, nc, 1, (ptrdiff_t)block, MPI_COMM_WORLD, &f.rows, &start);
+    const ptrdiff_t want = std::min<ptrdiff_t>(n[0], (ptrdiff_t)g_rank * block);
+    const ptrdiff_t rows = std::min<ptrdiff_t>(n[0], want + block) - want; /* a process past the end has none */
+    if (f.rows != rows || (rows > 0 && start != want)) {
+      std::fprintf(stderr, "granary-mpi: process %d: FFTW's slab (rows %td + %td) is not the one asked for (from %td)\n",
+                   g_rank, start, f.rows, want);
+      return 1;
+    }
+    f.rin = fftw_alloc_real((size_t)std::max<ptrdiff_t>(1, 2 * f.alloc));
+    f.cout = fftw_alloc_complex((size_t)std::max<ptrdiff_t>(1, f.alloc));
+    if (!f.rin || !f.cout) {
+      f.clear();
+      return 1;
+    }
+    f.plan = fftw_mpi_plan_many_dft_r2c(dim, f.n, 1, (ptrdiff_t)block, (ptrdiff_t)block, f.rin, f.cout, MPI_COMM_WORLD,
+                                        FFTW_ESTIMATE);
+    if (!f.plan) {
+      f.clear();
+      return 1;
+    }
+    f.dim = dim;
+    f.block = (ptrdiff_t)block;
+  }
+  /* rows of the real field: the last axis padded to 2 (n / 2 + 1) */
+  const ptrdiff_t nl = f.n[dim - 1], nh = nl / 2 + 1, mid = dim == 3 ? f.n[1] : 1;
+  for (ptrdiff_t r = 0; r < f.rows * mid; ++r) std::memcpy(f.rin + r * 2 * nh, in + r * nl, (size_t)nl * sizeof(double));
+  fftw_execute(f.plan);
+  if (f.rows > 0) std::memcpy(out, f.cout, (size_t)(f.rows * mid * nh) * sizeof(fftw_complex)); /* none: out may be NULL */
+  return 0;
+}
+#endif
+
 srd_bricks_comm g_bricks;
 
 int bcast(void *, std::string *b) {
+  const char *what = "a broadcast of the run driver";
+  const int peer = g_rank == 0 ? -1 : 0;
   int64_t n = (int64_t)b->size();
-  if (MPI_Bcast(&n, 1, MPI_INT64_T, 0, MPI_COMM_WORLD) != MPI_SUCCESS) return 1;
+  MPI_Request req = MPI_REQUEST_NULL;
+  if (MPI_Ibcast(&n, 1, MPI_INT64_T, 0, MPI_COMM_WORLD, &req) != MPI_SUCCESS || wait_for(&req, what, peer)) return 1;
   b->resize((size_t)n);
   for (size_t at = 0; at < b->size(); at += kPiece)
-    if (MPI_Bcast(&(*b)[at], (int)std::min(kPiece, b->size() - at), MPI_BYTE, 0, MPI_COMM_WORLD) != MPI_SUCCESS) return 1;
+    if (MPI_Ibcast(&(*b)[at], (int)std::min(kPiece, b->size() - at), MPI_BYTE, 0, MPI_COMM_WORLD, &req) != MPI_SUCCESS ||
+        wait_for(&req, what, peer))
+      return 1;
   return 0;
 }
 }  // namespace
@@ -227,10 +320,19 @@ int cli_mpi_init(int *argc, char ***argv) {
   g_bricks.size = g_size;
   g_bricks.round = bricks_round;
   g_bricks.allreduce = bricks_allreduce;
+#ifdef GRAN_HAVE_FFTW_MPI
+  g_bricks.fft_r2c = bricks_fft;
+#endif
   return 0;
 }
 
-void cli_mpi_finalize(void) { MPI_Finalize(); }
+void cli_mpi_finalize(void) {
+#ifdef GRAN_HAVE_FFTW_MPI
+  g_fft.clear();
+  if (g_fftw_mpi) fftw_mpi_cleanup();
+#endif
+  MPI_Finalize();
+}
 
 const srd_bricks_comm *cli_mpi_bricks_comm(void) { return &g_bricks; }
 

@@ -59,6 +59,11 @@ void run_usage(FILE *f) {
                "  --threads N                threads for the replicas (default: OMP_NUM_THREADS or all cores)\n"
                "  --resume CHECKPOINT        continue a run from its checkpoint, bit for bit\n"
                "  --stop-after-checkpoints N stop after writing N checkpoints (for testing resume)\n"
+               "  --timeout S                (granary-mpi) the longest one process waits for another in one gather\n"
+               "                             or broadcast of the replicas before it stops every process, naming\n"
+               "                             the one it waits for (default 0: no limit; set it above the steps\n"
+               "                             of the slowest replica between two output times and rank 0's\n"
+               "                             writing of a checkpoint)\n"
                "  -q, --quiet                no progress line, no summary table (the log keeps both)\n"
                "  --verbose                  error messages name the library function and source line\n"
                "  -h, --help                 this text\n"
@@ -540,6 +545,7 @@ int cli_run(int argc, char **argv) {
   const char *scene_path = nullptr, *output = nullptr, *checkpoint = nullptr, *resume = nullptr, *log_opt = nullptr;
   bool quiet = false, no_ckpt = false, force = false, no_log = false;
   long long stop_after = 0, replicas = 0, threads = -1, log_every = 0;
+  double timeout = 0.0; /* granary-mpi: seconds one process waits in a gather or broadcast; 0: no limit */
   std::vector<std::pair<std::string, std::string>> sets; /* --set KEY=VALUE, in order */
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -607,6 +613,15 @@ int cli_run(int argc, char **argv) {
       if (!(resume = need(a))) return 2;
     } else if (!std::strcmp(a, "--quiet") || !std::strcmp(a, "-q")) {
       quiet = true;
+    } else if (!std::strcmp(a, "--timeout")) {
+      const char *v = need(a);
+      if (!v) return 2;
+      char *end = nullptr;
+      timeout = std::strtod(v, &end);
+      if (end == v || *end || !(timeout >= 0.0 && timeout <= 1e7)) {
+        std::fprintf(stderr, "granary run: --timeout '%s': expected seconds in [0, 1e7] (0: no limit)\n", v);
+        return 2;
+      }
     } else if (!std::strcmp(a, "--stop-after-checkpoints")) {
       const char *v = need(a);
       if (!v) return 2;
@@ -650,6 +665,7 @@ int cli_run(int argc, char **argv) {
     return 2;
   }
   if (threads >= 0 && gran_set_threads((int32_t)threads)) return fail("--threads");
+  cli_mpi_set_timeout(timeout);
   /* several processes (build/granary-mpi under mpirun): rank 0 alone prints progress and results,
    * and every decision that ends the run early is taken by all processes together */
   const bool root = cli_mpi_rank() == 0;

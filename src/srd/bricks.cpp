@@ -1647,3 +1647,136 @@ void srd_bricks_close_(srd_bricks_state **st) {
   delete *st;
   *st = nullptr;
 }
+
+/* ---- S(k) of a split gas ---- */
+static_assert(std::is_trivially_copyable<srd_sk_bin>::value, "the shells are all-reduced as bytes");
+
+int srd_bricks_structure_factor_(srd_bricks_state *st, int64_t nbins, double *k, double *sk, int64_t *count) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(st);
+    GRAN_CHECK_PTR(k);
+    GRAN_CHECK_PTR_AS(sk, s);
+    GRAN_CHECK_PTR(count);
+    const gran_srd *sh = st->shell.get();
+    const gran_srd_options &o = sh->opt;
+    GRAN_CHECK(o.wall_axis < 0, GRAN_ERR_ARG, "S(k) needs a periodic box (no walls)");
+    GRAN_CHECK(nbins >= 1 && nbins <= SRD_BRICKS_SK_MAX_BINS, GRAN_ERR_ARG,
+               "argument 'nbins' of a split gas's S(k) must be in [1, %d] (got %lld)", SRD_BRICKS_SK_MAX_BINS,
+               (long long)nbins);
+    const bool over = st->over_comm;
+    GRAN_CHECK(!over || st->comm.fft_r2c, GRAN_ERR_ARG,
+               "S(k) of a gas split over %d processes needs a distributed FFT, and this process group has none "
+               "(build/granary-mpi built without FFTW's MPI interface: install Debian libfftw3-mpi-dev and rebuild)",
+               st->comm.size);
+    const int d = o.dim;
+    const srd_sk_geom g = srd_sk_geom_of(sh, nbins);
+    const int64_t L[3] = {g.n0, g.n1, g.n2};
+    const int64_t N = sh->n; /* conserved: the count the creation drew */
+    /* the transform's slabs: rows of the last axis (the first of the row-major layout) */
+    const int64_t nA = L[d - 1], plane = d == 3 ? L[0] * L[1] : L[0];
+    const int P = over ? st->comm.size : 1, me = over ? st->comm.rank : 0;
+    const int64_t blk = (nA + P - 1) / P;
+    const int64_t r0 = std::min(nA, (int64_t)me * blk), r1 = std::min(nA, (int64_t)(me + 1) * blk);
+    std::vector<double> slab((size_t)((r1 - r0) * plane), 0.0);
+    srd_geom g0 = sh->gm; /* the unshifted lattice, as gran_srd_structure_factor bins it */
+    g0.le_on = 0;
+    const double zero[3] = {0, 0, 0};
+    const bool d3 = d == 3;
+    if (!over) {
+      for (const Brick &B : st->bs)
+        for (size_t i = 0; i < B.x.size(); ++i) {
+          if (!B.dest.empty() && B.dest[i] >= 0) continue; /* a hole */
+          const double p[3] = {B.x[i], B.y[i], d3 ? B.z[i] : 0.0};
+          double dvx;
+          slab[(size_t)srd_bin(&g0, zero, p, &dvx)] += 1.0;
+        }
+    } else {
+      /* the brick's particles lie in the unshifted cells of its window widened by one cell per
+       * axis (dense counts); the rest (across the Lees-Edwards boundary) are listed */
+      const Brick &B = st->bs[0];
+      int64_t W[3] = {1, 1, 1}, lo[3] = {0, 0, 0};
+      for (int a = 0; a < d; ++a) {
+        W[a] = std::min(L[a], B.w[a] + 2);
+        lo[a] = (B.lo[a] - 1 + L[a]) % L[a];
+      }
+      std::vector<int64_t> dense((size_t)(W[0] * W[1] * W[2]), 0), extra;
+      for (size_t i = 0; i < B.x.size(); ++i) {
+        if (!B.dest.empty() && B.dest[i] >= 0) continue;
+        const double p[3] = {B.x[i], B.y[i], d3 ? B.z[i] : 0.0};
+        int64_t c[3];
+        double dvx;
+        srd_bin3(&g0, zero, p, c, &dvx);
+        int64_t r[3] = {0, 0, 0};
+        bool in = true;
+        for (int a = 0; a < d; ++a) {
+          r[a] = (c[a] - lo[a] + L[a]) % L[a];
+          in = in && r[a] < W[a];
+        }
+        if (in) ++dense[(size_t)(r[0] + W[0] * (r[1] + W[1] * r[2]))];
+        else extra.push_back(c[0] + L[0] * (c[1] + L[1] * c[2]));
+      }
+      std::vector<std::vector<double>> out((size_t)P), got((size_t)P);
+      auto emit = [&](int64_t gc, int64_t n) {
+        const int to = (int)((gc / plane) / blk);
+        if (to == me) slab[(size_t)(gc - r0 * plane)] += (double)n;
+        else {
+          out[(size_t)to].push_back(word_of((uint64_t)gc));
+          out[(size_t)to].push_back(word_of((uint64_t)n));
+        }
+      };
+      for (int64_t r2 = 0; r2 < W[2]; ++r2)
+        for (int64_t r1_ = 0; r1_ < W[1]; ++r1_)
+          for (int64_t q = 0; q < W[0]; ++q) {
+            const int64_t n = dense[(size_t)(q + W[0] * (r1_ + W[1] * r2))];
+            if (!n) continue;
+            const int64_t c0 = (lo[0] + q) % L[0], c1 = (lo[1] + r1_) % L[1], c2 = (lo[2] + r2) % L[2];
+            emit(c0 + L[0] * (c1 + L[1] * c2), n);
+          }
+      std::sort(extra.begin(), extra.end());
+      for (size_t i = 0; i < extra.size();) {
+        size_t j = i;
+        while (j < extra.size() && extra[j] == extra[i]) ++j;
+        emit(extra[i], (int64_t)(j - i));
+        i = j;
+      }
+      GRAN_CHECK(st->comm.round(st->comm.ctx, out, got) == 0, GRAN_ERR_IO,
+                 "decomposed GSRD run: the exchange of the cell counts for S(k) failed on process %d", me);
+      for (int p = 0; p < P; ++p) {
+        const std::vector<double> &m = got[(size_t)p];
+        GRAN_CHECK(m.size() % 2 == 0, GRAN_ERR_IO, "S(k): process %d sent process %d a cut message of cell counts", p,
+                   me);
+        for (size_t i = 0; i < m.size(); i += 2) {
+          const int64_t gc = (int64_t)key_of(m[i]), n = (int64_t)key_of(m[i + 1]);
+          GRAN_CHECK(gc >= r0 * plane && gc < r1 * plane && n > 0, GRAN_ERR_IO,
+                     "S(k): process %d sent process %d the count of cell %lld, not one of its slab", p, me,
+                     (long long)gc);
+          slab[(size_t)(gc - r0 * plane)] += (double)n;
+        }
+      }
+    }
+    /* the power of this process's rows of the half spectrum */
+    std::vector<double> power;
+    if (!over) {
+      GRAN_CALL(srd_sk_power(sh, N, slab.data(), power));
+    } else {
+      const double mean = (double)N / (double)sh->ncell_box;
+      for (double &c : slab) c -= mean;
+      const int64_t rowc = (d3 ? L[1] : 1) * g.nh; /* complex values per row */
+      std::vector<double> z((size_t)(2 * (r1 - r0) * rowc));
+      const int64_t nd[3] = {d3 ? L[2] : L[1], d3 ? L[1] : L[0], d3 ? L[0] : 1};
+      GRAN_CHECK(st->comm.fft_r2c(st->comm.ctx, d, nd, blk, slab.data(), z.data()) == 0, GRAN_ERR_IO,
+                 "decomposed GSRD run: the distributed FFT of S(k) failed on process %d", me);
+      power.resize(z.size() / 2);
+      for (size_t q = 0; q < power.size(); ++q) power[q] = srd_sk_mode_power(z[2 * q], z[2 * q + 1], N);
+    }
+    std::vector<srd_sk_bin> bins = srd_sk_bins(nbins);
+    srd_sk_bins_add(g, power.data(), r0, r1, bins.data());
+    if (over)
+      GRAN_CHECK(st->comm.allreduce(st->comm.ctx, bins.data(), sizeof(srd_sk_bin), bins.size(),
+                                    &merge_bytes<srd_sk_bin>) == 0,
+                 GRAN_ERR_IO, "decomposed GSRD run: the all-reduce of S(k)'s shells failed on process %d", me);
+    srd_sk_bins_out(bins.data(), nbins, k, sk, count);
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}

@@ -83,6 +83,31 @@ void srd_bricks_digest_(const srd_bricks_out *o, int dim, uint64_t *particles, u
  * GRAN_ERR_ARG when P exceeds the cells. */
 int srd_bricks_auto_(const gran_srd_options *opt, int P, int pgrid[3]);
 
+/* A split gas held by this process: with comm (the process group below, C++ only; NULL from C) of
+ * size P > 1 its one brick (comm->rank of the pgrid split, whose product must be P); with comm NULL
+ * or of size 1 every brick of the split, stepped one after the other in this process. Open draws the bricks' particles (the creation by
+ * cells); step advances every brick nsteps (collective); report fills *out (collective: the gas's
+ * values the same on every process; also the temperature, sum |v - P/N|^2 / (d N)); close
+ * releases it. GRAN_ERR_ARG naming a bad option or pgrid entry (creation must be
+ * GRAN_SRD_CREATE_CELLS, the device the CPU); an error of the transport is GRAN_ERR_IO. */
+struct srd_bricks_comm;
+typedef struct srd_bricks_state srd_bricks_state;
+int srd_bricks_open_(const gran_srd_options *opt, const int pgrid[3], const struct srd_bricks_comm *comm,
+                     srd_bricks_state **out);
+int srd_bricks_step_(srd_bricks_state *st, int64_t nsteps);
+int srd_bricks_report_(srd_bricks_state *st, srd_bricks_rank_out *out);
+/* S(k) of the split gas (collective; the same on every process): gran_srd_structure_factor's shells
+ * of the unshifted cell counts. The counts go to the process holding their slab of the transform
+ * (rows of the last axis, in blocks of ceil(L / P)); over a process group of P > 1 the group's
+ * fft_r2c transforms them, else FFTW in this process; each shell's sums are exact, as the serial
+ * engine's (srd_sk_bin). So in one process the result is gran_srd_structure_factor's bit for bit,
+ * for every split; over processes it differs only where the distributed transform rounds unlike
+ * the serial one. A periodic box only; 1 <= nbins <= SRD_BRICKS_SK_MAX_BINS. GRAN_ERR_ARG naming
+ * what was wrong. */
+#define SRD_BRICKS_SK_MAX_BINS 4096
+int srd_bricks_structure_factor_(srd_bricks_state *st, int64_t nbins, double *k, double *sk, int64_t *count);
+void srd_bricks_close_(srd_bricks_state **st);
+
 #ifdef __cplusplus
 }
 #include <string>
@@ -103,21 +128,14 @@ struct srd_bricks_comm {
    * merge(inout, in), commutative and associative (an exact sum: any order gives the same bytes) */
   int (*allreduce)(void *ctx, void *buf, size_t elem_bytes, size_t count,
                    void (*merge)(void *inout, const void *in)) = nullptr;
+  /* the forward real-to-complex DFT (FFTW's sign, not normalised) of a real field of rank dim
+   * (2 or 3), n[0] x .. x n[dim - 1] row-major (the last index fastest), distributed along n[0] in
+   * blocks of `block` rows (process p holds rows [p block, (p + 1) block) clipped to n[0]): in holds
+   * this process's rows unpadded, out receives the same rows of the half spectrum (the last axis
+   * n[dim - 1] / 2 + 1 long), re and im interleaved. NULL: the group has none (S(k) of a gas split
+   * over processes is then refused). */
+  int (*fft_r2c)(void *ctx, int dim, const int64_t n[3], int64_t block, const double *in, double *out) = nullptr;
 };
-
-/* A split gas held by this process: with comm of size P > 1 its one brick (comm->rank of the
- * pgrid split, whose product must be P); with comm NULL or of size 1 every brick of the split,
- * stepped one after the other in this process. Open draws the bricks' particles (the creation by
- * cells); step advances every brick nsteps (collective); report fills *out (collective: the gas's
- * values the same on every process; also the temperature, sum |v - P/N|^2 / (d N)); close
- * releases it. GRAN_ERR_ARG naming a bad option or pgrid entry (creation must be
- * GRAN_SRD_CREATE_CELLS, the device the CPU); an error of the transport is GRAN_ERR_IO. */
-struct srd_bricks_state;
-int srd_bricks_open_(const gran_srd_options *opt, const int pgrid[3], const srd_bricks_comm *comm,
-                     srd_bricks_state **out);
-int srd_bricks_step_(srd_bricks_state *st, int64_t nsteps);
-int srd_bricks_report_(srd_bricks_state *st, srd_bricks_rank_out *out);
-void srd_bricks_close_(srd_bricks_state **st);
 
 /* gran_srd_advance of the decomposable engine: steps s as one brick (engine.cpp calls it) */
 int srd_bricks_advance_(gran_srd *s, int64_t steps);

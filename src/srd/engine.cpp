@@ -852,10 +852,11 @@ GRAN_EXTERN int gran_srd_particles(gran_srd *s, int64_t *n, double **x, double *
   return GRAN_SUCCESS;
 }
 
-/* S(k), step 1: the power |FFT(n - <n>)|^2 / N of the unshifted cell counts (FFTW r2c; layout
- * row-major (n2, n1, n0/2 + 1), the last index fastest). Shared by the CPU engine and the host
- * reference of the device algorithm (the GPU computes the same power with cuFFT). */
-int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &power) {
+/* S(k), step 1: the power |FFT(n - <n>)|^2 / N of the unshifted cell counts of N particles (FFTW
+ * r2c; layout row-major (n2, n1, n0/2 + 1), the last index fastest). Shared by the CPU engine, the
+ * host reference of the device algorithm (the GPU computes the same power with cuFFT) and a split
+ * gas held in one process. */
+int srd_sk_power(const gran_srd *s, int64_t N, const double *counts, std::vector<double> &power) {
   const int d = s->opt.dim;
   const int n0 = (int)s->gm.L[0], n1 = (int)s->gm.L[1], n2 = d == 3 ? (int)s->gm.L[2] : 1;
   const int nh = n0 / 2 + 1;
@@ -873,11 +874,11 @@ int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &p
     if (d == 3) plan = fftw_plan_dft_r2c_3d(n2, n1, n0, in, out, FFTW_ESTIMATE);
     else plan = fftw_plan_dft_r2c_2d(n1, n0, in, out, FFTW_ESTIMATE);
   }
-  const double mean = (double)s->n / (double)s->ncell_box;
+  const double mean = (double)N / (double)s->ncell_box;
   for (int64_t c = 0; c < s->ncell_box; ++c) in[c] = counts[c] - mean;
   fftw_execute(plan);
   power.resize((size_t)ncplx);
-  for (int64_t q = 0; q < ncplx; ++q) power[(size_t)q] = (out[q][0] * out[q][0] + out[q][1] * out[q][1]) / (double)s->n;
+  for (int64_t q = 0; q < ncplx; ++q) power[(size_t)q] = srd_sk_mode_power(out[q][0], out[q][1], N);
   {
     std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
     fftw_destroy_plan(plan);
@@ -887,42 +888,65 @@ int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &p
   return GRAN_SUCCESS;
 }
 
-/* S(k), step 2: radial average of the half-spectrum power in nbins shells of |k| up to
- * sqrt(d) pi / a, k = 0 left out; modes 0 < i0 < n0/2 stand for two (their conjugates). */
-void srd_sk_shells(const gran_srd *s, const double *power, int64_t nbins, double *k, double *sk, int64_t *count) {
-  const int d = s->opt.dim;
-  const int n0 = (int)s->gm.L[0], n1 = (int)s->gm.L[1], n2 = d == 3 ? (int)s->gm.L[2] : 1;
-  const int nh = n0 / 2 + 1;
+srd_sk_geom srd_sk_geom_of(const gran_srd *s, int64_t nbins) {
+  srd_sk_geom g;
+  g.dim = s->opt.dim;
+  g.n0 = (int)s->gm.L[0];
+  g.n1 = (int)s->gm.L[1];
+  g.n2 = g.dim == 3 ? (int)s->gm.L[2] : 1;
+  g.nh = g.n0 / 2 + 1;
+  for (int q = 0; q < 3; ++q) g.box[q] = s->gm.box[q];
   double kmax = 0;
-  for (int q = 0; q < d; ++q) kmax += std::pow(M_PI / s->opt.a, 2);
-  kmax = std::sqrt(kmax);
-  const double w = kmax / (double)nbins;
-  for (int64_t b = 0; b < nbins; ++b) {
-    k[b] = 0;
-    sk[b] = 0;
-    count[b] = 0;
+  for (int q = 0; q < g.dim; ++q) kmax += std::pow(M_PI / s->opt.a, 2);
+  g.w = std::sqrt(kmax) / (double)nbins;
+  g.nbins = nbins;
+  return g;
+}
+
+std::vector<srd_sk_bin> srd_sk_bins(int64_t nbins) {
+  std::vector<srd_sk_bin> bins((size_t)nbins);
+  for (srd_sk_bin &q : bins) {
+    gran_exactsum_init_(&q.k);
+    gran_exactsum_init_(&q.s);
+    q.count = 0;
   }
-  for (int i2 = 0; i2 < n2; ++i2)
-    for (int i1 = 0; i1 < n1; ++i1)
-      for (int i0 = 0; i0 < nh; ++i0) {
-        if (i0 == 0 && i1 == 0 && i2 == 0) continue;
-        const int m1 = i1 <= n1 / 2 ? i1 : i1 - n1, m2 = i2 <= n2 / 2 ? i2 : i2 - n2;
-        const double kx = 2 * M_PI * i0 / s->gm.box[0], ky = 2 * M_PI * m1 / s->gm.box[1],
-                     kz = d == 3 ? 2 * M_PI * m2 / s->gm.box[2] : 0.0;
-        const double kk = std::sqrt(kx * kx + ky * ky + kz * kz);
-        int64_t b = (int64_t)(kk / w);
-        if (b >= nbins) b = nbins - 1;
-        const double p = power[((int64_t)i2 * n1 + i1) * nh + i0];
-        const int mult = (i0 == 0 || (n0 % 2 == 0 && i0 == n0 / 2)) ? 1 : 2;
-        k[b] += mult * kk;
-        sk[b] += mult * p;
-        count[b] += mult;
+  return bins;
+}
+
+void srd_sk_bins_add(const srd_sk_geom &g, const double *power, int64_t r0, int64_t r1, srd_sk_bin *bins) {
+  const bool d3 = g.dim == 3;
+  const int64_t inner = d3 ? g.n1 : 1;
+  for (int64_t row = r0; row < r1; ++row)
+    for (int64_t i1 = 0; i1 < inner; ++i1)
+      for (int i0 = 0; i0 < g.nh; ++i0) {
+        int64_t b;
+        double kk;
+        int mult;
+        if (!srd_sk_mode(g, i0, d3 ? (int)i1 : (int)row, d3 ? (int)row : 0, &b, &kk, &mult)) continue;
+        const double p = power[((row - r0) * inner + i1) * g.nh + i0];
+        gran_exactsum_add_(&bins[b].k, mult * kk);
+        gran_exactsum_add_(&bins[b].s, mult * p);
+        bins[b].count += mult;
       }
-  for (int64_t b = 0; b < nbins; ++b)
-    if (count[b] > 0) {
-      k[b] /= (double)count[b];
-      sk[b] /= (double)count[b];
-    }
+}
+
+void srd_sk_bins_out(srd_sk_bin *bins, int64_t nbins, double *k, double *sk, int64_t *count) {
+  for (int64_t b = 0; b < nbins; ++b) {
+    srd_sk_bin &q = bins[b];
+    count[b] = q.count;
+    k[b] = q.count > 0 ? gran_exactsum_value_(&q.k) / (double)q.count : 0.0;
+    sk[b] = q.count > 0 ? gran_exactsum_value_(&q.s) / (double)q.count : 0.0;
+  }
+}
+
+/* S(k), step 2: radial average of the half-spectrum power in nbins shells of |k| up to
+ * sqrt(d) pi / a, k = 0 left out; modes 0 < i0 < n0/2 stand for two (their conjugates); the
+ * shells' sums exact (srd_sk_bin). */
+void srd_sk_shells(const gran_srd *s, const double *power, int64_t nbins, double *k, double *sk, int64_t *count) {
+  const srd_sk_geom g = srd_sk_geom_of(s, nbins);
+  std::vector<srd_sk_bin> bins = srd_sk_bins(nbins);
+  srd_sk_bins_add(g, power, 0, g.dim == 3 ? g.n2 : g.n1, bins.data());
+  srd_sk_bins_out(bins.data(), nbins, k, sk, count);
 }
 
 /* cell counts and mean velocities of the unshifted lattice (serial, particle order) */
@@ -1122,7 +1146,7 @@ GRAN_EXTERN int gran_srd_structure_factor(gran_srd *s, int64_t nbins, double *k,
     std::vector<double> V, Q;
     unshifted_cells(s, cnt, V, Q);
     std::vector<double> counts(cnt.begin(), cnt.end()), power;
-    GRAN_CALL(srd_sk_power(s, counts.data(), power));
+    GRAN_CALL(srd_sk_power(s, s->n, counts.data(), power));
     srd_sk_shells(s, power.data(), nbins, k, sk, count);
     return GRAN_SUCCESS;
   }

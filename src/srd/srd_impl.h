@@ -4,9 +4,11 @@
 
 #include "granary_impl.h"
 #include "srd/srd_kernels.h"
+#include "core/exactsum.h"
 #include "srd/device_cuda.h" /* device hook (owner: CUDA backend) */
 
 #include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <cstdlib>
 #include <memory>
@@ -107,9 +109,49 @@ inline void srd_refs_set(gran_srd *s, const double *in) {
 #define SRD_CHUNK 512 /* particles whose cells are computed ahead of their use (stack buffers) */
 
 /* S(k) of the unshifted cell counts (engine.cpp): the half-spectrum power |FFT(n - <n>)|^2 / N
- * (FFTW), and its radial average in shells; the CPU engine and the devices share both. */
-int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &power);
+ * (FFTW) of N particles, and its radial average in shells; the CPU engine, the devices and a split
+ * gas (bricks.cpp) share them. */
+int srd_sk_power(const gran_srd *s, int64_t N, const double *counts, std::vector<double> &power);
 void srd_sk_shells(const gran_srd *s, const double *power, int64_t nbins, double *k, double *sk, int64_t *count);
+/* the half spectrum's geometry (row-major n2 x n1 x nh, nh = n0 / 2 + 1; n2 = 1 in 2-D) and the
+ * shells' width w = sqrt(d) pi / (a nbins) */
+struct srd_sk_geom {
+  int dim, n0, n1, n2, nh;
+  double box[3], w;
+  int64_t nbins;
+};
+srd_sk_geom srd_sk_geom_of(const gran_srd *s, int64_t nbins);
+/* The shells' sums: exact (core/exactsum.h), so that they do not depend on the order of the modes or
+ * on which process holds which: the serial engine, the devices and a split gas on any number of
+ * processes add the same numbers into the same bits. */
+struct srd_sk_bin {
+  gran_exactsum k, s; /* sums of mult |k| and mult S over the shell's modes */
+  int64_t count;      /* sum of mult */
+  void merge(const srd_sk_bin &o) {
+    gran_exactsum_merge_(&k, &o.k);
+    gran_exactsum_merge_(&s, &o.s);
+    count += o.count;
+  }
+};
+std::vector<srd_sk_bin> srd_sk_bins(int64_t nbins);
+/* adds the modes of rows [r0, r1) of the last axis (i2 in 3-D, i1 in 2-D); power holds those rows */
+void srd_sk_bins_add(const srd_sk_geom &g, const double *power, int64_t r0, int64_t r1, srd_sk_bin *bins);
+/* the shells' mean |k| and S (0 for an empty shell) and their mode counts */
+void srd_sk_bins_out(srd_sk_bin *bins, int64_t nbins, double *k, double *sk, int64_t *count);
+/* One mode of the half spectrum: its power from the transform's (re, im), and its shell b, |k| and
+ * multiplicity (2 for 0 < i0 < n0 / 2: it stands for its conjugate too); false for k = 0. */
+inline double srd_sk_mode_power(double re, double im, int64_t N) { return (re * re + im * im) / (double)N; }
+inline bool srd_sk_mode(const srd_sk_geom &g, int i0, int i1, int i2, int64_t *b, double *kk, int *mult) {
+  if (i0 == 0 && i1 == 0 && i2 == 0) return false;
+  const int m1 = i1 <= g.n1 / 2 ? i1 : i1 - g.n1, m2 = i2 <= g.n2 / 2 ? i2 : i2 - g.n2;
+  const double kx = 2 * M_PI * i0 / g.box[0], ky = 2 * M_PI * m1 / g.box[1],
+               kz = g.dim == 3 ? 2 * M_PI * m2 / g.box[2] : 0.0;
+  *kk = std::sqrt(kx * kx + ky * ky + kz * kz);
+  *b = (int64_t)(*kk / g.w);
+  if (*b >= g.nbins) *b = g.nbins - 1;
+  *mult = (i0 == 0 || (g.n0 % 2 == 0 && i0 == g.n0 / 2)) ? 1 : 2;
+  return true;
+}
 
 /* GRAN_SRD_PHASES=1 in the environment (read once): the step loops time their phases and print them
  * to stderr; srd_clock_s is their clock (seconds, monotonic). */
