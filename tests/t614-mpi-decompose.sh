@@ -216,7 +216,7 @@ python3 -c "import json,sys; r=json.load(open(sys.argv[1])); b=r['bricks']; sys.
 cp "$tmp/periodic3.toml" "$tmp/kill.toml"
 ( if mpi 2 decompose "$tmp/kill.toml" --steps 100000000 > "$tmp/kill.out" 2> "$tmp/kill.err"; then echo 0; else echo $?; fi \
     > "$tmp/kill.rc" ) &
-victim=$(rank1_pid "decompose $tmp/kill.toml")
+victim=$(second_rank "decompose $tmp/kill.toml")
 t0=$(date +%s)
 [ -n "$victim" ] && kill -9 "$victim"
 wait
@@ -233,7 +233,7 @@ cp "$tmp/periodic3.toml" "$tmp/hang.toml"
 ( if mpi 2 decompose "$tmp/hang.toml" --steps 100000000 --timeout 2 --progress 0.01 > "$tmp/hang.out" 2> "$tmp/hang.err";
   then echo 0; else echo $?; fi > "$tmp/hang.rc" ) &
 runner=$!
-victim=$(rank1_pid "decompose $tmp/hang.toml")
+victim=$(second_rank "decompose $tmp/hang.toml")
 # the steps have begun (a progress line), so the stopped process stops the others in an exchange (a process
 # stopped inside MPI_Init would hold the others there, where no timeout reaches)
 for i in $(seq 1 300); do grep -q "granary decompose: step" "$tmp/hang.err" 2>/dev/null && break; sleep 0.1; done
