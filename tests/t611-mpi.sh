@@ -124,12 +124,7 @@ echo "ok: unwritable output on rank 0 ends all 3 processes, message printed once
       --set engine.t_end=1e5 --set 'observables.times={linear = {start = 1, stop = 1e5, n = 10000}}' > hang.out 2> hang.err;
   then echo 0; else echo $?; fi > hang.rc ) &
 runner=$!
-second_rank "run ens.toml -o hang.h5" > /dev/null
-victim=""
-for p in $(pgrep -f "run ens.toml -o hang.h5" || true); do
-  [ "$(cat /proc/$p/comm 2>/dev/null || true)" = granary-mpi ] &&
-    tr '\0' '\n' < /proc/$p/environ 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=1" && victim=$p
-done
+victim=$(rank1_pid "run ens.toml -o hang.h5")
 t0=$(date +%s)
 [ -n "$victim" ] && kill -STOP "$victim"
 ( sleep 60; kill -9 "$victim" 2>/dev/null ) & # a missing timeout fails the test instead of hanging it

@@ -22,9 +22,13 @@ void cli_mpi_stats(long long *steps, long long *bytes); /* gathers, and bytes ra
  * build/granary-mpi, one process in build/granary */
 const struct srd_bricks_comm *cli_mpi_bricks_comm(void);
 void cli_mpi_abort(int code); /* stops every process (build/granary: nothing) */
-/* the longest one process waits in one exchange or reduction of a decomposed run before it stops every
- * process, naming the process that does not answer where it can (0: no limit; default 600 s) */
+/* the longest one process waits in one exchange, reduction or distributed transform of a decomposed
+ * run, or in one gather or broadcast of the replicas, before it stops every process, naming the
+ * process that does not answer where it can; a wait stuck inside MPI is ended by a watchdog thread a
+ * second later (0: no limit; default 600 s, which `granary run` sets to its --timeout, 0 unless given) */
 void cli_mpi_set_timeout(double seconds);
+/* an option's value as seconds in [0, 1e7], the whole string a number (main.cpp): 1, else 0 */
+int cli_seconds(const char *v, double *out);
 
 int cli_info(int argc, char **argv);
 int cli_run(int argc, char **argv);

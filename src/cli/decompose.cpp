@@ -137,18 +137,15 @@ int cli_decompose(int argc, char **argv) {
     } else if (!std::strcmp(a, "--progress")) {
       const char *v = value(a);
       if (!v) return 2;
-      char *end = nullptr;
-      progress = std::strtod(v, &end);
-      if (end == v || *end || !(progress >= 0.0 && progress <= 1e7)) {
+      if (!cli_seconds(v, &progress)) {
         if (root) std::fprintf(stderr, "granary decompose: --progress '%s': expected seconds in [0, 1e7] (0: none)\n", v);
         return 2;
       }
     } else if (!std::strcmp(a, "--timeout")) {
       const char *v = value(a);
       if (!v) return 2;
-      char *end = nullptr;
-      const double sec = std::strtod(v, &end);
-      if (end == v || *end || !(sec >= 0.0 && sec <= 1e7)) {
+      double sec = 0;
+      if (!cli_seconds(v, &sec)) {
         if (root) std::fprintf(stderr, "granary decompose: --timeout '%s': expected seconds in [0, 1e7] (0: no limit)\n", v);
         return 2;
       }
@@ -293,18 +290,16 @@ int cli_decompose(int argc, char **argv) {
   std::memset(&r, 0, sizeof r);
   std::vector<srd_bricks_rank_out> rows; /* every `every` steps, and the start */
   struct Sk {
+    explicit Sk(long long n = 0) : k((size_t)n), s((size_t)n), count((size_t)n) {}
     std::vector<double> k, s;
     std::vector<int64_t> count;
   };
   std::vector<Sk> row_sk; /* with --sk: S(k) at each row */
-  Sk sk_end;
+  Sk sk_end(sk_bins);
   double sk_seconds = 0; /* the slowest S(k) of process 0 */
   {
     srd_bricks_state *st = nullptr;
     auto structure = [&](Sk &q) -> int {
-      q.k.resize((size_t)sk_bins);
-      q.s.resize((size_t)sk_bins);
-      q.count.resize((size_t)sk_bins);
       const double c0 = cli_clock_s();
       const int e = srd_bricks_structure_factor_(st, sk_bins, q.k.data(), q.s.data(), q.count.data());
       sk_seconds = std::max(sk_seconds, cli_clock_s() - c0);
@@ -314,7 +309,7 @@ int cli_decompose(int argc, char **argv) {
       rows.emplace_back();
       int e = srd_bricks_report_(st, &rows.back());
       if (!e && sk_bins > 0) {
-        row_sk.emplace_back();
+        row_sk.emplace_back(sk_bins);
         e = structure(row_sk.back());
       }
       return e;
@@ -365,10 +360,7 @@ int cli_decompose(int argc, char **argv) {
   if (reference) { /* the undivided decomposable engine */
     gran_srd *s = nullptr;
     if (gran_srd_create(&opt, &s)) return fail("reference");
-    Sk q; /* its S(k) */
-    q.k.resize((size_t)sk_bins);
-    q.s.resize((size_t)sk_bins);
-    q.count.resize((size_t)sk_bins);
+    Sk q(sk_bins); /* its S(k) */
     int e = gran_srd_advance(s, nsteps);
     srd_bricks_out o;
     if (!e && sk_bins > 0) e = gran_srd_structure_factor(s, sk_bins, q.k.data(), q.s.data(), q.count.data());

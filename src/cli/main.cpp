@@ -1,5 +1,6 @@
 /* main.cpp - the granary command-line driver: subcommand dispatch. */
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "cli.h"
@@ -15,6 +16,14 @@ const char *cli_error(void) {
   else
     std::snprintf(buf, sizeof buf, "%s", gran_last_error_message());
   return buf;
+}
+
+int cli_seconds(const char *v, double *out) {
+  char *end = nullptr;
+  const double x = std::strtod(v, &end);
+  if (end == v || *end || !(x >= 0.0 && x <= 1e7)) return 0;
+  *out = x;
+  return 1;
 }
 
 static void usage(FILE *f) {

@@ -16,8 +16,13 @@
  * stopped answering without dying (stopped, hung, its machine gone quiet) is named where the
  * exchange knows it, and the round fails, which stops every process. With FFTW's MPI interface
  * (GRAN_HAVE_FFTW_MPI: Debian libfftw3-mpi-dev) also fft_r2c = FFTW's distributed real-to-complex
- * transform (fftw_mpi_plan_many_dft_r2c in the slabs libgranary chose, planned once per shape; its
- * collective calls block, so the timeout does not reach inside the transform). */
+ * transform (fftw_mpi_plan_many_dft_r2c in the slabs libgranary chose, planned once per shape).
+ *
+ * The polled waits cannot see a process stuck inside MPI itself: a blocking collective (FFTW's
+ * transform), or a transfer whose sender stopped halfway through its fragments. So every wait is
+ * also watched by a thread of its own (it calls no MPI): a wait that lasts a second beyond the
+ * limit is named on stderr by that thread, which ends the process (_exit(1)); mpirun then stops
+ * every other process. */
 #ifdef GRAN_MPI
 #include <mpi.h>
 #ifdef GRAN_HAVE_FFTW_MPI
@@ -25,13 +30,19 @@
 #endif
 #endif
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <climits>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli.h"
@@ -47,6 +58,75 @@ long long g_steps = 0, g_bytes = 0; /* collective gathers and bytes rank 0 recei
 #ifdef GRAN_MPI
 namespace {
 const size_t kPiece = (size_t)1 << 30;
+
+/* The wait in progress, for the watchdog thread: its start (steady clock, ns; 0: none), what it is
+ * and the process it waits for (-1: cannot tell). Set by the main thread only, one wait at a time. */
+std::atomic<long long> g_wait_t0{0};
+std::atomic<const char *> g_wait_what{nullptr};
+std::atomic<int> g_wait_peer{-1};
+std::atomic<bool> g_dog_stop{false};
+std::atomic<double> g_dog_limit{0.0};
+std::atomic<bool> g_aborting{false}; /* the polled wait has said why and called MPI_Abort */
+
+long long now_ns() {
+  return (long long)std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+/* marks the scope of one wait; nested in another (a receive inside a round), it keeps the outer
+ * one's start and names its own process while it lasts */
+struct Watched {
+  bool outer;
+  const char *what0;
+  int peer0;
+  Watched(const char *what, int peer) : outer(g_wait_t0.load() == 0), what0(g_wait_what.load()), peer0(g_wait_peer.load()) {
+    g_wait_what.store(what);
+    g_wait_peer.store(peer);
+    if (outer) g_wait_t0.store(now_ns());
+  }
+  ~Watched() {
+    if (outer) g_wait_t0.store(0);
+    g_wait_what.store(what0);
+    g_wait_peer.store(peer0);
+  }
+  Watched(const Watched &) = delete;
+  Watched &operator=(const Watched &) = delete;
+};
+
+/* why this process stops every process: one line on stderr (one write, from either thread) */
+void say_overdue(double waited, const char *what, int peer, double limit) {
+  char line[512];
+  if (peer >= 0)
+    std::snprintf(line, sizeof line,
+                  "granary-mpi: rank %d: waited %.0f s in %s for rank %d, which does not answer (stopped or hung); "
+                  "stopping every process (the limit: --timeout %g)\n",
+                  g_rank, waited, what, peer, limit);
+  else
+    std::snprintf(line, sizeof line,
+                  "granary-mpi: rank %d: waited %.0f s in %s for a process that has not reached it (stopped, hung or "
+                  "far slower); stopping every process (the limit: --timeout %g)\n",
+                  g_rank, waited, what, limit);
+  const ssize_t w = write(2, line, std::strlen(line));
+  (void)w;
+}
+
+/* the watchdog: a wait a second past the limit ends this process (no MPI call: the main thread may
+ * be inside one) */
+void watchdog() {
+  while (!g_dog_stop.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const double limit = g_dog_limit.load();
+    const long long t0 = g_wait_t0.load();
+    if (!(limit > 0.0) || t0 == 0) continue;
+    const double waited = 1e-9 * (double)(now_ns() - t0);
+    if (waited <= limit + 1.0) continue;
+    if (g_aborting.load()) _exit(1); /* MPI_Abort did not end it: the message is out already */
+    const char *what = g_wait_what.load();
+    say_overdue(waited, what ? what : "an exchange", g_wait_peer.load(), limit);
+    _exit(1);
+  }
+}
 
 int wait_for(MPI_Request *req, const char *what, int peer = -1);
 
@@ -92,35 +172,22 @@ int gather(void *, const std::string &mine, std::vector<std::string> *all) {
   return 0;
 }
 
-/* A round by the non-blocking consensus of Hoefler, Siebert and Lumsdaine (dynamic sparse data
- * exchange, PPoPP 2010): each non-empty message goes by MPI_Issend; the process receives whatever
- * MPI_Iprobe finds; once its own sends have been received it enters an MPI_Ibarrier, and the
- * round ends when the barrier completes (every process's sends received). No counts, no
- * all-to-all: a process only talks to the processes it has particles for. Rounds alternate tags,
- * so that a process one round ahead cannot be mistaken for this round's sender. */
 /* false while the wait that began at t0 is within the timeout; beyond it, says why on stderr and stops
  * every process */
 bool overdue(double t0, const char *what, int peer) {
   if (!(g_timeout > 0.0)) return false;
   const double waited = MPI_Wtime() - t0;
   if (waited <= g_timeout) return false;
-  if (peer >= 0)
-    std::fprintf(stderr,
-                 "granary-mpi: rank %d: waited %.0f s in %s for rank %d, which does not answer (stopped or hung); "
-                 "stopping every process (the limit: --timeout %g)\n",
-                 g_rank, waited, what, peer, g_timeout);
-  else
-    std::fprintf(stderr,
-                 "granary-mpi: rank %d: waited %.0f s in %s for a process that has not reached it (stopped, hung or "
-                 "far slower); stopping every process (the limit: --timeout %g)\n",
-                 g_rank, waited, what, g_timeout);
+  say_overdue(waited, what, peer, g_timeout);
   /* the others may never answer again (MPI_Finalize would wait for them too): stop here */
+  g_aborting.store(true);
   MPI_Abort(MPI_COMM_WORLD, 1);
   return true;
 }
 
 /* waits for req, at most the timeout (peer: the process it waits for, -1 when it cannot tell) */
 int wait_for(MPI_Request *req, const char *what, int peer) {
+  const Watched watched(what, peer);
   const double t0 = MPI_Wtime();
   for (;;) {
     int done = 0;
@@ -130,11 +197,18 @@ int wait_for(MPI_Request *req, const char *what, int peer) {
   }
 }
 
+/* A round by the non-blocking consensus of Hoefler, Siebert and Lumsdaine (dynamic sparse data
+ * exchange, PPoPP 2010): each non-empty message goes by MPI_Issend; the process receives whatever
+ * MPI_Improbe finds (by MPI_Imrecv); once its own sends have been received it enters an
+ * MPI_Ibarrier, and the round ends when the barrier completes (every process's sends received). No counts, no
+ * all-to-all: a process only talks to the processes it has particles for. Rounds alternate tags,
+ * so that a process one round ahead cannot be mistaken for this round's sender. */
 int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std::vector<double>> &in) {
   static int parity = 0;
   const int tag = 7 + parity;
   parity ^= 1;
   const int P = g_size;
+  const Watched watched("the particle exchange", -1);
   const double t0 = MPI_Wtime();
   std::vector<MPI_Request> sq;
   std::vector<int> dest;
@@ -153,13 +227,17 @@ int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std:
   for (;;) {
     int flag = 0;
     MPI_Status st;
-    if (MPI_Iprobe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &flag, &st) != MPI_SUCCESS) return 1;
+    MPI_Message msg = MPI_MESSAGE_NULL;
+    if (MPI_Improbe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &flag, &msg, &st) != MPI_SUCCESS) return 1;
     if (flag) {
+      /* the matched message, received without blocking: its sender may stop before its last fragment */
       int count = 0;
       if (MPI_Get_count(&st, MPI_DOUBLE, &count) != MPI_SUCCESS || count < 0) return 1;
       std::vector<double> &b = in[(size_t)st.MPI_SOURCE];
       b.resize((size_t)count);
-      if (MPI_Recv(b.data(), count, MPI_DOUBLE, st.MPI_SOURCE, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS)
+      MPI_Request rq = MPI_REQUEST_NULL;
+      if (MPI_Imrecv(b.data(), count, MPI_DOUBLE, &msg, &rq) != MPI_SUCCESS ||
+          wait_for(&rq, "the particle exchange", st.MPI_SOURCE))
         return 1;
       continue;
     }
@@ -277,7 +355,10 @@ int bricks_fft(void *, int dim, const int64_t n[3], int64_t block, const double 
   /* rows of the real field: the last axis padded to 2 (n / 2 + 1) */
   const ptrdiff_t nl = f.n[dim - 1], nh = nl / 2 + 1, mid = dim == 3 ? f.n[1] : 1;
   for (ptrdiff_t r = 0; r < f.rows * mid; ++r) std::memcpy(f.rin + r * 2 * nh, in + r * nl, (size_t)nl * sizeof(double));
-  fftw_execute(f.plan);
+  {
+    const Watched watched("FFTW's distributed transform", -1); /* its collective calls block: the watchdog's */
+    fftw_execute(f.plan);
+  }
   if (f.rows > 0) std::memcpy(out, f.cout, (size_t)(f.rows * mid * nh) * sizeof(fftw_complex)); /* none: out may be NULL */
   return 0;
 }
@@ -305,6 +386,13 @@ int cli_mpi_init(int *argc, char ***argv) {
   if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) return 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  g_dog_limit.store(g_timeout);
+  try {
+    std::thread(watchdog).detach(); /* ends with the process */
+  } catch (const std::exception &) {
+    std::fprintf(stderr, "granary-mpi: rank %d: warning: no watchdog thread (a wait held inside MPI outlasts the timeout)\n",
+                 g_rank);
+  }
   MPI_Comm node;
   if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) == MPI_SUCCESS) {
     MPI_Comm_size(node, &g_local);
@@ -327,6 +415,7 @@ int cli_mpi_init(int *argc, char ***argv) {
 }
 
 void cli_mpi_finalize(void) {
+  g_dog_stop.store(true);
 #ifdef GRAN_HAVE_FFTW_MPI
   g_fft.clear();
   if (g_fftw_mpi) fftw_mpi_cleanup();
@@ -360,10 +449,16 @@ void cli_mpi_abort(int) {}
 
 #endif
 
+void cli_mpi_set_timeout(double seconds) {
+  g_timeout = seconds;
+#ifdef GRAN_MPI
+  g_dog_limit.store(seconds);
+#endif
+}
+
 int cli_mpi_rank(void) { return g_rank; }
 int cli_mpi_size(void) { return g_size; }
 int cli_mpi_local_size(void) { return g_local; }
-void cli_mpi_set_timeout(double seconds) { g_timeout = seconds; }
 void cli_mpi_stats(long long *steps, long long *bytes) {
   *steps = g_steps;
   *bytes = g_bytes;

@@ -616,9 +616,7 @@ int cli_run(int argc, char **argv) {
     } else if (!std::strcmp(a, "--timeout")) {
       const char *v = need(a);
       if (!v) return 2;
-      char *end = nullptr;
-      timeout = std::strtod(v, &end);
-      if (end == v || *end || !(timeout >= 0.0 && timeout <= 1e7)) {
+      if (!cli_seconds(v, &timeout)) {
         std::fprintf(stderr, "granary run: --timeout '%s': expected seconds in [0, 1e7] (0: no limit)\n", v);
         return 2;
       }
