@@ -14,8 +14,9 @@
 # same on every split, close the ledger and cool the inelastic gas; particles faster than a brick per step reach bricks
 # beyond the neighbouring ones (any process may send to any); a process killed during the steps
 # ends the run on every process within 30 s, the rank named; one stopped (SIGSTOP, alive but not
-# answering) ends it after --timeout, said so, also while the others are inside FFTW's transform. Bad input: each refusal names what
-# was wrong (a split's memory beyond the machine's included).
+# answering) ends it after --timeout, said so, also while the others are inside FFTW's transform.
+# Bad input: each refusal names what was wrong (a split's memory beyond the machine's included),
+# once (a process whose error differs from rank 0's adds its own, named).
 # Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
 set -eu
 name=t614
@@ -282,8 +283,17 @@ set +e
 timeout 60 mpirun --oversubscribe -n 2 "$tmp/one-rank.sh" > "$tmp/one.out" 2> "$tmp/one.err"
 rc=$?
 set -e
-if [ $rc = 0 ] || [ $rc = 124 ] || ! grep -q "absent.toml" "$tmp/one.err"; then
-  echo "FAIL: a scene one process cannot read: exit $rc (want non-zero, not the timeout), stderr: $(cat "$tmp/one.err")"
+if [ $rc = 0 ] || [ $rc = 124 ] || ! grep -q "^process 1: granary decompose: invalid scene: .*absent.toml" "$tmp/one.err"; then
+  echo "FAIL: a scene one process cannot read: exit $rc (want non-zero, not the timeout, process 1 named), stderr: $(cat "$tmp/one.err")"
+  fail=1
+fi
+# an error every process meets before the steps is said once (by rank 0), not once per process
+set +e
+mpi 3 decompose "$tmp/absent.toml" > "$tmp/one.out" 2> "$tmp/one.err"
+rc=$?
+set -e
+if [ $rc = 0 ] || [ "$(grep -c "absent.toml" "$tmp/one.err")" != 1 ] || grep -q "^process" "$tmp/one.err"; then
+  echo "FAIL: an unreadable scene on 3 processes: exit $rc (want non-zero, the message once), stderr: $(cat "$tmp/one.err")"
   fail=1
 fi
 

@@ -2,6 +2,8 @@
  * (0 success, 1 failure reported on stderr, 2 usage error). */
 #ifndef GRANARY_CLI_H
 #define GRANARY_CLI_H
+#include <string>
+
 #include "granary.h"
 
 /* --verbose: error messages are followed by where the library detected them */
@@ -17,6 +19,7 @@ int cli_mpi_rank(void);
 int cli_mpi_size(void);
 int cli_mpi_local_size(void); /* the processes on this machine (build/granary: 1) */
 int cli_mpi_all(int ok); /* collective: 1 when every process passes ok != 0 */
+int cli_mpi_bcast(std::string *b); /* collective: rank 0's bytes to every process, waited for at most the timeout; 0 on success */
 void cli_mpi_stats(long long *steps, long long *bytes); /* gathers, and bytes rank 0 received */
 /* the process group of a decomposed GSRD run (src/srd/bricks.h): MPI_COMM_WORLD in
  * build/granary-mpi, one process in build/granary */

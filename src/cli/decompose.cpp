@@ -178,8 +178,16 @@ int cli_decompose(int argc, char **argv) {
     return 2;
   }
   const int P = cli_mpi_size();
+  /* before the steps the errors of several processes are held (pre_err) and said once below */
+  bool holding = P > 1;
+  std::string pre_err;
   auto fail = [&](const std::string &what) {
-    if (root || P > 1) std::fprintf(stderr, "granary decompose: %s: %s\n", what.c_str(), cli_error());
+    const std::string line = "granary decompose: " + what + ": " + cli_error();
+    if (holding) {
+      if (pre_err.empty()) pre_err = line;
+    } else if (root || P > 1) {
+      std::fprintf(stderr, "%s\n", line.c_str());
+    }
     return 1;
   };
   /* the scene and the split, checked on every process; all go on only if all may (an input that
@@ -285,7 +293,18 @@ int cli_decompose(int argc, char **argv) {
     return 0;
   };
   const int pre = prepare();
-  if (!cli_mpi_all(pre == 0)) return pre ? pre : 1;
+  holding = false;
+  if (!cli_mpi_all(pre == 0)) {
+    /* rank 0 says its error; another process only one that differs from it (a file that only it
+     * cannot read), so an error every process meets is printed once */
+    std::string first = root ? pre_err : std::string();
+    if (P > 1 && cli_mpi_bcast(&first)) first.clear();
+    if (root && !pre_err.empty())
+      std::fprintf(stderr, "%s\n", pre_err.c_str());
+    else if (!root && !pre_err.empty() && pre_err != first)
+      std::fprintf(stderr, "process %d: %s\n", cli_mpi_rank(), pre_err.c_str());
+    return pre ? pre : 1;
+  }
   srd_bricks_rank_out r;
   std::memset(&r, 0, sizeof r);
   std::vector<srd_bricks_rank_out> rows; /* every `every` steps, and the start */

@@ -427,6 +427,8 @@ const srd_bricks_comm *cli_mpi_bricks_comm(void) { return &g_bricks; }
 
 void cli_mpi_abort(int code) { MPI_Abort(MPI_COMM_WORLD, code); }
 
+int cli_mpi_bcast(std::string *b) { return bcast(nullptr, b); }
+
 int cli_mpi_all(int ok) {
   int in = ok ? 1 : 0, out = 0;
   MPI_Request req = MPI_REQUEST_NULL;
@@ -441,6 +443,7 @@ int cli_mpi_all(int ok) {
 int cli_mpi_init(int *, char ***) { return 0; }
 void cli_mpi_finalize(void) {}
 int cli_mpi_all(int ok) { return ok; }
+int cli_mpi_bcast(std::string *) { return 0; }
 const srd_bricks_comm *cli_mpi_bricks_comm(void) {
   static srd_bricks_comm one; /* rank 0 of 1 */
   return &one;
