@@ -462,14 +462,7 @@ int cli_decompose(int argc, char **argv) {
     num("bytes_per_step_per_brick", bytes_step);
     num("particles_sent", (double)r.particles_sent_all);
     num("temperature", r.temperature);
-    auto arr = [&](const std::vector<double> &v) {
-      o += "[";
-      for (size_t i = 0; i < v.size(); ++i) {
-        if (i) o += ", ";
-        cli_json::num(o, v[i]);
-      }
-      o += "]";
-    };
+    auto arr = [&](const std::vector<double> &v) { cli_json::arr(o, v.data(), (int64_t)v.size()); };
     if (sk_bins > 0) {
       key("sk");
       o += "{\"k\": ";

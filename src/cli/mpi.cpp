@@ -51,7 +51,8 @@
 
 namespace {
 int g_rank = 0, g_size = 1, g_local = 1;
-double g_timeout = 600.0; /* seconds one process waits in one round or reduction; 0: no limit */
+/* seconds one process waits in one round or reduction (the watchdog reads it too); 0: no limit */
+std::atomic<double> g_timeout{600.0};
 long long g_steps = 0, g_bytes = 0; /* collective gathers and bytes rank 0 received from the others */
 }  // namespace
 
@@ -65,7 +66,6 @@ std::atomic<long long> g_wait_t0{0};
 std::atomic<const char *> g_wait_what{nullptr};
 std::atomic<int> g_wait_peer{-1};
 std::atomic<bool> g_dog_stop{false};
-std::atomic<double> g_dog_limit{0.0};
 std::atomic<bool> g_aborting{false}; /* the polled wait has said why and called MPI_Abort */
 
 long long now_ns() {
@@ -116,7 +116,7 @@ void say_overdue(double waited, const char *what, int peer, double limit) {
 void watchdog() {
   while (!g_dog_stop.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    const double limit = g_dog_limit.load();
+    const double limit = g_timeout.load();
     const long long t0 = g_wait_t0.load();
     if (!(limit > 0.0) || t0 == 0) continue;
     const double waited = 1e-9 * (double)(now_ns() - t0);
@@ -178,7 +178,7 @@ bool overdue(double t0, const char *what, int peer) {
   if (!(g_timeout > 0.0)) return false;
   const double waited = MPI_Wtime() - t0;
   if (waited <= g_timeout) return false;
-  say_overdue(waited, what, peer, g_timeout);
+  say_overdue(waited, what, peer, g_timeout.load());
   /* the others may never answer again (MPI_Finalize would wait for them too): stop here */
   g_aborting.store(true);
   MPI_Abort(MPI_COMM_WORLD, 1);
@@ -386,7 +386,6 @@ int cli_mpi_init(int *argc, char ***argv) {
   if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) return 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
-  g_dog_limit.store(g_timeout);
   try {
     std::thread(watchdog).detach(); /* ends with the process */
   } catch (const std::exception &) {
@@ -452,12 +451,7 @@ void cli_mpi_abort(int) {}
 
 #endif
 
-void cli_mpi_set_timeout(double seconds) {
-  g_timeout = seconds;
-#ifdef GRAN_MPI
-  g_dog_limit.store(seconds);
-#endif
-}
+void cli_mpi_set_timeout(double seconds) { g_timeout = seconds; }
 
 int cli_mpi_rank(void) { return g_rank; }
 int cli_mpi_size(void) { return g_size; }

@@ -1757,7 +1757,7 @@ int srd_bricks_structure_factor_(srd_bricks_state *st, int64_t nbins, double *k,
     /* the power of this process's rows of the half spectrum */
     std::vector<double> power;
     if (!over) {
-      GRAN_CALL(srd_sk_power(sh, N, slab.data(), power));
+      GRAN_CALL(srd_sk_power(sh, slab.data(), power));
     } else {
       const double mean = (double)N / (double)sh->ncell_box;
       for (double &c : slab) c -= mean;

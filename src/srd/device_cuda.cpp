@@ -581,7 +581,7 @@ int gran_srd_dev_structure_factor(gran_srd *s, int64_t nbins, double *k, double 
   } else {
     std::vector<double> cnt((size_t)s->ncell);
     GRAN_CALL(d->L->counts(d->h, cnt.data()));
-    GRAN_CALL(srd_sk_power(s, s->n, cnt.data(), power));
+    GRAN_CALL(srd_sk_power(s, cnt.data(), power));
   }
   srd_sk_shells(s, power.data(), nbins, k, sk, count);
   return GRAN_SUCCESS;

@@ -852,11 +852,11 @@ GRAN_EXTERN int gran_srd_particles(gran_srd *s, int64_t *n, double **x, double *
   return GRAN_SUCCESS;
 }
 
-/* S(k), step 1: the power |FFT(n - <n>)|^2 / N of the unshifted cell counts of N particles (FFTW
- * r2c; layout row-major (n2, n1, n0/2 + 1), the last index fastest). Shared by the CPU engine, the
- * host reference of the device algorithm (the GPU computes the same power with cuFFT) and a split
- * gas held in one process. */
-int srd_sk_power(const gran_srd *s, int64_t N, const double *counts, std::vector<double> &power) {
+/* S(k), step 1: the power |FFT(n - <n>)|^2 / N of the unshifted cell counts of the N = s->n particles
+ * (FFTW r2c; layout row-major (n2, n1, n0/2 + 1), the last index fastest). Shared by the CPU engine,
+ * the host reference of the device algorithm (the GPU computes the same power with cuFFT) and a
+ * split gas held in one process. */
+int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &power) {
   const int d = s->opt.dim;
   const int n0 = (int)s->gm.L[0], n1 = (int)s->gm.L[1], n2 = d == 3 ? (int)s->gm.L[2] : 1;
   const int nh = n0 / 2 + 1;
@@ -874,11 +874,11 @@ int srd_sk_power(const gran_srd *s, int64_t N, const double *counts, std::vector
     if (d == 3) plan = fftw_plan_dft_r2c_3d(n2, n1, n0, in, out, FFTW_ESTIMATE);
     else plan = fftw_plan_dft_r2c_2d(n1, n0, in, out, FFTW_ESTIMATE);
   }
-  const double mean = (double)N / (double)s->ncell_box;
+  const double mean = (double)s->n / (double)s->ncell_box;
   for (int64_t c = 0; c < s->ncell_box; ++c) in[c] = counts[c] - mean;
   fftw_execute(plan);
   power.resize((size_t)ncplx);
-  for (int64_t q = 0; q < ncplx; ++q) power[(size_t)q] = srd_sk_mode_power(out[q][0], out[q][1], N);
+  for (int64_t q = 0; q < ncplx; ++q) power[(size_t)q] = srd_sk_mode_power(out[q][0], out[q][1], s->n);
   {
     std::lock_guard<std::mutex> lk(gran_fftw_planner_mutex());
     fftw_destroy_plan(plan);
@@ -1146,7 +1146,7 @@ GRAN_EXTERN int gran_srd_structure_factor(gran_srd *s, int64_t nbins, double *k,
     std::vector<double> V, Q;
     unshifted_cells(s, cnt, V, Q);
     std::vector<double> counts(cnt.begin(), cnt.end()), power;
-    GRAN_CALL(srd_sk_power(s, s->n, counts.data(), power));
+    GRAN_CALL(srd_sk_power(s, counts.data(), power));
     srd_sk_shells(s, power.data(), nbins, k, sk, count);
     return GRAN_SUCCESS;
   }

@@ -109,9 +109,9 @@ inline void srd_refs_set(gran_srd *s, const double *in) {
 #define SRD_CHUNK 512 /* particles whose cells are computed ahead of their use (stack buffers) */
 
 /* S(k) of the unshifted cell counts (engine.cpp): the half-spectrum power |FFT(n - <n>)|^2 / N
- * (FFTW) of N particles, and its radial average in shells; the CPU engine, the devices and a split
- * gas (bricks.cpp) share them. */
-int srd_sk_power(const gran_srd *s, int64_t N, const double *counts, std::vector<double> &power);
+ * (FFTW) of the N = s->n particles, and its radial average in shells; the CPU engine, the devices and
+ * a split gas (bricks.cpp) share them. */
+int srd_sk_power(const gran_srd *s, const double *counts, std::vector<double> &power);
 void srd_sk_shells(const gran_srd *s, const double *power, int64_t nbins, double *k, double *sk, int64_t *count);
 /* the half spectrum's geometry (row-major n2 x n1 x nh, nh = n0 / 2 + 1; n2 = 1 in 2-D) and the
  * shells' width w = sqrt(d) pi / (a nbins) */
