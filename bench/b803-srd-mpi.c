@@ -11,7 +11,8 @@
  * the measurement needs the machine otherwise idle (the load is printed: above about 0.5 the
  * ratio measures the other work). Also printed: the CPU seconds of all processes per
  * particle-step (an MPI process that waits spins, so it includes the waits), and the time of one
- * S(k) of the final state (`--sk 32`) in each, against the time of one step.
+ * S(k) of the final state (`--sk 32`) in each, and of one observation (gran_srd_observe's values of
+ * the split gas: the unshifted cells gathered, exact sums), against the time of one step.
  *
  * Model (per step of a process holding a 64^3 brick in a 3-D split of P processes, 26 neighbours):
  * t = t_comp + t_comm, t_comp = n_rank / r2 (r2 the measured rate per process at P = 2),
@@ -44,7 +45,7 @@ static double jget(const char *js, const char *key) {
 }
 
 typedef struct {
-  double secs, rate, bytes, cpu, particles, far, sk;
+  double secs, rate, bytes, cpu, particles, far, sk, obs;
 } run_t;
 
 enum { kSkBins = 32 }; /* S(k) of the final state, in as many shells */
@@ -89,6 +90,7 @@ static run_t run(const char *cli, const char *scene, int P, int steps) {
   r.particles = jget(js, "particles");
   r.far = P > 1 ? jget(js, "messages_beyond_neighbours") : 0;
   r.sk = jget(js, "sk_seconds");
+  r.obs = jget(js, "observe_seconds");
   return r;
 }
 
@@ -142,7 +144,7 @@ int main(void) {
   fclose(f);
   double load[3] = {0, 0, 0};
   if (getloadavg(load, 3) < 1) load[0] = NAN;
-  double r1[8], r2[8], ratio[8], c1[8], c2[8], rh[8], ratio_h[8], sk1[8], sk2[8];
+  double r1[8], r2[8], ratio[8], c1[8], c2[8], rh[8], ratio_h[8], sk1[8], sk2[8], ob1[8], ob2[8];
   run_t a = {0}, b = {0};
   for (int k = 0; k < rounds; ++k) {
     a = run(cli, scene, 1, steps);
@@ -152,6 +154,8 @@ int main(void) {
     ratio[k] = b.rate / a.rate;
     sk1[k] = a.sk;
     sk2[k] = b.sk;
+    ob1[k] = a.obs;
+    ob2[k] = b.obs;
     c1[k] = 1e9 * a.cpu / (a.particles * steps);
     c2[k] = 1e9 * b.cpu / (b.particles * steps);
     double h[2];
@@ -183,6 +187,10 @@ int main(void) {
            "FFTW-MPI's slabs, the distributed transform, the shells all-reduced); one S(k) costs %.2f steps at P = 1 "
            "(%.3g s each) and %.2f at P = 2 (%.3g s)\n",
            kSkBins, s1, s2, s1 / step1, step1, s2 / step2, step2);
+    const double o1 = median(ob1, rounds), o2 = median(ob2, rounds);
+    printf("  one observation (gran_srd_observe's values: the particles of the unshifted cells gathered on their process, "
+           "exact sums): P = 1 %.3g s (%.2f steps), P = 2 %.3g s (%.2f steps)\n",
+           o1, o1 / step1, o2, o2 / step2);
   }
   const double faces = 2.0; /* 2 x 1 x 1 periodic: each brick has two faces */
   const double face_bytes = b.bytes / faces, face_cells = (double)L * L;

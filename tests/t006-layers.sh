@@ -17,7 +17,7 @@ allowed() {
     src/analysis) echo "core/" ;;
     src/dsmc) echo "core/ theory/ io/state.h io/scene_impl.h io/engine.h io/io_impl.h" ;;
     src/srd) echo "core/ io/state.h io/scene_impl.h io/engine.h io/io_impl.h ../cuda/srd_cuda.h" ;;
-    src/io) echo "core/ srd/fields.h srd/srd_theory.h" ;;
+    src/io) echo "core/ srd/fields.h srd/srd_theory.h srd/bricks.h" ;;
     src/cli) echo "core/ io/engine.h io/io_impl.h io/run_comm.h srd/srd_theory.h srd/bricks.h" ;;
     cuda) echo "core/xoshiro.h srd/rules.h srd/srd_kernels.h srd/device_cuda.h" ;;
     *) echo "?" ;;

@@ -5,7 +5,9 @@
 # Lees-Edwards with the global thermostat and a body force; the cell thermostat; no-slip walls,
 # gravity and the vibrating wall; slip walls with gravity on two axes and eps < 1) the digests of
 # the final state (every particle's position and velocity bits, every cell's V and RNG state),
-# the momentum and the energy ledger are the same BIT FOR BIT on 1, 2, 3 and 4 processes, on
+# the momentum, the energy ledger and the cell observables (gran_srd_observe's theta_cells, E_kin,
+# Mach, sigma_rho, a2, stress: each process gathers the particles of its unshifted cells) are the
+# same BIT FOR BIT on 1, 2, 3 and 4 processes, on
 # several splits, in one process with virtual bricks, and in the undivided engine (--reference).
 # Physics on every run: the particle count is the scene's, the ledger closes (kinetic energy =
 # initial + collisions + external work, to 1e-12 of the initial energy), the momentum of a
@@ -70,11 +72,20 @@ if name == "periodic3":
     if not p <= 1e-12 * (2 * r["kinetic_energy"] * r["particles"]) ** 0.5: bad.append("momentum %g" % p)
     if r["clamped"] <= 0: bad.append("no clamped cell (the test wants clamps)")
 if r["processes"] > 1 and r["particles_sent"] <= 0: bad.append("no particle changed brick")
+# the cell observables: the unshifted cells whole on their process (sum |v|^2 = d N theta + N E_kin),
+# theta_cells <= T, the ledger closed
+ob, N, d = r["observables"], r["particles"], 2 if name.endswith("2") else 3
+two_e = 2 * r["kinetic_energy"]
+if not abs(two_e - (d * N * ob["theta_cells"] + N * ob["E_kin"])) <= 1e-12 * two_e:
+    bad.append("sum |v|^2 %r, d N theta + N E_kin %r" % (two_e, d * N * ob["theta_cells"] + N * ob["E_kin"]))
+if not ob["theta_cells"] <= ob["T"] * (1 + 1e-12): bad.append("theta_cells %r > T %r" % (ob["theta_cells"], ob["T"]))
+if not abs(ob["ledger_error"]) < 1e-12: bad.append("ledger_error %r" % ob["ledger_error"])
 if bad:
     print("FAIL: %s %s: %s" % (name, label, "; ".join(bad)))
     sys.exit(1)
 print(r["digest_particles"], r["digest_cells"], repr(r["momentum"]), repr(r["kinetic_energy"]), repr(r["e_coll"]),
-      repr(r["e_ext"]), repr(r["flux_kin"]), repr(r["flux_coll"]), repr(r["wall_impulse"]), r["clamped"])
+      repr(r["e_ext"]), repr(r["flux_kin"]), repr(r["flux_coll"]), repr(r["wall_impulse"]), r["clamped"],
+      json.dumps(ob, sort_keys=True))
 PYEOF
 }
 

@@ -24,6 +24,11 @@
  *    ideal gas (multinomial cell counts) has S = 1 over all modes within 4 standard errors
  *    (se = sqrt(2 / modes): the half spectrum's modes come in conjugate pairs); walls and a number
  *    of shells outside [1, SRD_BRICKS_SK_MAX_BINS] are refused, naming them;
+ *  - the observables of a split gas (srd_bricks_observe_, every effect set and split above): the
+ *    decomposable engine's gran_srd_observe bit for bit, twice (the clamps since the last observation,
+ *    the stress window reset between), and the identities sum |v|^2 = d N theta_cells + N e_kin,
+ *    theta_cells <= T, the closed ledger; sigma_rho of the initial gas (uniform and by cells, periodic
+ *    and with walls) is the multinomial count's within 4 se;
  *  - bad arguments (serial creation, a pgrid entry beyond the grid or beyond dim) are refused
  *    naming them. */
 #include <float.h>
@@ -105,6 +110,56 @@ static void check_physics(const gran_srd_options *o, const srd_bricks_out *r, co
   }
 }
 
+/* gran_srd_observe of the decomposable engine against srd_bricks_observe_ of every split (all bricks
+ * in this process), bit for bit: after 13 steps, then (the stress window reset, the clamps counted
+ * since the first observation) after 17 more; on each the identities that can fail: the ledger
+ * closes, sum |v|^2 = d N theta_cells + N e_kin (the unshifted cells whole: a cell's particles
+ * split between bricks would break it), theta_cells <= T, the temperature is the report's */
+static void check_observe(const gran_srd_options *o, const int (*grids)[3], int ngrid, const char *name) {
+  gran_srd *s = NULL;
+  gran_srd_obs p1, p2;
+  GRAN_ASSERT_OK(gran_srd_create(o, &s));
+  GRAN_ASSERT_OK(gran_srd_advance(s, 13));
+  GRAN_ASSERT_OK(gran_srd_observe(s, &p1));
+  GRAN_ASSERT_OK(gran_srd_stress_reset(s));
+  GRAN_ASSERT_OK(gran_srd_advance(s, NSTEPS - 13));
+  GRAN_ASSERT_OK(gran_srd_observe(s, &p2));
+  GRAN_ASSERT_OK(gran_srd_destroy(&s));
+  for (int g = -2; g < ngrid; ++g) {
+    static const int one[3] = {1, 1, 1};
+    const int *pg = g < 0 ? one : grids[g];
+    gran_srd_options ot = *o;
+    if (g == -2) ot.threads = 3; /* the cells' sums over 3 threads */
+    srd_bricks_state *st = NULL;
+    gran_srd_obs b1, b2;
+    GRAN_ASSERT_OK(srd_bricks_open_(&ot, pg, NULL, &st));
+    GRAN_ASSERT_OK(srd_bricks_step_(st, 13));
+    GRAN_ASSERT_OK(srd_bricks_observe_(st, &b1));
+    GRAN_ASSERT_OK(srd_bricks_stress_reset_(st));
+    GRAN_ASSERT_OK(srd_bricks_step_(st, NSTEPS - 13));
+    GRAN_ASSERT_OK(srd_bricks_observe_(st, &b2));
+    srd_bricks_rank_out rep;
+    GRAN_ASSERT_OK(srd_bricks_report_(st, &rep));
+    srd_bricks_close_(&st);
+    const gran_srd_obs *pa[2] = {&p1, &p2}, *pb[2] = {&b1, &b2};
+    for (int w = 0; w < 2; ++w) {
+      const double *a = (const double *)pa[w], *b = (const double *)pb[w];
+      for (size_t q = 0; q < sizeof(gran_srd_obs) / sizeof(double); ++q) /* 8-byte fields, no padding */
+        if (!same(a + q, b + q, sizeof(double)))
+          fail_msg("%s: observation %d of %d x %d x %d bricks on %d thread(s): word %zu is %.17g, the plain engine's %.17g",
+                   name, w + 1, pg[0], pg[1], pg[2], (int)ot.threads, q, b[q], a[q]);
+    }
+    const double N = (double)b2.n, scale = 2.0 * b2.energy;
+    if (!(fabs(b2.ledger_error) < 1e-12)) fail_msg("%s: ledger error %g", name, b2.ledger_error);
+    if (!(fabs(scale - (o->dim * N * b2.theta_cells + N * b2.e_kin)) <= 1e-12 * scale))
+      fail_msg("%s: sum |v|^2 = %.17g, d N theta + N e_kin = %.17g", name, scale, o->dim * N * b2.theta_cells + N * b2.e_kin);
+    if (!(b2.theta_cells <= b2.temperature * (1 + 1e-12))) fail_msg("%s: theta %g > T %g", name, b2.theta_cells, b2.temperature);
+    GRAN_ASSERT_REL(b2.temperature, rep.temperature, 1e-12);
+    if (!(isfinite(b2.a2) && fabs(b2.a2) < 1 && b2.sigma_rho > 0)) fail_msg("%s: a2 %g, sigma_rho %g", name, b2.a2, b2.sigma_rho);
+    if (o->shear_rate != 0 && !(b2.stress_xy != 0 && b2.stress_kin != 0)) fail_msg("%s: no stress", name);
+  }
+}
+
 /* P = 1 bricks against the plain engine, then every split against P = 1 */
 static void check_splits(const gran_srd_options *o, const int (*grids)[3], int ngrid, const char *name) {
   srd_bricks_out one, plain, two;
@@ -169,6 +224,7 @@ static void check_splits(const gran_srd_options *o, const int (*grids)[3], int n
   srd_bricks_out_free_(&one);
   srd_bricks_out_free_(&plain);
   srd_bricks_out_free_(&two);
+  check_observe(o, grids, ngrid, name);
 }
 
 static const int grids3[][3] = {{2, 1, 1}, {3, 1, 1}, {1, 3, 1}, {2, 2, 1}, {2, 1, 2}, {1, 2, 2}, {4, 1, 1}, {3, 2, 1}};
@@ -409,6 +465,29 @@ static void test_structure_factor(void **state) {
   srd_bricks_close_(&st);
 }
 
+/* sigma_rho of the initial gas (both creations: uniform, and multinomial by cells) against the
+ * variance of a multinomial count, n0 (1 - 1 / cells), within 4 se (se of a sample variance of
+ * near-Poisson counts: sqrt((n0 + 2 n0^2) / cells)); with walls the binning grid's extra layer
+ * holds no cell of the box and must not be counted as empty cells (it would add n0^2 / (L + 1)) */
+static void test_sigma_rho(void **state) {
+  (void)state;
+  for (int walls = 0; walls < 2; ++walls)
+    for (int cr = 0; cr < 2; ++cr) {
+      gran_srd_options o = base_opts(2);
+      o.cells[0] = o.cells[1] = 30;
+      o.n0 = 10;
+      o.wall_axis = walls ? 1 : -1;
+      o.creation = cr ? GRAN_SRD_CREATE_CELLS : GRAN_SRD_CREATE_SERIAL;
+      gran_srd *s = NULL;
+      gran_srd_obs ob;
+      GRAN_ASSERT_OK(gran_srd_create(&o, &s));
+      GRAN_ASSERT_OK(gran_srd_observe(s, &ob));
+      gran_srd_destroy(&s);
+      const double nb = 900, var = ob.sigma_rho * ob.sigma_rho; /* a = 1 */
+      GRAN_ASSERT_SIGMA(var, o.n0 * (1 - 1 / nb), sqrt((o.n0 + 2 * o.n0 * o.n0) / nb), 4);
+    }
+}
+
 static void test_bad_args(void **state) {
   (void)state;
   gran_srd_options o = base_opts(3);
@@ -430,7 +509,8 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_periodic),    cmocka_unit_test(test_dissipation), cmocka_unit_test(test_thermostats),
       cmocka_unit_test(test_lees_edwards), cmocka_unit_test(test_walls),      cmocka_unit_test(test_cooling),
-      cmocka_unit_test(test_sparse), cmocka_unit_test(test_structure_factor), cmocka_unit_test(test_bad_args),
+      cmocka_unit_test(test_sparse), cmocka_unit_test(test_structure_factor), cmocka_unit_test(test_sigma_rho),
+      cmocka_unit_test(test_bad_args),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

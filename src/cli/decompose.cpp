@@ -308,6 +308,9 @@ int cli_decompose(int argc, char **argv) {
   srd_bricks_rank_out r;
   std::memset(&r, 0, sizeof r);
   std::vector<srd_bricks_rank_out> rows; /* every `every` steps, and the start */
+  std::vector<gran_srd_obs> row_ob;      /* the observables at each row (the clamps since the last row) */
+  gran_srd_obs ob_end;
+  std::memset(&ob_end, 0, sizeof ob_end);
   struct Sk {
     explicit Sk(long long n = 0) : k((size_t)n), s((size_t)n), count((size_t)n) {}
     std::vector<double> k, s;
@@ -315,7 +318,8 @@ int cli_decompose(int argc, char **argv) {
   };
   std::vector<Sk> row_sk; /* with --sk: S(k) at each row */
   Sk sk_end(sk_bins);
-  double sk_seconds = 0; /* the slowest S(k) of process 0 */
+  double sk_seconds = 0;  /* the slowest S(k) of process 0 */
+  double obs_seconds = 0; /* the slowest observation of process 0 */
   {
     srd_bricks_state *st = nullptr;
     auto structure = [&](Sk &q) -> int {
@@ -324,9 +328,17 @@ int cli_decompose(int argc, char **argv) {
       sk_seconds = std::max(sk_seconds, cli_clock_s() - c0);
       return e;
     };
+    auto observe = [&](gran_srd_obs &ob) -> int {
+      const double c0 = cli_clock_s();
+      const int e = srd_bricks_observe_(st, &ob);
+      obs_seconds = std::max(obs_seconds, cli_clock_s() - c0);
+      return e;
+    };
     auto row = [&]() -> int {
       rows.emplace_back();
+      row_ob.emplace_back();
       int e = srd_bricks_report_(st, &rows.back());
+      if (!e) e = observe(row_ob.back());
       if (!e && sk_bins > 0) {
         row_sk.emplace_back(sk_bins);
         e = structure(row_sk.back());
@@ -361,9 +373,11 @@ int cli_decompose(int argc, char **argv) {
       }
     }
     if (!e) e = srd_bricks_report_(st, &r);
+    if (!e) e = observe(ob_end);
     if (!e && sk_bins > 0) e = structure(sk_end);
     if (!e && every > 0) {
       rows.push_back(r);
+      row_ob.push_back(ob_end);
       if (sk_bins > 0) row_sk.push_back(sk_end);
     }
     srd_bricks_close_(&st);
@@ -376,11 +390,36 @@ int cli_decompose(int argc, char **argv) {
   int ref_ok = 1;
   uint64_t ref_p = 0, ref_c = 0;
   double ref_sk_diff = 0; /* the largest relative difference of S(k) and k from the undivided engine's */
-  if (reference) { /* the undivided decomposable engine */
+  std::string ref_obs_diff; /* the first observable that differs from the undivided engine's ("" none) */
+  if (reference) { /* the undivided decomposable engine, observed at the same rows */
     gran_srd *s = nullptr;
     if (gran_srd_create(&opt, &s)) return fail("reference");
     Sk q(sk_bins); /* its S(k) */
-    int e = gran_srd_advance(s, nsteps);
+    static const char *const names[] = {"time", "steps", "n", "temperature", "theta_cells", "energy", "e_initial",
+                                        "e_collisions", "e_external", "ledger_error", "momentum[0]", "momentum[1]",
+                                        "momentum[2]", "e_kin", "mach", "sigma_rho", "a2", "clamped", "dt_max",
+                                        "stress_xy", "stress_kin"};
+    static_assert(sizeof names / sizeof names[0] * 8 == sizeof(gran_srd_obs), "one name per field");
+    auto compare = [&](const gran_srd_obs &a, const gran_srd_obs &b, const char *where) {
+      for (size_t f = 0; f < sizeof names / sizeof names[0] && ref_obs_diff.empty(); ++f)
+        if (std::memcmp((const char *)&a + 8 * f, (const char *)&b + 8 * f, 8))
+          ref_obs_diff = std::string(names[f]) + " " + where;
+    };
+    int e = 0;
+    int64_t done = 0;
+    for (size_t i = 0; !e && i < rows.size(); ++i) { /* the rows (the last is the end) */
+      e = gran_srd_advance(s, rows[i].step - done);
+      done = rows[i].step;
+      gran_srd_obs ob;
+      if (!e) e = gran_srd_observe(s, &ob);
+      if (!e) compare(ob, row_ob[i], ("at the row of step " + std::to_string(done)).c_str());
+    }
+    if (!e && every == 0) {
+      e = gran_srd_advance(s, nsteps);
+      gran_srd_obs ob;
+      if (!e) e = gran_srd_observe(s, &ob);
+      if (!e) compare(ob, ob_end, "at the end");
+    }
     srd_bricks_out o;
     if (!e && sk_bins > 0) e = gran_srd_structure_factor(s, sk_bins, q.k.data(), q.s.data(), q.count.data());
     if (!e) e = srd_bricks_gather_plain_(s, &o);
@@ -388,7 +427,7 @@ int cli_decompose(int argc, char **argv) {
     if (e) return fail("reference");
     srd_bricks_digest_(&o, opt.dim, &ref_p, &ref_c);
     srd_bricks_out_free_(&o);
-    ref_ok = ref_p == r.digest_particles && ref_c == r.digest_cells;
+    ref_ok = ref_p == r.digest_particles && ref_c == r.digest_cells && ref_obs_diff.empty();
     /* S(k): the same bits (the largest relative difference reported) */
     for (size_t i = 0; i < q.count.size(); ++i) {
       if (q.count[i] != sk_end.count[i]) ref_sk_diff = INFINITY;
@@ -430,6 +469,7 @@ int cli_decompose(int argc, char **argv) {
     if (reference) {
       str("reference_digest_particles", hex(ref_p));
       str("reference_digest_cells", hex(ref_c));
+      str("reference_observables", ref_obs_diff.empty() ? "the same" : "differ: " + ref_obs_diff);
       if (sk_bins > 0) num("reference_sk_max_rel_diff", ref_sk_diff);
     }
     key("momentum");
@@ -463,6 +503,26 @@ int cli_decompose(int argc, char **argv) {
     num("particles_sent", (double)r.particles_sent_all);
     num("temperature", r.temperature);
     auto arr = [&](const std::vector<double> &v) { cli_json::arr(o, v.data(), (int64_t)v.size()); };
+    /* gran_srd_observe's cell observables (the names of the output file's datasets; its momentum and
+     * energy are the report's above, there summed exactly particle by particle, here cell by cell) */
+    auto observables = [&](const gran_srd_obs &b) {
+      o += "{";
+      const std::pair<const char *, double> kv[] = {
+          {"T", b.temperature},       {"theta_cells", b.theta_cells},
+          {"E_kin", b.e_kin},         {"mach", b.mach},               {"sigma_rho", b.sigma_rho},
+          {"a2", b.a2},               {"ledger_error", b.ledger_error}, {"clamped", (double)b.clamped},
+          {"stress_xy", b.stress_xy}, {"stress_kinetic", b.stress_kin}};
+      for (size_t i = 0; i < sizeof kv / sizeof kv[0]; ++i) {
+        if (i) o += ", ";
+        cli_json::str(o, kv[i].first);
+        o += ": ";
+        cli_json::num(o, kv[i].second);
+      }
+      o += "}";
+    };
+    key("observables");
+    observables(ob_end);
+    num("observe_seconds", obs_seconds);
     if (sk_bins > 0) {
       key("sk");
       o += "{\"k\": ";
@@ -499,6 +559,8 @@ int cli_decompose(int argc, char **argv) {
           cli_json::num(o, w.momentum[k]);
         }
         o += "]";
+        o += ", \"observables\": ";
+        observables(row_ob[i]);
         if (sk_bins > 0) {
           o += ", \"sk\": ";
           arr(row_sk[i].s);
@@ -521,15 +583,21 @@ int cli_decompose(int argc, char **argv) {
                   ref_ok ? "the same" : "DIFFERENT");
     std::printf("momentum         %.17g %.17g %.17g\n", r.momentum[0], r.momentum[1], r.momentum[2]);
     std::printf("temperature      %.17g\n", r.temperature);
+    std::printf("observables      T %.10g  theta_cells %.10g  E_kin %.10g  Mach %.10g  sigma_rho %.10g  a2 %.6g%s\n",
+                ob_end.temperature, ob_end.theta_cells, ob_end.e_kin, ob_end.mach, ob_end.sigma_rho, ob_end.a2,
+                !reference ? "" : ref_obs_diff.empty() ? " (the undivided engine's, bit for bit)"
+                                                      : (" (DIFFERENT from the undivided engine's: " + ref_obs_diff + ")").c_str());
     std::printf("energy           kinetic %.17g; ledger: initial %.17g, collisions %.17g, external work %.17g\n",
                 r.energy, r.e_initial, r.e_coll, r.e_ext);
     std::printf("balance          %lld .. %lld particles per brick\n", (long long)r.n_local_min,
                 (long long)r.n_local_max);
     std::printf("speed            %.3f s (slowest process); process 0: %.4g particle-steps per second\n", r.seconds_max,
                 rate);
-    for (const srd_bricks_rank_out &w : rows)
-      std::printf("row              step %lld  t %.10g  T %.10g  E_kin %.10g  e_coll %.10g  e_ext %.10g\n",
-                  (long long)w.step, w.time, w.temperature, w.energy, w.e_coll, w.e_ext);
+    for (size_t i = 0; i < rows.size(); ++i) {
+      const srd_bricks_rank_out &w = rows[i];
+      std::printf("row              step %lld  t %.10g  T %.10g  e_kin %.10g  e_coll %.10g  e_ext %.10g  Mach %.6g  a2 %.6g\n",
+                  (long long)w.step, w.time, w.temperature, w.energy, w.e_coll, w.e_ext, row_ob[i].mach, row_ob[i].a2);
+    }
     if (sk_bins > 0) {
       std::printf("S(k)             %lld shells at the end (%.3g s)%s\n", sk_bins, sk_seconds,
                   reference ? (ref_sk_diff == 0.0 ? "; the undivided engine's, bit for bit" : "; DIFFERENT from the undivided engine's")

@@ -366,6 +366,18 @@ int bricks_fft(void *, int dim, const int64_t n[3], int64_t block, const double 
 
 srd_bricks_comm g_bricks;
 
+/* a split gas's process failed inside a collective step: it says why (one write) and stops every
+ * process (the others wait for it in the next exchange) */
+void bricks_abort(void *, const char *msg) {
+  char line[1200];
+  std::snprintf(line, sizeof line, "granary-mpi: rank %d of %d: %s; stopping every process\n", g_rank, g_size, msg);
+  const ssize_t w = write(2, line, std::strlen(line));
+  (void)w;
+  g_aborting.store(true);
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  _exit(1);
+}
+
 int bcast(void *, std::string *b) {
   const char *what = "a broadcast of the run driver";
   const int peer = g_rank == 0 ? -1 : 0;
@@ -410,6 +422,8 @@ int cli_mpi_init(int *argc, char ***argv) {
 #ifdef GRAN_HAVE_FFTW_MPI
   g_bricks.fft_r2c = bricks_fft;
 #endif
+  g_bricks.abort = bricks_abort;
+  srd_bricks_set_run_comm_(&g_bricks); /* the run driver's split gas ([engine] decomposition) */
   return 0;
 }
 

@@ -63,7 +63,8 @@ void run_usage(FILE *f) {
                "                             or broadcast of the replicas before it stops every process, naming\n"
                "                             the one it waits for (default 0: no limit; set it above the steps\n"
                "                             of the slowest replica between two output times and rank 0's\n"
-               "                             writing of a checkpoint)\n"
+               "                             writing of a checkpoint); a gas split over the processes\n"
+               "                             ([engine] decomposition): every exchange of its steps too (default 600)\n"
                "  -q, --quiet                no progress line, no summary table (the log keeps both)\n"
                "  --verbose                  error messages name the library function and source line\n"
                "  -h, --help                 this text\n"
@@ -413,6 +414,7 @@ void header(const gran_scene *s, const std::string &out, const std::string &ck, 
     std::fprintf(o, "  t = 0 .. %g (%lld steps), %zu output times, seed %llu", s->t_end, (long long)s->srd.steps,
                 s->times.size(), (unsigned long long)s->seed);
     if (s->replicas > 1) std::fprintf(o, ", %" PRId64 " replicas", s->replicas);
+    if (s->split_gas && cli_mpi_size() > 1) std::fprintf(o, ", the gas split over %d processes", cli_mpi_size());
     std::fprintf(o, "\n  output %s, checkpoint %s\n", out.c_str(), ck.empty() ? "(none)" : ck.c_str());
     std::fflush(o);
     return;
@@ -546,6 +548,7 @@ int cli_run(int argc, char **argv) {
   bool quiet = false, no_ckpt = false, force = false, no_log = false;
   long long stop_after = 0, replicas = 0, threads = -1, log_every = 0;
   double timeout = 0.0; /* granary-mpi: seconds one process waits in a gather or broadcast; 0: no limit */
+  bool timeout_given = false;
   std::vector<std::pair<std::string, std::string>> sets; /* --set KEY=VALUE, in order */
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -620,6 +623,7 @@ int cli_run(int argc, char **argv) {
         std::fprintf(stderr, "granary run: --timeout '%s': expected seconds in [0, 1e7] (0: no limit)\n", v);
         return 2;
       }
+      timeout_given = true;
     } else if (!std::strcmp(a, "--stop-after-checkpoints")) {
       const char *v = need(a);
       if (!v) return 2;
@@ -765,6 +769,8 @@ int cli_run(int argc, char **argv) {
       gran_scene_destroy(&scene);
       return fail("--replicas");
     }
+    /* a split gas's processes wait for each other at every step: a stopped one is found by default */
+    if (!timeout_given && scene->split_gas && cli_mpi_size() > 1) cli_mpi_set_timeout(600.0);
     const char *p = nullptr;
     gran_scene_output_path(scene, &p);
     out_path = output ? output : p;

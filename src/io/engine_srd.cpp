@@ -22,6 +22,7 @@
 #include <cstdlib>
 
 #include "io/engine.h"
+#include "srd/bricks.h"
 #include "srd/fields.h"
 #include "srd/srd_theory.h"
 
@@ -71,17 +72,60 @@ std::string xml_escape(const std::string &s) {
 class SrdEngine : public gran_engine {
  public:
   explicit SrdEngine(const gran_scene *s) : s_(s), o_(s->srd.opt) {}
-  ~SrdEngine() override { gran_srd_destroy(&srd_); }
+  ~SrdEngine() override {
+    gran_srd_destroy(&srd_);
+    srd_bricks_close_(&bst_);
+  }
   const char *type() const override { return "srd"; }
 
   /* the device is gran_srd_create's: "cuda" without a GPU fails there (GRAN_ERR_UNSUPPORTED, naming
-   * why), "auto" falls back to the CPU engine with a warning */
+   * why), "auto" falls back to the CPU engine with a warning.
+   * A split gas ([engine] decomposition, split_gas) over the run's P > 1 processes: this process
+   * holds one brick (srd_bricks_open_ over srd_bricks_run_comm_), every call but write_output is
+   * collective and every process records the same rows (the observables and S(k) are all-reduced);
+   * in one process the undivided decomposable engine is the same gas bit for bit. */
   int prepare() {
     cells_ = 1;
     for (int k = 0; k < o_.dim; ++k) cells_ *= o_.cells[k];
     N_ = (int64_t)std::floor(o_.n0 * (double)cells_ + 0.5);
+    const auto &q = s_->srd;
+    if (s_->split_gas) {
+      const srd_bricks_comm *c = srd_bricks_run_comm_();
+      const int64_t nb = (int64_t)q.decomp_grid[0] * q.decomp_grid[1] * q.decomp_grid[2];
+      GRAN_CHECK(nb == 0 || nb == c->size, GRAN_ERR_ARG,
+                 "scene key 'engine.decomposition' = [%d, %d, %d] has %lld bricks, and this run has %d process(es): "
+                 "start it on %lld (mpirun -n %lld build/granary-mpi run ...), or give \"auto\"",
+                 q.decomp_grid[0], q.decomp_grid[1], q.decomp_grid[2], (long long)nb, c->size, (long long)nb,
+                 (long long)nb);
+      if (c->size > 1) {
+        split_ = true;
+        comm_ = *c;
+        /* what a split gas cannot give yet: each refusal names its key */
+        GRAN_CHECK(!q.obs_profile, GRAN_ERR_UNSUPPORTED,
+                   "scene key 'observables.velocity_profile': the velocity profile of a gas split over %d processes is "
+                   "not recorded yet (run it in one process, or leave the profile out)", c->size);
+        GRAN_CHECK(q.snap_index.empty(), GRAN_ERR_UNSUPPORTED,
+                   "scene key 'observables.snapshots': field snapshots of a gas split over %d processes are not written "
+                   "yet (they need parallel HDF5; run it in one process, or leave the snapshots out)", c->size);
+        GRAN_CHECK(!q.obs_sk || q.sk_bins <= SRD_BRICKS_SK_MAX_BINS, GRAN_ERR_ARG,
+                   "scene key 'observables.structure_factor.bins' = %lld: a split gas's S(k) has at most %d shells",
+                   (long long)q.sk_bins, SRD_BRICKS_SK_MAX_BINS);
+        GRAN_CHECK(!q.obs_sk || comm_.fft_r2c, GRAN_ERR_UNSUPPORTED,
+                   "scene key 'observables.structure_factor': S(k) of a gas split over %d processes needs FFTW's MPI "
+                   "interface, and this build/granary-mpi has none (install Debian libfftw3-mpi-dev, then make)", c->size);
+        if (nb == 0) GRAN_CALL(srd_bricks_auto_(&o_, c->size, pgrid_));
+        else for (int k = 0; k < 3; ++k) pgrid_[k] = q.decomp_grid[k];
+        for (int k = 0; k < 3; ++k) { /* the split fits the grid: refused before any process opens its brick */
+          const int64_t nc = k < o_.dim ? o_.cells[k] + (k == o_.wall_axis ? 1 : 0) : 1;
+          GRAN_CHECK(pgrid_[k] >= 1 && pgrid_[k] <= nc, GRAN_ERR_ARG,
+                     "scene key 'engine.decomposition': %d bricks along axis %d, which has %lld cells to split", pgrid_[k],
+                     k, (long long)nc);
+        }
+      }
+    }
     return GRAN_SUCCESS;
   }
+  bool split() const { return split_; }
 
   int declare(std::vector<gran_row_buf> &b) override {
     const auto &q = s_->srd;
@@ -148,31 +192,39 @@ class SrdEngine : public gran_engine {
   /* one engine of this scene: the memory model the scene check uses too (src/srd/memory.cpp) */
   int memory(int64_t *bytes) override {
     std::vector<gran_mem_part> parts;
-    const double b = gran_srd_memory_(*s_, parts);
+    double b = gran_srd_memory_(*s_, parts);
+    if (split_) { /* this process's brick, its S(k) slab (48 B per cell), the recorded rows */
+      b = srd_bricks_memory_(&o_, comm_.size, 0) + (s_->srd.obs_sk ? 48.0 * (double)cells_ / comm_.size : 0.0);
+      for (const gran_mem_part &p : parts)
+        if (std::string(p.what) == "recorded rows") b += p.engine;
+    }
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
     return GRAN_SUCCESS;
   }
 
   int start(uint64_t seed) override {
     gran_srd_destroy(&srd_);
+    srd_bricks_close_(&bst_);
     gran_srd_options o = o_;
     o.seed = seed;
     rep0_ = seed == s_->seed;
     snaps_.clear();
+    if (split_) return collective(srd_bricks_open_(&o, pgrid_, &comm_, &bst_));
     return gran_srd_create(&o, &srd_);
   }
 
   int advance(double t) override {
-    GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: advance before start");
-    const int64_t target = (int64_t)std::llround(t / o_.dt), now = gran_srd_steps_(srd_);
+    GRAN_CHECK(srd_ != nullptr || bst_ != nullptr, GRAN_ERR_STATE, "GSRD engine: advance before start");
+    const int64_t target = (int64_t)std::llround(t / o_.dt), now = steps_done();
     GRAN_CHECK(target >= now, GRAN_ERR_ARG, "GSRD engine: time %g is before the current step %lld", t, (long long)now);
-    return target > now ? gran_srd_advance(srd_, target - now) : GRAN_SUCCESS;
+    if (target == now) return GRAN_SUCCESS;
+    return split_ ? collective(srd_bricks_step_(bst_, target - now)) : gran_srd_advance(srd_, target - now);
   }
 
   /* events: particle collision updates (steps x N) */
   int state(gran_engine_state *st) override {
-    GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: state before start");
-    const int64_t k = gran_srd_steps_(srd_);
+    GRAN_CHECK(srd_ != nullptr || bst_ != nullptr, GRAN_ERR_STATE, "GSRD engine: state before start");
+    const int64_t k = steps_done();
     st->time = (double)k * o_.dt;
     st->events = N_ > 0 && k > INT64_MAX / N_ ? INT64_MAX : k * N_;
     st->temperature = last_T_;
@@ -187,10 +239,11 @@ class SrdEngine : public gran_engine {
   }
 
   int record(std::vector<gran_row_buf> &bufs, int64_t i) override {
-    GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: record before start");
+    GRAN_CHECK(srd_ != nullptr || bst_ != nullptr, GRAN_ERR_STATE, "GSRD engine: record before start");
     const auto &q = s_->srd;
     gran_srd_obs ob;
-    GRAN_CALL(gran_srd_observe(srd_, &ob));
+    if (split_) GRAN_CALL(collective(srd_bricks_observe_(bst_, &ob)));
+    else GRAN_CALL(gran_srd_observe(srd_, &ob));
     last_T_ = ob.temperature;
     std::vector<double> sk_k, sk_s;
     std::vector<int64_t> sk_c;
@@ -198,7 +251,10 @@ class SrdEngine : public gran_engine {
       sk_k.resize((size_t)q.sk_bins);
       sk_s.resize((size_t)q.sk_bins);
       sk_c.resize((size_t)q.sk_bins);
-      GRAN_CALL(gran_srd_structure_factor(srd_, q.sk_bins, sk_k.data(), sk_s.data(), sk_c.data()));
+      if (split_) GRAN_CALL(collective(srd_bricks_structure_factor_(bst_, q.sk_bins, sk_k.data(), sk_s.data(), sk_c.data())));
+      else GRAN_CALL(gran_srd_structure_factor(srd_, q.sk_bins, sk_k.data(), sk_s.data(), sk_c.data()));
+      sk_k_ = sk_k; /* the shells' geometry, for write_output (k and modes do not depend on the state) */
+      sk_c_ = sk_c;
       for (int64_t b = 0; b < q.sk_bins; ++b)
         if (sk_c[(size_t)b] == 0) sk_s[(size_t)b] = NAN;
     }
@@ -240,7 +296,8 @@ class SrdEngine : public gran_engine {
       }
     }
     if (q.obs_stress) {
-      GRAN_CALL(gran_srd_stress_reset(srd_));
+      if (split_) GRAN_CALL(srd_bricks_stress_reset_(bst_));
+      else GRAN_CALL(gran_srd_stress_reset(srd_));
       stress_t0_ = ob.time;
     }
     if (snap) {
@@ -275,11 +332,19 @@ class SrdEngine : public gran_engine {
       GRAN_CALL(gran_h5::attr_double(g.id, "shear_rate", o_.shear_rate, file));
       GRAN_CALL(gran_h5::attr_int64(g.id, "wall_axis", o_.wall_axis, file));
       GRAN_CALL(gran_h5::attr_int64(g.id, "steps", q.steps, file));
-      int32_t dev = GRAN_SRD_DEVICE_CPU;
+      int32_t dev = GRAN_SRD_DEVICE_CPU; /* a split gas: the CPU */
       if (srd_) GRAN_CALL(gran_srd_get_device(srd_, &dev));
       GRAN_CALL(gran_h5::attr_string(g.id, "device",
                                      dev == GRAN_SRD_DEVICE_CUDA ? "cuda" : dev == GRAN_SRD_DEVICE_REFERENCE ? "reference" : "cpu",
                                      file));
+      { /* where the gas ran: one process, or split into bricks over processes ([engine] decomposition) */
+        char dec[160];
+        if (split_)
+          std::snprintf(dec, sizeof dec, "%d x %d x %d bricks over %d processes", pgrid_[0], pgrid_[1], pgrid_[2], comm_.size);
+        else
+          std::snprintf(dec, sizeof dec, "one process");
+        GRAN_CALL(gran_h5::attr_string(g.id, "decomposition", dec, file));
+      }
       std::vector<double> acc = {o_.accel[0], o_.accel[1], o_.accel[2]};
       GRAN_CALL(gran_h5::write_double(g.id, "accel", {3}, acc.data(), file));
       GRAN_CALL(gran_describe_(g.id, "accel", "length/time^2", "uniform acceleration: gravity + body force per mass", file));
@@ -288,7 +353,13 @@ class SrdEngine : public gran_engine {
       H5Obj g(H5Gopen2((hid_t)f, "structure_factor", H5P_DEFAULT), H5Gclose);
       std::vector<double> k((size_t)q.sk_bins), sk((size_t)q.sk_bins);
       std::vector<int64_t> c((size_t)q.sk_bins);
-      GRAN_CALL(gran_srd_structure_factor(srd_, q.sk_bins, k.data(), sk.data(), c.data())); /* k and counts: geometry only */
+      if (split_) { /* k and counts: geometry only, as the last record had them (write_output is not collective) */
+        GRAN_CHECK(sk_k_.size() == (size_t)q.sk_bins, GRAN_ERR_STATE, "GSRD engine: S(k) written before it was recorded");
+        k = sk_k_;
+        c = sk_c_;
+      } else {
+        GRAN_CALL(gran_srd_structure_factor(srd_, q.sk_bins, k.data(), sk.data(), c.data())); /* k and counts: geometry only */
+      }
       for (int64_t b = 0; b < q.sk_bins; ++b)
         if (c[(size_t)b] == 0) k[(size_t)b] = gran_row_fill;
       GRAN_CALL(gran_h5::write_double(g.id, "k", {q.sk_bins}, k.data(), file));
@@ -325,6 +396,7 @@ class SrdEngine : public gran_engine {
   }
 
   int checkpoint_write(int64_t file, const char *fname, const char *group) override {
+    GRAN_CHECK(!split_, GRAN_ERR_UNSUPPORTED, "checkpoint '%s': a gas split over processes is not checkpointed yet", fname);
     GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: checkpoint before start");
     /* the engine's state (src/srd/checkpoint.cpp), then the adapter's own part in the same group:
      * the stress window's start and replica 0's field snapshots */
@@ -347,6 +419,7 @@ class SrdEngine : public gran_engine {
   }
 
   int checkpoint_read(int64_t file, const char *fname, const char *group, uint64_t seed) override {
+    GRAN_CHECK(!split_, GRAN_ERR_UNSUPPORTED, "checkpoint '%s': a gas split over processes is not resumed yet", fname);
     gran_srd_destroy(&srd_);
     snaps_.clear();
     rep0_ = std::strcmp(group, "/engine") == 0;
@@ -438,6 +511,21 @@ class SrdEngine : public gran_engine {
   double stress_t0_ = 0.0;
   int64_t next_ = 0; /* next output index of a resumed checkpoint */
   std::vector<Snap> snaps_;
+  /* a split gas (split_): this process's bricks over comm_, the split, the shells of the last S(k) */
+  bool split_ = false;
+  srd_bricks_comm comm_;
+  srd_bricks_state *bst_ = nullptr;
+  int pgrid_[3] = {1, 1, 1};
+  std::vector<double> sk_k_;
+  std::vector<int64_t> sk_c_;
+
+  int64_t steps_done() const { return split_ ? srd_bricks_steps_(bst_) : gran_srd_steps_(srd_); }
+  /* the status of a collective call of a split gas: an error on this process stops every process
+   * (they would wait for it in the next exchange), through the group's abort, which prints it */
+  int collective(int st) const {
+    if (st != GRAN_SUCCESS && split_ && comm_.abort) comm_.abort(comm_.ctx, gran_last_error_message());
+    return st;
+  }
 
   /* homogeneous cooling: dissipation and nothing else acting on the gas; the mean-field rate
    * (src/srd/theory.cpp, which `granary theory` prints too) */

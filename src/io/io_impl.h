@@ -54,6 +54,10 @@ struct gran_scene {
   int64_t replicas = 1;   /* independent runs (run.cpp); replica r draws from RNG stream r of seed */
   double max_memory = 0;  /* [engine] max_memory_gb in bytes; 0: MemAvailable at the check */
   int keep_replicas = 0;  /* also write the per-replica rows */
+  /* the engine's one gas is split over the run's processes (GSRD `[engine] decomposition`): under
+   * build/granary-mpi on P > 1 processes every process holds a part of replica 0 and every engine
+   * call is collective (run.cpp); in one process it changes nothing */
+  int split_gas = 0;
 
   /* [cell] (selector = "cell": src/dsmc/cell.cpp) */
   gran_dsmc_cell_options cell{};
@@ -95,6 +99,7 @@ struct gran_scene {
     int obs_sk = 0, obs_stress = 0, obs_profile = 0, obs_theory = 1;
     int64_t sk_bins = 0;             /* S(k) shells (0: cells[0] / 2) */
     std::vector<int64_t> snap_index; /* output indices with a field snapshot */
+    int decomp_grid[3] = {0, 0, 0};  /* [engine] decomposition: bricks per axis; 0 0 0 "auto" (split_gas) */
   } srd;
 };
 

@@ -297,6 +297,15 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
     GRAN_CALL(sync_status(r, r.root() ? check_files(r, scene->name) : GRAN_SUCCESS));
     r.R = scene->replicas;
     r.keep = scene->keep_replicas;
+    r.split = scene->split_gas && r.comm.size > 1;
+    GRAN_CHECK(!r.split || r.R == 1, GRAN_ERR_UNSUPPORTED,
+               "scene '%s': [engine] replicas = %" PRId64 " with a gas split over %d processes ([engine] decomposition): "
+               "replicas and a split gas do not combine yet (one replica, or decomposition = \"none\")",
+               scene->name.c_str(), r.R, r.comm.size);
+    GRAN_CHECK(!r.split || r.ckpt.empty(), GRAN_ERR_UNSUPPORTED,
+               "scene '%s': a gas split over %d processes ([engine] decomposition) is not checkpointed yet: run it "
+               "without a checkpoint (granary run --no-checkpoint; gran_scene_run's checkpoint \"\")",
+               scene->name.c_str(), r.comm.size);
     int st = prepare(r);
     if (st == GRAN_SUCCESS) st = start_replicas(r);
     GRAN_CALL(sync_status(r, st));
@@ -344,6 +353,10 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
     }
     GRAN_CALL(gran_scene_parse_text_(text, name, &r.owned_scene));
     r.s = r.owned_scene;
+    GRAN_CHECK(!(r.s->split_gas && r.comm.size > 1), GRAN_ERR_UNSUPPORTED,
+               "checkpoint '%s': its scene splits the gas over the processes ([engine] decomposition), and a split gas "
+               "is not resumed on %d processes yet: resume it in one process (build/granary)",
+               checkpoint, r.comm.size);
     r.out = output ? output : out;
     r.ckpt = checkpoint;
     GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");

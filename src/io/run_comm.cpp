@@ -141,9 +141,10 @@ int local_events(Run &r, int64_t *ev) {
  * files the rows and sums the events into r.events_all; v gets the first failure. */
 int exchange(Run &r, int st, int64_t i, Verdict *v) {
   int64_t ev = 0;
-  if (st == GRAN_SUCCESS) st = local_events(r, &ev);
+  const bool part_of_root = r.split && !r.root(); /* a split gas: rank 0's rows and events are the gas's */
+  if (st == GRAN_SUCCESS && !part_of_root) st = local_events(r, &ev);
   std::string rows;
-  if (st == GRAN_SUCCESS && i >= 0 && !r.root()) rows = pack_rows(r, i);
+  if (st == GRAN_SUCCESS && i >= 0 && !r.root() && !part_of_root) rows = pack_rows(r, i);
   std::vector<Part> parts;
   GRAN_CALL(gather_parts(r, st, ev, std::move(rows), &parts));
   if (!r.root()) return GRAN_SUCCESS;

@@ -33,7 +33,11 @@ struct Run {
   gran_scene *owned_scene = nullptr;
   std::vector<Replica> reps; /* R >= 1; replica 0 is the run without replicas */
   gran_run_comm comm;        /* the processes (run_comm.h); size 1: this process alone */
-  std::vector<int64_t> mine; /* the replicas this process runs: k % comm.size == comm.rank */
+  std::vector<int64_t> mine; /* the replicas this process runs: k % comm.size == comm.rank (split: 0) */
+  /* the scene's one gas is split over the P > 1 processes (gran_scene.split_gas): every process
+   * holds a part of replica 0, whose engine calls are collective and give every process the same
+   * rows; rank 0 records them and counts the events; no replicas, no checkpoints */
+  bool split = false;
   int64_t events_all = 0;    /* rank 0: engine events of all replicas at the last exchange */
   int64_t R = 1;
   int keep = 0;              /* keep_replicas */
@@ -42,7 +46,7 @@ struct Run {
   std::string out, ckpt;
   gran_engine *eng() const { return reps[0].eng.get(); } /* rank 0 only (it runs replica 0) */
   bool root() const { return comm.rank == 0; }
-  bool owns(int64_t k) const { return k % comm.size == comm.rank; }
+  bool owns(int64_t k) const { return split ? k == 0 : k % comm.size == comm.rank; }
   ~Run() {
     reps.clear();
     gran_scene_destroy(&owned_scene);

@@ -281,6 +281,8 @@ struct Brick {
   int64_t step = 0;
   double time = 0, e_coll = 0, e_ext = 0, flux_kin = 0, flux_coll = 0, wall_impulse[3] = {0, 0, 0}, dt_max = INFINITY;
   int64_t clamped = 0;
+  int64_t clamped_obs = 0;        /* the clamps, and their smallest dt_max, since the last observation */
+  double dt_max_obs = INFINITY;
   /* step work */
   srd_geom g;
   double sh[3] = {0, 0, 0};
@@ -836,6 +838,8 @@ void ledger_add(const Ctx &C, Brick &B, Red &r) {
   }
   B.clamped += r.clamped;
   B.dt_max = std::min(B.dt_max, r.dt_max);
+  B.clamped_obs += r.clamped;
+  B.dt_max_obs = std::min(B.dt_max_obs, r.dt_max);
 }
 template <int DIM, int FXF>
 int flush_ledger(const Ctx &C, std::vector<Brick> &bs, Transport &T) {
@@ -997,8 +1001,8 @@ void scalars_from(const gran_srd *s, Brick &B) {
   B.flux_kin = s->flux_kin;
   B.flux_coll = s->flux_coll;
   for (int k = 0; k < 3; ++k) B.wall_impulse[k] = s->wall_impulse[k];
-  B.clamped = s->clamped;
-  B.dt_max = s->dt_max;
+  B.clamped = B.clamped_obs = s->clamped; /* the plain engine counts them since its last observation */
+  B.dt_max = B.dt_max_obs = s->dt_max;
 }
 void scalars_to(const Brick &B, gran_srd *s) {
   s->shift_rng = B.shift_rng;
@@ -1411,8 +1415,9 @@ extern "C" double srd_bricks_memory_(const gran_srd_options *opt, int nbricks, i
   const bool str = opt->shear_rate != 0 || opt->wall_axis >= 0 || opt->accel[0] != 0 || opt->accel[1] != 0 ||
                    opt->accel[2] != 0;
   /* per particle: state, key, local cell, dest, order, the streaming terms, the sort's copy of one
-   * array; per cell: V, RNG, sums, start, mark */
-  const double bpp = 16.0 * d + 8 + 4 + 4 + 4 + (str ? 24.0 : 0.0) + 8;
+   * array, an observation's record (its unshifted cell, key and velocity: srd_bricks_observe_);
+   * per cell: V, RNG, sums, start, mark */
+  const double bpp = 16.0 * d + 8 + 4 + 4 + 4 + (str ? 24.0 : 0.0) + 8 + 36;
   const double bpc = 24.0 + 32.0 + (double)sizeof(srd_cell_sum) + 4 + 1;
   const double share = all_in_one ? 1.0 : 1.0 / (double)std::max(1, nbricks);
   double b = 1.1 * N * share * bpp + bin * share * bpc + 1e6;
@@ -1477,6 +1482,7 @@ struct srd_bricks_state {
   bool over_comm = false; /* one brick per process */
   int pgrid[3] = {1, 1, 1};
   double e0 = 0, seconds = 0;
+  double stress_t0 = 0; /* the time of the last stress reset */
 };
 
 int srd_bricks_open_(const gran_srd_options *opt, const int pgrid[3], const srd_bricks_comm *comm,
@@ -1780,3 +1786,339 @@ int srd_bricks_structure_factor_(srd_bricks_state *st, int64_t nbins, double *k,
   }
   GRAN_CATCH
 }
+
+/* ---- the observables of a split gas (gran_srd_observe's, bit for bit the same on any split) ----
+ * The cell observables (theta_cells, e_kin, sigma_rho, a2) are sums over the cells of the
+ * unshifted lattice, whose particles lie in up to 2^d bricks (a brick holds the particles of its
+ * cells under the last step's shift). Each particle's record (its unshifted cell, key and velocity)
+ * goes to the brick whose window holds that cell (the particles of other processes' cells in one
+ * message round); each brick then has its unshifted cells whole, puts every cell's particles in
+ * key order (the order of the one-process array) and adds each cell's sums in that order, as the
+ * serial engine adds them in index order; every global sum is exact (one exact add per cell and
+ * quantity), all-reduced. Two passes: the momentum, the cells' means and the largest thermal
+ * component first; the temperature about the mean flow and a2's moments, scaled by that
+ * component's power of two, second. */
+namespace {
+
+enum { OQ_P0, OQ_P1, OQ_P2, OQ_E, OQ_EK, OQ_Q, OQ_N };   /* pass 1 */
+enum { OQ_TH = 0, OQ_M2, OQ_M4, OQ_H };                  /* pass 2, in the same record */
+struct ObsRed {
+  gran_exactsum a[OQ_N];
+  int64_t n, r2, nin; /* particles, sum of n_c^2, particles in cells of n_c >= 2 */
+  double umax;        /* the largest |thermal component| in those cells */
+  void clear() {
+    for (auto &q : a) gran_exactsum_init_(&q);
+    n = r2 = nin = 0;
+    umax = 0;
+  }
+  void merge(const ObsRed &o) {
+    for (int q = 0; q < OQ_N; ++q) gran_exactsum_merge_(&a[q], &o.a[q]);
+    n += o.n;
+    r2 += o.r2;
+    nin += o.nin;
+    umax = std::max(umax, o.umax);
+  }
+};
+static_assert(std::is_trivially_copyable<ObsRed>::value, "the observation's sums are all-reduced as bytes");
+
+constexpr int kObsWords = 5; /* a particle's record in a message: global cell, key, vx, vy, vz */
+
+/* one particle of an unshifted cell: its key and velocity */
+struct ObsRec {
+  uint64_t key;
+  double v[3];
+};
+/* the unshifted cells of a brick's window: cell c holds rec[start[c] .. start[c + 1]), in key order,
+ * and its mean velocity V[3 c ..] (pass 1) */
+struct ObsCells {
+  std::vector<int64_t> start;
+  std::vector<ObsRec> rec;
+  std::vector<double> V;
+};
+
+/* the particles of every brick's unshifted cells, whole and per cell in key order (comm: one brick
+ * per process, the particles of other processes' cells sent in a round; NULL: every brick of the
+ * split in bs) */
+int obs_collect(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, std::vector<ObsCells> &oc) {
+  const int d = C.o->dim;
+  const bool d3 = d == 3;
+  srd_geom g0 = C.gm; /* the unshifted lattice, as gran_srd_observe bins it */
+  g0.le_on = 0;
+  const double zero[3] = {0, 0, 0};
+  const bool over = comm != nullptr;
+  const int P = over ? comm->size : (int)bs.size();
+  const int me = over ? comm->rank : -1;
+  const int64_t ncg = C.gm.nc[0] * C.gm.nc[1] * C.gm.nc[2];
+  constexpr uint32_t kNone = UINT32_MAX; /* a hole, or a particle of another brick's cell */
+  oc.assign(bs.size(), ObsCells());
+  std::vector<std::vector<uint32_t>> lcs(bs.size()); /* per slot: its unshifted cell in the brick's window */
+  std::vector<std::vector<double>> out((size_t)P);   /* over a comm: the records for other processes */
+  std::vector<std::vector<double>> arr(bs.size());   /* per brick: the records of its cells' particles from others */
+  for (size_t b = 0; b < bs.size(); ++b) {
+    const Brick &B = bs[b];
+    ObsCells &O = oc[b];
+    O.start.assign((size_t)B.ncl + 1, 0);
+    std::vector<uint32_t> &L = lcs[b];
+    L.assign(B.x.size(), kNone);
+    for (size_t i = 0; i < B.x.size(); ++i) {
+      if (!B.dest.empty() && B.dest[i] >= 0) continue; /* a hole */
+      const double p[3] = {B.x[i], B.y[i], d3 ? B.z[i] : 0.0};
+      int64_t c[3];
+      double dvx;
+      srd_bin3(&g0, zero, p, c, &dvx);
+      const int to = owner_of(C.sp, c);
+      if (over ? to == me : to == B.rank) {
+        L[i] = local_of(B, c);
+        ++O.start[(size_t)L[i] + 1];
+      } else {
+        const int64_t gc = c[0] + C.gm.nc[0] * (c[1] + C.gm.nc[1] * c[2]);
+        const double rec[kObsWords] = {word_of((uint64_t)gc), word_of(B.key[i]), B.vx[i], B.vy[i], d3 ? B.vz[i] : 0.0};
+        std::vector<double> &m = over ? out[(size_t)to] : arr[(size_t)to];
+        m.insert(m.end(), rec, rec + kObsWords);
+      }
+    }
+  }
+  if (over) {
+    std::vector<std::vector<double>> got((size_t)P);
+    GRAN_CHECK(comm->round(comm->ctx, out, got) == 0, GRAN_ERR_IO,
+               "decomposed GSRD run: the exchange of the particles of the unshifted cells failed on process %d", me);
+    for (int p = 0; p < P; ++p) {
+      GRAN_CHECK(got[(size_t)p].size() % kObsWords == 0, GRAN_ERR_IO,
+                 "observables: process %d sent process %d a cut message of particle records", p, me);
+      arr[0].insert(arr[0].end(), got[(size_t)p].begin(), got[(size_t)p].end());
+    }
+  }
+  for (size_t b = 0; b < bs.size(); ++b) {
+    const Brick &B = bs[b];
+    ObsCells &O = oc[b];
+    const std::vector<double> &A = arr[b];
+    const std::vector<uint32_t> &L = lcs[b];
+    const int64_t na = (int64_t)(A.size() / kObsWords);
+    std::vector<uint32_t> alc((size_t)na);
+    for (int64_t j = 0; j < na; ++j) {
+      const int64_t gc = (int64_t)key_of(A[(size_t)(j * kObsWords)]);
+      GRAN_CHECK(gc >= 0 && gc < ncg, GRAN_ERR_IO, "observables: brick %d received a particle of cell %lld, outside the grid",
+                 B.rank, (long long)gc);
+      const int64_t c[3] = {gc % C.gm.nc[0], (gc / C.gm.nc[0]) % C.gm.nc[1], gc / (C.gm.nc[0] * C.gm.nc[1])};
+      GRAN_CHECK(owner_of(C.sp, c) == B.rank, GRAN_ERR_IO, "observables: brick %d received a particle of brick %d's cell %lld",
+                 B.rank, owner_of(C.sp, c), (long long)gc);
+      alc[(size_t)j] = local_of(B, c);
+      ++O.start[(size_t)alc[(size_t)j] + 1];
+    }
+    /* a counting sort by cell (the brick's particles in slot order, then the arrivals), then each
+     * cell's particles in key order: the order of the one-process array (a brick's residents are
+     * in key order by slot; the insertion moves only the others) */
+    for (int64_t c = 0; c < B.ncl; ++c) O.start[(size_t)c + 1] += O.start[(size_t)c];
+    std::vector<int64_t> fill(O.start.begin(), O.start.end() - 1);
+    O.rec.resize((size_t)O.start[(size_t)B.ncl]);
+    for (size_t i = 0; i < L.size(); ++i) {
+      if (L[i] == kNone) continue;
+      O.rec[(size_t)fill[L[i]]++] = ObsRec{B.key[i], {B.vx[i], B.vy[i], d3 ? B.vz[i] : 0.0}};
+    }
+    for (int64_t j = 0; j < na; ++j) {
+      const double *w = A.data() + j * kObsWords;
+      O.rec[(size_t)fill[alc[(size_t)j]]++] = ObsRec{key_of(w[1]), {w[2], w[3], w[4]}};
+    }
+    std::vector<uint32_t>().swap(lcs[b]);
+    std::vector<double>().swap(arr[b]);
+    for (int64_t c = 0; c < B.ncl; ++c) { /* insertion by key (the keys are distinct) */
+      ObsRec *q = O.rec.data() + O.start[(size_t)c];
+      const int64_t n = O.start[(size_t)c + 1] - O.start[(size_t)c];
+      for (int64_t i = 1; i < n; ++i) {
+        if (!(q[i - 1].key > q[i].key)) continue;
+        const ObsRec t = q[i];
+        int64_t j = i;
+        for (; j > 0 && q[j - 1].key > t.key; --j) q[j] = q[j - 1];
+        q[j] = t;
+      }
+    }
+  }
+  return GRAN_SUCCESS;
+}
+
+/* the sums of gran_srd_observe (momentum, energy, temperature, e_kin, theta_cells, mach, sigma_rho,
+ * a2) of the gas in bs (comm: one brick per process; NULL: every brick here) */
+int obs_sums(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, int64_t ncell_box, gran_srd_obs *ob) {
+  const int d = C.o->dim;
+  std::vector<ObsCells> oc;
+  GRAN_CALL(obs_collect(C, bs, comm, oc));
+  auto all = [&](ObsRed &r, const char *what) -> int {
+    if (!comm) return GRAN_SUCCESS;
+    GRAN_CHECK(comm->allreduce(comm->ctx, &r, sizeof r, 1, &merge_bytes<ObsRed>) == 0, GRAN_ERR_IO,
+               "decomposed GSRD run: the all-reduce of the observables (%s) failed on process %d", what, comm->rank);
+    return GRAN_SUCCESS;
+  };
+  /* the cells of every brick, over the brick's threads (each with its own exact accumulators,
+   * merged: the same bits for any thread count); f(R, O, c) per cell */
+  auto cells = [&](ObsRed &tot, auto &&f) {
+    std::vector<ObsRed> tr((size_t)C.nth);
+    for (ObsRed &R : tr) R.clear();
+    for (size_t b = 0; b < bs.size(); ++b) {
+      ObsCells &O = oc[b];
+      const int64_t ncl = (int64_t)O.start.size() - 1;
+#pragma omp parallel for schedule(static, 1024) num_threads(C.nth)
+      for (int64_t c = 0; c < ncl; ++c) {
+#ifdef _OPENMP
+        ObsRed &R = tr[(size_t)omp_get_thread_num()];
+#else
+        ObsRed &R = tr[0];
+#endif
+        const int64_t n = O.start[(size_t)c + 1] - O.start[(size_t)c];
+        if (n > 0) f(R, O, c, O.rec.data() + O.start[(size_t)c], n);
+      }
+    }
+    for (const ObsRed &R : tr) tot.merge(R);
+  };
+  /* pass 1: per cell its momentum and energy, mean, thermal sum and convective energy */
+  ObsRed r1;
+  r1.clear();
+  for (ObsCells &O : oc) O.V.assign((size_t)(3 * ((int64_t)O.start.size() - 1)), 0.0);
+  cells(r1, [&](ObsRed &R, ObsCells &O, int64_t c, const ObsRec *q, int64_t n) {
+    double S[3] = {0, 0, 0}, E = 0;
+    for (int64_t i = 0; i < n; ++i) {
+      const double *v = q[i].v;
+      S[0] += v[0];
+      S[1] += v[1];
+      S[2] += v[2];
+      E += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    }
+    double *V = O.V.data() + 3 * c;
+    for (int k = 0; k < 3; ++k) V[k] = S[k] / (double)n;
+    double Q = 0, um = 0;
+    for (int64_t i = 0; i < n; ++i) {
+      const double *v = q[i].v;
+      const double ux = v[0] - V[0], uy = v[1] - V[1], uz = v[2] - V[2];
+      Q += ux * ux + uy * uy + uz * uz;
+      um = std::max({um, std::fabs(ux), std::fabs(uy), std::fabs(uz)});
+    }
+    for (int k = 0; k < 3; ++k) gran_exactsum_add_(&R.a[OQ_P0 + k], S[k]);
+    gran_exactsum_add_(&R.a[OQ_E], E);
+    gran_exactsum_add_(&R.a[OQ_EK], (double)n * (V[0] * V[0] + V[1] * V[1] + V[2] * V[2]));
+    gran_exactsum_add_(&R.a[OQ_Q], Q);
+    R.n += n;
+    R.r2 += n * n;
+    if (n >= 2) {
+      R.nin += n;
+      R.umax = std::max(R.umax, um);
+    }
+  });
+  GRAN_CALL(all(r1, "momentum and cell means"));
+  const int64_t N = r1.n;
+  GRAN_CHECK(N == ob->n, GRAN_ERR_INTERNAL, "GSRD observables: the bricks hold %lld particles, the gas %lld",
+             (long long)N, (long long)ob->n);
+  for (int k = 0; k < 3; ++k) ob->momentum[k] = gran_exactsum_value_(&r1.a[OQ_P0 + k]);
+  ob->energy = gran_exactsum_value_(&r1.a[OQ_E]);
+  /* pass 2: the temperature about the mean flow; a2's moments of w = u sqrt(n / (n - 1)), u scaled
+   * by the power of two 2^-e that puts the largest |component| in [0.5, 1) (gran_srd_observe) */
+  const double u[3] = {ob->momentum[0] / (double)N, ob->momentum[1] / (double)N, ob->momentum[2] / (double)N};
+  int ex = 0;
+  if (r1.umax > 0) std::frexp(r1.umax, &ex);
+  const double us = std::ldexp(1.0, -ex);
+  ObsRed r2;
+  r2.clear();
+  cells(r2, [&](ObsRed &R, ObsCells &O, int64_t c, const ObsRec *q, int64_t n) {
+    double th = 0;
+    for (int64_t i = 0; i < n; ++i) {
+      const double *v = q[i].v;
+      const double ux = v[0] - u[0], uy = v[1] - u[1], uz = d == 3 ? v[2] - u[2] : 0.0;
+      th += ux * ux + uy * uy + uz * uz;
+    }
+    gran_exactsum_add_(&R.a[OQ_TH], th);
+    if (n < 2) return;
+    const double nc = (double)n, *V = O.V.data() + 3 * c;
+    double m2 = 0, m4 = 0;
+    for (int64_t i = 0; i < n; ++i) {
+      const double *v = q[i].v;
+      const double ux = (v[0] - V[0]) * us, uy = (v[1] - V[1]) * us, uz = (v[2] - V[2]) * us;
+      const double w2 = (ux * ux + uy * uy + uz * uz) * nc / (nc - 1.0);
+      m2 += w2;
+      m4 += w2 * w2;
+    }
+    gran_exactsum_add_(&R.a[OQ_M2], m2);
+    gran_exactsum_add_(&R.a[OQ_M4], m4);
+    gran_exactsum_add_(&R.a[OQ_H], (nc * nc - 3.0 * nc + 3.0) / (nc - 1.0)); /* n h(n) */
+  });
+  GRAN_CALL(all(r2, "temperature and a2"));
+  const double dn = (double)d * (double)N;
+  ob->temperature = gran_exactsum_value_(&r2.a[OQ_TH]) / dn;
+  ob->e_kin = gran_exactsum_value_(&r1.a[OQ_EK]) / (double)N;
+  ob->theta_cells = gran_exactsum_value_(&r1.a[OQ_Q]) / dn;
+  ob->mach = ob->theta_cells > 0 ? std::sqrt(ob->e_kin / ob->theta_cells) : 0.0;
+  { /* the variance of the box cells' counts, exact before its one rounding */
+    const double a = C.o->a, vol = d == 3 ? a * a * a : a * a, nb = (double)ncell_box;
+    const __int128 num = (__int128)r1.r2 * ncell_box - (__int128)N * N;
+    ob->sigma_rho = std::sqrt(std::max(0.0, (double)num / (nb * nb))) / vol;
+  }
+  {
+    const double m2 = gran_exactsum_value_(&r2.a[OQ_M2]), m4 = gran_exactsum_value_(&r2.a[OQ_M4]);
+    const double nin = (double)r1.nin, hsum = gran_exactsum_value_(&r2.a[OQ_H]);
+    ob->a2 = m2 > 0 ? ((double)d / (d + 2.0) * m4 * nin / (m2 * m2) - 1.0) * nin / hsum : 0.0;
+  }
+  return GRAN_SUCCESS;
+}
+
+srd_obs_scalars obs_scalars_of(const Ctx &C, const Brick &B, double e_initial, double stress_t0) {
+  srd_obs_scalars q;
+  q.e_initial = e_initial;
+  q.e_coll = B.e_coll;
+  q.e_ext = B.e_ext;
+  q.flux_kin = B.flux_kin;
+  q.flux_coll = B.flux_coll;
+  q.stress_t0 = stress_t0;
+  q.shear_rate = C.o->shear_rate;
+  for (int k = 0; k < 3; ++k) q.box[k] = C.gm.box[k];
+  q.dim = C.o->dim;
+  q.clamped = B.clamped_obs;
+  q.dt_max = B.dt_max_obs;
+  return q;
+}
+
+}  // namespace
+
+int srd_observe_cells_(gran_srd *s, gran_srd_obs *ob) {
+  const int pg[3] = {1, 1, 1};
+  Ctx C;
+  GRAN_CALL(make_ctx(s, pg, C));
+  std::vector<Brick> bs(1);
+  Brick &B = bs[0];
+  window_of(C, 0, B);
+  Lend lend(s, B);
+  B.key.resize(B.x.size()); /* key = index: the array is in key order */
+  std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
+  return obs_sums(C, bs, nullptr, s->ncell_box, ob);
+}
+
+int srd_bricks_observe_(srd_bricks_state *st, gran_srd_obs *ob) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(st);
+    GRAN_CHECK_PTR_AS(ob, obs);
+    std::memset(ob, 0, sizeof *ob);
+    const Brick &B0 = st->bs[0]; /* the scalar state is the same on every brick */
+    ob->time = B0.time;
+    ob->steps = B0.step;
+    ob->n = st->shell->n;
+    GRAN_CALL(obs_sums(st->C, st->bs, st->over_comm ? &st->comm : nullptr, st->shell->ncell_box, ob));
+    GRAN_CALL(srd_obs_finish_(ob, obs_scalars_of(st->C, B0, st->e0, st->stress_t0)));
+    for (Brick &B : st->bs) {
+      B.clamped_obs = 0;
+      B.dt_max_obs = INFINITY;
+    }
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+int srd_bricks_stress_reset_(srd_bricks_state *st) {
+  GRAN_CHECK_PTR(st);
+  for (Brick &B : st->bs) B.flux_kin = B.flux_coll = 0.0;
+  st->stress_t0 = st->bs[0].time;
+  return GRAN_SUCCESS;
+}
+
+namespace {
+srd_bricks_comm g_run_comm; /* srd_bricks_set_run_comm_; size 1: one process */
+}  // namespace
+
+void srd_bricks_set_run_comm_(const srd_bricks_comm *comm) { g_run_comm = comm && comm->size > 1 ? *comm : srd_bricks_comm(); }
+const srd_bricks_comm *srd_bricks_run_comm_() { return &g_run_comm; }
+int64_t srd_bricks_steps_(const srd_bricks_state *st) { return st ? st->bs[0].step : 0; }

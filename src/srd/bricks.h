@@ -106,6 +106,14 @@ int srd_bricks_report_(srd_bricks_state *st, srd_bricks_rank_out *out);
  * what was wrong. */
 #define SRD_BRICKS_SK_MAX_BINS 4096
 int srd_bricks_structure_factor_(srd_bricks_state *st, int64_t nbins, double *k, double *sk, int64_t *count);
+/* gran_srd_observe of the split gas (collective; the same on every process and, bit for bit, for
+ * any split, the decomposable engine's gran_srd_observe in one process included): the particles of
+ * each unshifted cell are gathered on the process holding that cell (one message round), every
+ * cell's sums taken over its particles in key order, every global sum exact. The clamps are those
+ * since the last observation (then reset); the stress is averaged since srd_bricks_stress_reset_
+ * (or the start), which resets the Lees-Edwards fluxes of every brick. */
+int srd_bricks_observe_(srd_bricks_state *st, gran_srd_obs *ob);
+int srd_bricks_stress_reset_(srd_bricks_state *st);
 void srd_bricks_close_(srd_bricks_state **st);
 
 #ifdef __cplusplus
@@ -135,7 +143,20 @@ struct srd_bricks_comm {
    * n[dim - 1] / 2 + 1 long), re and im interleaved. NULL: the group has none (S(k) of a gas split
    * over processes is then refused). */
   int (*fft_r2c)(void *ctx, int dim, const int64_t n[3], int64_t block, const double *in, double *out) = nullptr;
+  /* stop every process of the group after an error of this one (`msg` names it; the group prints
+   * it with this process's rank): the others would wait for it in the next exchange. NULL: the
+   * group has none (the caller returns the error). Does not return. */
+  void (*abort)(void *ctx, const char *msg) = nullptr;
 };
+
+/* The process group a run's split gas spans (GSRD `[engine] decomposition` under
+ * build/granary-mpi: src/io/engine_srd.cpp opens its bricks over it): installed by the program
+ * before it runs a scene, copied; NULL or size 1: one process (not thread-safe: call before
+ * running). srd_bricks_run_comm_ returns it (size 1 when none is installed). */
+void srd_bricks_set_run_comm_(const srd_bricks_comm *comm);
+const srd_bricks_comm *srd_bricks_run_comm_();
+/* steps done by the split gas */
+int64_t srd_bricks_steps_(const srd_bricks_state *st);
 
 /* gran_srd_advance of the decomposable engine: steps s as one brick (engine.cpp calls it) */
 int srd_bricks_advance_(gran_srd *s, int64_t steps);

@@ -1005,6 +1005,46 @@ int srd_check_finite(const gran_srd *s, const char *when) {
                     (long long)first, names[comp], a[comp][first], when);
 }
 
+/* The ledger, the warnings, the clamps and the Lees-Edwards stress of an observation (ob holds
+ * the sums already): one definition for the plain engine and a split gas. */
+int srd_obs_finish_(gran_srd_obs *ob, const srd_obs_scalars &q) {
+  const double E = ob->energy;
+  GRAN_CHECK(std::isfinite(E) && std::isfinite(ob->momentum[0] + ob->momentum[1] + ob->momentum[2]), GRAN_ERR_NUMERIC,
+             "GSRD: the kinetic energy (%g) or the momentum of the finite velocities overflows", E);
+  ob->e_initial = q.e_initial;
+  ob->e_collisions = q.e_coll;
+  ob->e_external = q.e_ext;
+  { /* relative to the initial energy, but never to less than the rounding of the energies
+     * exchanged (a tiny e_initial beside large exchanges would turn rounding into an overflow);
+     * a gas created at rest (one particle, its momentum removed) has none: then relative to
+     * the largest energy exchanged, 0 when nothing was. The scale is a maximum (a sum of
+     * finite energies may overflow), so the ratio is finite (at most ~3 / DBL_EPSILON). */
+    const double num = q.e_initial + q.e_coll + q.e_ext - E;
+    const double scale = std::max(std::max(std::fabs(q.e_coll), std::fabs(q.e_ext)), std::fabs(E));
+    const double den = q.e_initial > 0 ? std::max(q.e_initial, DBL_EPSILON * scale) : scale;
+    ob->ledger_error = den > 0 ? num / den : 0.0;
+  }
+  if (ob->temperature > 0 && ob->temperature < 1e-300)
+    gran_warning_add("GSRD: the temperature %g is below 1e-300: squared velocities are subnormal doubles, flushed to "
+                     "zero in the collision step (the cells' temperatures read 0 there: no dissipation, no thermostat)",
+                     ob->temperature);
+  ob->clamped = q.clamped;
+  ob->dt_max = q.dt_max;
+  if (q.clamped > 0)
+    gran_warning_add("GSRD: eps_eff was clamped to [0, 1] in %lld cell collisions; dt <= %g avoids it",
+                     (long long)q.clamped, q.dt_max);
+  if (q.shear_rate != 0 && ob->time > q.stress_t0) {
+    const double A = q.box[0] * (q.dim == 3 ? q.box[2] : 1.0);
+    const double tt = ob->time - q.stress_t0;
+    const double Vt = A * q.box[1];
+    const double fk = q.flux_kin / tt / Vt; /* the flux per time first: Vt tt can underflow */
+    const double fc = q.flux_coll / tt / Vt;
+    ob->stress_kin = -fk;
+    ob->stress_xy = -(fk + fc);
+  }
+  return GRAN_SUCCESS;
+}
+
 GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
   GRAN_TRY {
     GRAN_CHECK_PTR_AS(s, srd);
@@ -1017,117 +1057,100 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     ob->time = s->time;
     ob->steps = s->step;
     ob->n = n;
-    double P[3] = {0, 0, 0};
-    for (int64_t i = 0; i < n; ++i) {
-      P[0] += s->vx[i];
-      P[1] += s->vy[i];
-      if (d == 3) P[2] += s->vz[i];
-    }
-    for (int k = 0; k < 3; ++k) ob->momentum[k] = P[k];
-    const double E = energy_of(s);
-    GRAN_CHECK(std::isfinite(E) && std::isfinite(P[0] + P[1] + P[2]), GRAN_ERR_NUMERIC,
-               "GSRD: the kinetic energy (%g) or the momentum of the finite velocities overflows", E);
-    ob->energy = E;
-    double th = 0;
-    for (int64_t i = 0; i < n; ++i) {
-      const double ux = s->vx[i] - P[0] / n, uy = s->vy[i] - P[1] / n, uz = d == 3 ? s->vz[i] - P[2] / n : 0.0;
-      th += ux * ux + uy * uy + uz * uz;
-    }
-    ob->temperature = th / (double)(d * n);
-    ob->e_initial = s->e_initial;
-    ob->e_collisions = s->e_coll;
-    ob->e_external = s->e_ext;
-    { /* relative to the initial energy, but never to less than the rounding of the energies
-       * exchanged (a tiny e_initial beside large exchanges would turn rounding into an overflow);
-       * a gas created at rest (one particle, its momentum removed) has none: then relative to
-       * the largest energy exchanged, 0 when nothing was. The scale is a maximum (a sum of
-       * finite energies may overflow), so the ratio is finite (at most ~3 / DBL_EPSILON). */
-      const double num = s->e_initial + s->e_coll + s->e_ext - E;
-      const double scale = std::max(std::max(std::fabs(s->e_coll), std::fabs(s->e_ext)), std::fabs(E));
-      const double den = s->e_initial > 0 ? std::max(s->e_initial, DBL_EPSILON * scale) : scale;
-      ob->ledger_error = den > 0 ? num / den : 0.0;
-    }
-    std::vector<int64_t> cnt;
-    std::vector<double> V, Q;
-    std::vector<uint32_t> cell_of;
-    unshifted_cells(s, cnt, V, Q, &cell_of);
-    double ek = 0, qs = 0, r1 = 0, r2 = 0;
-    int64_t nbox = 0;
-    for (int64_t c = 0; c < s->ncell; ++c) {
-      const double nc = (double)cnt[c];
-      ek += nc * (V[3 * c] * V[3 * c] + V[3 * c + 1] * V[3 * c + 1] + V[3 * c + 2] * V[3 * c + 2]);
-      qs += Q[c];
-      r1 += nc;
-      r2 += nc * nc;
-      ++nbox;
-    }
-    ob->e_kin = ek / (double)n;
-    ob->theta_cells = qs / (double)(d * n);
-    ob->mach = ob->theta_cells > 0 ? std::sqrt(ob->e_kin / ob->theta_cells) : 0.0;
-    const double vol = d == 3 ? s->opt.a * s->opt.a * s->opt.a : s->opt.a * s->opt.a;
-    const double mr = r1 / nbox;
-    ob->sigma_rho = std::sqrt(std::max(0.0, r2 / nbox - mr * mr)) / vol;
-    /* ---- Sonine a2 of the thermal velocities ----
-     * u = v - V_cell in the unshifted cells with n >= 2. Removing the cell mean shrinks the second
-     * cumulant of u by (n-1)/n and the fourth by g(n) = (n-1)(n^2-3n+3)/n^3 (cumulants are
-     * multilinear), so w = u sqrt(n/(n-1)) has the population variance and a fourth cumulant
-     * h(n) = (n^2-3n+3)/(n(n-1)) times the population's. Hence, for velocities drawn independently
-     * in each cell about its flow velocity (any distribution, 2-D or 3-D):
-     *   E sum|w|^4 = d(d+2) T^2 sum_c n_c (1 + a2 h(n_c)),
-     *   a2 = [(d/(d+2)) N_in sum|w|^4 / (sum|w|^2)^2 - 1] N_in / sum_c n_c h(n_c),
-     * N_in = particles in cells with n >= 2 (a Maxwellian gives 0, not +0.018 as the plain
-     * (d/(d+2)) <u^4>/<u^2>^2 - 1 with N in place of N_in did at n0 = 5).
-     * The fourth moment of T0 ~ 1e-154 or 1e154 under- or overflows: u is scaled
-     * by the power of two 2^-e that puts the largest |component| in [0.5, 1) (exact: the same bits
-     * of a2 as unscaled wherever neither under- nor overflows, any temperature otherwise). */
-    {
-      double umax = 0;
+    if (s->opt.creation == GRAN_SRD_CREATE_CELLS && !s->dev.p) {
+      /* the decomposable engine: the sums of a split gas (bricks.cpp), here with one brick */
+      GRAN_CALL(srd_observe_cells_(s, ob));
+    } else {
+      double P[3] = {0, 0, 0};
       for (int64_t i = 0; i < n; ++i) {
-        const uint32_t cc = cell_of[(size_t)i];
-        if (cnt[cc] < 2) continue;
-        const double *m = &V[3 * (size_t)cc];
-        umax = std::max({umax, std::fabs(s->vx[i] - m[0]), std::fabs(s->vy[i] - m[1]),
-                         d == 3 ? std::fabs(s->vz[i] - m[2]) : 0.0});
+        P[0] += s->vx[i];
+        P[1] += s->vy[i];
+        if (d == 3) P[2] += s->vz[i];
       }
-      int ex = 0;
-      if (umax > 0) std::frexp(umax, &ex);
-      const double us = std::ldexp(1.0, -ex);
-      double m2 = 0, m4 = 0, nin = 0, hsum = 0;
+      for (int k = 0; k < 3; ++k) ob->momentum[k] = P[k];
+      ob->energy = energy_of(s);
+      double th = 0;
       for (int64_t i = 0; i < n; ++i) {
-        const uint32_t cc = cell_of[(size_t)i];
-        const double nc = (double)cnt[cc];
-        if (nc < 2) continue;
-        const double *m = &V[3 * (size_t)cc];
-        const double ux = (s->vx[i] - m[0]) * us, uy = (s->vy[i] - m[1]) * us, uz = d == 3 ? (s->vz[i] - m[2]) * us : 0.0;
-        const double w2 = (ux * ux + uy * uy + uz * uz) * nc / (nc - 1.0);
-        m2 += w2;
-        m4 += w2 * w2;
-        nin += 1.0;
-        hsum += (nc * nc - 3.0 * nc + 3.0) / (nc * (nc - 1.0));
+        const double ux = s->vx[i] - P[0] / n, uy = s->vy[i] - P[1] / n, uz = d == 3 ? s->vz[i] - P[2] / n : 0.0;
+        th += ux * ux + uy * uy + uz * uz;
       }
-      ob->a2 = m2 > 0 ? ((double)d / (d + 2.0) * m4 * nin / (m2 * m2) - 1.0) * nin / hsum : 0.0;
+      ob->temperature = th / (double)(d * n);
+      std::vector<int64_t> cnt;
+      std::vector<double> V, Q;
+      std::vector<uint32_t> cell_of;
+      unshifted_cells(s, cnt, V, Q, &cell_of);
+      double ek = 0, qs = 0, r1 = 0, r2 = 0;
+      const double nbox = (double)s->ncell_box; /* the box cells (a wall axis's extra binning layer is no cell of the box) */
+      for (int64_t c = 0; c < s->ncell; ++c) {
+        const double nc = (double)cnt[c];
+        ek += nc * (V[3 * c] * V[3 * c] + V[3 * c + 1] * V[3 * c + 1] + V[3 * c + 2] * V[3 * c + 2]);
+        qs += Q[c];
+        r1 += nc;
+        r2 += nc * nc;
+      }
+      ob->e_kin = ek / (double)n;
+      ob->theta_cells = qs / (double)(d * n);
+      ob->mach = ob->theta_cells > 0 ? std::sqrt(ob->e_kin / ob->theta_cells) : 0.0;
+      const double vol = d == 3 ? s->opt.a * s->opt.a * s->opt.a : s->opt.a * s->opt.a;
+      const double mr = r1 / nbox;
+      ob->sigma_rho = std::sqrt(std::max(0.0, r2 / nbox - mr * mr)) / vol;
+      /* ---- Sonine a2 of the thermal velocities ----
+       * u = v - V_cell in the unshifted cells with n >= 2. Removing the cell mean shrinks the second
+       * cumulant of u by (n-1)/n and the fourth by g(n) = (n-1)(n^2-3n+3)/n^3 (cumulants are
+       * multilinear), so w = u sqrt(n/(n-1)) has the population variance and a fourth cumulant
+       * h(n) = (n^2-3n+3)/(n(n-1)) times the population's. Hence, for velocities drawn independently
+       * in each cell about its flow velocity (any distribution, 2-D or 3-D):
+       *   E sum|w|^4 = d(d+2) T^2 sum_c n_c (1 + a2 h(n_c)),
+       *   a2 = [(d/(d+2)) N_in sum|w|^4 / (sum|w|^2)^2 - 1] N_in / sum_c n_c h(n_c),
+       * N_in = particles in cells with n >= 2 (a Maxwellian gives 0, not +0.018 as the plain
+       * (d/(d+2)) <u^4>/<u^2>^2 - 1 with N in place of N_in did at n0 = 5).
+       * The fourth moment of T0 ~ 1e-154 or 1e154 under- or overflows: u is scaled
+       * by the power of two 2^-e that puts the largest |component| in [0.5, 1) (exact: the same bits
+       * of a2 as unscaled wherever neither under- nor overflows, any temperature otherwise). */
+      {
+        double umax = 0;
+        for (int64_t i = 0; i < n; ++i) {
+          const uint32_t cc = cell_of[(size_t)i];
+          if (cnt[cc] < 2) continue;
+          const double *m = &V[3 * (size_t)cc];
+          umax = std::max({umax, std::fabs(s->vx[i] - m[0]), std::fabs(s->vy[i] - m[1]),
+                           d == 3 ? std::fabs(s->vz[i] - m[2]) : 0.0});
+        }
+        int ex = 0;
+        if (umax > 0) std::frexp(umax, &ex);
+        const double us = std::ldexp(1.0, -ex);
+        double m2 = 0, m4 = 0, nin = 0, hsum = 0;
+        for (int64_t i = 0; i < n; ++i) {
+          const uint32_t cc = cell_of[(size_t)i];
+          const double nc = (double)cnt[cc];
+          if (nc < 2) continue;
+          const double *m = &V[3 * (size_t)cc];
+          const double ux = (s->vx[i] - m[0]) * us, uy = (s->vy[i] - m[1]) * us, uz = d == 3 ? (s->vz[i] - m[2]) * us : 0.0;
+          const double w2 = (ux * ux + uy * uy + uz * uz) * nc / (nc - 1.0);
+          m2 += w2;
+          m4 += w2 * w2;
+          nin += 1.0;
+          hsum += (nc * nc - 3.0 * nc + 3.0) / (nc * (nc - 1.0));
+        }
+        ob->a2 = m2 > 0 ? ((double)d / (d + 2.0) * m4 * nin / (m2 * m2) - 1.0) * nin / hsum : 0.0;
+      }
+      /* ---- end Sonine a2 ---- */
     }
-    /* ---- end Sonine a2 ---- */
-    if (ob->temperature > 0 && ob->temperature < 1e-300)
-      gran_warning_add("GSRD: the temperature %g is below 1e-300: squared velocities are subnormal doubles, flushed to "
-                       "zero in the collision step (the cells' temperatures read 0 there: no dissipation, no thermostat)",
-                       ob->temperature);
-    ob->clamped = s->clamped;
-    ob->dt_max = s->dt_max;
-    if (s->clamped > 0)
-      gran_warning_add("GSRD: eps_eff was clamped to [0, 1] in %lld cell collisions; dt <= %g avoids it",
-                       (long long)s->clamped, s->dt_max);
-    s->clamped = 0;
+    srd_obs_scalars q;
+    q.e_initial = s->e_initial;
+    q.e_coll = s->e_coll;
+    q.e_ext = s->e_ext;
+    q.flux_kin = s->flux_kin;
+    q.flux_coll = s->flux_coll;
+    q.stress_t0 = s->stress_t0;
+    q.shear_rate = s->opt.shear_rate;
+    for (int k = 0; k < 3; ++k) q.box[k] = s->gm.box[k];
+    q.dim = d;
+    q.clamped = s->clamped;
+    q.dt_max = s->dt_max;
+    GRAN_CALL(srd_obs_finish_(ob, q));
+    s->clamped = 0; /* the clamps are counted since the last observation */
     s->dt_max = INFINITY;
-    if (s->opt.shear_rate != 0 && s->time > s->stress_t0) {
-      double A = s->gm.box[0] * (d == 3 ? s->gm.box[2] : 1.0);
-      const double tt = s->time - s->stress_t0;
-      const double Vt = A * s->gm.box[1];
-      const double fk = s->flux_kin / tt / Vt; /* the flux per time first: Vt tt can underflow */
-      const double fc = s->flux_coll / tt / Vt;
-      ob->stress_kin = -fk;
-      ob->stress_xy = -(fk + fc);
-    }
     return GRAN_SUCCESS;
   }
   GRAN_CATCH

@@ -61,6 +61,10 @@ const gran_scene_key gran_srd_scene_keys_[] = {
     {"engine", "creation", "string", "\"serial\"", "\"serial\" | \"cells\"", "",
      "initial particles: one stream (serial) or a multinomial split over the cells, each cell its own generator",
      "gran_srd_options.creation", ""},
+    {"engine", "decomposition", "string | integer array", "\"none\"", "\"none\" | \"auto\" | [Px, Py(, Pz)]", "",
+     "one gas split over the run's processes (build/granary-mpi): none, the split with the fewest cut cells, or the "
+     "bricks per axis (their product the process count); needs creation = \"cells\" and the CPU",
+     "gran_scene.srd.decomp_grid", ""},
     {"engine", "thermostat", "boolean | string", "false", "false | true | \"off\" | \"cell\" | \"global\"", "",
      "cell-level Maxwell-Boltzmann thermostat (true, \"cell\") or one global factor (\"global\") at T0",
      "gran_srd_options.thermostat", ""},
@@ -268,6 +272,32 @@ void parse_engine(Ctx &c) {
   if (cre != "serial" && cre != "cells")
     en.fail("creation", "expected \"serial\" or \"cells\" (how the initial particles are drawn), got \"" + cre + "\"");
   o.creation = cre == "cells" ? GRAN_SRD_CREATE_CELLS : GRAN_SRD_CREATE_SERIAL;
+  if (en.has("decomposition")) { /* "none" | "auto" | bricks per axis */
+    const toml::value &x = en.get("decomposition");
+    if (x.is_string()) {
+      const std::string v = x.as_string().str;
+      if (v != "none" && v != "auto") en.fail("decomposition", "expected \"none\", \"auto\" or [Px, Py(, Pz)], got \"" + v + "\"");
+      s.split_gas = v == "auto";
+    } else if (x.is_array()) {
+      std::vector<int64_t> g;
+      for (const auto &e : x.as_array()) g.push_back(en.cnt("decomposition", e));
+      if ((int64_t)g.size() != dim)
+        en.fail("decomposition", "has " + std::to_string(g.size()) + " entries, expected dimension = " + std::to_string(dim));
+      for (int64_t k = 0; k < dim; k++) {
+        require(g[(size_t)k] >= 1 && g[(size_t)k] <= o.cells[k] + 1, en, "decomposition",
+                "bricks along axis " + std::to_string(k) + " must be in [1, the cells along it], got " + std::to_string(g[(size_t)k]));
+        s.srd.decomp_grid[k] = (int)g[(size_t)k];
+      }
+      for (int64_t k = dim; k < 3; k++) s.srd.decomp_grid[k] = 1;
+      s.split_gas = 1;
+    } else {
+      en.fail("decomposition", std::string("expected \"none\", \"auto\" or an array of bricks per axis, got ") + Tab::type_name(x));
+    }
+    if (s.split_gas && o.creation != GRAN_SRD_CREATE_CELLS)
+      en.fail("decomposition", "a split gas is the decomposable engine's: give [engine] creation = \"cells\"");
+    if (s.split_gas && s.srd.device != "cpu")
+      en.fail("decomposition", "a split gas steps on the CPU, and [engine] device = \"" + s.srd.device + "\"");
+  }
   if (en.has("steps") && en.has("t_end")) en.fail("t_end", "give either 'steps' or 't_end', not both");
   int64_t &steps = c.steps;
   if (en.has("steps")) {

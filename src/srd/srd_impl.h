@@ -153,6 +153,24 @@ inline bool srd_sk_mode(const srd_sk_geom &g, int i0, int i1, int i2, int64_t *b
   return true;
 }
 
+/* An observation's scalar inputs (the ledger, the clamps since the last observation, the stress
+ * window) and its common part (engine.cpp): the ledger error, the warnings, the clamps and the
+ * Lees-Edwards stress of ob, whose sums (momentum, energy, temperature) are filled already;
+ * GRAN_ERR_NUMERIC when the energy or the momentum is not finite. */
+struct srd_obs_scalars {
+  double e_initial = 0, e_coll = 0, e_ext = 0, flux_kin = 0, flux_coll = 0, stress_t0 = 0, shear_rate = 0;
+  double box[3] = {0, 0, 0};
+  int dim = 3;
+  int64_t clamped = 0;
+  double dt_max = INFINITY;
+};
+int srd_obs_finish_(gran_srd_obs *ob, const srd_obs_scalars &q);
+/* The sums of gran_srd_observe of the decomposable engine (creation by cells, CPU; bricks.cpp):
+ * momentum, energy, temperature, e_kin, theta_cells, mach, sigma_rho and a2 as a split gas computes
+ * them (srd_bricks_observe_), with one brick: every global sum exact, every cell's sums over its
+ * particles in key order, so the same bits for any split. */
+int srd_observe_cells_(gran_srd *s, gran_srd_obs *ob);
+
 /* GRAN_SRD_PHASES=1 in the environment (read once): the step loops time their phases and print them
  * to stderr; srd_clock_s is their clock (seconds, monotonic). */
 inline bool srd_phase_timing() {

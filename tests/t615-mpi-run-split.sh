@@ -1,0 +1,156 @@
+#!/bin/sh
+# t615-mpi-run-split.sh - one GSRD gas split over the processes of `granary run`
+# ([engine] decomposition, src/io/engine_srd.cpp, src/io/run.cpp, src/srd/bricks.cpp): the output
+# file of the scene run on 2, 3 and 4 processes (one brick each) holds the same datasets BIT FOR BIT
+# as the run in one process (build/granary: the undivided decomposable engine), for a periodic 3-D
+# inelastic gas with a2 and S(k) (FFTW's MPI transform), 2-D Lees-Edwards with the global
+# thermostat and the stress (the stress window reset at every output time), and 3-D slip walls
+# with gravity and eps < 1 (sigma_rho over the box cells); an explicit split too. Physics on the
+# outputs: the energy ledger closes at every output time (ledger_error < 1e-12) and the inelastic
+# gas cools. A process stopped (SIGSTOP) during the steps ends the run within the timeout, named;
+# one killed ends it. Refusals, each naming its key or option, said once: a split whose bricks
+# are not the process count, replicas with a split gas, checkpoints, the velocity profile and
+# snapshots of a split gas, resume of a split gas on several processes.
+# Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
+set -eu
+name=t615
+. "${GRAN_SOURCE_DIR:-.}/tests/mpi_env.sh.inc"
+fail=0
+cc $(pkg-config --cflags hdf5) "${GRAN_SOURCE_DIR:-.}/tests/h5same.c" -o "$tmp/h5same" $(pkg-config --libs hdf5)
+
+# scene NAME DIM CELLS EXTRA...: a split GSRD scene ([observables] lines after a "[observables]" entry)
+scene() {
+  name=$1; dim=$2; cells=$3; shift 3
+  {
+    echo "[engine]"
+    echo "type = \"srd\""
+    echo "dimension = $dim"
+    echo "cells = $cells"
+    echo "creation = \"cells\""
+    echo "decomposition = \"auto\""
+    echo "steps = 30"
+    echo "sort_every = 7"
+    for l in "$@"; do echo "$l"; done
+  } > "$tmp/$name.toml"
+}
+scene periodic3 3 "[9, 8, 7]" "n0 = 5" "dt = 0.5" "eps = 0.8" "sigma = 0.4" "seed = 21" \
+  "[observables]" "every = 6" "sonine_a2 = true" "structure_factor = {bins = 6}"
+scene shear2 2 "[10, 9]" "n0 = 6" "dt = 0.4" "seed = 11" "thermostat = \"global\"" \
+  "[boundaries]" "lees_edwards = {shear_rate = 0.05}" "[observables]" "every = 5" "structure_factor = true"
+scene walls3 3 "[5, 4, 6]" "n0 = 4" "dt = 0.5" "eps = 0.95" "sigma = 0.2" "seed = 7" \
+  "[boundaries]" "walls = {axis = \"z\", rule = \"slip\", T = 0.5}" "[forces]" "gravity = [0.005, 0, -0.01]" \
+  "[observables]" "every = 10" "sonine_a2 = true"
+
+# ledger NAME FILE: every output time's ledger_error below 1e-12 (h5dump's text of the dataset)
+ledger() {
+  h5dump -d /energy/ledger_error -y -w 0 "$2" > "$tmp/dump" 2>&1 || { echo "FAIL: $1: no /energy/ledger_error in $2"; fail=1; return; }
+  python3 - "$1" "$tmp/dump" <<'PYEOF' || fail=1
+import re, sys
+text = open(sys.argv[2]).read().split("DATA {", 1)[1].split("}", 1)[0]
+v = [float(x) for x in re.findall(r"[-+]?\d[\d.]*(?:e[-+]?\d+)?", text)]
+if not v or max(abs(x) for x in v) >= 1e-12:
+    print("FAIL: %s: ledger_error %s" % (sys.argv[1], v))
+    sys.exit(1)
+PYEOF
+}
+
+for name in periodic3 shear2 walls3; do
+  f="$tmp/$name.toml"
+  if ! "$cli" run "$f" -o "$tmp/$name-1.h5" --no-checkpoint --no-log -q > /dev/null 2> "$tmp/err"; then
+    echo "FAIL: $name in one process: $(cat "$tmp/err")"; fail=1; continue
+  fi
+  ledger "$name" "$tmp/$name-1.h5"
+  for n in 2 3 4; do
+    if ! mpi "$n" run "$f" -o "$tmp/$name-$n.h5" --no-checkpoint --no-log -q > /dev/null 2> "$tmp/err"; then
+      echo "FAIL: $name on $n processes: $(cat "$tmp/err")"; fail=1; continue
+    fi
+    "$tmp/h5same" "$tmp/$name-1.h5" "$tmp/$name-$n.h5" > "$tmp/same" || { echo "FAIL: $name on $n processes:"; cat "$tmp/same"; fail=1; }
+  done
+done
+# an explicit split (bricks along y and z) on 4 processes
+mpi 4 run "$tmp/periodic3.toml" --set 'engine.decomposition=[1, 2, 2]' -o "$tmp/grid.h5" --no-checkpoint --no-log -q \
+  > /dev/null 2> "$tmp/err" || { echo "FAIL: decomposition [1, 2, 2] on 4 processes: $(cat "$tmp/err")"; fail=1; }
+"$tmp/h5same" "$tmp/periodic3-1.h5" "$tmp/grid.h5" > "$tmp/same" || { echo "FAIL: decomposition [1, 2, 2]:"; cat "$tmp/same"; fail=1; }
+# the inelastic gas cools (T at the last output time below half the first)
+h5dump -d /temperature/T -y -w 0 "$tmp/periodic3-2.h5" > "$tmp/dump"
+python3 - "$tmp/dump" <<'PYEOF' || fail=1
+import re, sys
+v = [float(x) for x in re.findall(r"[-+]?\d[\d.]*(?:e[-+]?\d+)?", open(sys.argv[1]).read().split("DATA {", 1)[1].split("}", 1)[0])]
+if not (len(v) == 6 and v[-1] < 0.5 * v[0]):
+    print("FAIL: the split eps = 0.8 gas did not cool: T %s" % v)
+    sys.exit(1)
+PYEOF
+
+# expect CODE TEXT -- CMD...: CMD exits CODE and says TEXT exactly once on stderr
+expect() {
+  code=$1; text=$2; shift 3
+  set +e
+  "$@" > "$tmp/x.out" 2> "$tmp/x.err"
+  rc=$?
+  set -e
+  n=$(grep -cF -- "$text" "$tmp/x.err" || true)
+  if [ "$rc" != "$code" ] || [ "$n" != 1 ]; then
+    echo "FAIL: '$*': exit $rc (want $code), '$text' said $n times (want once): $(cat "$tmp/x.err")"
+    fail=1
+  fi
+}
+p3="$tmp/periodic3.toml"
+expect 1 "'engine.decomposition' = [2, 1, 1] has 2 bricks, and this run has 1 process" -- \
+  "$cli" run "$p3" --set 'engine.decomposition=[2, 1, 1]' -o "$tmp/x.h5" --no-checkpoint --no-log -q
+expect 1 "has 2 bricks, and this run has 3 process" -- \
+  mpi 3 run "$p3" --set 'engine.decomposition=[2, 1, 1]' -o "$tmp/x.h5" --no-checkpoint --no-log -q
+expect 1 "replicas and a split gas do not combine yet" -- \
+  mpi 2 run "$p3" --replicas 2 -o "$tmp/x.h5" --no-checkpoint --no-log -q
+expect 1 "is not checkpointed yet: run it without a checkpoint" -- mpi 2 run "$p3" -o "$tmp/x.h5" --no-log -q
+expect 1 "'observables.velocity_profile'" -- \
+  mpi 2 run "$p3" --set observables.velocity_profile=true -o "$tmp/x.h5" --no-checkpoint --no-log -q
+expect 1 "'observables.snapshots'" -- \
+  mpi 2 run "$p3" --set observables.snapshots=true -o "$tmp/x.h5" --no-checkpoint --no-log -q
+expect 1 "give [engine] creation = \"cells\"" -- \
+  "$cli" run "$p3" --set 'engine.creation="serial"' -o "$tmp/x.h5" --no-checkpoint --no-log -q
+expect 1 "expected \"none\", \"auto\" or [Px, Py(, Pz)]" -- \
+  "$cli" run "$p3" --set 'engine.decomposition="some"' -o "$tmp/x.h5" --no-checkpoint --no-log -q
+# a checkpoint of the scene written in one process is not resumed on two (it resumes in one)
+"$cli" run "$p3" -o "$tmp/ck.h5" --checkpoint "$tmp/ck.ckpt" --stop-after-checkpoints 1 --set output.checkpoint_every=2 \
+  --no-log -q > /dev/null 2>&1 || true
+if [ -f "$tmp/ck.ckpt" ]; then
+  expect 1 "a split gas is not resumed on 2 processes yet" -- mpi 2 run --resume "$tmp/ck.ckpt" --no-log -q --force
+  "$cli" run --resume "$tmp/ck.ckpt" --no-log -q --force > /dev/null 2> "$tmp/err" || { echo "FAIL: resume in one process: $(cat "$tmp/err")"; fail=1; }
+  "$tmp/h5same" "$tmp/periodic3-1.h5" "$tmp/ck.h5" > "$tmp/same" || { echo "FAIL: the resumed run:"; cat "$tmp/same"; fail=1; }
+else
+  echo "FAIL: no checkpoint written by the one-process run"; fail=1
+fi
+
+# a process stopped (SIGSTOP) or killed during the steps: every process ends within 30 s, the one
+# that does not answer named (stopped) or mpirun's report of the dead one (killed); the run's log
+# row (--log-every 1) says the steps have begun
+long="$tmp/long.toml"
+sed -e 's/^steps = 30/steps = 100000000/' -e 's/^every = 6/every = 20/' -e '/structure_factor/d' "$p3" > "$long"
+split_stop() {
+  sig=$1
+  rm -f "$tmp/long.log"
+  ( if mpi 2 run "$long" -o "$tmp/long.h5" --no-checkpoint --log "$tmp/long.log" --log-every 1 -q --force \
+         --timeout 2 > "$tmp/hang.out" 2> "$tmp/hang.err"; then echo 0; else echo $?; fi > "$tmp/hang.rc" ) &
+  runner=$!
+  victim=$(rank1_pid "run $long")
+  for i in $(seq 1 300); do [ "$(grep -c "^ *[0-9]" "$tmp/long.log" 2>/dev/null || true)" -ge 2 ] && break; sleep 0.1; done
+  t0=$(date +%s)
+  [ -n "$victim" ] && kill -"$sig" "$victim"
+  ( sleep 60; kill -9 "$victim" 2>/dev/null ) &
+  watchdog=$!
+  wait "$runner" || true
+  dt=$(( $(date +%s) - t0 ))
+  kill "$watchdog" 2>/dev/null || true
+  kill -9 "$victim" 2>/dev/null || true
+  want="granary-mpi: rank [01]: waited [0-9]* s in .*stopping every process (the limit: --timeout 2)"
+  [ "$sig" = KILL ] && want="rank"
+  if [ -z "$victim" ] || [ "$(cat "$tmp/hang.rc" 2>/dev/null)" = 0 ] || [ $dt -gt 30 ] || ! grep -q "$want" "$tmp/hang.err"; then
+    echo "FAIL: a split run's process got SIG$sig: exit $(cat "$tmp/hang.rc" 2>/dev/null) after ${dt} s (want non-zero within 30 s, said): $(cat "$tmp/hang.err")"
+    fail=1
+  fi
+}
+split_stop STOP
+split_stop KILL
+
+[ $fail = 0 ] && echo "t615: all checks passed"
+exit $fail
