@@ -26,7 +26,8 @@
  *    of shells outside [1, SRD_BRICKS_SK_MAX_BINS] are refused, naming them;
  *  - the observables of a split gas (srd_bricks_observe_, every effect set and split above): the
  *    decomposable engine's gran_srd_observe bit for bit, twice (the clamps since the last observation,
- *    the stress window reset between), and the identities sum |v|^2 = d N theta_cells + N e_kin,
+ *    the stress window reset between), with the velocity profile by layers of y (finite; a sheared
+ *    gas's u_x rising from the bottom layer to the top), and the identities sum |v|^2 = d N theta_cells + N e_kin,
  *    theta_cells <= T, the closed ledger; sigma_rho of the initial gas (uniform and by cells, periodic
  *    and with walls) is the multinomial count's within 4 se;
  *  - bad arguments (serial creation, a pgrid entry beyond the grid or beyond dim) are refused
@@ -118,13 +119,23 @@ static void check_physics(const gran_srd_options *o, const srd_bricks_out *r, co
 static void check_observe(const gran_srd_options *o, const int (*grids)[3], int ngrid, const char *name) {
   gran_srd *s = NULL;
   gran_srd_obs p1, p2;
+  const int64_t L1 = o->cells[1];
+  double *u0 = malloc(sizeof(double) * 3 * (size_t)L1), *ub = malloc(sizeof(double) * 3 * (size_t)L1);
+  assert_non_null(u0);
+  assert_non_null(ub);
   GRAN_ASSERT_OK(gran_srd_create(o, &s));
   GRAN_ASSERT_OK(gran_srd_advance(s, 13));
   GRAN_ASSERT_OK(gran_srd_observe(s, &p1));
   GRAN_ASSERT_OK(gran_srd_stress_reset(s));
   GRAN_ASSERT_OK(gran_srd_advance(s, NSTEPS - 13));
-  GRAN_ASSERT_OK(gran_srd_observe(s, &p2));
+  GRAN_ASSERT_OK(srd_cells_observe_(s, &p2, u0)); /* gran_srd_observe with the velocity profile */
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
+  for (int64_t j = 0; j < L1; ++j)
+    for (int q = 0; q < 3; ++q)
+      if (!isfinite(u0[3 * j + q]) || (o->dim == 2 && q == 2 && u0[3 * j + q] != 0))
+        fail_msg("%s: velocity profile layer %lld component %d: %g", name, (long long)j, q, u0[3 * j + q]);
+  if (o->shear_rate != 0 && !(u0[3 * (L1 - 1)] > u0[0] + 0.1 * o->shear_rate * (double)L1))
+    fail_msg("%s: the sheared gas's profile u_x: %g at the bottom layer, %g at the top", name, u0[0], u0[3 * (L1 - 1)]);
   for (int g = -2; g < ngrid; ++g) {
     static const int one[3] = {1, 1, 1};
     const int *pg = g < 0 ? one : grids[g];
@@ -137,7 +148,9 @@ static void check_observe(const gran_srd_options *o, const int (*grids)[3], int 
     GRAN_ASSERT_OK(srd_bricks_observe_(st, &b1));
     GRAN_ASSERT_OK(srd_bricks_stress_reset_(st));
     GRAN_ASSERT_OK(srd_bricks_step_(st, NSTEPS - 13));
-    GRAN_ASSERT_OK(srd_bricks_observe_(st, &b2));
+    GRAN_ASSERT_OK(srd_bricks_observe_profile_(st, &b2, ub));
+    if (!same(u0, ub, sizeof(double) * 3 * (size_t)L1))
+      fail_msg("%s: the velocity profile of %d x %d x %d bricks differs from the plain engine's", name, pg[0], pg[1], pg[2]);
     srd_bricks_rank_out rep;
     GRAN_ASSERT_OK(srd_bricks_report_(st, &rep));
     srd_bricks_close_(&st);
@@ -158,6 +171,8 @@ static void check_observe(const gran_srd_options *o, const int (*grids)[3], int 
     if (!(isfinite(b2.a2) && fabs(b2.a2) < 1 && b2.sigma_rho > 0)) fail_msg("%s: a2 %g, sigma_rho %g", name, b2.a2, b2.sigma_rho);
     if (o->shear_rate != 0 && !(b2.stress_xy != 0 && b2.stress_kin != 0)) fail_msg("%s: no stress", name);
   }
+  free(u0);
+  free(ub);
 }
 
 /* P = 1 bricks against the plain engine, then every split against P = 1 */

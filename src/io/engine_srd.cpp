@@ -101,9 +101,9 @@ class SrdEngine : public gran_engine {
         split_ = true;
         comm_ = *c;
         /* what a split gas cannot give yet: each refusal names its key */
-        GRAN_CHECK(!q.obs_profile, GRAN_ERR_UNSUPPORTED,
-                   "scene key 'observables.velocity_profile': the velocity profile of a gas split over %d processes is "
-                   "not recorded yet (run it in one process, or leave the profile out)", c->size);
+        GRAN_CHECK(!q.obs_profile || o_.cells[1] <= SRD_BRICKS_PROFILE_MAX_LAYERS, GRAN_ERR_UNSUPPORTED,
+                   "scene key 'observables.velocity_profile': the velocity profile of a gas split over processes has at "
+                   "most %d layers of y, and the box has %lld", SRD_BRICKS_PROFILE_MAX_LAYERS, (long long)o_.cells[1]);
         GRAN_CHECK(q.snap_index.empty(), GRAN_ERR_UNSUPPORTED,
                    "scene key 'observables.snapshots': field snapshots of a gas split over %d processes are not written "
                    "yet (they need parallel HDF5; run it in one process, or leave the snapshots out)", c->size);
@@ -242,7 +242,17 @@ class SrdEngine : public gran_engine {
     GRAN_CHECK(srd_ != nullptr || bst_ != nullptr, GRAN_ERR_STATE, "GSRD engine: record before start");
     const auto &q = s_->srd;
     gran_srd_obs ob;
-    if (split_) GRAN_CALL(collective(srd_bricks_observe_(bst_, &ob)));
+    /* the decomposable engine (creation by cells, CPU) and a split gas give the velocity profile
+     * with their observables (exact layer sums, the same bits for any split); the serial engine
+     * and the devices from the cell fields */
+    std::vector<double> prof;
+    int32_t dev = GRAN_SRD_DEVICE_CPU;
+    if (srd_) GRAN_CALL(gran_srd_get_device(srd_, &dev));
+    const bool cells_obs = split_ || (o_.creation == GRAN_SRD_CREATE_CELLS && dev == GRAN_SRD_DEVICE_CPU);
+    if (q.obs_profile && cells_obs) prof.resize((size_t)(3 * o_.cells[1]));
+    double *pp = prof.empty() ? nullptr : prof.data();
+    if (split_) GRAN_CALL(collective(srd_bricks_observe_profile_(bst_, &ob, pp)));
+    else if (cells_obs) GRAN_CALL(srd_cells_observe_(srd_, &ob, pp));
     else GRAN_CALL(gran_srd_observe(srd_, &ob));
     last_T_ = ob.temperature;
     std::vector<double> sk_k, sk_s;
@@ -260,7 +270,7 @@ class SrdEngine : public gran_engine {
     }
     std::vector<double> cnt, vel, tmp;
     const bool snap = rep0_ && std::binary_search(q.snap_index.begin(), q.snap_index.end(), i);
-    if (snap || q.obs_profile) {
+    if (snap || (q.obs_profile && !pp)) {
       cnt.resize((size_t)cells_);
       vel.resize((size_t)cells_ * 3);
       if (snap) tmp.resize((size_t)cells_);
@@ -292,7 +302,8 @@ class SrdEngine : public gran_engine {
                        : o_.shear_rate != 0 ? ob.stress_xy / o_.shear_rate : NAN;
         d[0] = span > 0 ? v : NAN;
       } else if (g == "velocity_profile") {
-        profile(cnt, vel, d);
+        if (pp) std::copy(prof.begin(), prof.end(), d);
+        else profile(cnt, vel, d);
       }
     }
     if (q.obs_stress) {

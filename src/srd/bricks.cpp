@@ -1833,8 +1833,23 @@ struct ObsRec {
 struct ObsCells {
   std::vector<int64_t> start;
   std::vector<ObsRec> rec;
-  std::vector<double> V;
+  std::vector<double> V, S; /* S: the cell's momentum (with a velocity profile) */
 };
+
+/* one layer of y of the velocity profile: its momentum, exact, and its particles */
+struct LayerRed {
+  gran_exactsum u[3];
+  int64_t n;
+  void clear() {
+    for (auto &q : u) gran_exactsum_init_(&q);
+    n = 0;
+  }
+  void merge(const LayerRed &o) {
+    for (int q = 0; q < 3; ++q) gran_exactsum_merge_(&u[q], &o.u[q]);
+    n += o.n;
+  }
+};
+static_assert(std::is_trivially_copyable<LayerRed>::value, "the profile's layers are all-reduced as bytes");
 
 /* the particles of every brick's unshifted cells, whole and per cell in key order (comm: one brick
  * per process, the particles of other processes' cells sent in a round; NULL: every brick of the
@@ -1938,7 +1953,8 @@ int obs_collect(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *com
 
 /* the sums of gran_srd_observe (momentum, energy, temperature, e_kin, theta_cells, mach, sigma_rho,
  * a2) of the gas in bs (comm: one brick per process; NULL: every brick here) */
-int obs_sums(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, int64_t ncell_box, gran_srd_obs *ob) {
+int obs_sums(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, int64_t ncell_box, gran_srd_obs *ob,
+             double *profile) {
   const int d = C.o->dim;
   std::vector<ObsCells> oc;
   GRAN_CALL(obs_collect(C, bs, comm, oc));
@@ -1972,7 +1988,10 @@ int obs_sums(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, 
   /* pass 1: per cell its momentum and energy, mean, thermal sum and convective energy */
   ObsRed r1;
   r1.clear();
-  for (ObsCells &O : oc) O.V.assign((size_t)(3 * ((int64_t)O.start.size() - 1)), 0.0);
+  for (ObsCells &O : oc) {
+    O.V.assign((size_t)(3 * ((int64_t)O.start.size() - 1)), 0.0);
+    if (profile) O.S.assign(O.V.size(), 0.0);
+  }
   cells(r1, [&](ObsRed &R, ObsCells &O, int64_t c, const ObsRec *q, int64_t n) {
     double S[3] = {0, 0, 0}, E = 0;
     for (int64_t i = 0; i < n; ++i) {
@@ -1984,6 +2003,8 @@ int obs_sums(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, 
     }
     double *V = O.V.data() + 3 * c;
     for (int k = 0; k < 3; ++k) V[k] = S[k] / (double)n;
+    if (!O.S.empty())
+      for (int k = 0; k < 3; ++k) O.S[(size_t)(3 * c + k)] = S[k];
     double Q = 0, um = 0;
     for (int64_t i = 0; i < n; ++i) {
       const double *v = q[i].v;
@@ -2054,6 +2075,49 @@ int obs_sums(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, 
     const double nin = (double)r1.nin, hsum = gran_exactsum_value_(&r2.a[OQ_H]);
     ob->a2 = m2 > 0 ? ((double)d / (d + 2.0) * m4 * nin / (m2 * m2) - 1.0) * nin / hsum : 0.0;
   }
+  if (profile) { /* the mean velocity of each layer of y: its cells' momenta summed exactly, over its particles */
+    const int64_t L1 = C.o->cells[1];
+    if (!comm) { /* every brick here: one layer at a time (an exact sum is the same however it is grouped) */
+      for (int64_t j = 0; j < L1; ++j) {
+        LayerRed R;
+        R.clear();
+        for (size_t b = 0; b < bs.size(); ++b) {
+          const Brick &B = bs[b];
+          const int64_t i1 = j - B.lo[1];
+          if (i1 < 0 || i1 >= B.w[1]) continue;
+          for (int64_t i2 = 0; i2 < B.w[2]; ++i2)
+            for (int64_t i0 = 0; i0 < B.w[0]; ++i0) {
+              const int64_t l = i0 + B.w[0] * (i1 + B.w[1] * i2), n = oc[b].start[(size_t)l + 1] - oc[b].start[(size_t)l];
+              if (n == 0) continue;
+              for (int q = 0; q < 3; ++q) gran_exactsum_add_(&R.u[q], oc[b].S[(size_t)(3 * l + q)]);
+              R.n += n;
+            }
+        }
+        for (int q = 0; q < 3; ++q) profile[3 * j + q] = R.n > 0 ? gran_exactsum_value_(&R.u[q]) / (double)R.n : NAN;
+      }
+    } else { /* this process's layers, all-reduced */
+      std::vector<LayerRed> lay((size_t)L1);
+      for (LayerRed &R : lay) R.clear();
+      const Brick &B = bs[0];
+      for (int64_t i1 = 0; i1 < B.w[1]; ++i1) {
+        const int64_t j = B.lo[1] + i1;
+        if (j >= L1) continue; /* a wall axis's extra layer: no box cells */
+        LayerRed &R = lay[(size_t)j];
+        for (int64_t i2 = 0; i2 < B.w[2]; ++i2)
+          for (int64_t i0 = 0; i0 < B.w[0]; ++i0) {
+            const int64_t l = i0 + B.w[0] * (i1 + B.w[1] * i2), n = oc[0].start[(size_t)l + 1] - oc[0].start[(size_t)l];
+            if (n == 0) continue;
+            for (int q = 0; q < 3; ++q) gran_exactsum_add_(&R.u[q], oc[0].S[(size_t)(3 * l + q)]);
+            R.n += n;
+          }
+      }
+      GRAN_CHECK(comm->allreduce(comm->ctx, lay.data(), sizeof(LayerRed), lay.size(), &merge_bytes<LayerRed>) == 0,
+                 GRAN_ERR_IO, "decomposed GSRD run: the all-reduce of the velocity profile failed on process %d", comm->rank);
+      for (int64_t j = 0; j < L1; ++j)
+        for (int q = 0; q < 3; ++q)
+          profile[3 * j + q] = lay[(size_t)j].n > 0 ? gran_exactsum_value_(&lay[(size_t)j].u[q]) / (double)lay[(size_t)j].n : NAN;
+    }
+  }
   return GRAN_SUCCESS;
 }
 
@@ -2075,7 +2139,7 @@ srd_obs_scalars obs_scalars_of(const Ctx &C, const Brick &B, double e_initial, d
 
 }  // namespace
 
-int srd_observe_cells_(gran_srd *s, gran_srd_obs *ob) {
+int srd_observe_cells_(gran_srd *s, gran_srd_obs *ob, double *profile) {
   const int pg[3] = {1, 1, 1};
   Ctx C;
   GRAN_CALL(make_ctx(s, pg, C));
@@ -2085,19 +2149,24 @@ int srd_observe_cells_(gran_srd *s, gran_srd_obs *ob) {
   Lend lend(s, B);
   B.key.resize(B.x.size()); /* key = index: the array is in key order */
   std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
-  return obs_sums(C, bs, nullptr, s->ncell_box, ob);
+  return obs_sums(C, bs, nullptr, s->ncell_box, ob, profile);
 }
 
-int srd_bricks_observe_(srd_bricks_state *st, gran_srd_obs *ob) {
+int srd_bricks_observe_(srd_bricks_state *st, gran_srd_obs *ob) { return srd_bricks_observe_profile_(st, ob, nullptr); }
+
+int srd_bricks_observe_profile_(srd_bricks_state *st, gran_srd_obs *ob, double *profile) {
   GRAN_TRY {
     GRAN_CHECK_PTR(st);
     GRAN_CHECK_PTR_AS(ob, obs);
+    GRAN_CHECK(!profile || !st->over_comm || st->shell->opt.cells[1] <= SRD_BRICKS_PROFILE_MAX_LAYERS, GRAN_ERR_ARG,
+               "the velocity profile of a gas split over processes has at most %d layers of y (the box has %lld)",
+               SRD_BRICKS_PROFILE_MAX_LAYERS, (long long)st->shell->opt.cells[1]);
     std::memset(ob, 0, sizeof *ob);
     const Brick &B0 = st->bs[0]; /* the scalar state is the same on every brick */
     ob->time = B0.time;
     ob->steps = B0.step;
     ob->n = st->shell->n;
-    GRAN_CALL(obs_sums(st->C, st->bs, st->over_comm ? &st->comm : nullptr, st->shell->ncell_box, ob));
+    GRAN_CALL(obs_sums(st->C, st->bs, st->over_comm ? &st->comm : nullptr, st->shell->ncell_box, ob, profile));
     GRAN_CALL(srd_obs_finish_(ob, obs_scalars_of(st->C, B0, st->e0, st->stress_t0)));
     for (Brick &B : st->bs) {
       B.clamped_obs = 0;

@@ -113,6 +113,16 @@ int srd_bricks_structure_factor_(srd_bricks_state *st, int64_t nbins, double *k,
  * since the last observation (then reset); the stress is averaged since srd_bricks_stress_reset_
  * (or the start), which resets the Lees-Edwards fluxes of every brick. */
 int srd_bricks_observe_(srd_bricks_state *st, gran_srd_obs *ob);
+/* the same, with (profile not NULL) the velocity profile: the mean velocity of the particles of each
+ * layer of y, profile[3 j + q] for layer j < cells[1] and component q (NaN for a layer without
+ * particles), each layer's momentum an exact sum of its cells'; over processes at most
+ * SRD_BRICKS_PROFILE_MAX_LAYERS layers (the all-reduce holds 1.8 kB per layer) */
+#define SRD_BRICKS_PROFILE_MAX_LAYERS 16384
+int srd_bricks_observe_profile_(srd_bricks_state *st, gran_srd_obs *ob, double *profile);
+/* gran_srd_observe of the decomposable engine (creation = GRAN_SRD_CREATE_CELLS, CPU: GRAN_ERR_ARG
+ * otherwise) with its velocity profile as a split gas computes it (profile as above, any number of
+ * layers): the same bits as srd_bricks_observe_profile_ of any split */
+int srd_cells_observe_(gran_srd *s, gran_srd_obs *ob, double *profile);
 int srd_bricks_stress_reset_(srd_bricks_state *st);
 void srd_bricks_close_(srd_bricks_state **st);
 

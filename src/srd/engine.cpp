@@ -1045,7 +1045,8 @@ int srd_obs_finish_(gran_srd_obs *ob, const srd_obs_scalars &q) {
   return GRAN_SUCCESS;
 }
 
-GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
+/* gran_srd_observe, with the decomposable engine's velocity profile when profile is not NULL */
+static int observe_impl(gran_srd *s, gran_srd_obs *ob, double *profile) {
   GRAN_TRY {
     GRAN_CHECK_PTR_AS(s, srd);
     GRAN_CHECK_PTR_AS(ob, obs);
@@ -1059,7 +1060,7 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     ob->n = n;
     if (s->opt.creation == GRAN_SRD_CREATE_CELLS && !s->dev.p) {
       /* the decomposable engine: the sums of a split gas (bricks.cpp), here with one brick */
-      GRAN_CALL(srd_observe_cells_(s, ob));
+      GRAN_CALL(srd_observe_cells_(s, ob, profile));
     } else {
       double P[3] = {0, 0, 0};
       for (int64_t i = 0; i < n; ++i) {
@@ -1154,6 +1155,15 @@ GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) {
     return GRAN_SUCCESS;
   }
   GRAN_CATCH
+}
+
+GRAN_EXTERN int gran_srd_observe(gran_srd *s, gran_srd_obs *ob) { return observe_impl(s, ob, nullptr); }
+
+int srd_cells_observe_(gran_srd *s, gran_srd_obs *ob, double *profile) {
+  GRAN_CHECK_PTR_AS(s, srd);
+  GRAN_CHECK(s->opt.creation == GRAN_SRD_CREATE_CELLS && !s->dev.p, GRAN_ERR_ARG,
+             "the decomposable engine's observables need option 'creation' = GRAN_SRD_CREATE_CELLS on the CPU");
+  return observe_impl(s, ob, profile);
 }
 
 GRAN_EXTERN int gran_srd_structure_factor(gran_srd *s, int64_t nbins, double *k, double *sk, int64_t *count) {

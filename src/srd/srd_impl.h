@@ -168,8 +168,9 @@ int srd_obs_finish_(gran_srd_obs *ob, const srd_obs_scalars &q);
 /* The sums of gran_srd_observe of the decomposable engine (creation by cells, CPU; bricks.cpp):
  * momentum, energy, temperature, e_kin, theta_cells, mach, sigma_rho and a2 as a split gas computes
  * them (srd_bricks_observe_), with one brick: every global sum exact, every cell's sums over its
- * particles in key order, so the same bits for any split. */
-int srd_observe_cells_(gran_srd *s, gran_srd_obs *ob);
+ * particles in key order, so the same bits for any split; profile (NULL: none) as
+ * srd_bricks_observe_profile_'s. */
+int srd_observe_cells_(gran_srd *s, gran_srd_obs *ob, double *profile);
 
 /* GRAN_SRD_PHASES=1 in the environment (read once): the step loops time their phases and print them
  * to stderr; srd_clock_s is their clock (seconds, monotonic). */
