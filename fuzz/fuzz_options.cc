@@ -37,7 +37,8 @@ void obs_srd(gran_srd *srd, const char *when) {
 }
 
 /* the decomposable engine split into bricks of the bytes' grid against the undivided engine: the
- * same status, and on success the same particles, cells and ledger bit for bit */
+ * same status, and on success the same particles, cells and ledger, S(k), observables and velocity
+ * profile bit for bit */
 void bricks_against_plain(const gran_srd_options &o, fz::Bytes &in) {
   const int d = o.dim == 3 ? 3 : 2;
   int pg[3] = {1, 1, 1};
@@ -52,13 +53,26 @@ void bricks_against_plain(const gran_srd_options &o, fz::Bytes &in) {
   int64_t cp[8], cb[8];
   const int esp = ep == GRAN_SUCCESS ? gran_srd_structure_factor(s, nbins, kp, sp, cp) : ep;
   if (ep == GRAN_SUCCESS) ep = srd_bricks_gather_plain_(s, &p);
+  /* the observables with the velocity profile (after the gather: an observation resets the clamps) */
+  gran_srd_obs op, ob;
+  std::vector<double> up((size_t)(3 * o.cells[1])), ub(up.size());
+  const int eop = ep == GRAN_SUCCESS ? srd_cells_observe_(s, &op, up.data()) : ep;
   gran_srd_destroy(&s);
   if (ep == GRAN_SUCCESS) { /* S(k) of the split gas: the undivided engine's status and bits */
     srd_bricks_state *st = nullptr;
     int esb = srd_bricks_open_(&o, pg, nullptr, &st);
     if (esb == GRAN_SUCCESS) esb = srd_bricks_step_(st, steps);
     if (esb == GRAN_SUCCESS) esb = srd_bricks_structure_factor_(st, nbins, kb, sb, cb);
+    const int eob = esb == GRAN_SUCCESS ? srd_bricks_observe_profile_(st, &ob, ub.data()) : esb;
     srd_bricks_close_(&st);
+    if (esb == GRAN_SUCCESS && (eob == GRAN_SUCCESS) != (eop == GRAN_SUCCESS)) {
+      std::fprintf(stderr, "fuzz: observables of bricks %d x %d x %d: status %d, the undivided engine %d (%s)\n", pg[0],
+                   pg[1], pg[2], eob, eop, gran_last_error_message());
+      fz::fail("srd_bricks_observe_profile_ and srd_cells_observe_ disagree on success", "bricks observables");
+    }
+    if (esb == GRAN_SUCCESS && eob == GRAN_SUCCESS &&
+        (std::memcmp(&ob, &op, sizeof ob) || std::memcmp(ub.data(), up.data(), ub.size() * sizeof(double))))
+      fz::fail("the split gas's observables or velocity profile differ from the undivided engine's", "bricks observables");
     if ((esb == GRAN_SUCCESS) != (esp == GRAN_SUCCESS)) {
       std::fprintf(stderr, "fuzz: S(k) of bricks %d x %d x %d: status %d, the undivided engine %d (%s)\n", pg[0], pg[1],
                    pg[2], esb, esp, gran_last_error_message());

@@ -342,6 +342,8 @@ expect 1 "needs about .* GB (all bricks in one process" -- "$cli" decompose "$tm
 expect 1 "each process needs about .* GB (its brick" -- mpi 2 decompose "$tmp/periodic3.toml" --set engine.cells='[700, 700, 700]'
 expect 1 "each process needs about .* GB (its brick.*more than the 5e-05 GB available to each of the 2 processes" -- mpi 2 decompose "$tmp/periodic3.toml" --set engine.max_memory_gb=0.0001
 expect 1 "max_memory_gb" -- "$cli" run "$tmp/periodic3.toml" --set engine.cells='[700, 700, 700]'
+expect 1 "the binning grid has 1 cells and a brick needs at least one (processes: at most 1)" -- \
+  mpi 2 decompose "$tmp/periodic3.toml" --steps 1 --set engine.cells='[1, 1, 1]'
 expect 1 "no split of the binning grid (2 x 2 x 2 cells) into 3 bricks" -- mpi 3 decompose "$tmp/periodic3.toml" --steps 1 --set engine.cells='[2, 2, 2]'
 
 [ $fail = 0 ] && echo "t614: all checks passed"

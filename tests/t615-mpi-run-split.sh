@@ -5,13 +5,15 @@
 # as the run in one process (build/granary: the undivided decomposable engine), for a periodic 3-D
 # inelastic gas with a2 and S(k) (FFTW's MPI transform), 2-D Lees-Edwards with the global
 # thermostat, the stress (the stress window reset at every output time) and the velocity profile
-# (exact layer sums), and 3-D slip walls with gravity and eps < 1 (sigma_rho over the box cells);
-# an explicit split too. Physics on the
-# outputs: the energy ledger closes at every output time (ledger_error < 1e-12) and the inelastic
-# gas cools. A process stopped (SIGSTOP) during the steps ends the run within the timeout, named;
-# one killed ends it. Refusals, each naming its key or option, said once: a split whose bricks
-# are not the process count, replicas with a split gas, checkpoints and snapshots of a split gas,
-# resume of a split gas on several processes.
+# (exact layer sums), 2-D no-slip walls with gravity, the vibrating wall and eps < 1 with clamped
+# cells, and 3-D slip walls with gravity and eps < 1 (sigma_rho over the box cells); an explicit
+# split too, and replicas of a split gas (2 replicas on 4 processes, each gas on 2: the threaded
+# replicas' output, per-replica rows, means and standard errors). Physics on the outputs: the
+# energy ledger closes at every output time (ledger_error < 1e-12), the inelastic gas cools, the
+# clamps are counted. A process stopped (SIGSTOP) during the steps ends the run within the
+# timeout, named; one killed ends it. Refusals, each naming its key or option, said once: a split
+# whose bricks are not the process count, replicas that do not divide the processes, checkpoints
+# and snapshots of a split gas, resume of a split gas on several processes.
 # Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
 set -eu
 name=t615
@@ -39,6 +41,9 @@ scene periodic3 3 "[9, 8, 7]" "n0 = 5" "dt = 0.5" "eps = 0.8" "sigma = 0.4" "see
 scene shear2 2 "[10, 9]" "n0 = 6" "dt = 0.4" "seed = 11" "thermostat = \"global\"" \
   "[boundaries]" "lees_edwards = {shear_rate = 0.05}" "[observables]" "every = 5" "structure_factor = true" \
   "velocity_profile = true"
+scene walls2 2 "[8, 9]" "n0 = 6" "dt = 1.0" "eps = 0.5" "sigma = 0.5" "seed = 9" \
+  "[boundaries]" "walls = {axis = \"y\", rule = \"no-slip\", T = 0.5}" "vibrating_wall = {amplitude = 0.1, omega = 0.3}" \
+  "[forces]" "gravity = [0, -0.02]" "[observables]" "every = 10"
 scene walls3 3 "[5, 4, 6]" "n0 = 4" "dt = 0.5" "eps = 0.95" "sigma = 0.2" "seed = 7" \
   "[boundaries]" "walls = {axis = \"z\", rule = \"slip\", T = 0.5}" "[forces]" "gravity = [0.005, 0, -0.01]" \
   "[observables]" "every = 10" "sonine_a2 = true"
@@ -56,7 +61,7 @@ if not v or max(abs(x) for x in v) >= 1e-12:
 PYEOF
 }
 
-for name in periodic3 shear2 walls3; do
+for name in periodic3 shear2 walls2 walls3; do
   f="$tmp/$name.toml"
   if ! "$cli" run "$f" -o "$tmp/$name-1.h5" --no-checkpoint --no-log -q > /dev/null 2> "$tmp/err"; then
     echo "FAIL: $name in one process: $(cat "$tmp/err")"; fail=1; continue
@@ -69,10 +74,28 @@ for name in periodic3 shear2 walls3; do
     "$tmp/h5same" "$tmp/$name-1.h5" "$tmp/$name-$n.h5" > "$tmp/same" || { echo "FAIL: $name on $n processes:"; cat "$tmp/same"; fail=1; }
   done
 done
+# the 2-D inelastic gas between walls clamps its cells' restitution (the test wants clamps)
+h5dump -d /clamps/count -y -w 0 "$tmp/walls2-1.h5" > "$tmp/dump"
+python3 - "$tmp/dump" <<'PYEOF' || fail=1
+import re, sys
+v = [int(x) for x in re.findall(r"\d+", open(sys.argv[1]).read().split("DATA {", 1)[1].split("}", 1)[0])]
+if not sum(v) > 0:
+    print("FAIL: walls2: no clamped cell (%s)" % v)
+    sys.exit(1)
+PYEOF
 # an explicit split (bricks along y and z) on 4 processes
 mpi 4 run "$tmp/periodic3.toml" --set 'engine.decomposition=[1, 2, 2]' -o "$tmp/grid.h5" --no-checkpoint --no-log -q \
   > /dev/null 2> "$tmp/err" || { echo "FAIL: decomposition [1, 2, 2] on 4 processes: $(cat "$tmp/err")"; fail=1; }
 "$tmp/h5same" "$tmp/periodic3-1.h5" "$tmp/grid.h5" > "$tmp/same" || { echo "FAIL: decomposition [1, 2, 2]:"; cat "$tmp/same"; fail=1; }
+# replicas of a split gas: 2 replicas on 4 processes (each gas split over 2) and on 2 (one process
+# each) write the threaded one-process run's replicas, means and standard errors
+"$cli" run "$tmp/periodic3.toml" --replicas 2 --set engine.keep_replicas=true -o "$tmp/rep-1.h5" --no-checkpoint \
+  --no-log -q > /dev/null 2> "$tmp/err" || { echo "FAIL: 2 replicas in one process: $(cat "$tmp/err")"; fail=1; }
+for n in 2 4; do
+  mpi "$n" run "$tmp/periodic3.toml" --replicas 2 --set engine.keep_replicas=true -o "$tmp/rep-$n.h5" --no-checkpoint \
+    --no-log -q > /dev/null 2> "$tmp/err" || { echo "FAIL: 2 replicas on $n processes: $(cat "$tmp/err")"; fail=1; }
+  "$tmp/h5same" "$tmp/rep-1.h5" "$tmp/rep-$n.h5" > "$tmp/same" || { echo "FAIL: 2 replicas on $n processes:"; cat "$tmp/same"; fail=1; }
+done
 # the inelastic gas cools (T at the last output time below half the first)
 h5dump -d /temperature/T -y -w 0 "$tmp/periodic3-2.h5" > "$tmp/dump"
 python3 - "$tmp/dump" <<'PYEOF' || fail=1
@@ -101,8 +124,8 @@ expect 1 "'engine.decomposition' = [2, 1, 1] has 2 bricks, and this run has 1 pr
   "$cli" run "$p3" --set 'engine.decomposition=[2, 1, 1]' -o "$tmp/x.h5" --no-checkpoint --no-log -q
 expect 1 "has 2 bricks, and this run has 3 process" -- \
   mpi 3 run "$p3" --set 'engine.decomposition=[2, 1, 1]' -o "$tmp/x.h5" --no-checkpoint --no-log -q
-expect 1 "replicas and a split gas do not combine yet" -- \
-  mpi 2 run "$p3" --replicas 2 -o "$tmp/x.h5" --no-checkpoint --no-log -q
+expect 1 "2 replicas of a gas split over the processes ([engine] decomposition) need a multiple of 2 processes" -- \
+  mpi 3 run "$p3" --replicas 2 -o "$tmp/x.h5" --no-checkpoint --no-log -q
 expect 1 "is not checkpointed yet: run it without a checkpoint" -- mpi 2 run "$p3" -o "$tmp/x.h5" --no-log -q
 expect 1 "'observables.snapshots'" -- \
   mpi 2 run "$p3" --set observables.snapshots=true -o "$tmp/x.h5" --no-checkpoint --no-log -q

@@ -25,6 +25,10 @@ void cli_mpi_stats(long long *steps, long long *bytes); /* gathers, and bytes ra
  * build/granary-mpi, one process in build/granary */
 const struct srd_bricks_comm *cli_mpi_bricks_comm(void);
 void cli_mpi_abort(int code); /* stops every process (build/granary: nothing) */
+/* collective: the processes in `groups` groups of consecutive ranks, each the process group of one
+ * replica's split gas (srd_bricks_set_run_comm_); nothing when groups <= 1 or does not divide the
+ * processes (the run driver refuses that); 0 on success */
+int cli_mpi_bricks_groups(int groups);
 /* the longest one process waits in one exchange, reduction or distributed transform of a decomposed
  * run, or in one gather or broadcast of the replicas, before it stops every process, naming the
  * process that does not answer where it can; a wait stuck inside MPI is ended by a watchdog thread a

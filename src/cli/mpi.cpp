@@ -59,6 +59,10 @@ long long g_steps = 0, g_bytes = 0; /* collective gathers and bytes rank 0 recei
 #ifdef GRAN_MPI
 namespace {
 const size_t kPiece = (size_t)1 << 30;
+/* the process group of this process's split gas (cli_mpi_bricks_groups: replicas of a split gas, each
+ * on its own group of consecutive ranks; else the world): its rank, size and first world rank */
+MPI_Comm g_bcomm = MPI_COMM_NULL;
+int g_brank = 0, g_bsize = 1, g_bbase = 0;
 
 /* The wait in progress, for the watchdog thread: its start (steady clock, ns; 0: none), what it is
  * and the process it waits for (-1: cannot tell). Set by the main thread only, one wait at a time. */
@@ -207,18 +211,18 @@ int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std:
   static int parity = 0;
   const int tag = 7 + parity;
   parity ^= 1;
-  const int P = g_size;
+  const int P = g_bsize;
   const Watched watched("the particle exchange", -1);
   const double t0 = MPI_Wtime();
   std::vector<MPI_Request> sq;
   std::vector<int> dest;
   for (int p = 0; p < P; ++p) {
     in[(size_t)p].clear();
-    if (p == g_rank || out[(size_t)p].empty()) continue;
+    if (p == g_brank || out[(size_t)p].empty()) continue;
     if (out[(size_t)p].size() > (size_t)INT_MAX) return 1;
     dest.push_back(p);
     sq.emplace_back();
-    if (MPI_Issend(out[(size_t)p].data(), (int)out[(size_t)p].size(), MPI_DOUBLE, p, tag, MPI_COMM_WORLD, &sq.back()) !=
+    if (MPI_Issend(out[(size_t)p].data(), (int)out[(size_t)p].size(), MPI_DOUBLE, p, tag, g_bcomm, &sq.back()) !=
         MPI_SUCCESS)
       return 1;
   }
@@ -228,7 +232,7 @@ int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std:
     int flag = 0;
     MPI_Status st;
     MPI_Message msg = MPI_MESSAGE_NULL;
-    if (MPI_Improbe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &flag, &msg, &st) != MPI_SUCCESS) return 1;
+    if (MPI_Improbe(MPI_ANY_SOURCE, tag, g_bcomm, &flag, &msg, &st) != MPI_SUCCESS) return 1;
     if (flag) {
       /* the matched message, received without blocking: its sender may stop before its last fragment */
       int count = 0;
@@ -237,7 +241,7 @@ int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std:
       b.resize((size_t)count);
       MPI_Request rq = MPI_REQUEST_NULL;
       if (MPI_Imrecv(b.data(), count, MPI_DOUBLE, &msg, &rq) != MPI_SUCCESS ||
-          wait_for(&rq, "the particle exchange", st.MPI_SOURCE))
+          wait_for(&rq, "the particle exchange", g_bbase + st.MPI_SOURCE))
         return 1;
       continue;
     }
@@ -245,7 +249,7 @@ int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std:
     if (!in_barrier) {
       if (MPI_Testall((int)sq.size(), sq.data(), &done, MPI_STATUSES_IGNORE) != MPI_SUCCESS) return 1;
       if (done) {
-        if (MPI_Ibarrier(MPI_COMM_WORLD, &barrier) != MPI_SUCCESS) return 1;
+        if (MPI_Ibarrier(g_bcomm, &barrier) != MPI_SUCCESS) return 1;
         in_barrier = true;
       }
     } else {
@@ -257,7 +261,7 @@ int bricks_round(void *, std::vector<std::vector<double>> &out, std::vector<std:
       for (size_t i = 0; i < sq.size() && !in_barrier && peer < 0; ++i) {
         int one = 0;
         if (MPI_Test(&sq[i], &one, MPI_STATUS_IGNORE) != MPI_SUCCESS) return 1;
-        if (!one) peer = dest[i];
+        if (!one) peer = g_bbase + dest[i];
       }
       if (overdue(t0, "the particle exchange", peer)) return 1;
     }
@@ -288,7 +292,7 @@ int bricks_allreduce(void *, void *buf, size_t nbytes, size_t count, void (*merg
   g_merge_bytes = nbytes;
   std::vector<char> res(nbytes * count);
   MPI_Request req = MPI_REQUEST_NULL;
-  if (MPI_Iallreduce(buf, res.data(), (int)count, type, op, MPI_COMM_WORLD, &req) != MPI_SUCCESS) return 1;
+  if (MPI_Iallreduce(buf, res.data(), (int)count, type, op, g_bcomm, &req) != MPI_SUCCESS) return 1;
   if (wait_for(&req, "an all-reduce of the exact sums")) return 1;
   std::memcpy(buf, res.data(), nbytes * count);
   return 0;
@@ -329,8 +333,8 @@ int bricks_fft(void *, int dim, const int64_t n[3], int64_t block, const double 
     for (int a = 0; a < dim; ++a) nc[a] = f.n[a] = (ptrdiff_t)n[a];
     nc[dim - 1] = n[dim - 1] / 2 + 1;
     ptrdiff_t start = 0;
-    f.alloc = fftw_mpi_local_size_many(dim, nc, 1, (ptrdiff_t)block, MPI_COMM_WORLD, &f.rows, &start);
-    const ptrdiff_t want = std::min<ptrdiff_t>(n[0], (ptrdiff_t)g_rank * block);
+    f.alloc = fftw_mpi_local_size_many(dim, nc, 1, (ptrdiff_t)block, g_bcomm, &f.rows, &start);
+    const ptrdiff_t want = std::min<ptrdiff_t>(n[0], (ptrdiff_t)g_brank * block);
     const ptrdiff_t rows = std::min<ptrdiff_t>(n[0], want + block) - want; /* a process past the end has none */
     if (f.rows != rows || (rows > 0 && start != want)) {
       std::fprintf(stderr, "granary-mpi: process %d: FFTW's slab (rows %td + %td) is not the one asked for (from %td)\n",
@@ -343,7 +347,7 @@ int bricks_fft(void *, int dim, const int64_t n[3], int64_t block, const double 
       f.clear();
       return 1;
     }
-    f.plan = fftw_mpi_plan_many_dft_r2c(dim, f.n, 1, (ptrdiff_t)block, (ptrdiff_t)block, f.rin, f.cout, MPI_COMM_WORLD,
+    f.plan = fftw_mpi_plan_many_dft_r2c(dim, f.n, 1, (ptrdiff_t)block, (ptrdiff_t)block, f.rin, f.cout, g_bcomm,
                                         FFTW_ESTIMATE);
     if (!f.plan) {
       f.clear();
@@ -415,6 +419,9 @@ int cli_mpi_init(int *argc, char ***argv) {
   c.gather = gather;
   c.bcast = bcast;
   gran_run_set_comm_(&c);
+  g_bcomm = MPI_COMM_WORLD;
+  g_brank = g_rank;
+  g_bsize = g_size;
   g_bricks.rank = g_rank;
   g_bricks.size = g_size;
   g_bricks.round = bricks_round;
@@ -433,12 +440,31 @@ void cli_mpi_finalize(void) {
   g_fft.clear();
   if (g_fftw_mpi) fftw_mpi_cleanup();
 #endif
+  if (g_bcomm != MPI_COMM_WORLD && g_bcomm != MPI_COMM_NULL) MPI_Comm_free(&g_bcomm);
   MPI_Finalize();
 }
 
 const srd_bricks_comm *cli_mpi_bricks_comm(void) { return &g_bricks; }
 
 void cli_mpi_abort(int code) { MPI_Abort(MPI_COMM_WORLD, code); }
+
+int cli_mpi_bricks_groups(int groups) {
+  if (groups <= 1 || g_size % groups != 0) return 0; /* one group (the world), or a count the run driver refuses */
+  const int B = g_size / groups, color = g_rank / B;
+  MPI_Comm c = MPI_COMM_NULL;
+  if (MPI_Comm_split(MPI_COMM_WORLD, color, g_rank, &c) != MPI_SUCCESS) return 1;
+#ifdef GRAN_HAVE_FFTW_MPI
+  g_fft.clear(); /* a plan over the former group */
+#endif
+  g_bcomm = c;
+  g_brank = g_rank % B;
+  g_bsize = B;
+  g_bbase = color * B;
+  g_bricks.rank = g_brank;
+  g_bricks.size = g_bsize;
+  srd_bricks_set_run_comm_(&g_bricks);
+  return 0;
+}
 
 int cli_mpi_bcast(std::string *b) { return bcast(nullptr, b); }
 
@@ -462,6 +488,7 @@ const srd_bricks_comm *cli_mpi_bricks_comm(void) {
   return &one;
 }
 void cli_mpi_abort(int) {}
+int cli_mpi_bricks_groups(int) { return 0; }
 
 #endif
 

@@ -414,7 +414,9 @@ void header(const gran_scene *s, const std::string &out, const std::string &ck, 
     std::fprintf(o, "  t = 0 .. %g (%lld steps), %zu output times, seed %llu", s->t_end, (long long)s->srd.steps,
                 s->times.size(), (unsigned long long)s->seed);
     if (s->replicas > 1) std::fprintf(o, ", %" PRId64 " replicas", s->replicas);
-    if (s->split_gas && cli_mpi_size() > 1) std::fprintf(o, ", the gas split over %d processes", cli_mpi_size());
+    if (s->split_gas && cli_mpi_size() > 1 && cli_mpi_size() > s->replicas && cli_mpi_size() % s->replicas == 0)
+      std::fprintf(o, ", %s split over %lld processes", s->replicas > 1 ? "each replica's gas" : "the gas",
+                   (long long)(cli_mpi_size() / s->replicas));
     std::fprintf(o, "\n  output %s, checkpoint %s\n", out.c_str(), ck.empty() ? "(none)" : ck.c_str());
     std::fflush(o);
     return;
@@ -769,8 +771,16 @@ int cli_run(int argc, char **argv) {
       gran_scene_destroy(&scene);
       return fail("--replicas");
     }
-    /* a split gas's processes wait for each other at every step: a stopped one is found by default */
-    if (!timeout_given && scene->split_gas && cli_mpi_size() > 1) cli_mpi_set_timeout(600.0);
+    /* a split gas's processes wait for each other at every step: a stopped one is found by default;
+     * replicas of a split gas: each on its own group of P / R processes */
+    if (scene->split_gas && cli_mpi_size() > 1) {
+      if (!timeout_given) cli_mpi_set_timeout(600.0);
+      if (cli_mpi_bricks_groups((int)std::min<int64_t>(scene->replicas, INT32_MAX))) {
+        gran_scene_destroy(&scene);
+        std::fprintf(stderr, "granary run: MPI: cannot split the processes into the replicas' groups\n");
+        return 1;
+      }
+    }
     const char *p = nullptr;
     gran_scene_output_path(scene, &p);
     out_path = output ? output : p;

@@ -30,11 +30,11 @@
  * checkpoint), reduces the row buffers in replica order (mean and standard error: bit for bit the
  * same for any P and thread count) and calls write_output on replica 0 only (its theory and
  * species table serve all replicas). An engine needs nothing of this: it never sees MPI.
- * One gas split over the processes (gran_scene.split_gas: a GSRD `[engine] decomposition` on P > 1
- * processes; run_impl.h Run.split): every process then holds replica 0, every call but
- * write_output is made on every process in the same order (collective), every process records
- * the same rows, and rank 0's rows and events are the run's; the engine reaches its processes
- * through its own layer's process group (src/srd/bricks.h), not MPI.
+ * A gas split over processes (gran_scene.split_gas: a GSRD `[engine] decomposition` on P > R
+ * processes; run_impl.h Run.split): each replica is held by a group of P / R processes, every
+ * call but write_output is made on every process of the group in the same order (collective),
+ * the group records the same rows, and its first process's rows and events are the replica's;
+ * the engine reaches its group through its own layer's process group (src/srd/bricks.h), not MPI.
  * Every method returns a granary status (GRAN_ERROR with a named message on failure). */
 #ifndef GRANARY_IO_ENGINE_H
 #define GRANARY_IO_ENGINE_H

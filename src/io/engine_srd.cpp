@@ -93,10 +93,10 @@ class SrdEngine : public gran_engine {
       const srd_bricks_comm *c = srd_bricks_run_comm_();
       const int64_t nb = (int64_t)q.decomp_grid[0] * q.decomp_grid[1] * q.decomp_grid[2];
       GRAN_CHECK(nb == 0 || nb == c->size, GRAN_ERR_ARG,
-                 "scene key 'engine.decomposition' = [%d, %d, %d] has %lld bricks, and this run has %d process(es): "
+                 "scene key 'engine.decomposition' = [%d, %d, %d] has %lld bricks, and this run has %d process(es)%s: "
                  "start it on %lld (mpirun -n %lld build/granary-mpi run ...), or give \"auto\"",
-                 q.decomp_grid[0], q.decomp_grid[1], q.decomp_grid[2], (long long)nb, c->size, (long long)nb,
-                 (long long)nb);
+                 q.decomp_grid[0], q.decomp_grid[1], q.decomp_grid[2], (long long)nb, c->size,
+                 s_->replicas > 1 ? " per replica" : "", (long long)(nb * s_->replicas), (long long)(nb * s_->replicas));
       if (c->size > 1) {
         split_ = true;
         comm_ = *c;
@@ -125,7 +125,6 @@ class SrdEngine : public gran_engine {
     }
     return GRAN_SUCCESS;
   }
-  bool split() const { return split_; }
 
   int declare(std::vector<gran_row_buf> &b) override {
     const auto &q = s_->srd;

@@ -297,15 +297,18 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
     GRAN_CALL(sync_status(r, r.root() ? check_files(r, scene->name) : GRAN_SUCCESS));
     r.R = scene->replicas;
     r.keep = scene->keep_replicas;
-    r.split = scene->split_gas && r.comm.size > 1;
-    GRAN_CHECK(!r.split || r.R == 1, GRAN_ERR_UNSUPPORTED,
-               "scene '%s': [engine] replicas = %" PRId64 " with a gas split over %d processes ([engine] decomposition): "
-               "replicas and a split gas do not combine yet (one replica, or decomposition = \"none\")",
-               scene->name.c_str(), r.R, r.comm.size);
+    if (scene->split_gas && r.comm.size > 1) { /* each replica on P / R processes */
+      GRAN_CHECK(r.comm.size % r.R == 0, GRAN_ERR_UNSUPPORTED,
+                 "scene '%s': %" PRId64 " replicas of a gas split over the processes ([engine] decomposition) need a "
+                 "multiple of %" PRId64 " processes (each replica on the same number of them), and this run has %d",
+                 scene->name.c_str(), r.R, r.R, r.comm.size);
+      r.bricks = r.comm.size / r.R;
+      r.split = r.bricks > 1; /* one process per replica: the replicas as without a split */
+    }
     GRAN_CHECK(!r.split || r.ckpt.empty(), GRAN_ERR_UNSUPPORTED,
-               "scene '%s': a gas split over %d processes ([engine] decomposition) is not checkpointed yet: run it "
-               "without a checkpoint (granary run --no-checkpoint; gran_scene_run's checkpoint \"\")",
-               scene->name.c_str(), r.comm.size);
+               "scene '%s': a gas split over %" PRId64 " processes ([engine] decomposition) is not checkpointed yet: run "
+               "it without a checkpoint (granary run --no-checkpoint; gran_scene_run's checkpoint \"\")",
+               scene->name.c_str(), r.bricks);
     int st = prepare(r);
     if (st == GRAN_SUCCESS) st = start_replicas(r);
     GRAN_CALL(sync_status(r, st));

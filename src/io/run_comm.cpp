@@ -28,10 +28,10 @@ std::string pack_rows(const Run &r, int64_t i) {
   return b;
 }
 
-/* Rank 0: rows i of the replicas of process p (k = p, p + P, ...) from its payload. */
+/* Rank 0: rows i of the replicas of process p (k = p, p + P, ...; split: its group's) from its payload. */
 int unpack_rows(Run &r, int64_t i, size_t p, const std::string &b) {
   size_t at = 0;
-  for (int64_t k = (int64_t)p; k < r.R; k += r.comm.size)
+  for (int64_t k : r.rows_of((int)p))
     for (auto &q : r.reps[(size_t)k].bufs) {
       const size_t n = (size_t)q.row * 8;
       GRAN_CHECK(at + n <= b.size(), GRAN_ERR_INTERNAL, "MPI: process %zu sent %zu bytes of rows, too few", p, b.size());
@@ -141,10 +141,11 @@ int local_events(Run &r, int64_t *ev) {
  * files the rows and sums the events into r.events_all; v gets the first failure. */
 int exchange(Run &r, int st, int64_t i, Verdict *v) {
   int64_t ev = 0;
-  const bool part_of_root = r.split && !r.root(); /* a split gas: rank 0's rows and events are the gas's */
-  if (st == GRAN_SUCCESS && !part_of_root) st = local_events(r, &ev);
+  /* a split gas: the group's first process sends its replica's rows and events (the others hold the same) */
+  const bool member = r.split && r.comm.rank % r.bricks != 0;
+  if (st == GRAN_SUCCESS && !member) st = local_events(r, &ev);
   std::string rows;
-  if (st == GRAN_SUCCESS && i >= 0 && !r.root() && !part_of_root) rows = pack_rows(r, i);
+  if (st == GRAN_SUCCESS && i >= 0 && !r.root() && !member) rows = pack_rows(r, i);
   std::vector<Part> parts;
   GRAN_CALL(gather_parts(r, st, ev, std::move(rows), &parts));
   if (!r.root()) return GRAN_SUCCESS;
@@ -153,7 +154,7 @@ int exchange(Run &r, int st, int64_t i, Verdict *v) {
   r.events_all = 0;
   for (size_t p = 0; p < parts.size(); p++) {
     r.events_all += parts[p].events;
-    if (p > 0 && i >= 0 && (int64_t)p < r.R && (st = unpack_rows(r, i, p, parts[p].payload)) != GRAN_SUCCESS) {
+    if (p > 0 && i >= 0 && !r.rows_of((int)p).empty() && (st = unpack_rows(r, i, p, parts[p].payload)) != GRAN_SUCCESS) {
       v->st = st;
       v->msg = gran_last_error_message();
       return GRAN_SUCCESS;

@@ -34,10 +34,12 @@ struct Run {
   std::vector<Replica> reps; /* R >= 1; replica 0 is the run without replicas */
   gran_run_comm comm;        /* the processes (run_comm.h); size 1: this process alone */
   std::vector<int64_t> mine; /* the replicas this process runs: k % comm.size == comm.rank (split: 0) */
-  /* the scene's one gas is split over the P > 1 processes (gran_scene.split_gas): every process
-   * holds a part of replica 0, whose engine calls are collective and give every process the same
-   * rows; rank 0 records them and counts the events; no replicas, no checkpoints */
+  /* the scene's gas is split over the processes (gran_scene.split_gas, P > R): replica k on the
+   * `bricks` consecutive processes from k bricks, each holding a part of it; its engine calls are
+   * collective among them and give each the same rows; the group's first process sends them to
+   * rank 0 and counts the events; no checkpoints */
   bool split = false;
+  int64_t bricks = 1; /* processes per replica (split) */
   int64_t events_all = 0;    /* rank 0: engine events of all replicas at the last exchange */
   int64_t R = 1;
   int keep = 0;              /* keep_replicas */
@@ -46,7 +48,17 @@ struct Run {
   std::string out, ckpt;
   gran_engine *eng() const { return reps[0].eng.get(); } /* rank 0 only (it runs replica 0) */
   bool root() const { return comm.rank == 0; }
-  bool owns(int64_t k) const { return split ? k == 0 : k % comm.size == comm.rank; }
+  bool owns(int64_t k) const { return split ? k == comm.rank / bricks : k % comm.size == comm.rank; }
+  /* the replicas whose rows process p sends rank 0 (split: its replica, when p is its group's first) */
+  std::vector<int64_t> rows_of(int p) const {
+    std::vector<int64_t> v;
+    if (split) {
+      if (p % bricks == 0 && p / bricks < R) v.push_back(p / bricks);
+    } else {
+      for (int64_t k = p; k < R; k += comm.size) v.push_back(k);
+    }
+    return v;
+  }
   ~Run() {
     reps.clear();
     gran_scene_destroy(&owned_scene);

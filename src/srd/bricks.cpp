@@ -854,10 +854,31 @@ int flush_ledger(const Ctx &C, std::vector<Brick> &bs, Transport &T) {
   return GRAN_SUCCESS;
 }
 
+/* GRAN_SRD_PHASES=1: the phases' seconds of the steps so far and their particle-steps, printed by
+ * phases_print (per gran_srd_advance call; a split gas's, summed over its step calls, at close) */
+struct Phases {
+  double ph[BP_N] = {0, 0, 0, 0, 0, 0};
+  double tsort = 0, psteps = 0;
+  int64_t steps = 0, particles = 0;
+  int bricks = 0;
+};
+void phases_print(const Phases &q) {
+  if (!(q.psteps > 0)) return;
+  const double u = 1e9 / q.psteps;
+  std::fprintf(stderr,
+               "GSRD bricks phases, ns per particle-step (%lld steps, %lld particles, %d bricks): stream + bin + pack "
+               "%.2f, receive + append %.2f, cell order + sums (+ rules + rotation without the global thermostat) %.2f, "
+               "rules + rotation after the thermostat's reduction, and the sort %.2f (sort %.2f of it), "
+               "ledger (all-reduced every %d steps) %.2f\n",
+               (long long)q.steps, (long long)q.particles, q.bricks, q.ph[BP_STREAM] * u, q.ph[BP_RECV] * u,
+               q.ph[BP_SUMS] * u, q.ph[BP_COLL] * u, q.tsort * u, (int)kLedgerBatch, q.ph[BP_RED] * u);
+}
+
 /* nsteps steps of every brick in bs (an MPI rank: its one brick), each phase on every brick
- * before the next phase */
+ * before the next phase; with GRAN_SRD_PHASES=1 the phases' times are added to *acc (NULL: printed
+ * at the end of this call) */
 template <int DIM, int FXF>
-int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps) {
+int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps, Phases *acc) {
   const bool prof = srd_phase_timing();
   double ph[BP_N] = {0, 0, 0, 0, 0, 0};
   double tq = prof ? srd_clock_s() : 0.0;
@@ -892,19 +913,19 @@ int run_steps(const Ctx &C, std::vector<Brick> &bs, Transport &T, int64_t nsteps
   if (prof && nsteps > 0) {
     int64_t n = 0;
     for (const Brick &B : bs) n += (int64_t)(B.x.size() - B.holes.size());
-    const double u = 1e9 / ((double)n * (double)nsteps);
-    std::fprintf(stderr,
-                 "GSRD bricks phases, ns per particle-step (%lld steps, %lld particles, %d bricks): stream + bin + pack "
-                 "%.2f, receive + append %.2f, cell order + sums (+ rules + rotation without the global thermostat) %.2f, "
-                 "rules + rotation after the thermostat's reduction, and the sort %.2f (sort %.2f of it), "
-                 "ledger (all-reduced every %d steps) %.2f\n",
-                 (long long)nsteps, (long long)n, (int)bs.size(), ph[BP_STREAM] * u, ph[BP_RECV] * u, ph[BP_SUMS] * u,
-                 ph[BP_COLL] * u, tsort * u, (int)kLedgerBatch, ph[BP_RED] * u);
+    Phases here, &q = acc ? *acc : here;
+    for (int k = 0; k < BP_N; ++k) q.ph[k] += ph[k];
+    q.tsort += tsort;
+    q.psteps += (double)n * (double)nsteps;
+    q.steps += nsteps;
+    q.particles = n;
+    q.bricks = (int)bs.size();
+    if (!acc) phases_print(q);
   }
   return GRAN_SUCCESS;
 }
 
-using run_fn = int (*)(const Ctx &, std::vector<Brick> &, Transport &, int64_t);
+using run_fn = int (*)(const Ctx &, std::vector<Brick> &, Transport &, int64_t, Phases *);
 constexpr int fxf_of(int i) {
   return (i & 1 ? SRD_FX_ACCEL : 0) | (i & 2 ? SRD_FX_WALL : 0) | (i & 4 ? SRD_FX_LE : 0) | (i & 8 ? SRD_FX_DISSIP : 0);
 }
@@ -1155,7 +1176,7 @@ int srd_bricks_advance_(gran_srd *s, int64_t steps) {
       B.key.resize(B.x.size()); /* key = index: valid until the first sort (only one epoch is compared) */
       std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
         LocalTransport T(1);
-      e = pick(s->opt.dim, srd_fx_of(&s->opt))(C, bs, T, steps);
+      e = pick(s->opt.dim, srd_fx_of(&s->opt))(C, bs, T, steps, nullptr);
     }
     scalars_to(B, s); /* the steps done (on an error: up to the step that failed) */
     return e;
@@ -1283,7 +1304,7 @@ extern "C" int srd_bricks_run_(const gran_srd_options *opt, const int pgrid[3], 
       B.key.push_back((uint64_t)i);
     }
     const double t0 = srd_clock_s();
-    GRAN_CALL(pick(d, srd_fx_of(&s->opt))(C, bs, T, nsteps));
+    GRAN_CALL(pick(d, srd_fx_of(&s->opt))(C, bs, T, nsteps, nullptr));
     const double t_steps = srd_clock_s() - t0;
     /* gather: every brick holds the same scalar state */
     for (int r = 1; r < P; ++r) {
@@ -1434,7 +1455,8 @@ extern "C" int srd_bricks_auto_(const gran_srd_options *opt, int P, int pgrid[3]
     GRAN_CALL(srd_alloc_geometry_(&g));
     const int64_t *nc = g.gm.nc;
     GRAN_CHECK(P >= 1 && (double)P <= (double)g.ncell, GRAN_ERR_ARG,
-               "a decomposition into %d bricks needs 1 .. %lld (the binning grid's cells)", P, (long long)g.ncell);
+               "a split into %d bricks: the binning grid has %lld cells and a brick needs at least one (processes: "
+               "at most %lld)", P, (long long)g.ncell, (long long)g.ncell);
     double best = INFINITY;
     int found = 0;
     for (int px = 1; px <= P; ++px) {
@@ -1483,6 +1505,7 @@ struct srd_bricks_state {
   int pgrid[3] = {1, 1, 1};
   double e0 = 0, seconds = 0;
   double stress_t0 = 0; /* the time of the last stress reset */
+  Phases phases;        /* GRAN_SRD_PHASES=1: over all step calls, printed at close */
 };
 
 int srd_bricks_open_(const gran_srd_options *opt, const int pgrid[3], const srd_bricks_comm *comm,
@@ -1547,7 +1570,7 @@ int srd_bricks_step_(srd_bricks_state *st, int64_t nsteps) {
     GRAN_CHECK(nsteps >= 0, GRAN_ERR_ARG, "argument 'nsteps' must be >= 0 (got %lld)", (long long)nsteps);
     const double t0 = srd_clock_s();
     const gran_srd_options &o = st->shell->opt;
-    const int e = pick(o.dim, srd_fx_of(&o))(st->C, st->bs, *st->T, nsteps);
+    const int e = pick(o.dim, srd_fx_of(&o))(st->C, st->bs, *st->T, nsteps, &st->phases);
     st->seconds += srd_clock_s() - t0;
     return e;
   }
@@ -1650,6 +1673,7 @@ int srd_bricks_report_(srd_bricks_state *st, srd_bricks_rank_out *out) {
 
 void srd_bricks_close_(srd_bricks_state **st) {
   if (!st) return;
+  if (*st && srd_phase_timing()) phases_print((*st)->phases);
   delete *st;
   *st = nullptr;
 }
