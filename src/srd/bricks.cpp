@@ -1889,33 +1889,52 @@ int obs_collect(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *com
   const int me = over ? comm->rank : -1;
   const int64_t ncg = C.gm.nc[0] * C.gm.nc[1] * C.gm.nc[2];
   constexpr uint32_t kNone = UINT32_MAX; /* a hole, or a particle of another brick's cell */
+  const int nt = std::max(1, C.nth);
   oc.assign(bs.size(), ObsCells());
   std::vector<std::vector<uint32_t>> lcs(bs.size()); /* per slot: its unshifted cell in the brick's window */
+  /* per brick and thread (a contiguous range of slots): its particles per cell, then where they go */
+  std::vector<std::vector<uint32_t>> cnt(bs.size() * (size_t)nt);
   std::vector<std::vector<double>> out((size_t)P);   /* over a comm: the records for other processes */
   std::vector<std::vector<double>> arr(bs.size());   /* per brick: the records of its cells' particles from others */
   for (size_t b = 0; b < bs.size(); ++b) {
     const Brick &B = bs[b];
-    ObsCells &O = oc[b];
-    O.start.assign((size_t)B.ncl + 1, 0);
     std::vector<uint32_t> &L = lcs[b];
     L.assign(B.x.size(), kNone);
-    for (size_t i = 0; i < B.x.size(); ++i) {
-      if (!B.dest.empty() && B.dest[i] >= 0) continue; /* a hole */
-      const double p[3] = {B.x[i], B.y[i], d3 ? B.z[i] : 0.0};
-      int64_t c[3];
-      double dvx;
-      srd_bin3(&g0, zero, p, c, &dvx);
-      const int to = owner_of(C.sp, c);
-      if (over ? to == me : to == B.rank) {
-        L[i] = local_of(B, c);
-        ++O.start[(size_t)L[i] + 1];
-      } else {
-        const int64_t gc = c[0] + C.gm.nc[0] * (c[1] + C.gm.nc[1] * c[2]);
-        const double rec[kObsWords] = {word_of((uint64_t)gc), word_of(B.key[i]), B.vx[i], B.vy[i], d3 ? B.vz[i] : 0.0};
-        std::vector<double> &m = over ? out[(size_t)to] : arr[(size_t)to];
-        m.insert(m.end(), rec, rec + kObsWords);
+    const int64_t n = (int64_t)B.x.size();
+    std::vector<std::vector<std::vector<double>>> far((size_t)nt); /* per thread: records per destination */
+#pragma omp parallel num_threads(nt)
+    {
+      int t = 0;
+#ifdef _OPENMP
+      t = omp_get_thread_num();
+#endif
+      std::vector<uint32_t> &ct = cnt[b * (size_t)nt + (size_t)t];
+      ct.assign((size_t)B.ncl, 0);
+      std::vector<std::vector<double>> &ft = far[(size_t)t];
+      ft.resize((size_t)P);
+      for (int64_t i = n * t / nt; i < n * (t + 1) / nt; ++i) {
+        if (!B.dest.empty() && B.dest[(size_t)i] >= 0) continue; /* a hole */
+        const double p[3] = {B.x[(size_t)i], B.y[(size_t)i], d3 ? B.z[(size_t)i] : 0.0};
+        int64_t c[3];
+        double dvx;
+        srd_bin3(&g0, zero, p, c, &dvx);
+        const int to = owner_of(C.sp, c);
+        if (over ? to == me : to == B.rank) {
+          L[(size_t)i] = local_of(B, c);
+          ++ct[L[(size_t)i]];
+        } else {
+          const int64_t gc = c[0] + C.gm.nc[0] * (c[1] + C.gm.nc[1] * c[2]);
+          const double rec[kObsWords] = {word_of((uint64_t)gc), word_of(B.key[(size_t)i]), B.vx[(size_t)i],
+                                         B.vy[(size_t)i], d3 ? B.vz[(size_t)i] : 0.0};
+          ft[(size_t)to].insert(ft[(size_t)to].end(), rec, rec + kObsWords);
+        }
       }
     }
+    for (int t = 0; t < nt; ++t) /* the records in thread order (each cell is put in key order below) */
+      for (int q = 0; q < P; ++q) {
+        std::vector<double> &m = over ? out[(size_t)q] : arr[(size_t)q];
+        m.insert(m.end(), far[(size_t)t][(size_t)q].begin(), far[(size_t)t][(size_t)q].end());
+      }
   }
   if (over) {
     std::vector<std::vector<double>> got((size_t)P);
@@ -1942,28 +1961,61 @@ int obs_collect(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *com
       GRAN_CHECK(owner_of(C.sp, c) == B.rank, GRAN_ERR_IO, "observables: brick %d received a particle of brick %d's cell %lld",
                  B.rank, owner_of(C.sp, c), (long long)gc);
       alc[(size_t)j] = local_of(B, c);
-      ++O.start[(size_t)alc[(size_t)j] + 1];
     }
-    /* a counting sort by cell (the brick's particles in slot order, then the arrivals), then each
-     * cell's particles in key order: the order of the one-process array (a brick's residents are
-     * in key order by slot; the insertion moves only the others) */
-    for (int64_t c = 0; c < B.ncl; ++c) O.start[(size_t)c + 1] += O.start[(size_t)c];
-    std::vector<int64_t> fill(O.start.begin(), O.start.end() - 1);
+    /* a counting sort by cell: each cell's particles of thread 0's slots, thread 1's, ..., then the
+     * arrivals; then each cell's particles in key order, the order of the one-process array (a
+     * brick's residents are in key order by slot: the insertion moves only the others) */
+    O.start.assign((size_t)B.ncl + 1, 0);
+    for (int64_t c = 0; c < B.ncl; ++c) {
+      uint64_t at = (uint64_t)O.start[(size_t)c];
+      for (int t = 0; t < nt; ++t) { /* thread t's count of cell c becomes where its first one goes */
+        uint32_t &x = cnt[b * (size_t)nt + (size_t)t][(size_t)c];
+        const uint32_t k = x;
+        x = (uint32_t)(at - (uint64_t)O.start[(size_t)c]);
+        at += k;
+      }
+      O.start[(size_t)c + 1] = (int64_t)at;
+    }
+    std::vector<int64_t> fill_a((size_t)B.ncl, 0); /* the arrivals after the locals of each cell */
+    for (int64_t j = 0; j < na; ++j) ++fill_a[alc[(size_t)j]];
+    {
+      int64_t shift = 0; /* the arrivals of the cells before: every later cell moves up */
+      for (int64_t c = 0; c < B.ncl; ++c) {
+        const int64_t m = fill_a[(size_t)c];
+        O.start[(size_t)c] += shift;
+        fill_a[(size_t)c] = O.start[(size_t)c + 1] + shift; /* the cell's first arrival goes here */
+        shift += m;
+      }
+      O.start[(size_t)B.ncl] += shift;
+    }
     O.rec.resize((size_t)O.start[(size_t)B.ncl]);
-    for (size_t i = 0; i < L.size(); ++i) {
-      if (L[i] == kNone) continue;
-      O.rec[(size_t)fill[L[i]]++] = ObsRec{B.key[i], {B.vx[i], B.vy[i], d3 ? B.vz[i] : 0.0}};
+    const int64_t n = (int64_t)L.size();
+#pragma omp parallel num_threads(nt)
+    {
+      int t = 0;
+#ifdef _OPENMP
+      t = omp_get_thread_num();
+#endif
+      std::vector<uint32_t> &ot = cnt[b * (size_t)nt + (size_t)t];
+      for (int64_t i = n * t / nt; i < n * (t + 1) / nt; ++i) {
+        const uint32_t l = L[(size_t)i];
+        if (l == kNone) continue;
+        O.rec[(size_t)(O.start[l] + (int64_t)ot[l]++)] =
+            ObsRec{B.key[(size_t)i], {B.vx[(size_t)i], B.vy[(size_t)i], d3 ? B.vz[(size_t)i] : 0.0}};
+      }
     }
     for (int64_t j = 0; j < na; ++j) {
       const double *w = A.data() + j * kObsWords;
-      O.rec[(size_t)fill[alc[(size_t)j]]++] = ObsRec{key_of(w[1]), {w[2], w[3], w[4]}};
+      O.rec[(size_t)fill_a[alc[(size_t)j]]++] = ObsRec{key_of(w[1]), {w[2], w[3], w[4]}};
     }
+    for (int t = 0; t < nt; ++t) std::vector<uint32_t>().swap(cnt[b * (size_t)nt + (size_t)t]);
     std::vector<uint32_t>().swap(lcs[b]);
     std::vector<double>().swap(arr[b]);
+#pragma omp parallel for schedule(static, 4096) num_threads(nt)
     for (int64_t c = 0; c < B.ncl; ++c) { /* insertion by key (the keys are distinct) */
       ObsRec *q = O.rec.data() + O.start[(size_t)c];
-      const int64_t n = O.start[(size_t)c + 1] - O.start[(size_t)c];
-      for (int64_t i = 1; i < n; ++i) {
+      const int64_t m = O.start[(size_t)c + 1] - O.start[(size_t)c];
+      for (int64_t i = 1; i < m; ++i) {
         if (!(q[i - 1].key > q[i].key)) continue;
         const ObsRec t = q[i];
         int64_t j = i;
