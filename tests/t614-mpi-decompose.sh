@@ -28,17 +28,7 @@ fail=0
 # scene NAME DIM CELLS EXTRA...: a GSRD scene of the decomposable engine
 scene() {
   name=$1; dim=$2; cells=$3; shift 3
-  {
-    echo "[engine]"
-    echo "type = \"srd\""
-    echo "dimension = $dim"
-    echo "cells = $cells"
-    echo "creation = \"cells\""
-    echo "steps = 24"
-    echo "sort_every = 5"
-    echo "alpha = 120"
-    for l in "$@"; do echo "$l"; done
-  } > "$tmp/$name.toml"
+  srd_scene "$tmp/$name.toml" "$dim" "$cells" "steps = 24" "sort_every = 5" "alpha = 120" "$@"
 }
 scene periodic3 3 "[7, 6, 5]" "n0 = 5" "dt = 0.6" "eps = 0.7" "sigma = 0.6" "seed = 3"
 scene shear2 2 "[9, 8]" "n0 = 6" "dt = 0.4" "seed = 11" "thermostat = \"global\"" \
@@ -250,18 +240,7 @@ stopped() {
   label=$1; toml=$2; shift 2
   ( if mpi 2 decompose "$toml" --timeout 2 --progress 0.01 "$@" > "$tmp/hang.out" 2> "$tmp/hang.err";
     then echo 0; else echo $?; fi > "$tmp/hang.rc" ) &
-  runner=$!
-  victim=$(rank1_pid "decompose $toml")
-  for i in $(seq 1 300); do grep -q "granary decompose: step" "$tmp/hang.err" 2>/dev/null && break; sleep 0.1; done
-  t0=$(date +%s)
-  [ -n "$victim" ] && kill -STOP "$victim"
-  # a watchdog, so that a missing timeout fails this test instead of hanging it
-  ( sleep 60; kill -9 "$victim" 2>/dev/null ) &
-  watchdog=$!
-  wait "$runner" || true
-  dt=$(( $(date +%s) - t0 ))
-  kill "$watchdog" 2>/dev/null || true
-  kill -9 "$victim" 2>/dev/null || true
+  signal_rank1 STOP "decompose $toml" "grep -q 'granary decompose: step' '$tmp/hang.err' 2>/dev/null" $!
   if [ -z "$victim" ] || [ "$(cat "$tmp/hang.rc" 2>/dev/null)" = 0 ] || [ $dt -gt 30 ] ||
      ! grep -q "granary-mpi: rank [01]: waited [0-9]* s in .* for .*stopping every process (the limit: --timeout 2)" "$tmp/hang.err"; then
     echo "FAIL: $label: exit $(cat "$tmp/hang.rc" 2>/dev/null) after ${dt} s (want non-zero within 30 s, naming the rank): $(cat "$tmp/hang.err")"

@@ -24,17 +24,7 @@ cc $(pkg-config --cflags hdf5) "${GRAN_SOURCE_DIR:-.}/tests/h5same.c" -o "$tmp/h
 # scene NAME DIM CELLS EXTRA...: a split GSRD scene ([observables] lines after a "[observables]" entry)
 scene() {
   name=$1; dim=$2; cells=$3; shift 3
-  {
-    echo "[engine]"
-    echo "type = \"srd\""
-    echo "dimension = $dim"
-    echo "cells = $cells"
-    echo "creation = \"cells\""
-    echo "decomposition = \"auto\""
-    echo "steps = 30"
-    echo "sort_every = 7"
-    for l in "$@"; do echo "$l"; done
-  } > "$tmp/$name.toml"
+  srd_scene "$tmp/$name.toml" "$dim" "$cells" 'decomposition = "auto"' "steps = 30" "sort_every = 7" "$@"
 }
 scene periodic3 3 "[9, 8, 7]" "n0 = 5" "dt = 0.5" "eps = 0.8" "sigma = 0.4" "seed = 21" \
   "[observables]" "every = 6" "sonine_a2 = true" "structure_factor = {bins = 6}"
@@ -154,17 +144,7 @@ split_stop() {
   rm -f "$tmp/long.log"
   ( if mpi 2 run "$long" -o "$tmp/long.h5" --no-checkpoint --log "$tmp/long.log" --log-every 1 -q --force \
          --timeout 2 > "$tmp/hang.out" 2> "$tmp/hang.err"; then echo 0; else echo $?; fi > "$tmp/hang.rc" ) &
-  runner=$!
-  victim=$(rank1_pid "run $long")
-  for i in $(seq 1 300); do [ "$(grep -c "^ *[0-9]" "$tmp/long.log" 2>/dev/null || true)" -ge 2 ] && break; sleep 0.1; done
-  t0=$(date +%s)
-  [ -n "$victim" ] && kill -"$sig" "$victim"
-  ( sleep 60; kill -9 "$victim" 2>/dev/null ) &
-  watchdog=$!
-  wait "$runner" || true
-  dt=$(( $(date +%s) - t0 ))
-  kill "$watchdog" 2>/dev/null || true
-  kill -9 "$victim" 2>/dev/null || true
+  signal_rank1 "$sig" "run $long" "[ \"\$(grep -c '^ *[0-9]' '$tmp/long.log' 2>/dev/null || true)\" -ge 2 ]" $!
   want="granary-mpi: rank [01]: waited [0-9]* s in .*stopping every process (the limit: --timeout 2)"
   [ "$sig" = KILL ] && want="rank"
   if [ -z "$victim" ] || [ "$(cat "$tmp/hang.rc" 2>/dev/null)" = 0 ] || [ $dt -gt 30 ] || ! grep -q "$want" "$tmp/hang.err"; then

@@ -1161,25 +1161,34 @@ int bricks_create(const Ctx &C, std::vector<Brick> &bs, Transport &T, double *e_
 
 } // namespace
 
+namespace {
+/* The plain engine's state as one brick: its scalars and arrays lent to the brick (key = index: the
+ * arrays are in key order, and only keys of one epoch are ever compared), fn(C, bs) called, the
+ * arrays given back (whatever fn returns) */
+template <class F>
+int as_one_brick(gran_srd *s, F fn) {
+  const int pg[3] = {1, 1, 1};
+  Ctx C;
+  GRAN_CALL(make_ctx(s, pg, C));
+  std::vector<Brick> bs(1);
+  Brick &B = bs[0];
+  window_of(C, 0, B);
+  scalars_from(s, B);
+  Lend lend(s, B);
+  B.key.resize(B.x.size());
+  std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
+  return fn(C, bs);
+}
+}  // namespace
+
 int srd_bricks_advance_(gran_srd *s, int64_t steps) {
   GRAN_TRY {
-    const int pg[3] = {1, 1, 1};
-    Ctx C;
-    GRAN_CALL(make_ctx(s, pg, C));
-    std::vector<Brick> bs(1);
-    Brick &B = bs[0];
-    window_of(C, 0, B);
-    scalars_from(s, B);
-    int e;
-    {
-      Lend lend(s, B);
-      B.key.resize(B.x.size()); /* key = index: valid until the first sort (only one epoch is compared) */
-      std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
-        LocalTransport T(1);
-      e = pick(s->opt.dim, srd_fx_of(&s->opt))(C, bs, T, steps, nullptr);
-    }
-    scalars_to(B, s); /* the steps done (on an error: up to the step that failed) */
-    return e;
+    return as_one_brick(s, [&](const Ctx &C, std::vector<Brick> &bs) {
+      LocalTransport T(1);
+      const int e = pick(s->opt.dim, srd_fx_of(&s->opt))(C, bs, T, steps, nullptr);
+      scalars_to(bs[0], s); /* the steps done (on an error: up to the step that failed) */
+      return e;
+    });
   }
   GRAN_CATCH
 }
@@ -1845,6 +1854,15 @@ struct ObsRed {
 };
 static_assert(std::is_trivially_copyable<ObsRed>::value, "the observation's sums are all-reduced as bytes");
 
+/* the OpenMP thread of the caller (0 without OpenMP) */
+inline int thread_num() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
 constexpr int kObsWords = 5; /* a particle's record in a message: global cell, key, vx, vy, vz */
 
 /* one particle of an unshifted cell: its key and velocity */
@@ -1904,10 +1922,7 @@ int obs_collect(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *com
     std::vector<std::vector<std::vector<double>>> far((size_t)nt); /* per thread: records per destination */
 #pragma omp parallel num_threads(nt)
     {
-      int t = 0;
-#ifdef _OPENMP
-      t = omp_get_thread_num();
-#endif
+      const int t = thread_num();
       std::vector<uint32_t> &ct = cnt[b * (size_t)nt + (size_t)t];
       ct.assign((size_t)B.ncl, 0);
       std::vector<std::vector<double>> &ft = far[(size_t)t];
@@ -1992,10 +2007,7 @@ int obs_collect(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *com
     const int64_t n = (int64_t)L.size();
 #pragma omp parallel num_threads(nt)
     {
-      int t = 0;
-#ifdef _OPENMP
-      t = omp_get_thread_num();
-#endif
+      const int t = thread_num();
       std::vector<uint32_t> &ot = cnt[b * (size_t)nt + (size_t)t];
       for (int64_t i = n * t / nt; i < n * (t + 1) / nt; ++i) {
         const uint32_t l = L[(size_t)i];
@@ -2050,11 +2062,7 @@ int obs_sums(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, 
       const int64_t ncl = (int64_t)O.start.size() - 1;
 #pragma omp parallel for schedule(static, 1024) num_threads(C.nth)
       for (int64_t c = 0; c < ncl; ++c) {
-#ifdef _OPENMP
-        ObsRed &R = tr[(size_t)omp_get_thread_num()];
-#else
-        ObsRed &R = tr[0];
-#endif
+        ObsRed &R = tr[(size_t)thread_num()];
         const int64_t n = O.start[(size_t)c + 1] - O.start[(size_t)c];
         if (n > 0) f(R, O, c, O.rec.data() + O.start[(size_t)c], n);
       }
@@ -2216,16 +2224,9 @@ srd_obs_scalars obs_scalars_of(const Ctx &C, const Brick &B, double e_initial, d
 }  // namespace
 
 int srd_observe_cells_(gran_srd *s, gran_srd_obs *ob, double *profile) {
-  const int pg[3] = {1, 1, 1};
-  Ctx C;
-  GRAN_CALL(make_ctx(s, pg, C));
-  std::vector<Brick> bs(1);
-  Brick &B = bs[0];
-  window_of(C, 0, B);
-  Lend lend(s, B);
-  B.key.resize(B.x.size()); /* key = index: the array is in key order */
-  std::iota(B.key.begin(), B.key.end(), (uint64_t)0);
-  return obs_sums(C, bs, nullptr, s->ncell_box, ob, profile);
+  return as_one_brick(s, [&](const Ctx &C, std::vector<Brick> &bs) {
+    return obs_sums(C, bs, nullptr, s->ncell_box, ob, profile);
+  });
 }
 
 int srd_bricks_observe_(srd_bricks_state *st, gran_srd_obs *ob) { return srd_bricks_observe_profile_(st, ob, nullptr); }
