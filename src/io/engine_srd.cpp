@@ -363,13 +363,16 @@ class SrdEngine : public gran_engine {
       H5Obj g(H5Gopen2((hid_t)f, "structure_factor", H5P_DEFAULT), H5Gclose);
       std::vector<double> k((size_t)q.sk_bins), sk((size_t)q.sk_bins);
       std::vector<int64_t> c((size_t)q.sk_bins);
-      if (split_) { /* k and counts: geometry only, as the last record had them (write_output is not collective) */
-        GRAN_CHECK(sk_k_.size() == (size_t)q.sk_bins, GRAN_ERR_STATE, "GSRD engine: S(k) written before it was recorded");
-        k = sk_k_;
-        c = sk_c_;
-      } else {
-        GRAN_CALL(gran_srd_structure_factor(srd_, q.sk_bins, k.data(), sk.data(), c.data())); /* k and counts: geometry only */
+      /* k and counts: geometry only, as the last record had them (a split gas's write_output is not
+       * collective); without a record in this process (none since a resume) the undivided engine's */
+      if (sk_k_.size() != (size_t)q.sk_bins) {
+        GRAN_CHECK(!split_, GRAN_ERR_STATE, "GSRD engine: S(k) written before it was recorded");
+        sk_k_.resize((size_t)q.sk_bins);
+        sk_c_.resize((size_t)q.sk_bins);
+        GRAN_CALL(gran_srd_structure_factor(srd_, q.sk_bins, sk_k_.data(), sk.data(), sk_c_.data()));
       }
+      k = sk_k_;
+      c = sk_c_;
       for (int64_t b = 0; b < q.sk_bins; ++b)
         if (c[(size_t)b] == 0) k[(size_t)b] = gran_row_fill;
       GRAN_CALL(gran_h5::write_double(g.id, "k", {q.sk_bins}, k.data(), file));

@@ -1979,29 +1979,22 @@ int obs_collect(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *com
     }
     /* a counting sort by cell: each cell's particles of thread 0's slots, thread 1's, ..., then the
      * arrivals; then each cell's particles in key order, the order of the one-process array (a
-     * brick's residents are in key order by slot: the insertion moves only the others) */
+     * brick's residents are in key order by slot: the insertion moves only the others). The
+     * counts become where each thread's (and the arrivals') first particle of the cell goes. */
+    std::vector<int64_t> fill_a((size_t)B.ncl, 0);
+    for (int64_t j = 0; j < na; ++j) ++fill_a[alc[(size_t)j]];
     O.start.assign((size_t)B.ncl + 1, 0);
-    for (int64_t c = 0; c < B.ncl; ++c) {
-      uint64_t at = (uint64_t)O.start[(size_t)c];
-      for (int t = 0; t < nt; ++t) { /* thread t's count of cell c becomes where its first one goes */
+    for (int64_t c = 0, at = 0; c < B.ncl; ++c) {
+      for (int t = 0; t < nt; ++t) {
         uint32_t &x = cnt[b * (size_t)nt + (size_t)t][(size_t)c];
         const uint32_t k = x;
-        x = (uint32_t)(at - (uint64_t)O.start[(size_t)c]);
+        x = (uint32_t)at; /* a brick holds fewer than 2^32 particles (N < 4e9) */
         at += k;
       }
-      O.start[(size_t)c + 1] = (int64_t)at;
-    }
-    std::vector<int64_t> fill_a((size_t)B.ncl, 0); /* the arrivals after the locals of each cell */
-    for (int64_t j = 0; j < na; ++j) ++fill_a[alc[(size_t)j]];
-    {
-      int64_t shift = 0; /* the arrivals of the cells before: every later cell moves up */
-      for (int64_t c = 0; c < B.ncl; ++c) {
-        const int64_t m = fill_a[(size_t)c];
-        O.start[(size_t)c] += shift;
-        fill_a[(size_t)c] = O.start[(size_t)c + 1] + shift; /* the cell's first arrival goes here */
-        shift += m;
-      }
-      O.start[(size_t)B.ncl] += shift;
+      const int64_t k = fill_a[(size_t)c];
+      fill_a[(size_t)c] = at;
+      at += k;
+      O.start[(size_t)c + 1] = at;
     }
     O.rec.resize((size_t)O.start[(size_t)B.ncl]);
     const int64_t n = (int64_t)L.size();
@@ -2012,7 +2005,7 @@ int obs_collect(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *com
       for (int64_t i = n * t / nt; i < n * (t + 1) / nt; ++i) {
         const uint32_t l = L[(size_t)i];
         if (l == kNone) continue;
-        O.rec[(size_t)(O.start[l] + (int64_t)ot[l]++)] =
+        O.rec[(size_t)ot[l]++] =
             ObsRec{B.key[(size_t)i], {B.vx[(size_t)i], B.vy[(size_t)i], d3 ? B.vz[(size_t)i] : 0.0}};
       }
     }
@@ -2161,45 +2154,37 @@ int obs_sums(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, 
   }
   if (profile) { /* the mean velocity of each layer of y: its cells' momenta summed exactly, over its particles */
     const int64_t L1 = C.o->cells[1];
+    auto add_layer = [&](int64_t j, LayerRed &R) { /* layer j's cells of the bricks here into R */
+      for (size_t b = 0; b < bs.size(); ++b) {
+        const Brick &B = bs[b];
+        const int64_t i1 = j - B.lo[1];
+        if (i1 < 0 || i1 >= B.w[1]) continue;
+        for (int64_t i2 = 0; i2 < B.w[2]; ++i2)
+          for (int64_t i0 = 0; i0 < B.w[0]; ++i0) {
+            const int64_t l = i0 + B.w[0] * (i1 + B.w[1] * i2), n = oc[b].start[(size_t)l + 1] - oc[b].start[(size_t)l];
+            if (n == 0) continue;
+            for (int q = 0; q < 3; ++q) gran_exactsum_add_(&R.u[q], oc[b].S[(size_t)(3 * l + q)]);
+            R.n += n;
+          }
+      }
+    };
+    auto mean = [&](int64_t j, LayerRed &R) {
+      for (int q = 0; q < 3; ++q) profile[3 * j + q] = R.n > 0 ? gran_exactsum_value_(&R.u[q]) / (double)R.n : NAN;
+    };
     if (!comm) { /* every brick here: one layer at a time (an exact sum is the same however it is grouped) */
       for (int64_t j = 0; j < L1; ++j) {
         LayerRed R;
         R.clear();
-        for (size_t b = 0; b < bs.size(); ++b) {
-          const Brick &B = bs[b];
-          const int64_t i1 = j - B.lo[1];
-          if (i1 < 0 || i1 >= B.w[1]) continue;
-          for (int64_t i2 = 0; i2 < B.w[2]; ++i2)
-            for (int64_t i0 = 0; i0 < B.w[0]; ++i0) {
-              const int64_t l = i0 + B.w[0] * (i1 + B.w[1] * i2), n = oc[b].start[(size_t)l + 1] - oc[b].start[(size_t)l];
-              if (n == 0) continue;
-              for (int q = 0; q < 3; ++q) gran_exactsum_add_(&R.u[q], oc[b].S[(size_t)(3 * l + q)]);
-              R.n += n;
-            }
-        }
-        for (int q = 0; q < 3; ++q) profile[3 * j + q] = R.n > 0 ? gran_exactsum_value_(&R.u[q]) / (double)R.n : NAN;
+        add_layer(j, R);
+        mean(j, R);
       }
     } else { /* this process's layers, all-reduced */
       std::vector<LayerRed> lay((size_t)L1);
       for (LayerRed &R : lay) R.clear();
-      const Brick &B = bs[0];
-      for (int64_t i1 = 0; i1 < B.w[1]; ++i1) {
-        const int64_t j = B.lo[1] + i1;
-        if (j >= L1) continue; /* a wall axis's extra layer: no box cells */
-        LayerRed &R = lay[(size_t)j];
-        for (int64_t i2 = 0; i2 < B.w[2]; ++i2)
-          for (int64_t i0 = 0; i0 < B.w[0]; ++i0) {
-            const int64_t l = i0 + B.w[0] * (i1 + B.w[1] * i2), n = oc[0].start[(size_t)l + 1] - oc[0].start[(size_t)l];
-            if (n == 0) continue;
-            for (int q = 0; q < 3; ++q) gran_exactsum_add_(&R.u[q], oc[0].S[(size_t)(3 * l + q)]);
-            R.n += n;
-          }
-      }
+      for (int64_t j = bs[0].lo[1]; j < std::min(L1, bs[0].lo[1] + bs[0].w[1]); ++j) add_layer(j, lay[(size_t)j]);
       GRAN_CHECK(comm->allreduce(comm->ctx, lay.data(), sizeof(LayerRed), lay.size(), &merge_bytes<LayerRed>) == 0,
                  GRAN_ERR_IO, "decomposed GSRD run: the all-reduce of the velocity profile failed on process %d", comm->rank);
-      for (int64_t j = 0; j < L1; ++j)
-        for (int q = 0; q < 3; ++q)
-          profile[3 * j + q] = lay[(size_t)j].n > 0 ? gran_exactsum_value_(&lay[(size_t)j].u[q]) / (double)lay[(size_t)j].n : NAN;
+      for (int64_t j = 0; j < L1; ++j) mean(j, lay[(size_t)j]);
     }
   }
   return GRAN_SUCCESS;
