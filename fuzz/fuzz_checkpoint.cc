@@ -7,8 +7,11 @@
  * (edge values such as NaN, inf, 1e300, -0, 2^63-1, or raw bits), a dataset one value longer or
  * shorter, numbers in the stored scene text; then the checksum is recomputed (or, 1 in 8 for a
  * GSRD state, left stale: the reader must refuse), so that the reader's value checks and the
- * resumed engine (a few steps, observed) are what the edit reaches. Every status must be a listed
- * code with a message; nothing returned or written with GRAN_SUCCESS may be inf or NaN. */
+ * resumed engine (a few steps, observed) are what the edit reaches. A checkpoint set too: the four
+ * part files of a 2-D Lees-Edwards gas split 2 x 2 (srd_bricks_save_), one of them edited so, read
+ * back split 3 x 1 (srd_bricks_load_) and whole (srd_state_from_parts_), each stepped and observed.
+ * Every status must be a listed code with a message; nothing returned or written with GRAN_SUCCESS
+ * may be inf or NaN. */
 #include <zlib.h>
 
 #include <algorithm>
@@ -16,6 +19,7 @@
 #include <cstddef>
 
 #include "fuzz_common.h"
+#include "srd/bricks.h"
 
 namespace {
 
@@ -72,6 +76,53 @@ void srd_base(int dim, int wall, int shear, int therm) {
   g_is_h5.push_back(0);
   g_scene.push_back("");
   std::remove(p.c_str());
+}
+
+/* ---- checkpoint sets: the part files of a split gas ---- */
+gran_srd_options g_part_opt;
+std::vector<std::vector<uint8_t>> g_parts; /* the 4 parts of generation 1, after kPartStep steps */
+constexpr int64_t kPartStep = 5;
+std::vector<std::string> part_paths() {
+  std::vector<std::string> p;
+  for (int b = 0; b < 4; ++b) p.push_back(fz::scratch() + "/set.part-" + std::to_string(b));
+  return p;
+}
+void parts_base() {
+  gran_srd_options &o = g_part_opt;
+  gran_srd_options_default(&o);
+  o.dim = 2;
+  o.cells[0] = 6;
+  o.cells[1] = 5;
+  o.n0 = 3;
+  o.dt = 0.5;
+  o.eps = 0.9;
+  o.sigma = 0.2;
+  o.seed = 5;
+  o.threads = 1;
+  o.shear_rate = 0.05;
+  o.sort_every = 3;
+  o.creation = GRAN_SRD_CREATE_CELLS;
+  const int pg[3] = {2, 2, 1};
+  srd_bricks_state *st = nullptr;
+  const std::vector<std::string> p = part_paths();
+  const char *pp[4] = {p[0].c_str(), p[1].c_str(), p[2].c_str(), p[3].c_str()};
+  if (srd_bricks_open_(&o, pg, nullptr, &st) || srd_bricks_step_(st, kPartStep) || srd_bricks_save_(st, pp, 1))
+    fz::fail("cannot write the base checkpoint set", gran_last_error_message());
+  srd_bricks_close_(&st);
+  for (const std::string &q : p) {
+    g_parts.push_back(slurp(q));
+    std::remove(q.c_str());
+  }
+}
+void check_bricks(srd_bricks_state *st) {
+  for (int r = 0; r < 2; ++r) {
+    if (fz::check(srd_bricks_step_(st, 2), "srd_bricks_step_ (loaded)")) return;
+    gran_srd_obs o;
+    if (fz::check(srd_bricks_observe_(st, &o), "srd_bricks_observe_ (loaded)")) return;
+    const double v[] = {o.temperature, o.theta_cells, o.energy, o.ledger_error, o.e_kin, o.mach, o.sigma_rho, o.a2,
+                        o.stress_xy};
+    for (double x : v) fz::finite_or_fail(x, "srd_bricks_observe_ (loaded)");
+  }
 }
 
 /* ---- run checkpoints (HDF5) ---- */
@@ -302,9 +353,37 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     srd_base(3, 1, 0, 1);
     srd_base(2, 0, 1, 2);
     for (const char *t : kScenes) h5_base(t);
+    parts_base();
   }
   fz::Bytes in(data, size);
-  const size_t which = in.u8() % g_base.size();
+  const size_t which = in.u8() % (g_base.size() + 1);
+  if (which == g_base.size()) { /* the checkpoint set: one part edited */
+    const uint8_t flags = in.u8();
+    const int victim = in.u8() % 4, nedit = 1 + in.u8() % 6;
+    const std::vector<std::string> p = part_paths();
+    for (int b = 0; b < 4; ++b) spill(p[(size_t)b], g_parts[(size_t)b]);
+    hid_t f = H5Fopen(p[(size_t)victim].c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (f < 0) fz::fail("the base part does not open in HDF5", p[(size_t)victim].c_str());
+    std::vector<std::string> ds;
+    H5Ovisit(f, H5_INDEX_NAME, H5_ITER_INC, list_ds, &ds);
+    for (int e = 0; e < nedit; ++e) h5_dataset_edit(f, ds, in, flags & 1);
+    H5Fclose(f);
+    std::vector<uint8_t> b = slurp(p[(size_t)victim]);
+    if ((flags & 0x0e) != 0x0e) h5_header(b); /* else (1 in 8) stale: the reader must refuse */
+    spill(p[(size_t)victim], b);
+    const char *pp[4] = {p[0].c_str(), p[1].c_str(), p[2].c_str(), p[3].c_str()};
+    const int pg[3] = {3, 1, 1};
+    srd_bricks_state *st = nullptr;
+    if (!fz::check(srd_bricks_load_(&g_part_opt, pg, nullptr, pp, 4, 0, 1, kPartStep, &st, nullptr), "srd_bricks_load_"))
+      check_bricks(st);
+    srd_bricks_close_(&st);
+    gran_srd *srd = nullptr;
+    if (!fz::check(srd_state_from_parts_(&g_part_opt, pp, 4, 1, kPartStep, &srd), "srd_state_from_parts_"))
+      check_srd(srd, in);
+    gran_srd_destroy(&srd);
+    fz::clean_scratch();
+    return 0;
+  }
   const uint8_t flags = in.u8();
   const int nedit = 1 + in.u8() % 6;
   std::vector<uint8_t> b = g_base[which];

@@ -12,8 +12,8 @@
 # energy ledger closes at every output time (ledger_error < 1e-12), the inelastic gas cools, the
 # clamps are counted. A process stopped (SIGSTOP) during the steps ends the run within the
 # timeout, named; one killed ends it. Refusals, each naming its key or option, said once: a split
-# whose bricks are not the process count, replicas that do not divide the processes, checkpoints
-# and snapshots of a split gas, resume of a split gas on several processes.
+# whose bricks are not the process count, replicas that do not divide the processes, snapshots of
+# a split gas. (Checkpoints of a split gas: t616.)
 # Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
 set -eu
 name=t615
@@ -116,24 +116,12 @@ expect 1 "has 2 bricks, and this run has 3 process" -- \
   mpi 3 run "$p3" --set 'engine.decomposition=[2, 1, 1]' -o "$tmp/x.h5" --no-checkpoint --no-log -q
 expect 1 "2 replicas of a gas split over the processes ([engine] decomposition) need a multiple of 2 processes" -- \
   mpi 3 run "$p3" --replicas 2 -o "$tmp/x.h5" --no-checkpoint --no-log -q
-expect 1 "is not checkpointed yet: run it without a checkpoint" -- mpi 2 run "$p3" -o "$tmp/x.h5" --no-log -q
 expect 1 "'observables.snapshots'" -- \
   mpi 2 run "$p3" --set observables.snapshots=true -o "$tmp/x.h5" --no-checkpoint --no-log -q
 expect 1 "give [engine] creation = \"cells\"" -- \
   "$cli" run "$p3" --set 'engine.creation="serial"' -o "$tmp/x.h5" --no-checkpoint --no-log -q
 expect 1 "expected \"none\", \"auto\" or [Px, Py(, Pz)]" -- \
   "$cli" run "$p3" --set 'engine.decomposition="some"' -o "$tmp/x.h5" --no-checkpoint --no-log -q
-# a checkpoint of the scene written in one process is not resumed on two (it resumes in one)
-"$cli" run "$p3" -o "$tmp/ck.h5" --checkpoint "$tmp/ck.ckpt" --stop-after-checkpoints 1 --set output.checkpoint_every=2 \
-  --no-log -q > /dev/null 2>&1 || true
-if [ -f "$tmp/ck.ckpt" ]; then
-  expect 1 "a split gas is not resumed on 2 processes yet" -- mpi 2 run --resume "$tmp/ck.ckpt" --no-log -q --force
-  "$cli" run --resume "$tmp/ck.ckpt" --no-log -q --force > /dev/null 2> "$tmp/err" || { echo "FAIL: resume in one process: $(cat "$tmp/err")"; fail=1; }
-  "$tmp/h5same" "$tmp/periodic3-1.h5" "$tmp/ck.h5" > "$tmp/same" || { echo "FAIL: the resumed run:"; cat "$tmp/same"; fail=1; }
-else
-  echo "FAIL: no checkpoint written by the one-process run"; fail=1
-fi
-
 # a process stopped (SIGSTOP) or killed during the steps: every process ends within 30 s, the one
 # that does not answer named (stopped) or mpirun's report of the dead one (killed); the run's log
 # row (--log-every 1) says the steps have begun

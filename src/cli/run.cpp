@@ -726,7 +726,7 @@ int cli_run(int argc, char **argv) {
   std::string out_path;
   int st;
   if (resume) {
-    std::string text, name;
+    std::string text, name, split_info; /* split_info: the replicas of a split gas ("" when not split) */
     if (output) out_path = output;
     if (root) {
       /* the output path and scene stored in the checkpoint (read first: a finished run removes the file) */
@@ -735,8 +735,27 @@ int cli_run(int argc, char **argv) {
       if (f >= 0 && !output && !gran_h5::read_attr_string(f, "output", o, resume)) out_path = o;
       if (f >= 0 && gran_h5::read_attr_string(f, "scene", text, resume)) text.clear();
       if (f >= 0 && gran_h5::read_attr_string(f, "scene_file", name, resume)) name.clear();
+      int64_t nrep = 1;
+      if (f >= 0 && H5Aexists((hid_t)f, "nreplicas") > 0 && gran_h5::read_attr_int64(f, "nreplicas", &nrep, resume)) nrep = 1;
       gran_h5::close_file(f);
       gran_clear_error();
+      /* a split gas: its replicas' process groups, as for a run of the scene */
+      gran_scene *sc = nullptr;
+      if (!text.empty() && gran_scene_parse_text_(text, name, &sc) == GRAN_SUCCESS && sc->split_gas)
+        split_info = std::to_string(std::max<int64_t>(1, std::min<int64_t>(nrep, INT32_MAX)));
+      gran_scene_destroy(&sc);
+      gran_clear_error();
+    }
+    if (cli_mpi_size() > 1 && cli_mpi_bcast(&split_info)) {
+      std::fprintf(stderr, "granary run: MPI: the broadcast of the checkpoint's split failed\n");
+      return 1;
+    }
+    if (!split_info.empty() && cli_mpi_size() > 1) {
+      if (!timeout_given) cli_mpi_set_timeout(600.0);
+      if (cli_mpi_bricks_groups(std::atoi(split_info.c_str()))) {
+        std::fprintf(stderr, "granary run: MPI: cannot split the processes into the replicas' groups\n");
+        return 1;
+      }
     }
     const bool exists = root && !force && !out_path.empty() && file_exists(out_path);
     if (exists)

@@ -146,6 +146,14 @@ class gran_engine {
    * every stored option must be the scene's (each refusal names the option). */
   virtual int checkpoint_write(int64_t file, const char *fname, const char *group) = 0;
   virtual int checkpoint_read(int64_t file, const char *fname, const char *group, uint64_t seed) = 0;
+  /* Files of the engine's own beside the checkpoint (a gas split over processes writes its state
+   * as one part file per process in checkpoint_write, which the checkpoint then commits: the
+   * checkpoint set, docs/developers/domain-decomposition.md). checkpoint_settled is called on every
+   * process after each checkpoint: committed = 1, the parts the set no longer needs (of the
+   * checkpoint before) go; 0 (the checkpoint failed), the parts just written go.
+   * checkpoint_remove: the run finished and its checkpoint is removed, the parts go too. */
+  virtual void checkpoint_settled(bool committed) { (void)committed; }
+  virtual void checkpoint_remove() {}
   /* Columns of the end-of-run summary (simulated beside theory), only of observables that are on. */
   virtual std::vector<gran_summary_column> summary_columns() const = 0;
   /* Files other than `output` that write_output(file = output) writes (GSRD: the XDMF sidecar).

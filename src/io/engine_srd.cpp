@@ -408,13 +408,30 @@ class SrdEngine : public gran_engine {
     return {xmf_path(output)};
   }
 
+  /* A split gas writes this process's brick as a part file of the checkpoint set (part_path) and
+   * in the checkpoint's group only what names the set: the attributes split_generation, split_step
+   * and split_pgrid0..2 (every process of the gas the same; the group's first one sends it). */
   int checkpoint_write(int64_t file, const char *fname, const char *group) override {
-    GRAN_CHECK(!split_, GRAN_ERR_UNSUPPORTED, "checkpoint '%s': a gas split over processes is not checkpointed yet", fname);
-    GRAN_CHECK(srd_ != nullptr, GRAN_ERR_STATE, "GSRD engine: checkpoint before start");
-    /* the engine's state (src/srd/checkpoint.cpp), then the adapter's own part in the same group:
-     * the stress window's start and replica 0's field snapshots */
-    GRAN_CALL(gran_srd_checkpoint_write_h5_(srd_, file, group, fname));
-    H5Obj g(H5Gopen2((hid_t)file, group, H5P_DEFAULT), H5Gclose);
+    GRAN_CHECK(srd_ != nullptr || bst_ != nullptr, GRAN_ERR_STATE, "GSRD engine: checkpoint before start");
+    H5Obj g(-1, H5Gclose);
+    if (split_) {
+      const int64_t gen = gen_ + 1;
+      const std::string part = part_path(fname, group, gen, comm_.rank);
+      const char *pp = part.c_str();
+      GRAN_CALL(srd_bricks_save_(bst_, &pp, gen));
+      gen_ = gen;
+      cur_part_ = part;
+      GRAN_CALL(gran_h5::make_group(file, group, &g.id, fname));
+      GRAN_CALL(gran_h5::attr_int64(g.id, "split_generation", gen, fname));
+      GRAN_CALL(gran_h5::attr_int64(g.id, "split_step", steps_done(), fname));
+      for (int k = 0; k < 3; ++k)
+        GRAN_CALL(gran_h5::attr_int64(g.id, ("split_pgrid" + std::to_string(k)).c_str(), pgrid_[k], fname));
+    } else {
+      /* the engine's state (src/srd/checkpoint.cpp), then the adapter's own part in the same group:
+       * the stress window's start and replica 0's field snapshots */
+      GRAN_CALL(gran_srd_checkpoint_write_h5_(srd_, file, group, fname));
+      g.id = H5Gopen2((hid_t)file, group, H5P_DEFAULT);
+    }
     GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "HDF5: cannot open group '%s' in '%s'", group, fname);
     GRAN_CALL(gran_h5::attr_double(g.id, "stress_t0", stress_t0_, fname));
     const int64_t ns = (int64_t)snaps_.size();
@@ -431,25 +448,80 @@ class SrdEngine : public gran_engine {
     return GRAN_SUCCESS;
   }
 
+  /* The state from the checkpoint: a whole state (a run in one process), or a checkpoint set (its
+   * group names the set: the parts of a split gas). Either resumes in one process (the parts merged
+   * by key) or split over this run's processes, with the same split (each process reads its own
+   * part) or another (each reads every part and keeps its brick's share). */
   int checkpoint_read(int64_t file, const char *fname, const char *group, uint64_t seed) override {
-    GRAN_CHECK(!split_, GRAN_ERR_UNSUPPORTED, "checkpoint '%s': a gas split over processes is not resumed yet", fname);
     gran_srd_destroy(&srd_);
+    srd_bricks_close_(&bst_);
     snaps_.clear();
+    prev_parts_.clear();
+    cur_part_.clear();
+    gen_ = 0;
     rep0_ = std::strcmp(group, "/engine") == 0;
     /* the engine's state, every stored physics option compared with the scene's (its text is
      * the checkpoint's own) before anything is allocated */
     gran_srd_options expect = o_;
     expect.seed = seed;
-    GRAN_CALL(gran_srd_checkpoint_read_h5_(file, group, fname, &expect, &srd_));
-    H5Obj g(H5Gopen2((hid_t)file, group, H5P_DEFAULT), H5Gclose);
+    H5Obj g(gran_h5::exists(file, group) ? H5Gopen2((hid_t)file, group, H5P_DEFAULT) : -1, H5Gclose);
     GRAN_CHECK(g.id >= 0, GRAN_ERR_IO, "checkpoint '%s': cannot open group '%s'", fname, group);
+    int64_t next = -1;
+    GRAN_CALL(gran_h5::read_attr_int64((hid_t)file, "next_index", &next, fname));
+    if (H5Aexists(g.id, "split_generation") > 0) {
+      int64_t gen = 0, step = -1, pg[3] = {0, 0, 0};
+      GRAN_CALL(gran_h5::read_attr_int64(g.id, "split_generation", &gen, fname));
+      GRAN_CALL(gran_h5::read_attr_int64(g.id, "split_step", &step, fname));
+      for (int k = 0; k < 3; ++k)
+        GRAN_CALL(gran_h5::read_attr_int64(g.id, ("split_pgrid" + std::to_string(k)).c_str(), &pg[k], fname));
+      int64_t nb = 1;
+      for (int k = 0; k < 3; ++k) {
+        const int64_t nc = k < o_.dim ? o_.cells[k] + (k == o_.wall_axis ? 1 : 0) : 1;
+        GRAN_CHECK(pg[k] >= 1 && pg[k] <= nc, GRAN_ERR_IO,
+                   "checkpoint '%s': field 'split_pgrid%d' of '%s' = %lld outside [1, %lld] (the cells along axis %d)",
+                   fname, k, group, (long long)pg[k], (long long)nc, k);
+        nb *= pg[k];
+      }
+      GRAN_CHECK(gen >= 1 && gen < INT64_MAX, GRAN_ERR_IO, "checkpoint '%s': field 'split_generation' of '%s' = %lld",
+                 fname, group, (long long)gen);
+      std::vector<std::string> all((size_t)nb);
+      for (int64_t b = 0; b < nb; ++b) all[(size_t)b] = part_path(fname, group, gen, (int)b);
+      const bool own = split_ && pg[0] == pgrid_[0] && pg[1] == pgrid_[1] && pg[2] == pgrid_[2];
+      std::vector<const char *> pp;
+      if (own) pp.push_back(all[(size_t)comm_.rank].c_str());
+      else
+        for (const std::string &q : all) pp.push_back(q.c_str());
+      if (split_) {
+        int peer = 0;
+        const int e = srd_bricks_load_(&expect, pgrid_, &comm_, pp.data(), (int)pp.size(), own ? 1 : 0, gen, step, &bst_,
+                                       &peer);
+        if (peer) { /* another process's part was refused: the driver reports that process's message */
+          gran_clear_error();
+          return GRAN_SUCCESS;
+        }
+        GRAN_CALL(e);
+        if (own) prev_parts_.push_back(all[(size_t)comm_.rank]);
+        else if (comm_.rank == 0) prev_parts_ = all; /* the set's parts go once this run commits its own */
+      } else {
+        GRAN_CALL(srd_state_from_parts_(&expect, pp.data(), (int)pp.size(), gen, step, &srd_));
+        prev_parts_ = all;
+      }
+      gen_ = gen;
+    } else if (split_) {
+      /* a whole state (of one process) split: every process reads it and keeps its brick's share */
+      gran_srd *whole = nullptr;
+      GRAN_CALL(gran_srd_checkpoint_read_h5_(file, group, fname, &expect, &whole));
+      const int e = srd_bricks_from_state_(whole, pgrid_, &comm_, &bst_);
+      gran_srd_destroy(&whole);
+      GRAN_CALL(e);
+    } else {
+      GRAN_CALL(gran_srd_checkpoint_read_h5_(file, group, fname, &expect, &srd_));
+    }
     {
       /* the engine stands at the step of the last recorded output time: rows the checkpoint says
        * were recorded were recorded by this state, and none after it */
-      int64_t next = -1;
-      GRAN_CALL(gran_h5::read_attr_int64((hid_t)file, "next_index", &next, fname));
       const std::vector<int64_t> &os = s_->srd.out_steps;
-      const int64_t step = gran_srd_steps_(srd_);
+      const int64_t step = steps_done();
       GRAN_CHECK(next >= 1 && next <= (int64_t)os.size() && step == os[(size_t)next - 1], GRAN_ERR_IO,
                  "checkpoint '%s': field 'next_index' = %lld does not match the GSRD state in '%s' (step %lld; the "
                  "output time %lld is at step %lld)", fname, (long long)next, group, (long long)step,
@@ -460,7 +532,7 @@ class SrdEngine : public gran_engine {
     H5Obj a(H5Aopen(g.id, "stress_t0", H5P_DEFAULT), H5Aclose);
     GRAN_CHECK(a.id >= 0 && H5Aread(a.id, H5T_NATIVE_DOUBLE, &stress_t0_) >= 0, GRAN_ERR_IO,
                "checkpoint '%s': cannot read stress_t0 of '%s'", fname, group);
-    GRAN_CHECK(std::isfinite(stress_t0_) && stress_t0_ >= 0 && stress_t0_ <= (double)gran_srd_steps_(srd_) * o_.dt * (1 + 1e-12),
+    GRAN_CHECK(std::isfinite(stress_t0_) && stress_t0_ >= 0 && stress_t0_ <= (double)steps_done() * o_.dt * (1 + 1e-12),
                GRAN_ERR_IO, "checkpoint '%s': field 'stress_t0' of '%s' = %g outside [0, the state's time]", fname, group,
                stress_t0_);
     int64_t ns = 0;
@@ -531,6 +603,36 @@ class SrdEngine : public gran_engine {
   int pgrid_[3] = {1, 1, 1};
   std::vector<double> sk_k_;
   std::vector<int64_t> sk_c_;
+
+  /* checkpoint sets: the generation of the last part written (or read), the part written and not
+   * yet committed, and the parts to remove once the next checkpoint commits */
+  int64_t gen_ = 0;
+  std::string cur_part_;
+  std::vector<std::string> prev_parts_;
+
+  void checkpoint_settled(bool committed) override {
+    if (!committed) {
+      if (!cur_part_.empty()) std::remove(cur_part_.c_str());
+      cur_part_.clear();
+      return;
+    }
+    for (const std::string &q : prev_parts_)
+      if (q != cur_part_) std::remove(q.c_str());
+    prev_parts_.clear();
+    if (!cur_part_.empty()) prev_parts_.push_back(cur_part_);
+    cur_part_.clear();
+  }
+  void checkpoint_remove() override {
+    for (const std::string &q : prev_parts_) std::remove(q.c_str());
+    prev_parts_.clear();
+  }
+  /* part file of brick b of the set of generation gen of the replica whose checkpoint group is
+   * `group` (/engine: replica 0; /replicas/k/engine: k): CKPT.part-gG-rK-bB */
+  static std::string part_path(const char *ckpt, const char *group, int64_t gen, int b) {
+    long long k = 0;
+    if (std::strncmp(group, "/replicas/", 10) == 0) k = std::atoll(group + 10);
+    return std::string(ckpt) + ".part-g" + std::to_string(gen) + "-r" + std::to_string(k) + "-b" + std::to_string(b);
+  }
 
   int64_t steps_done() const { return split_ ? srd_bricks_steps_(bst_) : gran_srd_steps_(srd_); }
   /* the status of a collective call of a split gas: an error on this process stops every process

@@ -100,7 +100,10 @@ int read_int64(int64_t loc, const char *name, std::vector<int64_t> &out, std::ve
 }
 
 int make_group(int64_t loc, const char *name, int64_t *group, const char *file) {
-  hid_t g = H5Gcreate2((hid_t)loc, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE); /* a path's intermediate groups too */
+  if (lcpl >= 0) H5Pset_create_intermediate_group(lcpl, 1);
+  hid_t g = lcpl >= 0 ? H5Gcreate2((hid_t)loc, name, lcpl, H5P_DEFAULT, H5P_DEFAULT) : -1;
+  if (lcpl >= 0) H5Pclose(lcpl);
   if (g < 0) return GRAN_ERROR(GRAN_ERR_IO, "HDF5: cannot create group '%s' in '%s'", name, file);
   *group = (int64_t)g;
   return GRAN_SUCCESS;

@@ -117,6 +117,19 @@ int prepare(Run &r) {
   return GRAN_SUCCESS;
 }
 
+/* A scene whose gas is split over the processes ([engine] decomposition): each replica on P / R
+ * of them (P = R: the replicas as without a split). */
+int split_over(Run &r) {
+  if (!r.s->split_gas || r.comm.size == 1) return GRAN_SUCCESS;
+  GRAN_CHECK(r.comm.size % r.R == 0, GRAN_ERR_UNSUPPORTED,
+             "scene '%s': %" PRId64 " replicas of a gas split over the processes ([engine] decomposition) need a "
+             "multiple of %" PRId64 " processes (each replica on the same number of them), and this run has %d",
+             r.s->name.c_str(), r.R, r.R, r.comm.size);
+  r.bricks = r.comm.size / r.R;
+  r.split = r.bricks > 1;
+  return GRAN_SUCCESS;
+}
+
 /* Replica k from its seed (gran_rng_stream) or from the checkpoint. */
 int start_replicas(Run &r) {
   return for_replicas(r, [&](int64_t k) {
@@ -270,6 +283,8 @@ int drive(Run &r, const gran_run_control *ctl, gran_run_result *res) {
     }
   }
   GRAN_CALL(share_verdict(r, &v));
+  if (!r.ckpt.empty() && !s->keep_checkpoint)
+    for (int64_t k : r.mine) r.reps[(size_t)k].eng->checkpoint_remove();
   fill(1);
   return GRAN_SUCCESS;
 }
@@ -297,18 +312,7 @@ GRAN_EXTERN int gran_scene_run(const gran_scene *scene, const char *output, cons
     GRAN_CALL(sync_status(r, r.root() ? check_files(r, scene->name) : GRAN_SUCCESS));
     r.R = scene->replicas;
     r.keep = scene->keep_replicas;
-    if (scene->split_gas && r.comm.size > 1) { /* each replica on P / R processes */
-      GRAN_CHECK(r.comm.size % r.R == 0, GRAN_ERR_UNSUPPORTED,
-                 "scene '%s': %" PRId64 " replicas of a gas split over the processes ([engine] decomposition) need a "
-                 "multiple of %" PRId64 " processes (each replica on the same number of them), and this run has %d",
-                 scene->name.c_str(), r.R, r.R, r.comm.size);
-      r.bricks = r.comm.size / r.R;
-      r.split = r.bricks > 1; /* one process per replica: the replicas as without a split */
-    }
-    GRAN_CHECK(!r.split || r.ckpt.empty(), GRAN_ERR_UNSUPPORTED,
-               "scene '%s': a gas split over %" PRId64 " processes ([engine] decomposition) is not checkpointed yet: run "
-               "it without a checkpoint (granary run --no-checkpoint; gran_scene_run's checkpoint \"\")",
-               scene->name.c_str(), r.bricks);
+    GRAN_CALL(split_over(r));
     int st = prepare(r);
     if (st == GRAN_SUCCESS) st = start_replicas(r);
     GRAN_CALL(sync_status(r, st));
@@ -356,10 +360,7 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
     }
     GRAN_CALL(gran_scene_parse_text_(text, name, &r.owned_scene));
     r.s = r.owned_scene;
-    GRAN_CHECK(!(r.s->split_gas && r.comm.size > 1), GRAN_ERR_UNSUPPORTED,
-               "checkpoint '%s': its scene splits the gas over the processes ([engine] decomposition), and a split gas "
-               "is not resumed on %d processes yet: resume it in one process (build/granary)",
-               checkpoint, r.comm.size);
+    GRAN_CALL(split_over(r));
     r.out = output ? output : out;
     r.ckpt = checkpoint;
     GRAN_CHECK(!r.out.empty(), GRAN_ERR_ARG, "argument 'output' is empty");

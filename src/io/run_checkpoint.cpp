@@ -65,7 +65,8 @@ int write_checkpoint_root(Run &r, const std::vector<Part> &parts) {
     for (int64_t k : r.mine)
       GRAN_CALL(r.reps[(size_t)k].eng->checkpoint_write(f.id, file, engine_group(k).c_str()));
     for (size_t p = 1; p < parts.size(); p++) {
-      if ((int64_t)p >= r.R) break; /* idle processes */
+      const std::vector<int64_t> ks = r.rows_of((int)p); /* split: a group's first process sends its group's */
+      if (ks.empty()) continue;                          /* idle processes */
       H5File src;
       src.id = open_image(parts[p].payload);
       GRAN_CHECK(src.id >= 0, GRAN_ERR_IO, "checkpoint '%s': cannot read the engine states of process %zu", file, p);
@@ -73,9 +74,12 @@ int write_checkpoint_root(Run &r, const std::vector<Part> &parts) {
       H5Pset_create_intermediate_group(lcpl, 1);
       herr_t e = 0;
       int64_t bad = -1;
-      for (int64_t k = (int64_t)p; k < r.R && e >= 0; k += r.comm.size) {
+      for (int64_t k : ks) {
         e = H5Ocopy((hid_t)src.id, engine_group(k).c_str(), (hid_t)f.id, engine_group(k).c_str(), H5P_DEFAULT, lcpl);
-        if (e < 0) bad = k;
+        if (e < 0) {
+          bad = k;
+          break;
+        }
       }
       H5Pclose(lcpl);
       GRAN_CHECK(e >= 0, GRAN_ERR_IO, "checkpoint '%s': cannot copy the engine state of replica %" PRId64, file, bad);
@@ -103,11 +107,17 @@ int write_checkpoint_root(Run &r, const std::vector<Part> &parts) {
 
 std::string engine_group(int64_t k) { return k == 0 ? "/engine" : "/replicas/" + std::to_string(k) + "/engine"; }
 
-/* Collective: every rank's engine states into the one checkpoint file rank 0 writes. */
+/* Collective: every rank's engine states into the one checkpoint file rank 0 writes. A split gas's
+ * processes each write their part file first (checkpoint_write), and the group's first process
+ * sends the group's engine group; rank 0's checkpoint commits the set; then every engine settles
+ * its parts (the set before goes, or, when the checkpoint failed, the parts just written). */
 int write_checkpoint(Run &r) {
   std::string img;
   int st = GRAN_SUCCESS;
-  if (!r.root() && !r.mine.empty()) st = engine_image(r, &img);
+  if (!r.root() && !r.mine.empty()) {
+    st = engine_image(r, &img);
+    if (r.rows_of(r.comm.rank).empty()) img.clear(); /* a split gas: its group's first process sends it */
+  }
   std::vector<Part> parts;
   GRAN_CALL(gather_parts(r, st, 0, std::move(img), &parts));
   Verdict v;
@@ -118,7 +128,9 @@ int write_checkpoint(Run &r) {
       v.msg = gran_last_error_message();
     }
   }
-  return share_verdict(r, &v);
+  st = share_verdict(r, &v);
+  for (int64_t k : r.mine) r.reps[(size_t)k].eng->checkpoint_settled(st == GRAN_SUCCESS);
+  return st;
 }
 
 /* The checkpoint: from disk with one process; from the bytes rank 0 read and broadcast with more

@@ -37,7 +37,8 @@ struct Run {
   /* the scene's gas is split over the processes (gran_scene.split_gas, P > R): replica k on the
    * `bricks` consecutive processes from k bricks, each holding a part of it; its engine calls are
    * collective among them and give each the same rows; the group's first process sends them to
-   * rank 0 and counts the events; no checkpoints */
+   * rank 0 and counts the events; its state is checkpointed as a set of part files, one per process
+   * (the engine writes them, the checkpoint commits them) */
   bool split = false;
   int64_t bricks = 1; /* processes per replica (split) */
   int64_t events_all = 0;    /* rank 0: engine events of all replicas at the last exchange */

@@ -954,7 +954,7 @@ int make_ctx(const gran_srd *s, const int pg[3], Ctx &C) {
                (long long)nc, a, pg[a]);
     C.sp.P[a] = pg[a];
     C.sp.cut[a].resize((size_t)pg[a] + 1);
-    for (int b = 0; b <= pg[a]; ++b) C.sp.cut[a][(size_t)b] = (int64_t)b * nc / pg[a];
+    for (int b = 0; b <= pg[a]; ++b) C.sp.cut[a][(size_t)b] = srd_brick_cut(b, nc, pg[a]);
     C.sp.own[a].resize((size_t)nc);
     for (int b = 0; b < pg[a]; ++b)
       for (int64_t i = C.sp.cut[a][(size_t)b]; i < C.sp.cut[a][(size_t)b + 1]; ++i) C.sp.own[a][(size_t)i] = b;
@@ -1517,54 +1517,65 @@ struct srd_bricks_state {
   Phases phases;        /* GRAN_SRD_PHASES=1: over all step calls, printed at close */
 };
 
+namespace {
+/* A split gas's frame without particles: the options checked, the geometry, the split, the bricks'
+ * windows (one brick over a process group of P > 1, else every brick) and the transport */
+int open_shell(const gran_srd_options *opt, const int pgrid[3], const srd_bricks_comm *comm,
+               std::unique_ptr<srd_bricks_state> &st) {
+  GRAN_CHECK_PTR(opt);
+  GRAN_CHECK_PTR(pgrid);
+  GRAN_CHECK(opt->creation == GRAN_SRD_CREATE_CELLS, GRAN_ERR_ARG,
+             "option 'creation' must be GRAN_SRD_CREATE_CELLS ([engine] creation = \"cells\": the decomposable "
+             "engine) for a decomposed run (got %d)",
+             (int)opt->creation);
+  GRAN_CHECK(opt->device == GRAN_SRD_DEVICE_CPU, GRAN_ERR_ARG,
+             "a decomposed GSRD run steps on the CPU (option 'device' must be GRAN_SRD_DEVICE_CPU, got %d)",
+             (int)opt->device);
+  for (int a = opt->dim; a < 3; ++a)
+    GRAN_CHECK(pgrid[a] == 1, GRAN_ERR_ARG, "argument 'pgrid[%d]' must be 1 in %d-D (got %d)", a, (int)opt->dim,
+               pgrid[a]);
+  const int64_t nb = (int64_t)pgrid[0] * pgrid[1] * pgrid[2];
+  const bool over = comm && comm->size > 1;
+  if (comm) {
+    GRAN_CHECK(comm->size >= 1 && comm->rank >= 0 && comm->rank < comm->size, GRAN_ERR_ARG,
+               "the process group: rank %d of %d processes is not a process of it", comm->rank, comm->size);
+    GRAN_CHECK(!over || (comm->round && comm->allreduce), GRAN_ERR_ARG,
+               "the process group of %d processes has no round or all-reduce function", comm->size);
+    GRAN_CHECK(!over || nb == comm->size, GRAN_ERR_ARG,
+               "the split %d x %d x %d has %lld bricks, not one per process (%d processes)", pgrid[0], pgrid[1],
+               pgrid[2], (long long)nb, comm->size);
+  }
+  GRAN_CALL(srd_check_options_(opt));
+  st.reset(new srd_bricks_state);
+  st->shell.reset(new gran_srd);
+  st->shell->opt = *opt;
+  GRAN_CALL(srd_alloc_geometry_(st->shell.get()));
+  GRAN_CALL(make_ctx(st->shell.get(), pgrid, st->C));
+  for (int k = 0; k < 3; ++k) st->pgrid[k] = pgrid[k];
+  st->over_comm = over;
+  if (over) {
+    st->comm = *comm;
+    st->bs.resize(1);
+    window_of(st->C, comm->rank, st->bs[0]);
+    st->TC.reset(new CommTransport(*comm, peers_of(st->C, comm->rank)));
+    st->T = st->TC.get();
+  } else {
+    st->bs.resize((size_t)nb);
+    for (int r = 0; r < (int)nb; ++r) window_of(st->C, r, st->bs[(size_t)r]);
+    st->TL.reset(new LocalTransport((int)nb));
+    st->T = st->TL.get();
+  }
+  return GRAN_SUCCESS;
+}
+}  // namespace
+
 int srd_bricks_open_(const gran_srd_options *opt, const int pgrid[3], const srd_bricks_comm *comm,
                      srd_bricks_state **out) {
   GRAN_TRY {
-    GRAN_CHECK_PTR(opt);
-    GRAN_CHECK_PTR(pgrid);
     GRAN_CHECK_PTR(out);
     *out = nullptr;
-    GRAN_CHECK(opt->creation == GRAN_SRD_CREATE_CELLS, GRAN_ERR_ARG,
-               "option 'creation' must be GRAN_SRD_CREATE_CELLS ([engine] creation = \"cells\": the decomposable "
-               "engine) for a decomposed run (got %d)",
-               (int)opt->creation);
-    GRAN_CHECK(opt->device == GRAN_SRD_DEVICE_CPU, GRAN_ERR_ARG,
-               "a decomposed GSRD run steps on the CPU (option 'device' must be GRAN_SRD_DEVICE_CPU, got %d)",
-               (int)opt->device);
-    for (int a = opt->dim; a < 3; ++a)
-      GRAN_CHECK(pgrid[a] == 1, GRAN_ERR_ARG, "argument 'pgrid[%d]' must be 1 in %d-D (got %d)", a, (int)opt->dim,
-                 pgrid[a]);
-    const int64_t nb = (int64_t)pgrid[0] * pgrid[1] * pgrid[2];
-    const bool over = comm && comm->size > 1;
-    if (comm) {
-      GRAN_CHECK(comm->size >= 1 && comm->rank >= 0 && comm->rank < comm->size, GRAN_ERR_ARG,
-                 "the process group: rank %d of %d processes is not a process of it", comm->rank, comm->size);
-      GRAN_CHECK(!over || (comm->round && comm->allreduce), GRAN_ERR_ARG,
-                 "the process group of %d processes has no round or all-reduce function", comm->size);
-      GRAN_CHECK(!over || nb == comm->size, GRAN_ERR_ARG,
-                 "the split %d x %d x %d has %lld bricks, not one per process (%d processes)", pgrid[0], pgrid[1],
-                 pgrid[2], (long long)nb, comm->size);
-    }
-    GRAN_CALL(srd_check_options_(opt));
-    std::unique_ptr<srd_bricks_state> st(new srd_bricks_state);
-    st->shell.reset(new gran_srd);
-    st->shell->opt = *opt;
-    GRAN_CALL(srd_alloc_geometry_(st->shell.get()));
-    GRAN_CALL(make_ctx(st->shell.get(), pgrid, st->C));
-    for (int k = 0; k < 3; ++k) st->pgrid[k] = pgrid[k];
-    st->over_comm = over;
-    if (over) {
-      st->comm = *comm;
-      st->bs.resize(1);
-      window_of(st->C, comm->rank, st->bs[0]);
-      st->TC.reset(new CommTransport(*comm, peers_of(st->C, comm->rank)));
-      st->T = st->TC.get();
-    } else {
-      st->bs.resize((size_t)nb);
-      for (int r = 0; r < (int)nb; ++r) window_of(st->C, r, st->bs[(size_t)r]);
-      st->TL.reset(new LocalTransport((int)nb));
-      st->T = st->TL.get();
-    }
+    std::unique_ptr<srd_bricks_state> st;
+    GRAN_CALL(open_shell(opt, pgrid, comm, st));
     for (Brick &B : st->bs) scalars_from(st->shell.get(), B);
     GRAN_CALL(bricks_create(st->C, st->bs, *st->T, &st->e0));
     *out = st.release();
@@ -2253,3 +2264,386 @@ srd_bricks_comm g_run_comm; /* srd_bricks_set_run_comm_; size 1: one process */
 void srd_bricks_set_run_comm_(const srd_bricks_comm *comm) { g_run_comm = comm && comm->size > 1 ? *comm : srd_bricks_comm(); }
 const srd_bricks_comm *srd_bricks_run_comm_() { return &g_run_comm; }
 int64_t srd_bricks_steps_(const srd_bricks_state *st) { return st ? st->bs[0].step : 0; }
+
+/* ---- checkpoint sets: the parts of a split gas (srd_part, srd_impl.h) ---- */
+namespace {
+
+/* the scalar state of a part as words (equal across the parts of one set, bit for bit) */
+constexpr int kPartWords = 20;
+void part_words(const srd_part &p, uint64_t w[kPartWords]) {
+  const double d[12] = {p.time,      p.e_initial,  p.e_coll,    p.e_ext,      p.dt_max,          p.dt_max_obs,
+                        p.flux_kin,  p.flux_coll,  p.stress_t0, p.wall_impulse[0], p.wall_impulse[1], p.wall_impulse[2]};
+  for (int k = 0; k < 12; ++k) w[k] = key_of(d[k]);
+  w[12] = (uint64_t)p.step;
+  w[13] = (uint64_t)p.clamped;
+  w[14] = (uint64_t)p.clamped_obs;
+  w[15] = (uint64_t)p.generation;
+  for (int k = 0; k < 4; ++k) w[16 + k] = p.shift_rng.s[k];
+}
+
+/* the scalars of a part into a brick */
+void scalars_from_part(const srd_part &p, Brick &B) {
+  B.shift_rng = p.shift_rng;
+  B.step = p.step;
+  B.time = p.time;
+  B.e_coll = p.e_coll;
+  B.e_ext = p.e_ext;
+  B.flux_kin = p.flux_kin;
+  B.flux_coll = p.flux_coll;
+  for (int k = 0; k < 3; ++k) B.wall_impulse[k] = p.wall_impulse[k];
+  B.clamped = p.clamped;
+  B.clamped_obs = p.clamped_obs;
+  B.dt_max = p.dt_max;
+  B.dt_max_obs = p.dt_max_obs;
+}
+
+/* the unshifted cell of a position (as the observation bins it) and its owner */
+int owner_unshifted(const Ctx &C, const double p[3]) {
+  srd_geom g0 = C.gm;
+  g0.le_on = 0;
+  const double zero[3] = {0, 0, 0};
+  int64_t c[3];
+  double dvx;
+  srd_bin3(&g0, zero, p, c, &dvx);
+  return owner_of(C.sp, c);
+}
+
+/* the particles [from) of brick B put in key order (a stable permutation: equal keys, which no run
+ * makes, keep their order) */
+void sort_by_key(Brick &B) {
+  const size_t n = B.x.size();
+  std::vector<uint32_t> ord(n);
+  std::iota(ord.begin(), ord.end(), 0u);
+  std::stable_sort(ord.begin(), ord.end(), [&](uint32_t a, uint32_t b) { return B.key[a] < B.key[b]; });
+  auto perm = [&](auto &v) {
+    if (v.empty()) return;
+    auto w = v;
+    for (size_t i = 0; i < n; ++i) w[i] = v[ord[i]];
+    v.swap(w);
+  };
+  perm(B.x), perm(B.y), perm(B.z), perm(B.vx), perm(B.vy), perm(B.vz), perm(B.key);
+}
+
+/* over a process group: every process's load status and particle count, and the range of the
+ * parts' scalar digests (one all-reduce, so that a process whose part was refused does not leave
+ * the others waiting) */
+struct LoadTot {
+  int64_t bad, n;
+  uint64_t hmin, hmax;
+  int32_t first_bad;
+};
+void merge_load(void *io, const void *in) {
+  LoadTot &a = *(LoadTot *)io;
+  const LoadTot &b = *(const LoadTot *)in;
+  if (b.bad && (!a.bad || b.first_bad < a.first_bad)) a.first_bad = b.first_bad;
+  a.bad += b.bad;
+  a.n += b.n;
+  a.hmin = std::min(a.hmin, b.hmin);
+  a.hmax = std::max(a.hmax, b.hmax);
+}
+
+/* the parts in paths into the bricks of st (their cells, and the particles the bricks keep:
+ * own = 1 all of the one part, the brick's own; else those of the unshifted cells of each brick's
+ * window); *ref the first part's scalars */
+int load_parts(srd_bricks_state *st, const char *const *paths, int nparts, int64_t generation, int64_t step, bool own,
+               srd_part *ref) {
+  const Ctx &C = st->C;
+  const bool d3 = C.o->dim == 3;
+  const int64_t nb = C.sp.nbricks();
+  std::vector<int> slot((size_t)nb, -1); /* brick rank -> index in st->bs */
+  for (size_t b = 0; b < st->bs.size(); ++b) slot[(size_t)st->bs[b].rank] = (int)b;
+  std::vector<std::vector<char>> got(st->bs.size());
+  for (size_t b = 0; b < st->bs.size(); ++b) {
+    Brick &B = st->bs[b];
+    B.cell.resize((size_t)B.ncl);
+    B.rng.resize((size_t)B.ncl);
+    got[b].assign((size_t)B.ncl, 0);
+  }
+  uint64_t w0[kPartWords] = {0};
+  int64_t set_nb = -1;
+  std::vector<char> seen;
+  for (int q = 0; q < nparts; ++q) {
+    const char *path = paths[q];
+    GRAN_CHECK_PTR(path);
+    srd_part p;
+    GRAN_CALL(srd_part_read_(path, st->shell.get(), &p));
+    GRAN_CHECK(p.generation == generation && p.step == step, GRAN_ERR_IO,
+               "checkpoint part '%s' is of generation %lld at step %lld, and the checkpoint commits generation %lld at "
+               "step %lld (a part of another checkpoint)", path, (long long)p.generation, (long long)p.step,
+               (long long)generation, (long long)step);
+    const int64_t pb = (int64_t)p.pgrid[0] * p.pgrid[1] * p.pgrid[2];
+    uint64_t w[kPartWords];
+    part_words(p, w);
+    if (q == 0) {
+      std::memcpy(w0, w, sizeof w0);
+      set_nb = pb;
+      seen.assign((size_t)pb, 0);
+      *ref = p;
+      ref->x.clear(), ref->y.clear(), ref->z.clear(), ref->vx.clear(), ref->vy.clear(), ref->vz.clear(), ref->key.clear();
+      ref->V.clear(), ref->rng.clear();
+    } else {
+      GRAN_CHECK(std::memcmp(w0, w, sizeof w0) == 0, GRAN_ERR_IO,
+                 "checkpoint part '%s': its scalar state (time, ledger, streams) differs from that of '%s' (the parts "
+                 "of one checkpoint hold the same)", path, paths[0]);
+      GRAN_CHECK(std::memcmp(p.pgrid, ref->pgrid, sizeof p.pgrid) == 0, GRAN_ERR_IO,
+                 "checkpoint part '%s' is of the split %d x %d x %d, '%s' of %d x %d x %d", path, p.pgrid[0], p.pgrid[1],
+                 p.pgrid[2], paths[0], ref->pgrid[0], ref->pgrid[1], ref->pgrid[2]);
+    }
+    GRAN_CHECK(!seen[(size_t)p.brick], GRAN_ERR_IO, "checkpoint part '%s' holds brick %d, as an earlier part does", path,
+               p.brick);
+    seen[(size_t)p.brick] = 1;
+    if (own) {
+      GRAN_CHECK(nparts == 1 && pb == nb && std::memcmp(p.pgrid, st->pgrid, sizeof p.pgrid) == 0 &&
+                     st->bs.size() == 1 && p.brick == st->bs[0].rank,
+                 GRAN_ERR_IO, "checkpoint part '%s' holds brick %d of the split %d x %d x %d, and this process runs brick "
+                 "%d of %d x %d x %d", path, p.brick, p.pgrid[0], p.pgrid[1], p.pgrid[2], st->bs[0].rank, st->pgrid[0],
+                 st->pgrid[1], st->pgrid[2]);
+    }
+    /* the part's cells: window of its brick in its own split */
+    const int64_t bq[3] = {p.brick % p.pgrid[0], (p.brick / p.pgrid[0]) % p.pgrid[1], p.brick / (p.pgrid[0] * p.pgrid[1])};
+    int64_t lo[3], wd[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = srd_brick_cut(bq[a], C.gm.nc[a], p.pgrid[a]);
+      wd[a] = srd_brick_cut(bq[a] + 1, C.gm.nc[a], p.pgrid[a]) - lo[a];
+    }
+    int64_t l = 0;
+    for (int64_t k2 = 0; k2 < wd[2]; ++k2)
+      for (int64_t k1 = 0; k1 < wd[1]; ++k1)
+        for (int64_t k0 = 0; k0 < wd[0]; ++k0, ++l) {
+          const int64_t c[3] = {lo[0] + k0, lo[1] + k1, lo[2] + k2};
+          const int sb = slot[(size_t)owner_of(C.sp, c)];
+          if (sb < 0) continue;
+          Brick &B = st->bs[(size_t)sb];
+          const uint32_t lc = local_of(B, c);
+          for (int k = 0; k < 3; ++k) B.cell[lc].V[k] = p.V[(size_t)(3 * l + k)];
+          for (int k = 0; k < 4; ++k) B.rng[lc].s[k] = p.rng[(size_t)(4 * l + k)];
+          got[(size_t)sb][lc] = 1;
+        }
+    /* the particles */
+    for (size_t i = 0; i < p.x.size(); ++i) {
+      int sb = 0;
+      if (!own) {
+        const double x[3] = {p.x[i], p.y[i], d3 ? p.z[i] : 0.0};
+        sb = slot[(size_t)owner_unshifted(C, x)];
+        if (sb < 0) continue;
+      }
+      Brick &B = st->bs[(size_t)sb];
+      B.x.push_back(p.x[i]);
+      B.y.push_back(p.y[i]);
+      B.vx.push_back(p.vx[i]);
+      B.vy.push_back(p.vy[i]);
+      if (d3) {
+        B.z.push_back(p.z[i]);
+        B.vz.push_back(p.vz[i]);
+      }
+      B.key.push_back(p.key[i]);
+    }
+  }
+  GRAN_CHECK(nparts >= 1, GRAN_ERR_ARG, "argument 'nparts' must be >= 1 (got %d)", nparts);
+  GRAN_CHECK(own || nparts == set_nb, GRAN_ERR_IO,
+             "checkpoint '%s': %d parts were given, and its split %d x %d x %d has %lld bricks", paths[0], nparts,
+             ref->pgrid[0], ref->pgrid[1], ref->pgrid[2], (long long)set_nb);
+  for (size_t b = 0; b < st->bs.size(); ++b)
+    for (int64_t lc = 0; lc < st->bs[b].ncl; ++lc)
+      GRAN_CHECK(got[b][(size_t)lc], GRAN_ERR_IO, "checkpoint '%s': no part holds cell %lld of the grid", paths[0],
+                 (long long)global_of(C, st->bs[b], lc));
+  for (Brick &B : st->bs) {
+    if (nparts > 1) sort_by_key(B);
+    scalars_from_part(*ref, B);
+  }
+  st->e0 = ref->e_initial;
+  st->stress_t0 = ref->stress_t0;
+  return GRAN_SUCCESS;
+}
+
+}  // namespace
+
+int srd_bricks_held_(const srd_bricks_state *st) { return st ? (int)st->bs.size() : 0; }
+int srd_bricks_brick_(const srd_bricks_state *st, int i) {
+  return st && i >= 0 && i < (int)st->bs.size() ? st->bs[(size_t)i].rank : -1;
+}
+
+int srd_bricks_save_(srd_bricks_state *st, const char *const *paths, int64_t generation) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(st);
+    GRAN_CHECK_PTR(paths);
+    GRAN_CHECK(generation >= 1, GRAN_ERR_ARG, "argument 'generation' must be >= 1 (got %lld)", (long long)generation);
+    const bool d3 = st->C.o->dim == 3;
+    for (size_t b = 0; b < st->bs.size(); ++b) {
+      const Brick &B = st->bs[b];
+      GRAN_CHECK_PTR(paths[b]);
+      srd_part p;
+      p.generation = generation;
+      for (int k = 0; k < 3; ++k) p.pgrid[k] = st->pgrid[k];
+      p.brick = B.rank;
+      p.step = B.step;
+      p.clamped = B.clamped;
+      p.clamped_obs = B.clamped_obs;
+      p.time = B.time;
+      p.e_initial = st->e0;
+      p.e_coll = B.e_coll;
+      p.e_ext = B.e_ext;
+      p.dt_max = B.dt_max;
+      p.dt_max_obs = B.dt_max_obs;
+      p.flux_kin = B.flux_kin;
+      p.flux_coll = B.flux_coll;
+      p.stress_t0 = st->stress_t0;
+      for (int k = 0; k < 3; ++k) p.wall_impulse[k] = B.wall_impulse[k];
+      p.shift_rng = B.shift_rng;
+      /* the particles (holes left out) in key order: the arrivals since the last sort sit out of it */
+      std::vector<uint32_t> ord;
+      ord.reserve(B.x.size());
+      for (size_t i = 0; i < B.x.size(); ++i)
+        if (B.dest.empty() || B.dest[i] < 0) ord.push_back((uint32_t)i);
+      std::stable_sort(ord.begin(), ord.end(), [&](uint32_t a, uint32_t c) { return B.key[a] < B.key[c]; });
+      const size_t m = ord.size();
+      for (std::vector<double> *v : {&p.x, &p.y, &p.vx, &p.vy}) v->resize(m);
+      if (d3) p.z.resize(m), p.vz.resize(m);
+      p.key.resize(m);
+      for (size_t i = 0; i < m; ++i) {
+        const uint32_t j = ord[i];
+        p.x[i] = B.x[j];
+        p.y[i] = B.y[j];
+        p.vx[i] = B.vx[j];
+        p.vy[i] = B.vy[j];
+        if (d3) p.z[i] = B.z[j], p.vz[i] = B.vz[j];
+        p.key[i] = B.key[j];
+      }
+      p.V.resize((size_t)(3 * B.ncl));
+      p.rng.resize((size_t)(4 * B.ncl));
+      for (int64_t l = 0; l < B.ncl; ++l) {
+        for (int k = 0; k < 3; ++k) p.V[(size_t)(3 * l + k)] = B.cell[(size_t)l].V[k];
+        for (int k = 0; k < 4; ++k) p.rng[(size_t)(4 * l + k)] = B.rng[(size_t)l].s[k];
+      }
+      GRAN_CALL(srd_part_write_(&st->shell->opt, p, paths[b]));
+    }
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+int srd_bricks_load_(const gran_srd_options *opt, const int pgrid[3], const srd_bricks_comm *comm,
+                     const char *const *paths, int nparts, int own, int64_t generation, int64_t step,
+                     srd_bricks_state **out, int *peer_failed) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(out);
+    GRAN_CHECK_PTR(paths);
+    *out = nullptr;
+    if (peer_failed) *peer_failed = 0;
+    std::unique_ptr<srd_bricks_state> st;
+    GRAN_CALL(open_shell(opt, pgrid, comm, st));
+    srd_part ref;
+    const int e = load_parts(st.get(), paths, nparts, generation, step, own != 0, &ref);
+    const std::string why = e != GRAN_SUCCESS ? gran_last_error_message() : "";
+    LoadTot t = {e != GRAN_SUCCESS ? 1 : 0, 0, UINT64_MAX, 0, st->over_comm ? st->comm.rank : 0};
+    for (const Brick &B : st->bs) t.n += (int64_t)B.x.size();
+    if (e == GRAN_SUCCESS) {
+      uint64_t w[kPartWords];
+      part_words(ref, w);
+      t.hmin = t.hmax = hash_words(w, kPartWords);
+    }
+    if (st->over_comm)
+      GRAN_CHECK(st->comm.allreduce(st->comm.ctx, &t, sizeof t, 1, &merge_load) == 0, GRAN_ERR_IO,
+                 "decomposed GSRD run: the all-reduce of the checkpoint's load failed on process %d", st->comm.rank);
+    if (e != GRAN_SUCCESS) return GRAN_ERROR(e, "%s", why.c_str());
+    if (t.bad && peer_failed) *peer_failed = 1;
+    GRAN_CHECK(!t.bad, GRAN_ERR_IO, "checkpoint: process %d of the split gas could not read its part (it says why)",
+               (int)t.first_bad);
+    GRAN_CHECK(t.hmin == t.hmax, GRAN_ERR_IO,
+               "checkpoint '%s': the parts' scalar states (time, ledger, streams) differ between processes (the parts of "
+               "one checkpoint hold the same)", paths[0]);
+    GRAN_CHECK(t.n == st->shell->n, GRAN_ERR_IO, "checkpoint '%s': its parts hold %lld particles, and the gas has %lld",
+               paths[0], (long long)t.n, (long long)st->shell->n);
+    *out = st.release();
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+int srd_bricks_from_state_(const gran_srd *s, const int pgrid[3], const srd_bricks_comm *comm, srd_bricks_state **out) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(s);
+    GRAN_CHECK_PTR(out);
+    *out = nullptr;
+    std::unique_ptr<srd_bricks_state> st;
+    GRAN_CALL(open_shell(&s->opt, pgrid, comm, st));
+    const Ctx &C = st->C;
+    const bool d3 = s->opt.dim == 3;
+    const int64_t nb = C.sp.nbricks();
+    std::vector<int> slot((size_t)nb, -1);
+    for (size_t b = 0; b < st->bs.size(); ++b) slot[(size_t)st->bs[b].rank] = (int)b;
+    for (Brick &B : st->bs) {
+      B.cell.resize((size_t)B.ncl);
+      B.rng.resize((size_t)B.ncl);
+      for (int64_t l = 0; l < B.ncl; ++l) {
+        const int64_t gc = global_of(C, B, l);
+        B.cell[(size_t)l] = s->cell[(size_t)gc];
+        B.rng[(size_t)l] = s->rng[(size_t)gc];
+      }
+      scalars_from(s, B);
+    }
+    /* the arrays are in key order: the key of a particle is its index */
+    for (int64_t i = 0; i < s->n; ++i) {
+      const double x[3] = {s->x[(size_t)i], s->y[(size_t)i], d3 ? s->z[(size_t)i] : 0.0};
+      const int sb = slot[(size_t)owner_unshifted(C, x)];
+      if (sb < 0) continue;
+      Brick &B = st->bs[(size_t)sb];
+      B.x.push_back(s->x[(size_t)i]);
+      B.y.push_back(s->y[(size_t)i]);
+      B.vx.push_back(s->vx[(size_t)i]);
+      B.vy.push_back(s->vy[(size_t)i]);
+      if (d3) {
+        B.z.push_back(s->z[(size_t)i]);
+        B.vz.push_back(s->vz[(size_t)i]);
+      }
+      B.key.push_back((uint64_t)i);
+    }
+    st->e0 = s->e_initial;
+    st->stress_t0 = s->stress_t0;
+    *out = st.release();
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+int srd_state_from_parts_(const gran_srd_options *opt, const char *const *paths, int nparts, int64_t generation,
+                          int64_t step, gran_srd **out) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(out);
+    GRAN_CHECK_PTR(paths);
+    *out = nullptr;
+    /* the parts loaded as the bricks of a split of one brick in this process: its cells the whole
+     * grid, its particles every part's in key order */
+    const int one[3] = {1, 1, 1};
+    std::unique_ptr<srd_bricks_state> st;
+    GRAN_CALL(open_shell(opt, one, nullptr, st));
+    srd_part ref;
+    GRAN_CALL(load_parts(st.get(), paths, nparts, generation, step, false, &ref));
+    Brick &B = st->bs[0];
+    GRAN_CHECK((int64_t)B.x.size() == st->shell->n, GRAN_ERR_IO,
+               "checkpoint '%s': its parts hold %lld particles, and the gas has %lld", paths[0], (long long)B.x.size(),
+               (long long)st->shell->n);
+    std::unique_ptr<gran_srd> s(new gran_srd);
+    s->opt = *opt;
+    GRAN_CALL(srd_alloc_state_(s.get()));
+    s->x.swap(B.x);
+    s->y.swap(B.y);
+    s->z.swap(B.z);
+    s->vx.swap(B.vx);
+    s->vy.swap(B.vy);
+    s->vz.swap(B.vz);
+    for (int64_t c = 0; c < s->ncell; ++c) {
+      s->cell[(size_t)c] = B.cell[(size_t)c];
+      s->rng[(size_t)c] = B.rng[(size_t)c];
+    }
+    scalars_to(B, s.get());
+    s->clamped = B.clamped_obs; /* the plain engine counts the clamps since its last observation */
+    s->dt_max = B.dt_max_obs;
+    s->e_initial = st->e0;
+    s->stress_t0 = st->stress_t0;
+    GRAN_CALL(srd_state_check_(paths[0], s.get()));
+    *out = s.release();
+    return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}

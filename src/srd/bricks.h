@@ -123,6 +123,36 @@ int srd_bricks_observe_profile_(srd_bricks_state *st, gran_srd_obs *ob, double *
  * otherwise) with its velocity profile as a split gas computes it (profile as above, any number of
  * layers): the same bits as srd_bricks_observe_profile_ of any split */
 int srd_cells_observe_(gran_srd *s, gran_srd_obs *ob, double *profile);
+/* Checkpoint sets (docs/developers/domain-decomposition.md, "Checkpoints of a split gas"): each
+ * brick's state is a part file of its own (srd_part, src/srd/srd_impl.h). srd_bricks_held_ is the
+ * number of bricks st holds (one over a process group), srd_bricks_brick_ the rank of its i-th in
+ * the split. srd_bricks_save_ writes brick i's part to paths[i] (not collective: each process its
+ * own), marked with the set's generation (>= 1). */
+int srd_bricks_held_(const srd_bricks_state *st);
+int srd_bricks_brick_(const srd_bricks_state *st, int i);
+int srd_bricks_save_(srd_bricks_state *st, const char *const *paths, int64_t generation);
+/* A split gas (as srd_bricks_open_: options opt with the replica's seed, split pgrid, process group
+ * comm) from the parts paths[0 .. nparts) of the set of generation `generation` at step `step`
+ * (collective): own = 1 the one part of this process's brick, written by the same split (its
+ * particles kept as they are); own = 0 every part of the set, of any split, each brick keeping the
+ * cells of its window and the particles of its window's unshifted cells, in key order (every
+ * process reads every part: for a change of the split). Every part is checked as a checkpoint is
+ * (srd_part_read_), then across the parts and processes: the same generation, step and scalar
+ * state bit for bit, every brick of the set once, every cell covered, the gas's particle count.
+ * GRAN_ERR_IO naming the part and the field, on every process (one whose own parts passed says
+ * which process failed, and sets *peer_failed when peer_failed is not NULL). The state steps on bit
+ * for bit as the gas that wrote the set. */
+int srd_bricks_load_(const gran_srd_options *opt, const int pgrid[3], const struct srd_bricks_comm *comm,
+                     const char *const *paths, int nparts, int own, int64_t generation, int64_t step,
+                     srd_bricks_state **out, int *peer_failed);
+/* A split gas from a whole state s of the decomposable engine (a checkpoint of one process): each
+ * brick keeps the cells of its window and the particles of its unshifted cells */
+int srd_bricks_from_state_(const gran_srd *s, const int pgrid[3], const struct srd_bricks_comm *comm,
+                           srd_bricks_state **out);
+/* The decomposable engine's whole state (one process, options opt with the replica's seed) from
+ * every part of a set (srd_bricks_load_'s checks, then a checkpoint's on the whole) */
+int srd_state_from_parts_(const gran_srd_options *opt, const char *const *paths, int nparts, int64_t generation,
+                          int64_t step, gran_srd **out);
 int srd_bricks_stress_reset_(srd_bricks_state *st);
 void srd_bricks_close_(srd_bricks_state **st);
 

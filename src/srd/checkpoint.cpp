@@ -156,14 +156,13 @@ bool finite_all(const double *p, size_t n) {
  * - dt_max > 0 (inf: no clamp); stress sums and wall impulses finite;
  * - RNG states: the grid shift's and every cell's non-zero with 32..224 of 256 bits set. */
 constexpr double kVelocityFactor = 1e3;
-int srd_state_validate(const char *path, const gran_srd *s, const double sc[11], const int64_t ic[3]) {
-  const gran_srd_options &o = s->opt;
-  GRAN_CHECK(ic[2] == s->n, GRAN_ERR_IO, "checkpoint '%s': field 'n' (particle count) %lld, the options give %lld", path,
-             (long long)ic[2], (long long)s->n);
+/* the scalars and counters (ic: step, clamped; n: the particle count the options give) */
+int srd_scalars_check(const char *path, const gran_srd_options &o, int64_t ncell, int64_t n, const double sc[11],
+                      const int64_t ic[2]) {
   GRAN_CHECK(ic[0] >= 0, GRAN_ERR_IO, "checkpoint '%s': field 'step' = %lld is negative", path, (long long)ic[0]);
-  GRAN_CHECK(ic[1] >= 0 && (double)ic[1] <= (double)ic[0] * (double)s->ncell, GRAN_ERR_IO,
+  GRAN_CHECK(ic[1] >= 0 && (double)ic[1] <= (double)ic[0] * (double)ncell, GRAN_ERR_IO,
              "checkpoint '%s': field 'clamped' = %lld outside [0, step x cells] = [0, %g]", path, (long long)ic[1],
-             (double)ic[0] * (double)s->ncell);
+             (double)ic[0] * (double)ncell);
   for (int k = 0; k < 11; ++k)
     GRAN_CHECK(k == 4 || std::isfinite(sc[k]), GRAN_ERR_IO, "checkpoint '%s': field '%s' is not finite (%g)", path,
                kScalarName[k], sc[k]);
@@ -176,18 +175,28 @@ int srd_state_validate(const char *path, const gran_srd *s, const double sc[11],
              (long long)ic[0], o.dt, tstep);
   GRAN_CHECK(sc[7] >= 0 && sc[7] <= sc[0], GRAN_ERR_IO, "checkpoint '%s': field 'stress_t0' = %g outside [0, time = %g]",
              path, sc[7], sc[0]);
-  GRAN_CHECK(sc[1] >= 0 && (sc[1] > 0 || s->n == 1), GRAN_ERR_IO,
+  GRAN_CHECK(sc[1] >= 0 && (sc[1] > 0 || n == 1), GRAN_ERR_IO,
              "checkpoint '%s': field 'e_initial' = %g (the energy at creation is > 0 for N = %lld particles)", path, sc[1],
-             (long long)s->n);
+             (long long)n);
   const double ledger = sc[1] + sc[2] + sc[3], lscale = std::fabs(sc[1]) + std::fabs(sc[2]) + std::fabs(sc[3]);
   GRAN_CHECK(std::isfinite(ledger) && ledger >= -1e-9 * lscale, GRAN_ERR_IO,
              "checkpoint '%s': fields 'e_initial' + 'e_collisions' + 'e_external' = %g: a negative kinetic energy", path,
              ledger);
-  const double emax = kVelocityFactor * std::max(std::max(ledger, sc[1]), 1e-9 * lscale);
-  const double *pv[3] = {s->vx.data(), s->vy.data(), o.dim == 3 ? s->vz.data() : nullptr};
-  const double *px[3] = {s->x.data(), s->y.data(), o.dim == 3 ? s->z.data() : nullptr};
+  return GRAN_SUCCESS;
+}
+
+/* the largest kinetic energy one particle may have (kVelocityFactor x the stored total) */
+double srd_energy_cap(const double sc[11]) {
+  const double ledger = sc[1] + sc[2] + sc[3], lscale = std::fabs(sc[1]) + std::fabs(sc[2]) + std::fabs(sc[3]);
+  return kVelocityFactor * std::max(std::max(ledger, sc[1]), 1e-9 * lscale);
+}
+
+/* the values of n particles (px, pv: x, y, z and vx, vy, vz, the third NULL in 2-D) and of ncell
+ * cells (V: 3 doubles, rng: one state each) and the shift's stream, against the cap emax */
+int srd_values_check(const char *path, const gran_srd_options &o, const srd_geom &gm, double emax, size_t n,
+                     const double *const px[3], const double *const pv[3], size_t ncell, const double *V,
+                     const gran_rng *rng, const gran_rng &shift_rng) {
   const char *ax = "xyz";
-  const size_t n = (size_t)s->n;
   for (size_t i = 0; i < n; ++i) {
     double e = 0;
     for (int k = 0; k < o.dim; ++k) {
@@ -201,7 +210,7 @@ int srd_state_validate(const char *path, const gran_srd *s, const double sc[11],
                "energy %g", path, i, e, kVelocityFactor, emax / kVelocityFactor);
   }
   for (int k = 0; k < o.dim; ++k) {
-    const double hi = s->gm.box[k];
+    const double hi = gm.box[k];
     for (size_t i = 0; i < n; ++i)
       GRAN_CHECK(px[k][i] >= 0.0 && px[k][i] < hi, GRAN_ERR_IO,
                  "checkpoint '%s': field '%c' of particle %zu = %.17g outside the box [0, %.17g)", path, ax[k], i,
@@ -211,23 +220,45 @@ int srd_state_validate(const char *path, const gran_srd *s, const double sc[11],
    * (wall velocity + Maxwellian at wall_T) of an earlier step: within the fastest particle, the
    * walls' and the Lees-Edwards speeds and 40 thermal speeds of the virtual particles */
   const double wT = o.wall_axis >= 0 ? (o.wall_T > 0 ? o.wall_T : o.T0) : 0.0;
-  const double vcap = std::sqrt(2.0 * emax) + std::fabs(o.vib_amp * o.vib_omega) + std::fabs(o.shear_rate) * s->gm.box[1] +
+  const double vcap = std::sqrt(2.0 * emax) + std::fabs(o.vib_amp * o.vib_omega) + std::fabs(o.shear_rate) * gm.box[1] +
                       40.0 * std::sqrt(wT);
-  for (size_t c = 0; c < s->cell.size(); ++c) {
-    const double *V = s->cell[c].V;
-    const double q = std::sqrt(V[0] * V[0] + V[1] * V[1] + V[2] * V[2]);
-    GRAN_CHECK(finite_all(V, 3) && q <= vcap, GRAN_ERR_IO,
+  for (size_t c = 0; c < ncell; ++c) {
+    const double *v = V + 3 * c;
+    const double q = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    GRAN_CHECK(finite_all(v, 3) && q <= vcap, GRAN_ERR_IO,
                "checkpoint '%s': field 'cell_velocity' (reference velocity) of cell %zu: |V| = %g exceeds the speeds the "
                "state allows (%g)", path, c, q, vcap);
   }
-  GRAN_CHECK(rng_plausible(s->shift_rng), GRAN_ERR_IO,
+  GRAN_CHECK(rng_plausible(shift_rng), GRAN_ERR_IO,
              "checkpoint '%s': field 'shift_rng' (grid-shift RNG state) has %d of 256 bits set (a generated state: "
-             "32..224; 0 is xoshiro's forbidden state)", path, rng_bits(s->shift_rng));
-  for (size_t c = 0; c < s->rng.size(); ++c)
-    GRAN_CHECK(rng_plausible(s->rng[c]), GRAN_ERR_IO,
+             "32..224; 0 is xoshiro's forbidden state)", path, rng_bits(shift_rng));
+  for (size_t c = 0; c < ncell; ++c)
+    GRAN_CHECK(rng_plausible(rng[c]), GRAN_ERR_IO,
                "checkpoint '%s': field 'rng' of cell %zu has %d of 256 bits set (a generated state: 32..224; 0 is "
-               "xoshiro's forbidden state)", path, c, rng_bits(s->rng[c]));
+               "xoshiro's forbidden state)", path, c, rng_bits(rng[c]));
   return GRAN_SUCCESS;
+}
+
+int srd_state_validate(const char *path, const gran_srd *s, const double sc[11], const int64_t ic[3]) {
+  GRAN_CHECK(ic[2] == s->n, GRAN_ERR_IO, "checkpoint '%s': field 'n' (particle count) %lld, the options give %lld", path,
+             (long long)ic[2], (long long)s->n);
+  GRAN_CALL(srd_scalars_check(path, s->opt, s->ncell, s->n, sc, ic));
+  const bool d3 = s->opt.dim == 3;
+  const double *pv[3] = {s->vx.data(), s->vy.data(), d3 ? s->vz.data() : nullptr};
+  const double *px[3] = {s->x.data(), s->y.data(), d3 ? s->z.data() : nullptr};
+  static_assert(sizeof(srd_cpu_cell) == 3 * sizeof(double), "a cell record is its reference velocity");
+  return srd_values_check(path, s->opt, s->gm, srd_energy_cap(sc), (size_t)s->n, px, pv, s->cell.size(),
+                          s->cell.empty() ? nullptr : s->cell[0].V, s->rng.data(), s->shift_rng);
+}
+
+/* the scalars of a state in kScalarName's order, and its counters (step, clamped, n) */
+void scalars_of(const gran_srd *s, double sc[11], int64_t ic[3]) {
+  const double v[11] = {s->time,     s->e_initial, s->e_coll,  s->e_ext,          s->dt_max,         s->flux_kin,
+                        s->flux_coll, s->stress_t0, s->wall_impulse[0], s->wall_impulse[1], s->wall_impulse[2]};
+  for (int k = 0; k < 11; ++k) sc[k] = v[k];
+  ic[0] = s->step;
+  ic[1] = s->clamped;
+  ic[2] = s->n;
 }
 
 /* the first 8 bytes of PATH start with the magic of the binary format before HDF5 */
@@ -465,6 +496,184 @@ GRAN_EXTERN int gran_srd_checkpoint_read(const char *path, const char *group, gr
     gran_state::File f;
     GRAN_CALL(f.open_read(path, "checkpoint", true));
     return gran_srd_checkpoint_read_h5_(f.id(), group, path, nullptr, out);
+  }
+  GRAN_CATCH
+}
+
+/* ---- a part of a checkpoint set (srd_impl.h, srd_part) ---- */
+namespace {
+const char *kPartFormat = "granary-srd-part 1";
+const char *kPartGroup = "/srd_part";
+}  // namespace
+
+int srd_state_check_(const char *path, const gran_srd *s) {
+  double sc[11];
+  int64_t ic[3];
+  scalars_of(s, sc, ic);
+  return srd_state_validate(path, s, sc, ic);
+}
+
+int srd_part_write_(const gran_srd_options *opt, const srd_part &p, const char *path) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(opt);
+    GRAN_CHECK_PTR(path);
+    std::remove(path); /* a part of this name from a run that did not commit it */
+    gran_state::File f;
+    GRAN_CALL(f.open_update(path));
+    gran_state::Group g, og;
+    GRAN_CALL(g.create(f.id(), kPartGroup, kPartFormat, path));
+    GRAN_CALL(og.create(g.id(), "options", "gran_srd_options", path));
+    GRAN_CALL(options_write(og, *opt));
+    GRAN_CALL(g.put1("generation", p.generation));
+    GRAN_CALL(g.put("pgrid", 3, p.pgrid));
+    GRAN_CALL(g.put1("brick", (int64_t)p.brick));
+    GRAN_CALL(g.put1("step", p.step));
+    GRAN_CALL(g.put1("clamped", p.clamped));
+    GRAN_CALL(g.put1("clamped_obs", p.clamped_obs));
+    const double sc[11] = {p.time,      p.e_initial, p.e_coll,          p.e_ext,           p.dt_max,          p.flux_kin,
+                           p.flux_coll, p.stress_t0, p.wall_impulse[0], p.wall_impulse[1], p.wall_impulse[2]};
+    for (int k = 0; k < 8; ++k) GRAN_CALL(g.put1(kScalarName[k], sc[k]));
+    GRAN_CALL(g.put("wall_impulse", 3, p.wall_impulse));
+    GRAN_CALL(g.put1("dt_max_obs", p.dt_max_obs));
+    const int64_t n = (int64_t)p.x.size();
+    const bool d3 = opt->dim == 3;
+    GRAN_CALL(g.put("x", n, p.x.data()));
+    GRAN_CALL(g.put("y", n, p.y.data()));
+    if (d3) GRAN_CALL(g.put("z", n, p.z.data()));
+    GRAN_CALL(g.put("vx", n, p.vx.data()));
+    GRAN_CALL(g.put("vy", n, p.vy.data()));
+    if (d3) GRAN_CALL(g.put("vz", n, p.vz.data()));
+    GRAN_CALL(g.put("key", n, p.key.data()));
+    GRAN_CALL(g.put("cell_velocity", (int64_t)p.V.size(), p.V.data()));
+    GRAN_CALL(g.put("rng", (int64_t)p.rng.size(), p.rng.data()));
+    GRAN_CALL(g.put("shift_rng", 4, p.shift_rng.s));
+    return f.commit("checkpoint part");
+  }
+  GRAN_CATCH
+}
+
+int srd_part_read_(const char *path, const gran_srd *shell, srd_part *p) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(path);
+    GRAN_CHECK_PTR(shell);
+    GRAN_CHECK_PTR(p);
+    *p = srd_part();
+    gran_state::File f;
+    GRAN_CALL(f.open_read(path, "checkpoint part", true));
+    gran_state::Group g, og;
+    GRAN_CALL(g.open(f.id(), kPartGroup, path));
+    std::string fmt;
+    GRAN_CALL(g.format(&fmt));
+    GRAN_CHECK(fmt == kPartFormat, GRAN_ERR_IO,
+               "checkpoint part '%s': group '%s' is not a part of a split GSRD gas (format '%s'; this granary reads '%s')",
+               path, kPartGroup, fmt.c_str(), kPartFormat);
+    GRAN_CALL(og.open(g.id(), "options", path));
+    gran_srd_options o;
+    GRAN_CALL(options_read(og, &o));
+    if (srd_check_options_(&o) != GRAN_SUCCESS) {
+      const std::string why = gran_last_error_message();
+      return GRAN_ERROR(GRAN_ERR_IO, "checkpoint part '%s' holds invalid options: %s", path, why.c_str());
+    }
+    int k = -1;
+    const OptField *fd = options_differ(o, shell->opt, &k);
+    if (fd) {
+      char name[40];
+      if (k >= 0) std::snprintf(name, sizeof name, "%s[%d]", fd->name, k);
+      else std::snprintf(name, sizeof name, "%s", fd->name);
+      return GRAN_ERROR(GRAN_ERR_IO,
+                        "checkpoint part '%s': option '%s' differs from the run's (stored %s, the run's %s: a part "
+                        "resumes the run of its own scene and replica)", path, name,
+                        opt_value(o, *fd, k < 0 ? 0 : k).c_str(), opt_value(shell->opt, *fd, k < 0 ? 0 : k).c_str());
+    }
+    /* the split and the brick: within the grid, before anything is allocated */
+    GRAN_CALL(g.get1("generation", &p->generation));
+    GRAN_CHECK(p->generation >= 1, GRAN_ERR_IO, "checkpoint part '%s': field 'generation' = %lld (a generation is >= 1)",
+               path, (long long)p->generation);
+    GRAN_CALL(g.get("pgrid", 3, p->pgrid));
+    int64_t nb = 1, ncl = 1, lo[3], w[3];
+    for (int a = 0; a < 3; ++a) {
+      const int64_t nc = shell->gm.nc[a];
+      GRAN_CHECK(p->pgrid[a] >= 1 && p->pgrid[a] <= nc, GRAN_ERR_IO,
+                 "checkpoint part '%s': field 'pgrid[%d]' = %d outside [1, %lld] (the cells along axis %d)", path, a,
+                 p->pgrid[a], (long long)nc, a);
+      nb *= p->pgrid[a];
+    }
+    int64_t brick = -1;
+    GRAN_CALL(g.get1("brick", &brick));
+    GRAN_CHECK(brick >= 0 && brick < nb, GRAN_ERR_IO, "checkpoint part '%s': field 'brick' = %lld outside [0, %lld)", path,
+               (long long)brick, (long long)nb);
+    p->brick = (int)brick;
+    {
+      const int64_t b[3] = {brick % p->pgrid[0], (brick / p->pgrid[0]) % p->pgrid[1], brick / (p->pgrid[0] * p->pgrid[1])};
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = srd_brick_cut(b[a], shell->gm.nc[a], p->pgrid[a]);
+        w[a] = srd_brick_cut(b[a] + 1, shell->gm.nc[a], p->pgrid[a]) - lo[a];
+        ncl *= w[a];
+      }
+    }
+    const bool d3 = o.dim == 3;
+    const char *arr[7] = {"x", "y", "z", "vx", "vy", "vz", "key"};
+    const int64_t m = g.npoints("x");
+    GRAN_CHECK(m >= 0 && m <= shell->n, GRAN_ERR_IO,
+               "checkpoint part '%s': field 'x' has %lld values, and the gas has %lld particles", path, (long long)m,
+               (long long)shell->n);
+    for (int a = 1; a < 7; ++a) {
+      if (!d3 && (a == 2 || a == 5)) continue;
+      GRAN_CHECK(g.npoints(arr[a]) == m, GRAN_ERR_IO, "checkpoint part '%s': field '%s' has %lld values, field 'x' %lld",
+                 path, arr[a], (long long)g.npoints(arr[a]), (long long)m);
+    }
+    GRAN_CHECK(g.npoints("cell_velocity") == 3 * ncl && g.npoints("rng") == 4 * ncl, GRAN_ERR_IO,
+               "checkpoint part '%s': fields 'cell_velocity' and 'rng' have %lld and %lld values, brick %lld of the split "
+               "%d x %d x %d has %lld cells (3 and 4 each)", path, (long long)g.npoints("cell_velocity"),
+               (long long)g.npoints("rng"), (long long)brick, p->pgrid[0], p->pgrid[1], p->pgrid[2], (long long)ncl);
+    double sc[11];
+    int64_t ic[2];
+    GRAN_CALL(g.get1("step", &ic[0]));
+    GRAN_CALL(g.get1("clamped", &ic[1]));
+    GRAN_CALL(g.get1("clamped_obs", &p->clamped_obs));
+    for (int q = 0; q < 8; ++q) GRAN_CALL(g.get1(kScalarName[q], &sc[q]));
+    GRAN_CALL(g.get("wall_impulse", 3, sc + 8));
+    GRAN_CALL(g.get1("dt_max_obs", &p->dt_max_obs));
+    GRAN_CALL(srd_scalars_check(path, o, shell->ncell, shell->n, sc, ic));
+    GRAN_CHECK(p->clamped_obs >= 0 && p->clamped_obs <= ic[1], GRAN_ERR_IO,
+               "checkpoint part '%s': field 'clamped_obs' = %lld outside [0, clamped = %lld]", path,
+               (long long)p->clamped_obs, (long long)ic[1]);
+    GRAN_CHECK(p->dt_max_obs > 0, GRAN_ERR_IO, "checkpoint part '%s': field 'dt_max_obs' = %g (must be > 0 or inf)", path,
+               p->dt_max_obs);
+    std::vector<double> *pa[6] = {&p->x, &p->y, &p->z, &p->vx, &p->vy, &p->vz};
+    for (int a = 0; a < 6; ++a) {
+      if (!d3 && (a == 2 || a == 5)) continue;
+      pa[a]->resize((size_t)m);
+      GRAN_CALL(g.get(arr[a], m, pa[a]->data()));
+    }
+    p->key.resize((size_t)m);
+    GRAN_CALL(g.get("key", m, p->key.data()));
+    for (size_t i = 1; i < (size_t)m; ++i)
+      GRAN_CHECK(p->key[i - 1] < p->key[i], GRAN_ERR_IO,
+                 "checkpoint part '%s': field 'key' is not strictly increasing at particle %zu (a part holds its "
+                 "particles in key order)", path, i);
+    p->V.resize((size_t)(3 * ncl));
+    p->rng.resize((size_t)(4 * ncl));
+    GRAN_CALL(g.get("cell_velocity", 3 * ncl, p->V.data()));
+    GRAN_CALL(g.get("rng", 4 * ncl, p->rng.data()));
+    GRAN_CALL(g.get("shift_rng", 4, p->shift_rng.s));
+    const double *px[3] = {p->x.data(), p->y.data(), d3 ? p->z.data() : nullptr};
+    const double *pv[3] = {p->vx.data(), p->vy.data(), d3 ? p->vz.data() : nullptr};
+    static_assert(sizeof(gran_rng) == 4 * sizeof(uint64_t), "an RNG state is 4 uint64");
+    GRAN_CALL(srd_values_check(path, o, shell->gm, srd_energy_cap(sc), (size_t)m, px, pv, (size_t)ncl, p->V.data(),
+                               (const gran_rng *)p->rng.data(), p->shift_rng));
+    p->step = ic[0];
+    p->clamped = ic[1];
+    p->time = sc[0];
+    p->e_initial = sc[1];
+    p->e_coll = sc[2];
+    p->e_ext = sc[3];
+    p->dt_max = sc[4];
+    p->flux_kin = sc[5];
+    p->flux_coll = sc[6];
+    p->stress_t0 = sc[7];
+    for (int q = 0; q < 3; ++q) p->wall_impulse[q] = sc[8 + q];
+    return GRAN_SUCCESS;
   }
   GRAN_CATCH
 }

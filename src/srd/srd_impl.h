@@ -201,4 +201,40 @@ int srd_alloc_state_(gran_srd *s);
 /* the geometry (gm, n, ncell, ncell_box) of a state from its checked options, without its arrays:
  * a decomposed run's process holds only its brick */
 int srd_alloc_geometry_(gran_srd *s);
+
+/* One brick's share of a split gas's state: a part of a checkpoint set (checkpoint.cpp writes and
+ * reads it as the group /srd_part, format "granary-srd-part 1", of its own file; bricks.cpp makes
+ * and consumes it). The brick `brick` of the split pgrid (its window of the binning grid follows
+ * from them: srd_brick_cut), its particles in key order with their keys, its window's cells (V 3
+ * and rng 4 words per cell, the window's own order, x fastest) and the scalar state every brick
+ * holds alike; `generation` names the checkpoint that commits the set. clamped counts the clamps
+ * since the start, clamped_obs and dt_max_obs those since the last observation. */
+struct srd_part {
+  int64_t generation = 0;
+  int pgrid[3] = {1, 1, 1};
+  int brick = 0;
+  int64_t step = 0, clamped = 0, clamped_obs = 0;
+  double time = 0, e_initial = 0, e_coll = 0, e_ext = 0, dt_max = INFINITY, dt_max_obs = INFINITY, flux_kin = 0,
+         flux_coll = 0, stress_t0 = 0, wall_impulse[3] = {0, 0, 0};
+  gran_rng shift_rng;
+  std::vector<double> x, y, z, vx, vy, vz; /* z, vz empty in 2-D */
+  std::vector<uint64_t> key;
+  std::vector<double> V;
+  std::vector<uint64_t> rng;
+};
+/* The first grid index of brick b of P along an axis of nc cells (b = P: nc): the split's bricks on
+ * cell boundaries, sizes balanced (bricks.cpp cuts its grid with it). */
+inline int64_t srd_brick_cut(int64_t b, int64_t nc, int64_t P) { return b * nc / P; }
+/* Write part p of a gas with options opt to PATH (a state file of its own: built in memory,
+ * committed with its checksum, src/io/state.h). */
+int srd_part_write_(const gran_srd_options *opt, const srd_part &p, const char *path);
+/* Read the part in PATH (its checksum verified first) for the gas `shell` (options, with the
+ * replica's seed, and geometry: every stored physics option must equal its own): every value
+ * checked as a checkpoint's are (srd_state_validate's checks on the part's share, the split and
+ * the brick within the grid, the keys strictly increasing), each refusal GRAN_ERR_IO naming the
+ * file and the field. */
+int srd_part_read_(const char *path, const gran_srd *shell, srd_part *p);
+/* The checks of a whole state's values (a checkpoint read, or the state merged from the parts of a
+ * set), each refusal naming `path` and the field. */
+int srd_state_check_(const char *path, const gran_srd *s);
 #endif
