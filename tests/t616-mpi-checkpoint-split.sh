@@ -7,7 +7,8 @@
 # process reads every part and keeps its brick's share), its output holds the same datasets BIT FOR
 # BIT as the uninterrupted run in one process, for a periodic 3-D inelastic gas with a2 and S(k),
 # 2-D Lees-Edwards with the global thermostat, the stress and the velocity profile, and 2-D no-slip
-# walls with gravity, the vibrating wall and clamped cells; a finished run leaves no part. A resumed
+# walls with gravity, the vibrating wall, clamped cells and field snapshots (those recorded before
+# the checkpoint kept in it); a finished run leaves no part. A resumed
 # run checkpoints on its own split (3 parts, the 2 of the set it resumed gone) and resumes again
 # on 2. A one-process checkpoint resumes split on 3. Replicas of split gases (2 on 4 processes)
 # resume on 4, 2 and 1. Refused, each named once: a missing part, a part of another checkpoint, a
@@ -31,7 +32,7 @@ scene shear2 2 "[10, 9]" "n0 = 6" "dt = 0.4" "seed = 11" "thermostat = \"global\
   "velocity_profile = true" "[output]" "checkpoint_every = 1"
 scene walls2 2 "[8, 9]" "n0 = 6" "dt = 1.0" "eps = 0.5" "sigma = 0.5" "seed = 9" \
   "[boundaries]" "walls = {axis = \"y\", rule = \"no-slip\", T = 0.5}" "vibrating_wall = {amplitude = 0.1, omega = 0.3}" \
-  "[forces]" "gravity = [0, -0.02]" "[observables]" "every = 10" "[output]" "checkpoint_every = 1"
+  "[forces]" "gravity = [0, -0.02]" "[observables]" "every = 10" "snapshots = {every = 1}" "[output]" "checkpoint_every = 1"
 
 # run N ARGS...: build/granary (N = 1) or build/granary-mpi on N processes, quiet, no log
 run() { n=$1; shift; if [ "$n" = 1 ]; then "$cli" run "$@" --no-log -q; else mpi "$n" run "$@" --no-log -q; fi; }

@@ -30,6 +30,10 @@
  *    gas's u_x rising from the bottom layer to the top), and the identities sum |v|^2 = d N theta_cells + N e_kin,
  *    theta_cells <= T, the closed ledger; sigma_rho of the initial gas (uniform and by cells, periodic
  *    and with walls) is the multinomial count's within 4 se;
+ *  - the cell fields of snapshots (srd_bricks_fields_, every effect set and split above): the
+ *    decomposable engine's gran_srd_fields bit for bit, which agree with a direct long-double
+ *    computation from the particles (counts exact, means and temperatures to 1e-12), sum to N, to
+ *    the momentum and to d N theta_cells;
  *  - bad arguments (serial creation, a pgrid entry beyond the grid or beyond dim) are refused
  *    naming them. */
 #include <float.h>
@@ -111,6 +115,67 @@ static void check_physics(const gran_srd_options *o, const srd_bricks_out *r, co
   }
 }
 
+/* the fields f (count, velocity [3], temperature of nbox cells) of state s against a direct
+ * computation from its particles in long double: each cell's count exact, its mean velocity and
+ * temperature within 1e-12 (relative to the cell's thermal speed); sum count = N; sum n V = the
+ * observation's momentum and sum d n T = d N theta_cells, to 1e-12 relative */
+static void check_fields(const gran_srd_options *o, gran_srd *s, const double *f, int64_t nbox, const gran_srd_obs *ob,
+                         const char *name) {
+  int64_t n;
+  double *x[3], *v[3];
+  GRAN_ASSERT_OK(gran_srd_particles(s, &n, &x[0], &x[1], &x[2], &v[0], &v[1], &v[2]));
+  const int d = o->dim;
+  const int64_t L[3] = {o->cells[0], o->cells[1], d == 3 ? o->cells[2] : 1};
+  long double *S = calloc((size_t)nbox * 5, sizeof(long double));
+  int64_t *cn = calloc((size_t)nbox, sizeof(int64_t)), *ci = malloc(sizeof(int64_t) * (size_t)n);
+  assert_non_null(S);
+  assert_non_null(cn);
+  assert_non_null(ci);
+  for (int64_t i = 0; i < n; ++i) {
+    int64_t c = 0, stride = 1;
+    for (int k = 0; k < d; ++k) {
+      int64_t q = (int64_t)floor(x[k][i] / o->a);
+      if (q >= L[k]) q = L[k] - 1;
+      c += q * stride;
+      stride *= L[k];
+    }
+    ci[i] = c;
+    cn[c]++;
+    for (int k = 0; k < d; ++k) S[5 * c + k] += v[k][i];
+  }
+  for (int64_t i = 0; i < n; ++i)
+    for (int k = 0; k < d; ++k) {
+      const long double u = v[k][i] - S[5 * ci[i] + k] / cn[ci[i]];
+      S[5 * ci[i] + 4] += u * u;
+    }
+  double N = 0, P[3] = {0, 0, 0}, Q = 0;
+  for (int64_t c = 0; c < nbox; ++c) {
+    if (f[c] != (double)cn[c]) fail_msg("%s: cell %lld holds %g particles in the fields, %lld counted", name, (long long)c, f[c], (long long)cn[c]);
+    N += f[c];
+    const double m = f[c], T = f[4 * nbox + c];
+    if (m == 0) {
+      if (T != 0 || f[nbox + 3 * c] != 0) fail_msg("%s: empty cell %lld has T %g, V_x %g", name, (long long)c, T, f[nbox + 3 * c]);
+      continue;
+    }
+    const double Td = (double)(S[5 * c + 4] / (d * m)), vt = sqrt(Td) + 1e-300;
+    for (int k = 0; k < 3; ++k) {
+      const double V = f[nbox + 3 * c + k], Vd = k < d ? (double)(S[5 * c + k] / m) : 0.0;
+      if (!(fabs(V - Vd) <= 1e-12 * (vt + fabs(Vd)))) fail_msg("%s: cell %lld V_%d %.17g, direct %.17g", name, (long long)c, k, V, Vd);
+      P[k] += m * V;
+    }
+    if (!(fabs(T - Td) <= 1e-12 * Td + 1e-300)) fail_msg("%s: cell %lld T %.17g, direct %.17g", name, (long long)c, T, Td);
+    Q += d * m * T;
+  }
+  assert_true(N == (double)n);
+  for (int k = 0; k < 3; ++k)
+    if (!(fabs(P[k] - ob->momentum[k]) <= 1e-12 * (fabs(ob->momentum[k]) + sqrt(2.0 * ob->energy * N))))
+      fail_msg("%s: sum n V_%d = %.17g, the momentum %.17g", name, k, P[k], ob->momentum[k]);
+  GRAN_ASSERT_REL(Q, d * N * ob->theta_cells, 1e-12);
+  free(S);
+  free(cn);
+  free(ci);
+}
+
 /* gran_srd_observe of the decomposable engine against srd_bricks_observe_ of every split (all bricks
  * in this process), bit for bit: after 13 steps, then (the stress window reset, the clamps counted
  * since the first observation) after 17 more; on each the identities that can fail: the ledger
@@ -129,6 +194,13 @@ static void check_observe(const gran_srd_options *o, const int (*grids)[3], int 
   GRAN_ASSERT_OK(gran_srd_stress_reset(s));
   GRAN_ASSERT_OK(gran_srd_advance(s, NSTEPS - 13));
   GRAN_ASSERT_OK(srd_cells_observe_(s, &p2, u0)); /* gran_srd_observe with the velocity profile */
+  /* the cell fields (gran_srd_fields of the decomposable engine) against a direct computation */
+  const int64_t nbox = o->cells[0] * o->cells[1] * (o->dim == 3 ? o->cells[2] : 1);
+  double *fa = malloc(sizeof(double) * 5 * (size_t)nbox), *fb = malloc(sizeof(double) * 5 * (size_t)nbox);
+  assert_non_null(fa);
+  assert_non_null(fb);
+  GRAN_ASSERT_OK(gran_srd_fields(s, fa, fa + nbox, fa + 4 * nbox));
+  check_fields(o, s, fa, nbox, &p2, name);
   GRAN_ASSERT_OK(gran_srd_destroy(&s));
   for (int64_t j = 0; j < L1; ++j)
     for (int q = 0; q < 3; ++q)
@@ -151,6 +223,10 @@ static void check_observe(const gran_srd_options *o, const int (*grids)[3], int 
     GRAN_ASSERT_OK(srd_bricks_observe_profile_(st, &b2, ub));
     if (!same(u0, ub, sizeof(double) * 3 * (size_t)L1))
       fail_msg("%s: the velocity profile of %d x %d x %d bricks differs from the plain engine's", name, pg[0], pg[1], pg[2]);
+    memset(fb, 0xff, sizeof(double) * 5 * (size_t)nbox);
+    GRAN_ASSERT_OK(srd_bricks_fields_(st, fb, fb + nbox, fb + 4 * nbox));
+    if (!same(fa, fb, sizeof(double) * 5 * (size_t)nbox))
+      fail_msg("%s: the cell fields of %d x %d x %d bricks differ from the plain engine's", name, pg[0], pg[1], pg[2]);
     srd_bricks_rank_out rep;
     GRAN_ASSERT_OK(srd_bricks_report_(st, &rep));
     srd_bricks_close_(&st);
@@ -173,6 +249,8 @@ static void check_observe(const gran_srd_options *o, const int (*grids)[3], int 
   }
   free(u0);
   free(ub);
+  free(fa);
+  free(fb);
 }
 
 /* P = 1 bricks against the plain engine, then every split against P = 1 */

@@ -104,9 +104,6 @@ class SrdEngine : public gran_engine {
         GRAN_CHECK(!q.obs_profile || o_.cells[1] <= SRD_BRICKS_PROFILE_MAX_LAYERS, GRAN_ERR_UNSUPPORTED,
                    "scene key 'observables.velocity_profile': the velocity profile of a gas split over processes has at "
                    "most %d layers of y, and the box has %lld", SRD_BRICKS_PROFILE_MAX_LAYERS, (long long)o_.cells[1]);
-        GRAN_CHECK(q.snap_index.empty(), GRAN_ERR_UNSUPPORTED,
-                   "scene key 'observables.snapshots': field snapshots of a gas split over %d processes are not written "
-                   "yet (they need parallel HDF5; run it in one process, or leave the snapshots out)", c->size);
         GRAN_CHECK(!q.obs_sk || q.sk_bins <= SRD_BRICKS_SK_MAX_BINS, GRAN_ERR_ARG,
                    "scene key 'observables.structure_factor.bins' = %lld: a split gas's S(k) has at most %d shells",
                    (long long)q.sk_bins, SRD_BRICKS_SK_MAX_BINS);
@@ -192,10 +189,12 @@ class SrdEngine : public gran_engine {
   int memory(int64_t *bytes) override {
     std::vector<gran_mem_part> parts;
     double b = gran_srd_memory_(*s_, parts);
-    if (split_) { /* this process's brick, its S(k) slab (48 B per cell), the recorded rows */
+    if (split_) { /* this process's brick, its S(k) slab (48 B per cell), the recorded rows; the group's
+                     first process the snapshots and the gather of their fields (48 B per cell) */
       b = srd_bricks_memory_(&o_, comm_.size, 0) + (s_->srd.obs_sk ? 48.0 * (double)cells_ / comm_.size : 0.0);
       for (const gran_mem_part &p : parts)
-        if (std::string(p.what) == "recorded rows") b += p.engine;
+        if (std::string(p.what) == "recorded rows" || (comm_.rank == 0 && std::string(p.what) == "snapshots")) b += p.engine;
+      if (comm_.rank == 0 && !s_->srd.snap_index.empty()) b += 48.0 * (double)cells_;
     }
     *bytes = b < 9e18 ? (int64_t)b : INT64_MAX;
     return GRAN_SUCCESS;
@@ -269,7 +268,16 @@ class SrdEngine : public gran_engine {
     }
     std::vector<double> cnt, vel, tmp;
     const bool snap = rep0_ && std::binary_search(q.snap_index.begin(), q.snap_index.end(), i);
-    if (snap || (q.obs_profile && !pp)) {
+    if (snap && split_) { /* collective: the fields gathered on the group's first process, which keeps them */
+      const bool keep = comm_.rank == 0;
+      if (keep) {
+        cnt.resize((size_t)cells_);
+        vel.resize((size_t)cells_ * 3);
+        tmp.resize((size_t)cells_);
+      }
+      GRAN_CALL(collective(srd_bricks_fields_(bst_, keep ? cnt.data() : nullptr, keep ? vel.data() : nullptr,
+                                              keep ? tmp.data() : nullptr)));
+    } else if (snap || (q.obs_profile && !pp)) {
       cnt.resize((size_t)cells_);
       vel.resize((size_t)cells_ * 3);
       if (snap) tmp.resize((size_t)cells_);
@@ -310,7 +318,7 @@ class SrdEngine : public gran_engine {
       else GRAN_CALL(gran_srd_stress_reset(srd_));
       stress_t0_ = ob.time;
     }
-    if (snap) {
+    if (snap && (!split_ || comm_.rank == 0)) {
       Snap sn;
       sn.index = i;
       sn.count = std::move(cnt);
@@ -547,7 +555,8 @@ class SrdEngine : public gran_engine {
       GRAN_CHECK(ns == want, GRAN_ERR_IO, "checkpoint '%s': field 'snapshots' of '%s' = %lld, the recorded output times "
                  "give %lld", fname, group, (long long)ns, (long long)want);
     }
-    for (int64_t j = 0; j < ns; ++j) {
+    /* a split gas's snapshots are its group's first process's (the others never write them) */
+    for (int64_t j = 0; j < (split_ && comm_.rank != 0 ? 0 : ns); ++j) {
       const std::string nm = "snap" + std::to_string(j);
       GRAN_CHECK(gran_h5::exists(g.id, nm.c_str()), GRAN_ERR_IO, "checkpoint '%s': '%s/%s' missing", fname, group, nm.c_str());
       H5Obj sg(H5Gopen2(g.id, nm.c_str(), H5P_DEFAULT), H5Gclose);

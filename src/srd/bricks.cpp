@@ -1881,6 +1881,38 @@ struct ObsRec {
   uint64_t key;
   double v[3];
 };
+/* the moments of one cell's n > 0 particles, summed in their (key) order: momentum S, kinetic
+ * energy E, mean V = S / n, thermal sum Q = sum |v - V|^2 and the largest |u_k| (the arithmetic of
+ * gran_srd_observe's pass over a cell and of gran_srd_fields') */
+struct CellMoments {
+  double S[3], E, V[3], Q, um;
+};
+inline void cell_moments(const ObsRec *q, int64_t n, CellMoments &m) {
+  double S[3] = {0, 0, 0}, E = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    const double *v = q[i].v;
+    S[0] += v[0];
+    S[1] += v[1];
+    S[2] += v[2];
+    E += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    m.S[k] = S[k];
+    m.V[k] = S[k] / (double)n;
+  }
+  m.E = E;
+  double Q = 0, um = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    const double *v = q[i].v;
+    const double ux = v[0] - m.V[0], uy = v[1] - m.V[1], uz = v[2] - m.V[2];
+    Q += ux * ux + uy * uy + uz * uz;
+    um = std::max({um, std::fabs(ux), std::fabs(uy), std::fabs(uz)});
+  }
+  m.Q = Q;
+  m.um = um;
+}
+constexpr int kFieldWords = 6; /* a cell's record of the fields: box cell, count, V[3], temperature */
+
 /* the unshifted cells of a brick's window: cell c holds rec[start[c] .. start[c + 1]), in key order,
  * and its mean velocity V[3 c ..] (pass 1) */
 struct ObsCells {
@@ -2081,25 +2113,13 @@ int obs_sums(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, 
     if (profile) O.S.assign(O.V.size(), 0.0);
   }
   cells(r1, [&](ObsRed &R, ObsCells &O, int64_t c, const ObsRec *q, int64_t n) {
-    double S[3] = {0, 0, 0}, E = 0;
-    for (int64_t i = 0; i < n; ++i) {
-      const double *v = q[i].v;
-      S[0] += v[0];
-      S[1] += v[1];
-      S[2] += v[2];
-      E += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    }
+    CellMoments m;
+    cell_moments(q, n, m);
+    const double *S = m.S, E = m.E, Q = m.Q, um = m.um;
     double *V = O.V.data() + 3 * c;
-    for (int k = 0; k < 3; ++k) V[k] = S[k] / (double)n;
+    for (int k = 0; k < 3; ++k) V[k] = m.V[k];
     if (!O.S.empty())
       for (int k = 0; k < 3; ++k) O.S[(size_t)(3 * c + k)] = S[k];
-    double Q = 0, um = 0;
-    for (int64_t i = 0; i < n; ++i) {
-      const double *v = q[i].v;
-      const double ux = v[0] - V[0], uy = v[1] - V[1], uz = v[2] - V[2];
-      Q += ux * ux + uy * uy + uz * uz;
-      um = std::max({um, std::fabs(ux), std::fabs(uy), std::fabs(uz)});
-    }
     for (int k = 0; k < 3; ++k) gran_exactsum_add_(&R.a[OQ_P0 + k], S[k]);
     gran_exactsum_add_(&R.a[OQ_E], E);
     gran_exactsum_add_(&R.a[OQ_EK], (double)n * (V[0] * V[0] + V[1] * V[1] + V[2] * V[2]));
@@ -2644,6 +2664,109 @@ int srd_state_from_parts_(const gran_srd_options *opt, const char *const *paths,
     GRAN_CALL(srd_state_check_(paths[0], s.get()));
     *out = s.release();
     return GRAN_SUCCESS;
+  }
+  GRAN_CATCH
+}
+
+/* ---- field snapshots of a split gas ---- */
+namespace {
+/* gran_srd_fields of the gas in bs (comm: one brick per process, the fields gathered on the group's
+ * first process; NULL: every brick here): each box cell's count, mean velocity and temperature
+ * sum |v - V|^2 / (d n) over its particles in key order (0 for an empty cell); any output NULL */
+int fields_of(const Ctx &C, std::vector<Brick> &bs, const srd_bricks_comm *comm, double *count, double *velocity,
+              double *temperature) {
+  std::vector<ObsCells> oc;
+  GRAN_CALL(obs_collect(C, bs, comm, oc));
+  const int d = C.o->dim;
+  const int64_t L0 = C.gm.L[0], L1 = C.gm.L[1], L2 = d == 3 ? C.gm.L[2] : 1, nbox = L0 * L1 * L2;
+  /* each non-empty box cell of this process's windows: its index, count, mean velocity and
+   * temperature (over processes, the records of the message to the group's first process) */
+  std::vector<double> rec;
+  for (size_t b = 0; b < bs.size(); ++b) {
+    const Brick &B = bs[b];
+    const ObsCells &O = oc[b];
+    for (int64_t l = 0; l < B.ncl; ++l) {
+      const int64_t n = O.start[(size_t)l + 1] - O.start[(size_t)l];
+      if (n == 0) continue;
+      int64_t i[3] = {B.lo[0] + l % B.w[0], B.lo[1] + (l / B.w[0]) % B.w[1], B.lo[2] + l / (B.w[0] * B.w[1])};
+      /* the wall axis's extra layer holds a particle only on the upper wall itself: the last layer's */
+      const int w = C.o->wall_axis;
+      if (w >= 0 && i[w] >= C.gm.L[w]) i[w] = C.gm.L[w] - 1;
+      const int64_t i0 = i[0], i1 = i[1], i2 = i[2];
+      CellMoments m;
+      cell_moments(O.rec.data() + O.start[(size_t)l], n, m);
+      const double rw[kFieldWords] = {(double)(i0 + L0 * (i1 + L1 * i2)), (double)n, m.V[0], m.V[1], m.V[2],
+                                     m.Q / ((double)d * (double)n)};
+      rec.insert(rec.end(), rw, rw + kFieldWords);
+    }
+  }
+  std::vector<std::vector<double>> got;
+  if (comm) {
+    std::vector<std::vector<double>> out((size_t)comm->size);
+    got.resize((size_t)comm->size);
+    if (comm->rank != 0) out[0].swap(rec);
+    GRAN_CHECK(comm->round(comm->ctx, out, got) == 0, GRAN_ERR_IO,
+               "decomposed GSRD run: the gather of the cell fields failed on process %d", comm->rank);
+    if (comm->rank != 0) return GRAN_SUCCESS;
+  }
+  if (count) std::memset(count, 0, sizeof(double) * (size_t)nbox);
+  if (velocity) std::memset(velocity, 0, sizeof(double) * 3 * (size_t)nbox);
+  if (temperature) std::memset(temperature, 0, sizeof(double) * (size_t)nbox);
+  got.push_back(std::move(rec));
+  /* the cells written so far and their moments (only a wall's last layer is written twice) */
+  const bool wall = C.o->wall_axis >= 0;
+  std::vector<char> seen(wall ? (size_t)nbox : 0);
+  std::vector<double> seen_n(seen.size()), seen_T(seen.size()), seen_V(3 * seen.size());
+  for (size_t p = 0; p < got.size(); ++p) {
+    const std::vector<double> &g = got[p];
+    GRAN_CHECK(g.size() % kFieldWords == 0, GRAN_ERR_IO, "cell fields: process %zu sent a cut message", p);
+    for (size_t j = 0; j < g.size(); j += kFieldWords) {
+      const double x = g[j];
+      GRAN_CHECK(x >= 0 && x < (double)nbox && x == std::floor(x), GRAN_ERR_IO,
+                 "cell fields: process %zu sent cell %g, outside the box", p, x);
+      const size_t c = (size_t)x;
+      double n = g[j + 1], V[3] = {g[j + 2], g[j + 3], g[j + 4]}, T = g[j + 5];
+      if (wall && seen[c]) { /* a last layer and particles on the upper wall: the two records' moments combined */
+        const double n1 = seen_n[c], n2 = n, nn = n1 + n2;
+        double Q = (seen_T[c] * n1 + T * n2) * (double)d;
+        for (int k = 0; k < 3; ++k) {
+          const double Vk = (n1 * seen_V[3 * c + (size_t)k] + n2 * V[k]) / nn, a = seen_V[3 * c + (size_t)k] - Vk,
+                       b = V[k] - Vk;
+          Q += n1 * a * a + n2 * b * b;
+          V[k] = Vk;
+        }
+        n = nn;
+        T = Q / ((double)d * nn);
+      }
+      if (wall) {
+        seen[c] = 1;
+        seen_n[c] = n;
+        seen_T[c] = T;
+        for (int k = 0; k < 3; ++k) seen_V[3 * c + (size_t)k] = V[k];
+      }
+      if (count) count[c] = n;
+      if (velocity)
+        for (int k = 0; k < 3; ++k) velocity[3 * c + (size_t)k] = V[k];
+      if (temperature) temperature[c] = T;
+    }
+  }
+  return GRAN_SUCCESS;
+}
+}  // namespace
+
+int srd_bricks_fields_(srd_bricks_state *st, double *count, double *velocity, double *temperature) {
+  GRAN_TRY {
+    GRAN_CHECK_PTR(st);
+    return fields_of(st->C, st->bs, st->over_comm ? &st->comm : nullptr, count, velocity, temperature);
+  }
+  GRAN_CATCH
+}
+
+int srd_fields_cells_(gran_srd *s, double *count, double *velocity, double *temperature) {
+  GRAN_TRY {
+    return as_one_brick(s, [&](const Ctx &C, std::vector<Brick> &bs) {
+      return fields_of(C, bs, nullptr, count, velocity, temperature);
+    });
   }
   GRAN_CATCH
 }

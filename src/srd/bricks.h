@@ -153,6 +153,12 @@ int srd_bricks_from_state_(const gran_srd *s, const int pgrid[3], const struct s
  * every part of a set (srd_bricks_load_'s checks, then a checkpoint's on the whole) */
 int srd_state_from_parts_(const gran_srd_options *opt, const char *const *paths, int nparts, int64_t generation,
                           int64_t step, gran_srd **out);
+/* gran_srd_fields of the split gas (collective): each box cell's count, mean velocity and
+ * temperature, every cell's sums over its particles in key order (the same bits for any split,
+ * the decomposable engine's gran_srd_fields in one process included), gathered on the group's
+ * first process (comm->rank 0, or this process without a group), whose outputs (cells, 3 x cells,
+ * cells doubles; any NULL) receive them; the others' outputs are not touched. */
+int srd_bricks_fields_(srd_bricks_state *st, double *count, double *velocity, double *temperature);
 int srd_bricks_stress_reset_(srd_bricks_state *st);
 void srd_bricks_close_(srd_bricks_state **st);
 

@@ -15,10 +15,14 @@ int64_t gran_srd_steps_(const gran_srd *srd) { return srd->step; }
  *  velocity: mean velocity [cell][3] (the third component 0 in 2-D); temperature: thermal
  *  temperature sum |v - V|^2 / (d n) (Eq. 1.36 with 1/(d n), as the engine uses). Empty cells give
  *  0 for all three. Any output may be NULL. Serial, in particle order: the same numbers for any
- *  thread count. A particle on the upper wall (x = L a) counts in the last layer. */
+ *  thread count (the decomposable engine, creation by cells: each cell's particles in key order,
+ *  the same numbers as its gas split over processes). A particle on the upper wall (x = L a)
+ *  counts in the last layer. */
 GRAN_EXTERN int gran_srd_fields(gran_srd *srd, double *count, double *velocity, double *temperature) {
   GRAN_CHECK_PTR(srd);
   if (srd->dev.p) GRAN_CALL(gran_srd_dev_sync(srd, 0)); /* a run on a device: bring the host copy up to date */
+  /* the decomposable engine: as a split gas computes them (each cell's particles in key order) */
+  if (srd->opt.creation == GRAN_SRD_CREATE_CELLS && !srd->dev.p) return srd_fields_cells_(srd, count, velocity, temperature);
   GRAN_TRY {
     const gran_srd *s = srd;
     const int d = s->opt.dim;

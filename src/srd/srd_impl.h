@@ -171,6 +171,10 @@ int srd_obs_finish_(gran_srd_obs *ob, const srd_obs_scalars &q);
  * particles in key order, so the same bits for any split; profile (NULL: none) as
  * srd_bricks_observe_profile_'s. */
 int srd_observe_cells_(gran_srd *s, gran_srd_obs *ob, double *profile);
+/* gran_srd_fields of the decomposable engine (bricks.cpp), as a split gas computes them
+ * (srd_bricks_fields_): each cell's sums over its particles in key order, the same bits for any
+ * split; any output NULL */
+int srd_fields_cells_(gran_srd *s, double *count, double *velocity, double *temperature);
 
 /* GRAN_SRD_PHASES=1 in the environment (read once): the step loops time their phases and print them
  * to stderr; srd_clock_s is their clock (seconds, monotonic). */
