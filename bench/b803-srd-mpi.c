@@ -12,7 +12,8 @@
  * ratio measures the other work). Also printed: the CPU seconds of all processes per
  * particle-step (an MPI process that waits spins, so it includes the waits), and the time of one
  * S(k) of the final state (`--sk 32`) in each, and of one observation (gran_srd_observe's values of
- * the split gas: the unshifted cells gathered, exact sums), against the time of one step.
+ * the split gas: the unshifted cells gathered, exact sums), against the time of one step; and the
+ * time of one checkpoint of `granary run` (one process's file against a split gas's set of parts).
  *
  * Model (per step of a process holding a 64^3 brick in a 3-D split of P processes, 26 neighbours):
  * t = t_comp + t_comm, t_comp = n_rank / r2 (r2 the measured rate per process at P = 2),
@@ -108,6 +109,33 @@ static void run_halves(const char *cli, const char *half, int steps, double rate
     report_of(p[k], cmd[k], js, sizeof js);
     rate[k] = jget(js, "rank0_particle_steps_per_second");
   }
+}
+
+static double wall_now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+/* the wall seconds of `granary run` of the checkpoint scene on P processes, with (ckpt = 1) or
+ * without a checkpoint at its output times (exits on failure) */
+static double run_scene(const char *cli, const char *scene, int P, int ckpt) {
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "%s mpirun --oversubscribe -n %d %s run %s -o /tmp/granary-b803-ck.h5 %s --force -q --no-log "
+           ">/dev/null 2>&1", kEnv, P, cli, scene, ckpt ? "--checkpoint /tmp/granary-b803-ck.ckpt --set output.keep_checkpoint=true" : "--no-checkpoint");
+  const double t0 = wall_now();
+  if (system(cmd) != 0) {
+    fprintf(stderr, "b803: '%s' failed\n", cmd);
+    exit(1);
+  }
+  return wall_now() - t0;
+}
+/* the bytes of the checkpoint and its parts */
+static double ckpt_bytes(void) {
+  FILE *p = popen("cat /tmp/granary-b803-ck.ckpt* 2>/dev/null | wc -c", "r");
+  double b = NAN;
+  if (p && fscanf(p, "%lf", &b) != 1) b = NAN;
+  if (p) pclose(p);
+  return b;
 }
 
 static int cmp(const void *a, const void *b) {
@@ -214,6 +242,41 @@ int main(void) {
       printf(" P = %d: efficiency %.3f (communication %.3g ms)%s", P, t_comp / (t_comp + t_comm), 1e3 * t_comm,
              j < 2 ? ";" : "\n");
     }
+  }
+  /* the checkpoint: one process's file against the set of a gas split over 2 (a part per process,
+   * committed by rank 0's checkpoint); two checkpoints in a run of 20 steps, the run without them
+   * alongside, interleaved */
+  {
+    const char *cs = "/tmp/granary-b803-ck.toml";
+    f = fopen(cs, "w");
+    if (!f) return 1;
+    fprintf(f,
+            "[engine]\ntype = \"srd\"\ndimension = 3\ncells = [%d, %d, %d]\nn0 = 10\ndt = 0.1\nT0 = 1\nalpha = 130\n"
+            "sort_every = 50\nsteps = 20\nseed = 1\nthreads = 1\ncreation = \"cells\"\ndecomposition = \"auto\"\n"
+            "[observables]\nevery = 10\n[output]\ncheckpoint_every = 1\n",
+            L, L, L);
+    fclose(f);
+    double w[2][2][8], bytes[2] = {0, 0};
+    for (int k = 0; k < rounds; ++k)
+      for (int P = 1; P <= 2; ++P) {
+        w[P - 1][1][k] = run_scene(cli, cs, P, 1);
+        bytes[P - 1] = ckpt_bytes();
+        system("rm -f /tmp/granary-b803-ck.ckpt*");
+        w[P - 1][0][k] = run_scene(cli, cs, P, 0);
+      }
+    double per[2];
+    for (int P = 0; P < 2; ++P) {
+      double d[8];
+      for (int k = 0; k < rounds; ++k) d[k] = (w[P][1][k] - w[P][0][k]) / 2.0;
+      per[P] = median(d, rounds);
+    }
+    const double step1 = a.particles / m1, step2 = 0.5 * b.particles / m2;
+    printf("  one checkpoint (two in a run of 20 steps, against the run without them): P = 1 %.3g s (%.2f steps; "
+           "%.4g MB, one file), P = 2 %.3g s (%.2f steps; %.4g MB: the checkpoint and a part per process, each "
+           "written by its process)\n",
+           per[0], per[0] / step1, bytes[0] / 1e6, per[1], per[1] / step2, bytes[1] / 1e6);
+    remove(cs);
+    remove("/tmp/granary-b803-ck.h5");
   }
   remove(scene);
   remove(half);
