@@ -46,7 +46,7 @@ static double jget(const char *js, const char *key) {
 }
 
 typedef struct {
-  double secs, rate, bytes, cpu, particles, far, sk, obs;
+  double secs, rate, bytes, cpu, particles, far, sk, obs, open;
 } run_t;
 
 enum { kSkBins = 32 }; /* S(k) of the final state, in as many shells */
@@ -92,6 +92,7 @@ static run_t run(const char *cli, const char *scene, int P, int steps) {
   r.far = P > 1 ? jget(js, "messages_beyond_neighbours") : 0;
   r.sk = jget(js, "sk_seconds");
   r.obs = jget(js, "observe_seconds");
+  r.open = jget(js, "open_seconds");
   return r;
 }
 
@@ -172,7 +173,7 @@ int main(void) {
   fclose(f);
   double load[3] = {0, 0, 0};
   if (getloadavg(load, 3) < 1) load[0] = NAN;
-  double r1[8], r2[8], ratio[8], c1[8], c2[8], rh[8], ratio_h[8], sk1[8], sk2[8], ob1[8], ob2[8];
+  double r1[8], r2[8], ratio[8], c1[8], c2[8], rh[8], ratio_h[8], sk1[8], sk2[8], ob1[8], ob2[8], op1[8], op2[8];
   run_t a = {0}, b = {0};
   for (int k = 0; k < rounds; ++k) {
     a = run(cli, scene, 1, steps);
@@ -184,6 +185,8 @@ int main(void) {
     sk2[k] = b.sk;
     ob1[k] = a.obs;
     ob2[k] = b.obs;
+    op1[k] = a.open;
+    op2[k] = b.open;
     c1[k] = 1e9 * a.cpu / (a.particles * steps);
     c2[k] = 1e9 * b.cpu / (b.particles * steps);
     double h[2];
@@ -219,6 +222,10 @@ int main(void) {
     printf("  one observation (gran_srd_observe's values: the particles of the unshifted cells gathered on their process, "
            "exact sums): P = 1 %.3g s (%.2f steps), P = 2 %.3g s (%.2f steps)\n",
            o1, o1 / step1, o2, o2 / step2);
+    const double q1 = median(op1, rounds), q2 = median(op2, rounds);
+    printf("  creation (each process its bricks' particles by cells and its cells' streams): P = 1 %.3g s (%.2f steps), "
+           "P = 2 %.3g s per process (%.2f steps)\n",
+           q1, q1 / step1, q2, q2 / step2);
   }
   const double faces = 2.0; /* 2 x 1 x 1 periodic: each brick has two faces */
   const double face_bytes = b.bytes / faces, face_cells = (double)L * L;

@@ -320,6 +320,7 @@ int cli_decompose(int argc, char **argv) {
   Sk sk_end(sk_bins);
   double sk_seconds = 0;  /* the slowest S(k) of process 0 */
   double obs_seconds = 0; /* the slowest observation of process 0 */
+  double open_seconds = 0; /* process 0's creation of its bricks */
   {
     srd_bricks_state *st = nullptr;
     auto structure = [&](Sk &q) -> int {
@@ -345,7 +346,9 @@ int cli_decompose(int argc, char **argv) {
       }
       return e;
     };
+    const double t_open = cli_clock_s();
     int e = srd_bricks_open_(&opt, pg, cli_mpi_bricks_comm(), &st);
+    open_seconds = cli_clock_s() - t_open;
     if (!e && every > 0) e = row();
     /* the steps in chunks of about 5e7 particle-steps of a process (1-2 s; the same chunks on every
      * process, as every step call is collective; the state does not depend on them), a progress
@@ -523,6 +526,7 @@ int cli_decompose(int argc, char **argv) {
     key("observables");
     observables(ob_end);
     num("observe_seconds", obs_seconds);
+    num("open_seconds", open_seconds);
     if (sk_bins > 0) {
       key("sk");
       o += "{\"k\": ";

@@ -1090,10 +1090,9 @@ int bricks_create(const Ctx &C, std::vector<Brick> &bs, Transport &T, double *e_
     GRAN_CALL(gran_rng_stream(o->seed, 0, &B.shift_rng));
     B.cell.resize((size_t)B.ncl);
     B.rng.resize((size_t)B.ncl);
-    for (int64_t l = 0; l < B.ncl; ++l) {
-      std::memset((void *)&B.cell[(size_t)l], 0, sizeof(srd_cpu_cell));
-      GRAN_CALL(gran_rng_stream(o->seed, (uint64_t)global_of(C, B, l) + 1, &B.rng[(size_t)l]));
-    }
+    for (int64_t l = 0; l < B.ncl; ++l) std::memset((void *)&B.cell[(size_t)l], 0, sizeof(srd_cpu_cell));
+    for (int64_t l = 0; l < B.ncl; l += B.w[0]) /* a row of the window: consecutive streams */
+      GRAN_CALL(srd_streams_(o->seed, (uint64_t)global_of(C, B, l) + 1, B.w[0], B.rng.data() + l));
     int64_t lo[3], hi[3]; /* the window's box cells (a wall axis has L + 1 layers, the box L) */
     for (int a = 0; a < 3; ++a) {
       lo[a] = std::min(B.lo[a], gm.L[a]);

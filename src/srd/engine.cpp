@@ -120,9 +120,24 @@ inline void fast_jump(const JumpTab *jt, gran_rng *r) {
   std::memcpy(r->s, o, sizeof o);
 }
 
+}  // namespace
+
+int srd_streams_(uint64_t seed, uint64_t first, int64_t n, gran_rng *out) {
+  if (n <= 0) return GRAN_SUCCESS;
+  gran_rng r;
+  GRAN_CALL(gran_rng_stream(seed, first, &r));
+  const JumpTab *jt = jump_tab();
+  for (int64_t c = 0; c < n; ++c) {
+    out[c] = r;
+    if (c + 1 < n) fast_jump(jt, &r);
+  }
+  return GRAN_SUCCESS;
+}
+
+namespace {
+
 /* Streams 1..ncell for the cells: consecutive jumps in parallel blocks. */
 int setup_streams(gran_srd *s) {
-  const JumpTab *jt = jump_tab();
   const int64_t nc = s->ncell;
   /* the states do not depend on the blocking (each is stream c + 1 exactly); gran_rng_stream costs
    * O(log id) polynomial products, so few blocks: 4 per thread */
@@ -131,15 +146,10 @@ int setup_streams(gran_srd *s) {
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads_of(s))
   for (int64_t b = 0; b < nb; ++b) {
     const int64_t lo = nc * b / nb, hi = nc * (b + 1) / nb;
-    gran_rng r;
-    if (gran_rng_stream(s->opt.seed, (uint64_t)lo + 1, &r) != GRAN_SUCCESS) {
+    if (srd_streams_(s->opt.seed, (uint64_t)lo + 1, hi - lo, s->rng.data() + lo) != GRAN_SUCCESS) {
 #pragma omp atomic write
       err = GRAN_ERR_INTERNAL;
       continue;
-    }
-    for (int64_t c = lo; c < hi; ++c) {
-      s->rng[c] = r;
-      if (c + 1 < hi) fast_jump(jt, &r);
     }
     /* self-check: the block's last state is stream hi of the seed (catches a wrong table) */
     gran_rng chk;

@@ -202,6 +202,9 @@ int srd_check_finite(const gran_srd *s, const char *when);
  * reads a state into them. */
 int srd_check_options_(const gran_srd_options *o);
 int srd_alloc_state_(gran_srd *s);
+/* out[0 .. n) = streams first .. first + n - 1 of seed (gran_rng_stream's states): one stream
+ * computed, the others by consecutive jumps through a byte table (engine.cpp) */
+int srd_streams_(uint64_t seed, uint64_t first, int64_t n, gran_rng *out);
 /* the geometry (gm, n, ncell, ncell_box) of a state from its checked options, without its arrays:
  * a decomposed run's process holds only its brick */
 int srd_alloc_geometry_(gran_srd *s);
