@@ -12,8 +12,9 @@
 # run checkpoints on its own split (3 parts, the 2 of the set it resumed gone) and resumes again
 # on 2. A one-process checkpoint resumes split on 3. Replicas of split gases (2 on 4 processes)
 # resume on 4, 2 and 1. Refused, each named once: a missing part, a part of another checkpoint, a
-# part with a byte changed, parts swapped between processes. A process killed while the run
-# checkpoints: the last committed set resumes.
+# part with a byte changed, parts swapped between processes. Parts of other generations left by an
+# earlier run go after the first commit. A process killed while the run checkpoints: the last
+# committed set resumes.
 # Skips (exit 0, saying so) only when MPI is not installed (no mpirun or no build/granary-mpi).
 set -eu
 name=t616
@@ -71,6 +72,14 @@ got=$(parts "$r" | tr '\n' ' ')
 [ "$got" = "c.ckpt.part-g3-r0-b0 c.ckpt.part-g3-r0-b1 c.ckpt.part-g3-r0-b2 " ] || { echo "FAIL: the set after a resume on 3 is '$got' (want generation 3's three parts)"; fail=1; }
 run 2 --resume "$r/c.ckpt" -o "$r/out.h5" > /dev/null 2> "$tmp/err" || { echo "FAIL: resume on 2 of the set of 3: $(cat "$tmp/err")"; fail=1; }
 same "$tmp/periodic3-ref.h5" "$r/out.h5" "periodic3 resumed on 3, stopped, resumed on 2"
+
+# parts of another generation left beside the checkpoint path by an earlier run go after this run's
+# first commit (theirs and their .tmp; another replica's stay)
+r="$tmp/stale"; mkdir -p "$r"
+for x in c.ckpt.part-g7-r0-b0 c.ckpt.part-g7-r0-b1.tmp c.ckpt.part-g1-r0-b2 c.ckpt.part-g7-r1-b0; do echo old > "$r/$x"; done
+run 2 "$f" -o "$r/out.h5" --checkpoint "$r/c.ckpt" --stop-after-checkpoints 1 > /dev/null 2> "$tmp/err" || { echo "FAIL: a run beside stale parts: $(cat "$tmp/err")"; fail=1; }
+got=$(parts "$r" | tr '\n' ' ')
+[ "$got" = "c.ckpt.part-g1-r0-b0 c.ckpt.part-g1-r0-b1 c.ckpt.part-g7-r1-b0 " ] || { echo "FAIL: beside stale parts the run left '$got'"; fail=1; }
 
 # a one-process checkpoint resumes split
 r="$tmp/plain"; mkdir -p "$r"

@@ -16,6 +16,8 @@
  * snapshots to the same group. */
 #include <hdf5.h>
 
+#include <dirent.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -628,8 +630,48 @@ class SrdEngine : public gran_engine {
     for (const std::string &q : prev_parts_)
       if (q != cur_part_) std::remove(q.c_str());
     prev_parts_.clear();
-    if (!cur_part_.empty()) prev_parts_.push_back(cur_part_);
+    if (!cur_part_.empty()) {
+      prev_parts_.push_back(cur_part_);
+      if (split_ && comm_.rank == 0 && !stale_swept_) sweep_stale(cur_part_);
+    }
     cur_part_.clear();
+  }
+  /* once per run, after its first commit: the parts of this replica beside the checkpoint that the
+   * committed set does not hold (another generation, or a brick beyond this split: left by an
+   * earlier run of the same checkpoint path that did not finish, or by a crash before a commit; no
+   * checkpoint names them now) go, and so do .tmp files of parts. `part` is this process's
+   * committed part: CKPT.part-gG-rK-bB. */
+  bool stale_swept_ = false;
+  void sweep_stale(const std::string &part) {
+    stale_swept_ = true;
+    const size_t g = part.rfind(".part-g"), slash = part.rfind('/');
+    if (g == std::string::npos) return;
+    const std::string dir = slash == std::string::npos ? "." : part.substr(0, slash);
+    const std::string base = part.substr(slash == std::string::npos ? 0 : slash + 1, g + 7 - (slash == std::string::npos ? 0 : slash + 1));
+    const std::string tail = part.substr(part.find("-r", g)); /* -rK-bB */
+    const std::string rk = tail.substr(0, tail.find("-b") + 2); /* -rK-b */
+    const std::string mine = part.substr(g + 7, part.find("-r", g) - g - 7); /* G */
+    DIR *d = opendir(dir.c_str());
+    if (!d) return;
+    std::vector<std::string> gone;
+    while (struct dirent *e = readdir(d)) {
+      const std::string nm = e->d_name;
+      if (nm.compare(0, base.size(), base) != 0) continue;
+      const size_t r = nm.find("-r", base.size());
+      if (r == std::string::npos) continue;
+      const std::string gen = nm.substr(base.size(), r - base.size());
+      if (gen.empty() || gen.find_first_not_of("0123456789") != std::string::npos) continue;
+      if (nm.compare(r, rk.size(), rk) != 0) continue; /* another replica's */
+      std::string b = nm.substr(r + rk.size());
+      const bool tmp = b.size() > 4 && b.compare(b.size() - 4, 4, ".tmp") == 0;
+      if (tmp) b.resize(b.size() - 4);
+      if (b.empty() || b.size() > 9 || b.find_first_not_of("0123456789") != std::string::npos) continue;
+      /* the committed set: generation G, bricks 0 .. P - 1 */
+      if (gen == mine && std::atoi(b.c_str()) < comm_.size && !tmp) continue;
+      gone.push_back(dir + "/" + nm);
+    }
+    closedir(d);
+    for (const std::string &q : gone) std::remove(q.c_str());
   }
   void checkpoint_remove() override {
     for (const std::string &q : prev_parts_) std::remove(q.c_str());
