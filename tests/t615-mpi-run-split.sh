@@ -103,19 +103,6 @@ if not (len(v) == 6 and v[-1] < 0.5 * v[0]):
     sys.exit(1)
 PYEOF
 
-# expect CODE TEXT -- CMD...: CMD exits CODE and says TEXT exactly once on stderr
-expect() {
-  code=$1; text=$2; shift 3
-  set +e
-  "$@" > "$tmp/x.out" 2> "$tmp/x.err"
-  rc=$?
-  set -e
-  n=$(grep -cF -- "$text" "$tmp/x.err" || true)
-  if [ "$rc" != "$code" ] || [ "$n" != 1 ]; then
-    echo "FAIL: '$*': exit $rc (want $code), '$text' said $n times (want once): $(cat "$tmp/x.err")"
-    fail=1
-  fi
-}
 p3="$tmp/periodic3.toml"
 expect 1 "'engine.decomposition' = [2, 1, 1] has 2 bricks, and this run has 1 process" -- \
   "$cli" run "$p3" --set 'engine.decomposition=[2, 1, 1]' -o "$tmp/x.h5" --no-checkpoint --no-log -q

@@ -101,19 +101,6 @@ for n in 4 2 1; do
   same "$tmp/rep-ref.h5" "$r/out.h5" "2 replicas resumed on $n process(es)"
 done
 
-# expect CODE TEXT -- CMD...: CMD exits CODE and says TEXT exactly once on stderr
-expect() {
-  code=$1; text=$2; shift 3
-  set +e
-  "$@" > "$tmp/x.out" 2> "$tmp/x.err"
-  rc=$?
-  set -e
-  n=$(grep -cF -- "$text" "$tmp/x.err" || true)
-  if [ "$rc" != "$code" ] || [ "$n" != 1 ]; then
-    echo "FAIL: '$*': exit $rc (want $code), '$text' said $n times (want once): $(cat "$tmp/x.err")"
-    fail=1
-  fi
-}
 d="$tmp/periodic3-set"
 # a part missing
 r="$tmp/bad1"; set_from "$d" "$r"; rm "$r/c.ckpt.part-g2-r0-b1"

@@ -2457,6 +2457,13 @@ int load_parts(srd_bricks_state *st, const char *const *paths, int nparts, int64
       }
       B.key.push_back(p.key[i]);
     }
+    /* what this process keeps never exceeds the gas (parts that hold more are refused here, before
+     * the next part is read) */
+    int64_t kept = 0;
+    for (const Brick &B : st->bs) kept += (int64_t)B.x.size();
+    GRAN_CHECK(kept <= st->shell->n, GRAN_ERR_IO,
+               "checkpoint part '%s': with it the parts hold %lld particles for this process's bricks, more than the "
+               "gas's %lld", path, (long long)kept, (long long)st->shell->n);
   }
   GRAN_CHECK(nparts >= 1, GRAN_ERR_ARG, "argument 'nparts' must be >= 1 (got %d)", nparts);
   GRAN_CHECK(own || nparts == set_nb, GRAN_ERR_IO,
