@@ -17,6 +17,9 @@
  *  - a2 of a cold gas (T0 = 1e-300, where c^4 underflows): the same as of the gas at T0 = 1 with
  *    the same seed (the velocities scaled by 1e-150) to 1e-12, plain and aggregating; a gas without
  *    thermal motion (one particle) gets GRAN_ERR_NUMERIC naming a2, not NaN;
+ *  - a tracer freezing in a bath at rest (T0 = 0): its stale speed bound is tightened once the
+ *    acceptance has fallen low, so 200 collisions take under 1e6 trials (before: 4e8); the bath
+ *    stays at T = 0, the tracer cools;
  *  - the volume from the counts over a subnormal density (4.9e-324: inf) is refused naming 'density'. */
 #include "io_test_util.h"
 #include "dsmc_util.h"
@@ -325,6 +328,39 @@ static void test_cold_a2(void **state) {
   GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
 }
 
+/* ---- a tracer freezing in a bath at rest ------------------------------------------------------ */
+/* The fuzzer's slow input: one tracer (density 0) at T0 = 1 among 42 bath particles at T0 = 0,
+ * eps = 0.9. Each collision takes a large share of the tracer's speed; its species' bound, tightened
+ * every N collisions, stayed far above it, and 200 collisions took 4e8 trials (17 s). Tightened as
+ * soon as the acceptance has fallen below 1/64 over 64 N trials, 200 collisions take under 1e6
+ * trials (4.1e4 measured). Physics: the bath is not moved by a tracer (its temperature stays 0
+ * exactly), the tracer's temperature falls, the clock stays finite. */
+static void test_frozen_bath_tracer(void **state) {
+  (void)state;
+  const double m[2] = {1, 2}, sg[2] = {1, 1.25992}, n[2] = {0, 0.025};
+  gran_mixture *mix = NULL;
+  GRAN_ASSERT_OK(gran_mixture_create(2, m, sg, n, &mix));
+  GRAN_ASSERT_OK(gran_mixture_set_restitution(mix, 0.9));
+  const int64_t counts[2] = {1, 42};
+  const double T0[2] = {1, 0};
+  for (int obs = 0; obs < 2; ++obs) {
+    gran_dsmc_options o = dsmc_opts(GRAN_SELECTOR_LOWRANK, 3, 1000, obs);
+    gran_dsmc *d = NULL;
+    GRAN_ASSERT_OK(gran_dsmc_create(mix, counts, T0, &o, &d));
+    GRAN_ASSERT_OK(gran_dsmc_advance_collisions(d, 200));
+    gran_dsmc_stats st;
+    GRAN_ASSERT_OK(gran_dsmc_get_stats(d, &st));
+    assert_int_equal(st.collisions, 200);
+    if (!(st.trials < 1000000)) fail_msg("observe %d: 200 collisions took %lld trials", obs, (long long)st.trials);
+    double T[2];
+    GRAN_ASSERT_OK(gran_dsmc_temperatures(d, T));
+    if (!(T[1] == 0 && T[0] >= 0 && T[0] < 1e-3)) fail_msg("observe %d: T tracer %g, bath %g", obs, T[0], T[1]);
+    assert_true(isfinite(st.time) && st.time > 0);
+    GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  }
+  GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
+}
+
 /* ---- the volume from counts and densities ---------------------------------------------------- */
 static void test_volume(void **state) {
   (void)state;
@@ -359,6 +395,7 @@ int main(void) {
       cmocka_unit_test(test_bird_acceptance),
       cmocka_unit_test(test_cell_streaming),
       cmocka_unit_test(test_cold_a2),
+      cmocka_unit_test(test_frozen_bath_tracer),
       cmocka_unit_test(test_volume),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -310,6 +310,31 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
   auto set_thr = [&]() { pthr = std::exp(tlog - (t_stop - t_ref) * s->rate); };
   set_thr();
 
+  /* The bounds tightened to the exact maxima at time tn (dsmc_refresh_bounds, which also removes the
+   * mean flow and books its energy in e_diss: the loop's running sums go there first and come back) */
+  auto tighten = [&](double tn) {
+    s->collisions = coll;
+    s->trials = trials;
+    s->e_diss = ed;
+    s->e_diss_c = edc;
+    if (kDisp) s->t = tn;
+    dsmc_refresh_bounds(s);
+    ed = s->e_diss;
+    edc = s->e_diss_c;
+  };
+  /* Stale bounds: a species whose speeds fall fast between tightenings (a tracer freezing in a bath
+   * at rest loses a large share of its speed at each collision) keeps a bound far above them until
+   * the next tightening, refresh_interval collisions later, and the acceptance falls towards 0 in
+   * between. So the bounds are also tightened between two trials once at least 64 max(N, 64)
+   * trials since the last tightening have accepted fewer than 1 in 64: at most one tightening (O(N))
+   * per 64 N trials where the acceptance is that low anyway, none in a gas whose bounds are good.
+   * Counted in trials and collisions only: the same sequence after a resume. */
+  const int64_t stale_trials = 64 * std::max<int64_t>(s->N, 64);
+  auto stale = [&]() {
+    const int64_t dt = trials - s->trials_at_refresh;
+    return dt >= stale_trials && dt > 64 * (coll - s->coll_at_refresh + 1);
+  };
+
   /* Collide the accepted pair c at time t (Eq. 41); e: the direction drawn before the acceptance
    * (paper rule), unused otherwise. Updates displacements, ledger, counters, bounds. */
   auto collide = [&](const DsmcCand &c, double t, const double *e) __attribute__((always_inline)) {
@@ -418,10 +443,7 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
       }
     }
     if (coll >= s->next_refresh) {
-      s->collisions = coll;
-      s->trials = trials;
-      if (kDisp) s->t = t; /* the displacements are corrected to the time of this collision */
-      dsmc_refresh_bounds(s);
+      tighten(t); /* the displacements are corrected to the time of this collision */
       changed = true;
       flush = true;
     }
@@ -458,7 +480,20 @@ void dsmc_loop(gran_dsmc *s, double t_stop, int64_t coll_stop) {
    * found without an acceptance; the rejected trials beyond it simply count in the next interval
    * (the sequence of trials does not depend on where the run is cut). */
   while (!stop) {
-    if ((trials & 63) == 0 && (kDisp ? now() > t_stop : tprod < pthr)) break;
+    if ((trials & 63) == 0) {
+      if (kDisp ? now() > t_stop : tprod < pthr) break;
+      if (stale()) { /* between two trials: the trial times restart here (the Poisson clock has no memory) */
+        const double tn = now();
+        tighten(tn);
+        t_ref = tn;
+        tprod = 1.0;
+        tlog = 0.0;
+        inv_rate = s->inv_rate;
+        set_thr();
+        count = 0;
+        if (std::isinf(inv_rate)) break; /* all bounds 0: no collision can ever happen */
+      }
+    }
     ++trials;
     if (count == 0) {
       for (int q = 0; q < K; q++) {
