@@ -13,7 +13,10 @@
  *  - the cell selector: a speed that streams more than 1e6 box lengths per step (mass 1e-150) is
  *    refused naming 'dt' before any position is converted to a cell index; heat_rate = DBL_MAX (heat_rate
  *    dt > 1e280) is refused naming it, and heat_rate = 1e270 heats the gas with finite temperatures
- *    (gran_dsmc_temperatures refuses a non-finite one with GRAN_ERR_NUMERIC);
+ *    (gran_dsmc_temperatures refuses a non-finite one with GRAN_ERR_NUMERIC); beside a molecular-gas
+ *    bath, heat_rate = 2.3e18 stops the run with GRAN_ERR_NUMERIC naming it at the first step whose
+ *    bath collisions would exceed 1e3 per particle (instead of steps that do not end), and
+ *    heat_rate = 1 runs 50 steps;
  *  - a2 of a cold gas (T0 = 1e-300, where c^4 underflows): the same as of the gas at T0 = 1 with
  *    the same seed (the velocities scaled by 1e-150) to 1e-12, plain and aggregating; a gas without
  *    thermal motion (one particle) gets GRAN_ERR_NUMERIC naming a2, not NaN;
@@ -280,6 +283,24 @@ static void test_cell_streaming(void **state) {
     if (st == GRAN_SUCCESS) assert_true(isfinite(T[0]) && T[0] > 0);
   }
   if (st != GRAN_SUCCESS) assert_true(st == GRAN_ERR_NUMERIC || st == GRAN_ERR_DOMAIN);
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  /* the same heating beside a molecular-gas bath: the speeds it raises would give the bath ~1e10
+   * collisions per particle and step (a fuzzer's input ran 42 s on 3 steps); the run stops at the
+   * first such step, naming heat_rate. A heat rate the bath balances runs on. */
+  c.heat_rate = 2.3e18;
+  c.bath_density = 1;
+  c.bath_sigma = 1;
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, &count, &T0, &o, &c, &d));
+  st = GRAN_SUCCESS;
+  t = 0;
+  for (int r = 0; r < 5 && st == GRAN_SUCCESS; r++) st = gran_dsmc_advance(d, t += c.dt);
+  expect_refused(st, GRAN_ERR_NUMERIC, "'heat_rate'");
+  GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
+  c.heat_rate = 1.0;
+  GRAN_ASSERT_OK(gran_dsmc_create_cell(mix, &count, &T0, &o, &c, &d));
+  for (int r = 1; r <= 50; r++) GRAN_ASSERT_OK(gran_dsmc_advance(d, r * c.dt));
+  GRAN_ASSERT_OK(gran_dsmc_temperatures(d, T));
+  assert_true(isfinite(T[0]) && T[0] > 0);
   GRAN_ASSERT_OK(gran_dsmc_destroy(&d));
   GRAN_ASSERT_OK(gran_mixture_destroy(&mix));
 }

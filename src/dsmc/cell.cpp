@@ -306,7 +306,10 @@ int dsmc_cell_init(gran_dsmc *s, const gran_dsmc_cell_options *o) {
  * bath takes it), is at most kBathMaxPerStep: more is a run whose steps do not end (or whose rate
  * overflows). */
 constexpr double kBathMaxPerStep = 1e3;
-int dsmc_cell_check_bath(const gran_dsmc *s) {
+/* running: at a step of the run (time t), after the white-noise thermostat: the speeds it raised
+ * can make the bath's collisions grow without end, which the run reports (GRAN_ERR_NUMERIC) before
+ * the step that would not end */
+static int bath_check(const gran_dsmc *s, bool running, double t) {
   const DsmcCell *c = s->cell;
   if (!(c->o.bath_density > 0)) return GRAN_SUCCESS;
   double smax = 0, mmin = INFINITY;
@@ -325,12 +328,19 @@ int dsmc_cell_check_bath(const gran_dsmc *s) {
   const double vs = std::sqrt(c->vmax2) + 4.0 * std::sqrt(Tb / mmin);
   const double sg = 0.5 * (smax + c->o.bath_sigma);
   const double per_step = nb * kPi * sg * sg * (vs + wmean) * c->o.dt;
+  if (running)
+    GRAN_CHECK(std::isfinite(per_step) && per_step <= kBathMaxPerStep, GRAN_ERR_NUMERIC,
+               "cell DSMC at t = %g: the largest speed %g (the white-noise thermostat's 'heat_rate' = %g raised it) "
+               "gives %g expected bath collisions per particle and step (at most %g): the step would not end; lower "
+               "'heat_rate', the bath density or dt",
+               t, std::sqrt(c->vmax2), c->o.heat_rate, per_step, kBathMaxPerStep);
   GRAN_CHECK(std::isfinite(per_step) && per_step <= kBathMaxPerStep, GRAN_ERR_ARG,
              "cell options 'bath_density' = %g, 'bath_T' = %g, 'bath_mass' = %g, 'bath_sigma' = %g with 'dt' = %g give "
              "%g expected bath collisions per particle and step (at most %g: lower the bath density or dt)",
              nb, Tb, mb, c->o.bath_sigma, c->o.dt, per_step, kBathMaxPerStep);
   return GRAN_SUCCESS;
 }
+int dsmc_cell_check_bath(const gran_dsmc *s) { return bath_check(s, false, 0.0); }
 
 void dsmc_cell_free(gran_dsmc *s) {
   delete s->cell;
@@ -813,7 +823,10 @@ int cell_step(gran_dsmc *s) {
     for (int64_t k = 0; k < M; k++) s->bound[(size_t)k] = std::sqrt(b2[k]);
   }
   if (c->o.heat_rate > 0) cell_heat<kDisp>(s, t);
-  if (c->o.bath_density > 0) cell_bath<kDisp>(s, t);
+  if (c->o.bath_density > 0) {
+    GRAN_CALL(bath_check(s, true, t));
+    cell_bath<kDisp>(s, t);
+  }
   return GRAN_SUCCESS;
 }
 
