@@ -723,6 +723,16 @@ int cli_run(int argc, char **argv) {
     }
   } log_closer{lg};
 
+  /* a split gas's processes wait for each other at every step: a stopped one is found by default;
+   * replicas of a split gas: each on its own group of P / R processes (false: said why) */
+  auto split_groups = [&](int64_t replicas) -> bool {
+    if (cli_mpi_size() == 1) return true;
+    if (!timeout_given) cli_mpi_set_timeout(600.0);
+    if (cli_mpi_bricks_groups((int)std::max<int64_t>(1, std::min<int64_t>(replicas, INT32_MAX))) == 0) return true;
+    std::fprintf(stderr, "granary run: MPI: cannot split the processes into the replicas' groups\n");
+    return false;
+  };
+
   std::string out_path;
   int st;
   if (resume) {
@@ -742,7 +752,7 @@ int cli_run(int argc, char **argv) {
       /* a split gas: its replicas' process groups, as for a run of the scene */
       gran_scene *sc = nullptr;
       if (!text.empty() && gran_scene_parse_text_(text, name, &sc) == GRAN_SUCCESS && sc->split_gas)
-        split_info = std::to_string(std::max<int64_t>(1, std::min<int64_t>(nrep, INT32_MAX)));
+        split_info = std::to_string(nrep);
       gran_scene_destroy(&sc);
       gran_clear_error();
     }
@@ -750,13 +760,7 @@ int cli_run(int argc, char **argv) {
       std::fprintf(stderr, "granary run: MPI: the broadcast of the checkpoint's split failed\n");
       return 1;
     }
-    if (!split_info.empty() && cli_mpi_size() > 1) {
-      if (!timeout_given) cli_mpi_set_timeout(600.0);
-      if (cli_mpi_bricks_groups(std::atoi(split_info.c_str()))) {
-        std::fprintf(stderr, "granary run: MPI: cannot split the processes into the replicas' groups\n");
-        return 1;
-      }
-    }
+    if (!split_info.empty() && !split_groups(std::atoll(split_info.c_str()))) return 1;
     const bool exists = root && !force && !out_path.empty() && file_exists(out_path);
     if (exists)
       std::fprintf(stderr, "granary run: output '%s' exists; give --force to overwrite it, or -o another file\n",
@@ -792,13 +796,9 @@ int cli_run(int argc, char **argv) {
     }
     /* a split gas's processes wait for each other at every step: a stopped one is found by default;
      * replicas of a split gas: each on its own group of P / R processes */
-    if (scene->split_gas && cli_mpi_size() > 1) {
-      if (!timeout_given) cli_mpi_set_timeout(600.0);
-      if (cli_mpi_bricks_groups((int)std::min<int64_t>(scene->replicas, INT32_MAX))) {
-        gran_scene_destroy(&scene);
-        std::fprintf(stderr, "granary run: MPI: cannot split the processes into the replicas' groups\n");
-        return 1;
-      }
+    if (scene->split_gas && !split_groups(scene->replicas)) {
+      gran_scene_destroy(&scene);
+      return 1;
     }
     const char *p = nullptr;
     gran_scene_output_path(scene, &p);

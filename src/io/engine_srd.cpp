@@ -431,6 +431,8 @@ class SrdEngine : public gran_engine {
       GRAN_CALL(srd_bricks_save_(bst_, &pp, gen));
       gen_ = gen;
       cur_part_ = part;
+      ckpt_ = fname;
+      group_ = group;
       GRAN_CALL(gran_h5::make_group(file, group, &g.id, fname));
       GRAN_CALL(gran_h5::attr_int64(g.id, "split_generation", gen, fname));
       GRAN_CALL(gran_h5::attr_int64(g.id, "split_step", steps_done(), fname));
@@ -618,7 +620,7 @@ class SrdEngine : public gran_engine {
   /* checkpoint sets: the generation of the last part written (or read), the part written and not
    * yet committed, and the parts to remove once the next checkpoint commits */
   int64_t gen_ = 0;
-  std::string cur_part_;
+  std::string cur_part_, ckpt_, group_; /* the part written, for the checkpoint and group it belongs to */
   std::vector<std::string> prev_parts_;
 
   void checkpoint_settled(bool committed) override {
@@ -632,43 +634,31 @@ class SrdEngine : public gran_engine {
     prev_parts_.clear();
     if (!cur_part_.empty()) {
       prev_parts_.push_back(cur_part_);
-      if (split_ && comm_.rank == 0 && !stale_swept_) sweep_stale(cur_part_);
+      if (split_ && comm_.rank == 0 && !stale_swept_) sweep_stale(ckpt_, group_.c_str());
     }
     cur_part_.clear();
   }
-  /* once per run, after its first commit: the parts of this replica beside the checkpoint that the
-   * committed set does not hold (another generation, or a brick beyond this split: left by an
-   * earlier run of the same checkpoint path that did not finish, or by a crash before a commit; no
-   * checkpoint names them now) go, and so do .tmp files of parts. `part` is this process's
-   * committed part: CKPT.part-gG-rK-bB. */
+  /* once per run, after its first commit: the files of this replica's parts beside the checkpoint
+   * that the committed set does not hold (another generation, a brick beyond this split, a .tmp:
+   * left by an earlier run of the same checkpoint path that did not finish; no checkpoint names
+   * them now) go. `part` is this process's committed part, CKPT.part-gG-rK-bB; the set's names are
+   * part_path's. */
   bool stale_swept_ = false;
-  void sweep_stale(const std::string &part) {
+  void sweep_stale(const std::string &ckpt, const char *group) {
     stale_swept_ = true;
-    const size_t g = part.rfind(".part-g"), slash = part.rfind('/');
-    if (g == std::string::npos) return;
-    const std::string dir = slash == std::string::npos ? "." : part.substr(0, slash);
-    const std::string base = part.substr(slash == std::string::npos ? 0 : slash + 1, g + 7 - (slash == std::string::npos ? 0 : slash + 1));
-    const std::string tail = part.substr(part.find("-r", g)); /* -rK-bB */
-    const std::string rk = tail.substr(0, tail.find("-b") + 2); /* -rK-b */
-    const std::string mine = part.substr(g + 7, part.find("-r", g) - g - 7); /* G */
+    std::vector<std::string> set;
+    for (int b = 0; b < comm_.size; ++b) set.push_back(part_path(ckpt.c_str(), group, gen_, b));
+    const size_t slash = ckpt.rfind('/');
+    const std::string dir = slash == std::string::npos ? "." : ckpt.substr(0, slash);
+    const std::string base = ckpt.substr(slash == std::string::npos ? 0 : slash + 1) + ".part-g";
+    const std::string rk = set[0].substr(set[0].rfind("-r"), set[0].rfind("-b") + 2 - set[0].rfind("-r")); /* -rK-b */
     DIR *d = opendir(dir.c_str());
     if (!d) return;
     std::vector<std::string> gone;
     while (struct dirent *e = readdir(d)) {
-      const std::string nm = e->d_name;
-      if (nm.compare(0, base.size(), base) != 0) continue;
-      const size_t r = nm.find("-r", base.size());
-      if (r == std::string::npos) continue;
-      const std::string gen = nm.substr(base.size(), r - base.size());
-      if (gen.empty() || gen.find_first_not_of("0123456789") != std::string::npos) continue;
-      if (nm.compare(r, rk.size(), rk) != 0) continue; /* another replica's */
-      std::string b = nm.substr(r + rk.size());
-      const bool tmp = b.size() > 4 && b.compare(b.size() - 4, 4, ".tmp") == 0;
-      if (tmp) b.resize(b.size() - 4);
-      if (b.empty() || b.size() > 9 || b.find_first_not_of("0123456789") != std::string::npos) continue;
-      /* the committed set: generation G, bricks 0 .. P - 1 */
-      if (gen == mine && std::atoi(b.c_str()) < comm_.size && !tmp) continue;
-      gone.push_back(dir + "/" + nm);
+      const std::string nm = e->d_name, path = dir + "/" + nm;
+      if (nm.compare(0, base.size(), base) != 0 || nm.find(rk, base.size()) == std::string::npos) continue;
+      if (std::find(set.begin(), set.end(), (slash == std::string::npos ? nm : path)) == set.end()) gone.push_back(path);
     }
     closedir(d);
     for (const std::string &q : gone) std::remove(q.c_str());
