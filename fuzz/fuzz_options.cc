@@ -271,6 +271,7 @@ void run_dsmc(fz::Bytes &in, bool cell) {
     c.bath_sigma = in.dbl(1);
     c.placement = in.i32(0, -1, 2);
     c.frag_law = in.i32(0, -1, 2);
+    c.streams = in.i32(0, -1, 2);
   } else {
     a.e_agg = agg ? in.dbl(1) : in.dbl(0);
     a.e_frag = agg ? in.dbl(3) : in.dbl(INFINITY);

@@ -535,6 +535,14 @@ enum gran_cell_placement {
   GRAN_PLACE_RANDOM = 0,   /* merged clusters and fragments at random positions in the box (the DSMC outline) */
   GRAN_PLACE_COLLISION = 1 /* at the pair's centre of mass */
 };
+/* gran_dsmc_cell_options.streams: where a step's random numbers come from. */
+enum gran_cell_streams {
+  GRAN_CELL_STREAMS_SERIAL = 0, /* one stream, drawn cell after cell (the default; its bits are those of earlier releases) */
+  GRAN_CELL_STREAMS_CELLS = 1   /* one stream per cell and step, keyed by (seed, step, cell), the particles of a
+                                   cell in the order of their keys, the global sums exact: the run is the same, bit
+                                   for bit, for any number of OpenMP threads (the cells are collided in parallel);
+                                   the initial state is drawn cell by cell (docs/guide/cell-selector.md) */
+};
 typedef struct gran_dsmc_cell_options {
   int64_t cells;      /* cells per side of the box (>= 1; nc^3 cells) */
   double dt;          /* time step (> 0) */
@@ -549,6 +557,7 @@ typedef struct gran_dsmc_cell_options {
   double bath_sigma;  /* their diameter sigma_b (>= 0; contact at (sigma_k + sigma_b)/2) */
   int32_t placement;  /* gran_cell_placement */
   int32_t frag_law;   /* gran_frag_law: the pieces of a breakup (default GRAN_FRAG_MONOMERS) */
+  int32_t streams;    /* gran_cell_streams (default GRAN_CELL_STREAMS_SERIAL) */
 } gran_dsmc_cell_options;
 
 /* Defaults: 1 cell, dt 0 (must be set), F_N 1, no aggregation (e_agg 0), no fragmentation
@@ -770,7 +779,9 @@ GRAN_EXTERN int gran_scene_resume(const char *checkpoint, const char *output, co
  * count. A stopped run's checkpoint holds every replica; resume restores their number. */
 GRAN_EXTERN int gran_scene_set_replicas(gran_scene *scene, int64_t replicas, int32_t keep_replicas);
 GRAN_EXTERN int gran_scene_replicas(const gran_scene *scene, int64_t *replicas, int32_t *keep_replicas);
-/* Threads for the replicas of a run, process-wide; 0 (default): OMP_NUM_THREADS or all cores. */
+/* Threads for the replicas of a run, process-wide; 0 (default): OMP_NUM_THREADS or all cores. The
+ * cell DSMC with GRAN_CELL_STREAMS_CELLS steps its cells on this many threads too (one inside a
+ * parallel region of the replicas); its results do not depend on the number. */
 GRAN_EXTERN int gran_set_threads(int32_t nthreads);
 GRAN_EXTERN int gran_get_threads(int32_t *nthreads);
 /* ---------------------------------------------------------------------------------------------

@@ -28,7 +28,8 @@ ext_ok() { # $1 folder, $2 file, $3 header
   case "$3" in
     hdf5.h|H5*.h) case "$1" in src/io) return 0 ;; esac; [ "$2" = src/cli/run.cpp ] && return 0; return 1 ;;
     toml.hpp) case "$2" in src/io/scene_impl.h|src/io/scene.cpp) return 0 ;; esac; return 1 ;;
-    gsl/*) [ "$1" = src/theory ] && return 0; [ "$2" = src/srd/create.cpp ] ;; # GSRD creation: gsl_ran_binomial
+    gsl/*) [ "$1" = src/theory ] && return 0 # the keyed multinomial split (GSRD and cell-DSMC creation): gsl_ran_binomial
+      case "$2" in src/core/keyed.h|src/core/keyed.cpp) return 0 ;; esac; return 1 ;;
     fftw3.h) case "$1" in src/analysis|src/srd) return 0 ;; esac; return 1 ;;
     fftw3-mpi.h) [ "$2" = src/cli/mpi.cpp ] ;; # with MPI: the distributed transform of a split gas's S(k)
     mpi.h) [ "$2" = src/cli/mpi.cpp ] ;;

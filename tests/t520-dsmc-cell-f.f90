@@ -1,7 +1,8 @@
 ! t520-dsmc-cell-f.f90 - the time-step/cell selector from Fortran: every wrapper of the cell block
 ! (gran_dsmc_cell_options_default, gran_dsmc_create_cell, gran_dsmc_cell_info,
 ! gran_scene_dsmc_cell_options) with physics checks: an elastic gas keeps its energy and collides
-! at the rate of the DSMC outline's Eq. 35 (4 standard errors), positions lie in the box of side (F_N V)^(1/3),
+! at the rate of the DSMC outline's Eq. 35 (4 standard errors), with the serial streams and with the
+! streams by cell (the same state on 1 and 2 threads), positions lie in the box of side (F_N V)^(1/3),
 ! the steps done are t/dt; bad options return their code through ierr.
 program t520_dsmc_cell_f
   use, intrinsic :: iso_c_binding
@@ -27,6 +28,12 @@ program t520_dsmc_cell_f
     '[engine]' // new_line('a') // 'selector = "cell"' // new_line('a') // 'counts = [500]' // new_line('a') // &
     't_end = 1.0' // new_line('a') // '[cell]' // new_line('a') // 'cells = 2' // new_line('a') // &
     'dt = 0.25' // new_line('a') // 'e_agg = 0.5' // new_line('a')
+  character(len=*), parameter :: text2 = &
+    '[mixture]' // new_line('a') // 'nspecies = 1' // new_line('a') // 'density = [0.01]' // new_line('a') // &
+    '[restitution]' // new_line('a') // 'eps = 0.9' // new_line('a') // &
+    '[engine]' // new_line('a') // 'selector = "cell"' // new_line('a') // 'counts = [500]' // new_line('a') // &
+    't_end = 1.0' // new_line('a') // '[cell]' // new_line('a') // 'dt = 0.25' // new_line('a') // &
+    'streams = "cells"' // new_line('a')
 
   call gran_abi_query('sizeof(gran_dsmc_cell_options)', value)
   call expect(value == c_sizeof(cell), 'sizeof(gran_dsmc_cell_options)')
@@ -64,11 +71,39 @@ program t520_dsmc_cell_f
   call expect(abs(st%collisions - expect_c) < 4 * sqrt(expect_c), 'collisions against Eq. 35')
   call gran_dsmc_destroy(sim)
 
+  ! streams by cell on every thread: the same physics, and the same state whatever the threads
+  cell%streams = GRAN_CELL_STREAMS_CELLS
+  call gran_set_threads(2)
+  call gran_dsmc_create_cell(sim, mix, opt, cell, T0=[1.0_c_double])
+  call gran_dsmc_advance(sim, 300.0_c_double)
+  call gran_dsmc_energy(sim, ek, e0, ed)
+  call expect(abs(ek - e0) <= 1e-12_c_double * e0, 'streams by cell, elastic: energy kept')
+  call gran_dsmc_get_stats(sim, st)
+  call expect(abs(st%collisions - expect_c) < 4 * sqrt(expect_c), 'streams by cell: collisions against Eq. 35')
+  value = st%collisions
+  call gran_dsmc_destroy(sim)
+  call gran_set_threads(1)
+  call gran_dsmc_create_cell(sim, mix, opt, cell, T0=[1.0_c_double])
+  call gran_dsmc_advance(sim, 300.0_c_double)
+  call gran_dsmc_energy(sim, ed, e0, pmax)
+  call gran_dsmc_get_stats(sim, st)
+  call expect(st%collisions == value .and. ed == ek, 'streams by cell: 1 thread as 2 threads')
+  call gran_dsmc_destroy(sim)
+  call gran_set_threads(0)
+  cell%streams = 9
+  call gran_dsmc_create_cell(sim, mix, opt, cell, T0=[1.0_c_double], ierr=ierr)
+  call expect(ierr == GRAN_ERR_ARG .and. .not. c_associated(sim), 'streams = 9 refused')
+  cell%streams = GRAN_CELL_STREAMS_SERIAL
+
   ! the [cell] table of a scene
   call gran_scene_parse(text, 'cell.toml', scene)
   call gran_scene_dsmc_cell_options(scene, cell2)
   call expect(cell2%cells == 2 .and. cell2%dt == 0.25_c_double .and. cell2%e_agg == 0.5_c_double, &
               'scene [cell] options')
+  call gran_scene_destroy(scene)
+  call gran_scene_parse(text2, 'cell2.toml', scene)
+  call gran_scene_dsmc_cell_options(scene, cell2)
+  call expect(cell2%streams == GRAN_CELL_STREAMS_CELLS, 'scene [cell] streams = "cells"')
   call gran_scene_destroy(scene)
   ! aggregation: k-mer mixture, every collision merges (e_agg huge)
   call gran_mixture_destroy(mix)

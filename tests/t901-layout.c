@@ -28,7 +28,7 @@ static void test_struct_sizes(void **state) {
   EXPECT_SIZE(gran_srd_options); /* GSRD */
   EXPECT_SIZE(gran_srd_obs);     /* GSRD */
   EXPECT_SIZE(gran_dsmc_cell_options); /* cell selector */
-  assert_int_equal(sizeof(gran_dsmc_cell_options), 96);
+  assert_int_equal(sizeof(gran_dsmc_cell_options), 104);
   EXPECT_SIZE(gran_dsmc_cluster_stats);
   assert_int_equal(sizeof(gran_dsmc_cluster_stats), 96);
   EXPECT_SIZE(gran_dsmc_agg_options); /* aggregation in the event selectors */

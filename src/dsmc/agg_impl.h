@@ -19,15 +19,11 @@
 
 namespace gran {
 
-/* next word of the engine's buffered streams */
-struct DsmcWords {
-  DsmcRng *r;
-  inline uint64_t next() {
-    if (r->pos >= kRngBuf) dsmc_rng_refill(r);
-    return r->buf[r->pos++];
-  }
-  inline double uniform() { return u64_uniform(next()); }
-  inline int64_t below(int64_t n) { return u64_below(next(), n); }
+/* The draws on a source of 64-bit words (D::next): uniform, below n, unit vector, normal pairs. */
+template <class D>
+struct DsmcDraws {
+  inline double uniform() { return u64_uniform(self().next()); }
+  inline int64_t below(int64_t n) { return u64_below(self().next(), n); }
   inline void unit3(double e[3]) {
     dsmc_unit3(
         [&](double &a, double &b) {
@@ -46,6 +42,37 @@ struct DsmcWords {
     const double f = std::sqrt(-2.0 * std::log(q) / q);
     z[0] = a * f;
     z[1] = b * f;
+  }
+
+ private:
+  D &self() { return *static_cast<D *>(this); }
+};
+
+/* next word of the engine's buffered streams */
+struct DsmcWords : DsmcDraws<DsmcWords> {
+  DsmcRng *r;
+  explicit DsmcWords(DsmcRng *rng) : r(rng) {}
+  inline uint64_t next() {
+    if (r->pos >= kRngBuf) dsmc_rng_refill(r);
+    return r->buf[r->pos++];
+  }
+};
+
+/* One xoshiro256** stream held by value (the cell DSMC's per-cell streams, GRAN_CELL_STREAMS_CELLS):
+ * seeded from a keyed generator (core/keyed.h). */
+struct DsmcCellWords : DsmcDraws<DsmcCellWords> {
+  uint64_t s0, s1, s2, s3;
+  explicit DsmcCellWords(const gran_rng &g) : s0(g.s[0]), s1(g.s[1]), s2(g.s[2]), s3(g.s[3]) {}
+  inline uint64_t next() {
+    const uint64_t out = ((s1 * 5) << 7 | (s1 * 5) >> 57) * 9;
+    const uint64_t t = s1 << 17;
+    s2 ^= s0;
+    s3 ^= s1;
+    s1 ^= s2;
+    s0 ^= s3;
+    s2 ^= t;
+    s3 = (s3 << 45) | (s3 >> 19);
+    return out;
   }
 };
 

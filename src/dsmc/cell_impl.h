@@ -42,6 +42,14 @@ struct DsmcCell : DsmcAgg { /* DsmcAgg: the cluster sizes (agg.cpp) */
   ~DsmcCell() {
     for (double *a : spare) std::free(a);
   }
+  /* GRAN_CELL_STREAMS_CELLS (cell.cpp, "Streams by cell"): order holds the particles in the order of
+   * their keys, cell << 32 | the particle's place in its cell's list at the end of the last step (at
+   * creation: among its cell's particles, species by species), which is the last step's lists one after
+   * the other; the next step's stable sort by cell runs through it, so that each cell's list comes out
+   * in key order. Part of the state (checkpoints store the keys). */
+  int by_cells = 0;
+  std::vector<int32_t> order;  /* N (by_cells) */
+  std::vector<int32_t> tcount; /* threads x C: the threaded sort's counts, then places (derived) */
   /* aggregation / fragmentation (agg.cpp; the sizes in DsmcAgg) */
   std::vector<int64_t> where;  /* agg: position of a particle in the cell list (derived) */
   int64_t ndead = 0;           /* agg: merged-away particles waiting for the end of the step */
@@ -56,6 +64,15 @@ void dsmc_agg_end_step(gran_dsmc *s);
 int dsmc_cell_check_options(const gran_dsmc_cell_options *o);
 /* geometry and arrays (positions allocated, not drawn): creation and checkpoint reading */
 int dsmc_cell_setup(gran_dsmc *s, const gran_dsmc_cell_options *o);
+/* GRAN_CELL_STREAMS_CELLS: after dsmc_cell_setup, the initial positions, velocities (species k at
+ * temperature T[k], the gas's mean velocity subtracted) and keys, cell by cell; *e_initial their
+ * kinetic energy (an exact sum). */
+int dsmc_cell_create_by_cells(gran_dsmc *s, const double *T, double *e_initial);
+/* GRAN_CELL_STREAMS_CELLS: the particles' keys (N; checkpoints), and the order back from them (a
+ * checkpoint read: GRAN_ERR_IO naming 'path' unless they are the keys of the positions, each cell's
+ * ranks 0 .. n_c - 1). */
+void dsmc_cell_keys(const gran_dsmc *s, int64_t *key);
+int dsmc_cell_order_from_keys(gran_dsmc *s, const int64_t *key, const char *path);
 /* The bath's expected collisions per particle and step within kBathMaxPerStep (at creation and
  * on a checkpoint read; the speeds as they stand). */
 int dsmc_cell_check_bath(const gran_dsmc *s);

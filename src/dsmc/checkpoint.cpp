@@ -415,7 +415,8 @@ int cell_options_match(const gran_dsmc_cell_options &c, const gran_dsmc_cell_opt
            {"cell_options.heat_rate", c.heat_rate, o.heat_rate}, {"cell_options.bath_density", c.bath_density, o.bath_density},
            {"cell_options.bath_mass", c.bath_mass, o.bath_mass}, {"cell_options.bath_T", c.bath_T, o.bath_T},
            {"cell_options.bath_sigma", c.bath_sigma, o.bath_sigma}, {"cell_options.placement", (double)c.placement, (double)o.placement},
-           {"cell_options.frag_law", (double)c.frag_law, (double)o.frag_law}};
+           {"cell_options.frag_law", (double)c.frag_law, (double)o.frag_law},
+           {"cell_options.streams", (double)c.streams, (double)o.streams}};
   for (const auto &x : f)
     if (!same(x.stored, x.scene)) return option_differs(group, path, x.name, x.stored, x.scene);
   return GRAN_SUCCESS;
@@ -437,24 +438,28 @@ int agg_options_match(const gran_dsmc_agg_options &c, const gran_dsmc_agg_option
  * Options first (the reader sets the cell state up from them), then the state. */
 int cell_options_io(Writer &w, const gran_dsmc *s) {
   const gran_dsmc_cell_options &o = s->cell->o;
-  int64_t ci[3] = {o.cells, o.placement, o.frag_law};
+  int64_t ci[4] = {o.cells, o.placement, o.frag_law, o.streams};
   double cd[10] = {o.dt, o.fn, o.e_agg, o.e_frag, o.eps_f, o.heat_rate, o.bath_density, o.bath_mass, o.bath_T, o.bath_sigma};
-  GRAN_CALL(w.i64("cell_options_int", 3, ci)); /* format 3: two (no fragment law) */
+  /* format 3: two (no fragment law); format 4 before the streams by cell: three (serial streams) */
+  GRAN_CALL(w.i64("cell_options_int", o.streams == GRAN_CELL_STREAMS_SERIAL ? 3 : 4, ci));
   GRAN_CALL(w.d("cell_options_real", 10, cd));
   return GRAN_SUCCESS;
 }
 int cell_options_read(Reader &r, gran_dsmc_cell_options *o) {
-  int64_t ci[3] = {0, 0, GRAN_FRAG_MONOMERS};
+  int64_t ci[4] = {0, 0, GRAN_FRAG_MONOMERS, GRAN_CELL_STREAMS_SERIAL};
   double cd[10];
-  const int64_t nci = r.npoints("cell_options_int") == 3 ? 3 : 2; /* format 3: no fragment law */
+  const int64_t np = r.npoints("cell_options_int");
+  const int64_t nci = np == 4 ? 4 : np == 3 ? 3 : 2; /* format 3: no fragment law; no streams: serial */
   GRAN_CALL(r.i64("cell_options_int", nci, ci));
   GRAN_CALL(r.d("cell_options_real", 10, cd));
   gran_dsmc_cell_options_default(o);
-  GRAN_CHECK(ci[0] >= 1 && ci[0] <= 1024 && ci[1] >= 0 && ci[1] <= 1 && (ci[2] == GRAN_FRAG_MONOMERS || ci[2] == GRAN_FRAG_BINARY),
+  GRAN_CHECK(ci[0] >= 1 && ci[0] <= 1024 && ci[1] >= 0 && ci[1] <= 1 && (ci[2] == GRAN_FRAG_MONOMERS || ci[2] == GRAN_FRAG_BINARY) &&
+                 (ci[3] == GRAN_CELL_STREAMS_SERIAL || ci[3] == GRAN_CELL_STREAMS_CELLS),
              GRAN_ERR_IO, "checkpoint '%s' holds invalid cell options (damaged or edited file?)", r.path);
   o->cells = ci[0];
   o->placement = (int32_t)ci[1];
   o->frag_law = (int32_t)ci[2];
+  o->streams = (int32_t)ci[3];
   o->dt = cd[0];
   o->fn = cd[1];
   o->e_agg = cd[2];
@@ -784,6 +789,11 @@ int gran_dsmc_checkpoint_write_h5_(const gran_dsmc *sim, int64_t file_id, const 
     if (sim->cell) {
       GRAN_CALL(cell_options_io(w, sim));
       GRAN_CALL(cell_state_io(w, const_cast<gran_dsmc *>(sim)));
+      if (sim->cell->by_cells) { /* streams by cell: the particles' keys */
+        std::vector<int64_t> key((size_t)sim->N);
+        dsmc_cell_keys(sim, key.data());
+        GRAN_CALL(w.i64("cell_keys", sim->N, key.data()));
+      }
       if (sim->cell->agg) GRAN_CALL(cell_agg_write(w, sim));
     } else if (sim->agg) {
       GRAN_CALL(aggev_write(w, sim)); /* event selectors with aggregation */
@@ -932,6 +942,11 @@ int gran_dsmc_checkpoint_read_h5_(int64_t file_id, const char *group, const gran
       if (ierr == GRAN_SUCCESS) ierr = cell_state_io(rd, s);
       if (ierr == GRAN_SUCCESS && s->cell->agg) ierr = cell_agg_read(rd, s);
       if (ierr == GRAN_SUCCESS) ierr = cell_validate(s, path);
+      if (ierr == GRAN_SUCCESS && s->cell->by_cells) { /* streams by cell: the keys (after the positions' check) */
+        std::vector<int64_t> key((size_t)s->N);
+        ierr = rd.i64("cell_keys", s->N, key.data());
+        if (ierr == GRAN_SUCCESS) ierr = dsmc_cell_order_from_keys(s, key.data(), path);
+      }
       if (ierr == GRAN_SUCCESS) ierr = dsmc_cell_check_bath(s);
     }
     const bool aggev = o.selector != GRAN_SELECTOR_CELL && rd.has("agg_options_real");

@@ -496,37 +496,46 @@ int dsmc_create_impl(const gran_mixture *mix, const int64_t *counts, const doubl
       for (int w = 0; w < 4; w++) s->vrng.s[w][l] = lane.s[w];
     }
     s->vrng.pos = kRngBuf;
-    double *v = dsmc_hv(s);
-    double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mtot = 0;
-    for (int64_t k = 0; k < M; k++) {
-      const double sd = std::sqrt(T[(size_t)k] / s->mix.m[(size_t)k]), mk = s->mix.m[(size_t)k];
-      const bool gas = !s->tracer[(size_t)k];
-      dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
-      for (int64_t j = ja; j < jb; j++)
-        for (int d = 0; d < 3; d++) {
-          v[3 * j + d] = sd * rng_normal(&s->rng);
-          if (gas) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
-        }
-      });
-      if (gas) mtot += mk * (double)s->count[(size_t)k];
-    }
-    if (mtot > 0) {
-      const double u[3] = {(P[0] + Pc[0]) / mtot, (P[1] + Pc[1]) / mtot, (P[2] + Pc[2]) / mtot};
-      for (int64_t k = 0; k < M; k++)
+    if (cell && cell->streams == GRAN_CELL_STREAMS_CELLS) { /* positions and velocities cell by cell (cell.cpp) */
+      ierr = dsmc_cell_setup(s, cell);
+      if (ierr == GRAN_SUCCESS) ierr = dsmc_cell_create_by_cells(s, T.data(), &s->e_initial);
+      if (ierr != GRAN_SUCCESS) {
+        gran_dsmc_destroy(&s);
+        return ierr;
+      }
+    } else {
+      double *v = dsmc_hv(s);
+      double P[3] = {0, 0, 0}, Pc[3] = {0, 0, 0}, mtot = 0;
+      for (int64_t k = 0; k < M; k++) {
+        const double sd = std::sqrt(T[(size_t)k] / s->mix.m[(size_t)k]), mk = s->mix.m[(size_t)k];
+        const bool gas = !s->tracer[(size_t)k];
+        dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+        for (int64_t j = ja; j < jb; j++)
+          for (int d = 0; d < 3; d++) {
+            v[3 * j + d] = sd * rng_normal(&s->rng);
+            if (gas) neumaier_add(P[d], Pc[d], mk * v[3 * j + d]);
+          }
+        });
+        if (gas) mtot += mk * (double)s->count[(size_t)k];
+      }
+      if (mtot > 0) {
+        const double u[3] = {(P[0] + Pc[0]) / mtot, (P[1] + Pc[1]) / mtot, (P[2] + Pc[2]) / mtot};
+        for (int64_t k = 0; k < M; k++)
+          dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
+            for (int64_t j = ja; j < jb; j++)
+              for (int d = 0; d < 3; d++) v[3 * j + d] -= u[d];
+          });
+      }
+      double e = 0, ec = 0;
+      for (int64_t k = 0; k < M; k++) {
+        const double mk = s->mix.m[(size_t)k];
         dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
           for (int64_t j = ja; j < jb; j++)
-            for (int d = 0; d < 3; d++) v[3 * j + d] -= u[d];
+            neumaier_add(e, ec, 0.5 * mk * (v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2]));
         });
+      }
+      s->e_initial = e + ec;
     }
-    double e = 0, ec = 0;
-    for (int64_t k = 0; k < M; k++) {
-      const double mk = s->mix.m[(size_t)k];
-      dsmc_species_ranges(s, k, [&](int64_t ja, int64_t jb) {
-        for (int64_t j = ja; j < jb; j++)
-          neumaier_add(e, ec, 0.5 * mk * (v[3 * j] * v[3 * j] + v[3 * j + 1] * v[3 * j + 1] + v[3 * j + 2] * v[3 * j + 2]));
-      });
-    }
-    s->e_initial = e + ec;
     dsmc_refresh_bounds(s);
     const bool agg = cell && (cell->e_agg > 0 || std::isfinite(cell->e_frag));
     ierr = dsmc_check_derived(s, agg, false); /* the masses (derived.cpp) */
@@ -539,12 +548,12 @@ int dsmc_create_impl(const gran_mixture *mix, const int64_t *counts, const doubl
     for (int64_t k = 0; k < M && finite; k++) finite = gran_derived_finite(s->bound2[(size_t)k]);
     for (int r = 0; r < 3 && finite; r++) finite = gran_derived_finite(s->uv[r]);
     if (!finite) {
-      const double rate = s->rate;
+      const double rate = s->rate, e0 = s->e_initial;
       gran_dsmc_destroy(&s);
       return GRAN_ERROR(GRAN_ERR_DOMAIN,
                         "the initial state overflows (kinetic energy %g, collision rate bound %g): the temperatures "
                         "'T0' are too large for the masses and sizes of this mixture",
-                        e + ec, rate);
+                        e0, rate);
     }
     ierr = dsmc_check_derived(s, agg, true); /* the speeds (derived.cpp); event aggregation: gran_dsmc_create_agg */
     if (ierr != GRAN_SUCCESS) {

@@ -109,6 +109,10 @@ const gran_scene_key gran_dsmc_scene_keys_[] = {
      "must be >= 0"},
     {"cell", "placement", "string", "\"random\"", "\"random\" | \"collision\"", "",
      "where merged clusters and fragments go", "gran_dsmc_cell_options.placement", ""},
+    {"cell", "streams", "string", "\"serial\"", "\"serial\" | \"cells\"", "",
+     "random numbers: one stream cell after cell, or one per cell and step (the same run on any number of threads; "
+     "no aggregation yet)",
+     "gran_dsmc_cell_options.streams", ""},
 
     {"aggregation", "e_agg", "float", "0", ">= 0", "energy", "merge when mu g^2/2 < e_agg (0: off)",
      "gran_dsmc_agg_options.e_agg", "must be >= 0 (0: no aggregation)"},
@@ -166,6 +170,8 @@ void check_cell_run(Tab &top, Tab &en, const gran_scene &s) {
   Tab ce = top.sub("cell");
   const gran_dsmc_cell_options &c = s.cell;
   const bool agg = c.e_agg > 0 || std::isfinite(c.e_frag);
+  if (agg && c.streams == GRAN_CELL_STREAMS_CELLS)
+    ce.fail("streams", "\"cells\" does not take aggregation or fragmentation yet (e_agg, e_frag): use \"serial\"");
   double N = 0;
   for (int64_t k = 0; k < s.nspecies; k++) {
     const double nk = s.counts_kind == 0 ? (double)s.counts[(size_t)k] : std::nearbyint(s.density[(size_t)k] * s.volume / c.fn);
@@ -494,6 +500,10 @@ void parse_cell_aggregation(Ctx &c) {
     if (pl == "random") c.placement = GRAN_PLACE_RANDOM;
     else if (pl == "collision") c.placement = GRAN_PLACE_COLLISION;
     else ce.fail("placement", "unknown placement \"" + pl + "\" (random or collision)");
+    const std::string st = ce.word("streams");
+    if (st == "serial") c.streams = GRAN_CELL_STREAMS_SERIAL;
+    else if (st == "cells") c.streams = GRAN_CELL_STREAMS_CELLS;
+    else ce.fail("streams", "unknown streams \"" + st + "\" (serial or cells)");
     ce.finish();
   }
 

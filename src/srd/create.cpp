@@ -6,20 +6,13 @@
  * By cells (GRAN_SRD_CREATE_CELLS): the counts come from a multinomial split of N down a fixed
  * binary tree over the box cells, the particles of each cell from the cell's own generator, so the
  * particles of any cell range are the same whoever makes them (a thread, a rank of a decomposed
- * run) and come out in cell order. The generators are keyed, not jumped: the generator of
- * (seed, tag, id) is xoshiro256** seeded with the four words splitmix64(b + (4 id + w + 1) G),
- * w = 0..3, b = splitmix64's mix of (seed xor tag), G the golden-ratio increment; tag separates
- * the tree's nodes from the cells. For one seed and tag all 4 x ids words are distinct (G is odd,
- * the mix a bijection), so no two generators start in the same state; they are points of the one
- * cycle of length 2^256 - 1, and a node draws a few dozen numbers (the binomial), a cell about
- * 6 n0: M generators of at most D draws overlap with probability below M^2 D / 2^256 (1e-47 for
- * 1e12 cells of 1e3 draws), the same argument as for any two seeds. They are distinct from the
- * collision streams of the cells (stream c + 1 of the seed), which creation does not touch. */
+ * run) and come out in cell order. The generators are keyed, not jumped (core/keyed.h, with the
+ * split); the tags separate the tree's nodes from the cells. A node draws a few dozen numbers (the
+ * binomial), a cell about 6 n0. They are distinct from the collision streams of the cells
+ * (stream c + 1 of the seed), which creation does not touch. */
 #include "srd/create.h"
+#include "core/keyed.h"
 #include "srd/srd_impl.h"
-
-#include <gsl/gsl_randist.h>
-#include <gsl/gsl_rng.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,26 +21,11 @@
 
 namespace {
 
+using gran::keyed_rng;
+using gran::keyed_split;
+
 constexpr uint64_t kTagNode = 0x6e6f64652d747265ULL; /* the tree's nodes */
 constexpr uint64_t kTagCell = 0x63656c6c2d706172ULL; /* the cells' particles */
-constexpr uint64_t kGolden = 0x9e3779b97f4a7c15ULL;
-
-inline uint64_t mix64(uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-inline void keyed_rng(uint64_t seed, uint64_t tag, uint64_t id, gran_rng *r) {
-  const uint64_t b = mix64(seed ^ tag);
-  for (uint64_t w = 0; w < 4; ++w) r->s[w] = mix64(b + (4 * id + w + 1) * kGolden);
-}
-
-/* GSL's view of a gran_rng: gsl_ran_binomial draws through gsl_rng_uniform (get_double: the
- * engine's 53-bit uniform); get gives the top 32 bits. Seeding is ours (set does nothing). */
-unsigned long xo_get(void *st) { return (unsigned long)(gran_xo_next((gran_rng *)st) >> 32); }
-double xo_get_double(void *st) { return gran_xo_uniform((gran_rng *)st); }
-void xo_set(void *, unsigned long) {}
-const gsl_rng_type kXoType = {"granary-xoshiro256**", 0xffffffffUL, 0, sizeof(gran_rng), xo_set, xo_get, xo_get_double};
 
 struct Layout {
   int dim;
@@ -81,23 +59,7 @@ int layout_of(const gran_srd_options *o, Layout *ly) {
 
 /* counts of the leaves of node (id, [nlo, nhi), c) that lie in [lo, hi), into count[leaf - lo] */
 void split(uint64_t seed, uint64_t id, int64_t nlo, int64_t nhi, int64_t c, int64_t lo, int64_t hi, int64_t *count) {
-  if (nhi <= lo || nlo >= hi) return;
-  if (nhi - nlo == 1) {
-    count[nlo - lo] = c;
-    return;
-  }
-  const int64_t mid = nlo + (nhi - nlo) / 2;
-  int64_t left = 0;
-  if (c > 0) {
-    gran_rng r;
-    keyed_rng(seed, kTagNode, id, &r);
-    gsl_rng g;
-    g.type = &kXoType;
-    g.state = &r;
-    left = (int64_t)gsl_ran_binomial(&g, (double)(mid - nlo) / (double)(nhi - nlo), (unsigned int)c);
-  }
-  split(seed, 2 * id, nlo, mid, left, lo, hi, count);
-  split(seed, 2 * id + 1, mid, nhi, c - left, lo, hi, count);
+  keyed_split<false>(seed, kTagNode, id, nlo, nhi, c, lo, hi, [&](int64_t i, int64_t n) { count[i - lo] = n; });
 }
 
 /* a coordinate uniform in layer i of axis k that the engine bins into layer i (unshifted grid) */
