@@ -61,19 +61,9 @@ struct DsmcWords : DsmcDraws<DsmcWords> {
 /* One xoshiro256** stream held by value (the cell DSMC's per-cell streams, GRAN_CELL_STREAMS_CELLS):
  * seeded from a keyed generator (core/keyed.h). */
 struct DsmcCellWords : DsmcDraws<DsmcCellWords> {
-  uint64_t s0, s1, s2, s3;
-  explicit DsmcCellWords(const gran_rng &g) : s0(g.s[0]), s1(g.s[1]), s2(g.s[2]), s3(g.s[3]) {}
-  inline uint64_t next() {
-    const uint64_t out = ((s1 * 5) << 7 | (s1 * 5) >> 57) * 9;
-    const uint64_t t = s1 << 17;
-    s2 ^= s0;
-    s3 ^= s1;
-    s1 ^= s2;
-    s0 ^= s3;
-    s2 ^= t;
-    s3 = (s3 << 45) | (s3 >> 19);
-    return out;
-  }
+  gran_rng g;
+  explicit DsmcCellWords(const gran_rng &seeded) : g(seeded) {}
+  inline uint64_t next() { return gran_xo_next(&g); }
 };
 
 /* Cluster-size bookkeeping of an aggregating engine (any selector). */

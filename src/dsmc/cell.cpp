@@ -100,6 +100,17 @@ inline bool stream_block(double *__restrict x, const double *__restrict v, int32
   return bad == 0;
 }
 
+/* Particles j0 .. j0 + nb streamed (stream_block, and wrap() for one that crossed the box in one
+ * step), their cell coordinates into qb */
+inline void stream_particles(double *x, const double *v, int32_t *qb, int64_t j0, int64_t nb, double dt, double L,
+                             double invL, double inv_a, int32_t nc1) {
+  if (!stream_block(x + 3 * j0, v + 3 * j0, qb, 3 * nb, dt, L, inv_a, nc1))
+    for (int64_t i = 3 * j0; i < 3 * (j0 + nb); i++) {
+      x[i] = wrap(x[i], L, invL);
+      qb[i - 3 * j0] = cell_coord(x[i], inv_a, nc1);
+    }
+}
+
 }  // namespace
 
 /* The largest F_N (sigma g)_max dt / V_c any cell can have before the next step (global speed bound). */
@@ -752,11 +763,7 @@ void cell_stream_bin(gran_dsmc *s) {
   alignas(64) int32_t qb[3 * kBlock];
   for (int64_t j0 = 0; j0 < N; j0 += kBlock) {
     const int64_t nb = std::min(kBlock, N - j0);
-    if (!stream_block(x + 3 * j0, v + 3 * j0, qb, 3 * nb, dt, L, inv_a, (int32_t)nc - 1))
-      for (int64_t i = 3 * j0; i < 3 * (j0 + nb); i++) { /* a particle crossed the box in one step */
-        x[i] = wrap(x[i], L, invL);
-        qb[i - 3 * j0] = cell_coord(x[i], inv_a, (int32_t)nc - 1);
-      }
+    stream_particles(x, v, qb, j0, nb, dt, L, invL, inv_a, (int32_t)nc - 1);
     for (int64_t j = j0; j < j0 + nb; j++) {
       const int32_t *const qj = qb + 3 * (j - j0);
       const double *vj = v + 3 * j;
@@ -1162,11 +1169,7 @@ void cell_bin_by_cells(gran_dsmc *s, int nth, std::vector<CellPart> &parts) {
 #pragma omp for schedule(static)
     for (int64_t b = 0; b < nblk; b++) {
       const int64_t j0 = b * kBlock, nb = std::min(kBlock, N - j0);
-      if (!stream_block(x + 3 * j0, v + 3 * j0, qb, 3 * nb, dt, L, inv_a, (int32_t)nc - 1))
-        for (int64_t i = 3 * j0; i < 3 * (j0 + nb); i++) { /* a particle crossed the box in one step */
-          x[i] = wrap(x[i], L, invL);
-          qb[i - 3 * j0] = cell_coord(x[i], inv_a, (int32_t)nc - 1);
-        }
+      stream_particles(x, v, qb, j0, nb, dt, L, invL, inv_a, (int32_t)nc - 1);
       for (int64_t j = j0; j < j0 + nb; j++) {
         const int32_t *const qj = qb + 3 * (j - j0);
         const double *vj = v + 3 * j;

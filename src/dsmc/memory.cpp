@@ -14,8 +14,9 @@ double gran_dsmc_memory_(const gran_scene &s, std::vector<gran_mem_part> &parts)
   while (pow2 < M) pow2 *= 2;
   const bool disp = s.obs_msd || s.obs_tamsd, cell = s.selector == GRAN_SELECTOR_CELL;
   const double nc = cell ? (double)s.cell.cells : 0.0;
-  /* streams by cell: a key per particle, and its spare for the cell order */
-  const double keys = cell && s.cell.streams == GRAN_CELL_STREAMS_CELLS ? 16.0 : 0.0;
+  /* streams by cell: the key order (4 B per particle), the threads' counts per cell (4 B per cell and
+   * thread: bounded here by 4 B per particle and thread, 2 threads counted), a checkpoint's keys (8 B) */
+  const double keys = cell && s.cell.streams == GRAN_CELL_STREAMS_CELLS ? 20.0 : 0.0;
   const double particles = N * (28.0 + 24.0 + (disp ? 32.0 : 0.0) + (cell ? 36.0 : 0.0) + keys) + 48.0 * nc * nc * nc;
   const double species = 8.0 * M * 40.0 + 6.0 * 2.0 * pow2 * 8.0;
   const double pairs = (s.model == GRAN_RESTITUTION_MATRIX || s.g2_is_matrix || s.visco_kind == 1 ? 40.0 * M * M : 0.0) +
