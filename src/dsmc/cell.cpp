@@ -1094,6 +1094,14 @@ int cell_threads() {
 #endif
 }
 
+inline int thread_num() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
 /* A thread's share of a step's sums. */
 struct CellPart {
   gran_exactsum ed, heat, P[3];
@@ -1126,13 +1134,7 @@ double merged_value(std::vector<CellPart> &parts, const F &field) {
   for (CellPart &p : parts) gran_exactsum_merge_(&t, &field(p));
   return gran_exactsum_value_(&t);
 }
-inline CellPart &my_part(std::vector<CellPart> &parts) {
-#ifdef _OPENMP
-  return parts[(size_t)omp_get_thread_num()];
-#else
-  return parts[0];
-#endif
-}
+inline CellPart &my_part(std::vector<CellPart> &parts) { return parts[(size_t)thread_num()]; }
 
 /* 1. (streams by cell) Stream and bin in nth threads: the particles' blocks stream in parallel (the
  * speed bounds into the parts), then a stable sort by cell of the particles in key order (c->order),
@@ -1157,11 +1159,7 @@ void cell_bin_by_cells(gran_dsmc *s, int nth, std::vector<CellPart> &parts) {
   const int64_t nblk = (N + kBlock - 1) / kBlock;
 #pragma omp parallel num_threads(nth)
   {
-#ifdef _OPENMP
-    const int th = omp_get_thread_num();
-#else
-    const int th = 0;
-#endif
+    const int th = thread_num();
     CellPart &p = parts[(size_t)th];
     double *const b2 = p.b2.data();
     double vm2 = 0;
@@ -1196,11 +1194,7 @@ void cell_bin_by_cells(gran_dsmc *s, int nth, std::vector<CellPart> &parts) {
   if (nth > 1) {
 #pragma omp parallel num_threads(nth)
   {
-#ifdef _OPENMP
-    const int th = omp_get_thread_num();
-#else
-    const int th = 0;
-#endif
+    const int th = thread_num();
     /* counts of chunk th of the key order */
     const int64_t e0 = N * th / nth, e1 = N * (th + 1) / nth;
     int32_t *const ct = cnt + (size_t)th * (size_t)C;
