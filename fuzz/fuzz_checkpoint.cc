@@ -2,8 +2,8 @@
  * they resume. A few valid checkpoints are written once, from fixed options and seeds, all HDF5
  * after a 512-byte header "granary-file 1\nlength N\ncrc32 C\n" holding the CRC-32 of the bytes
  * after it: GSRD states (gran_srd_checkpoint_write: group /srd of named fields, options/NAME
- * among them) and run checkpoints of a low-rank, a Bird-with-aggregation, a cell-with-aggregation
- * and a GSRD run. The fuzz bytes pick one and edit it, value by value: elements of any dataset
+ * among them) and run checkpoints of a low-rank, a Bird-with-aggregation, a cell-with-aggregation,
+ * a cell-with-streams-by-cell (its particles' keys) and a GSRD run. The fuzz bytes pick one and edit it, value by value: elements of any dataset
  * (edge values such as NaN, inf, 1e300, -0, 2^63-1, or raw bits), a dataset one value longer or
  * shorter, numbers in the stored scene text; then the checksum is recomputed (or, 1 in 8 for a
  * GSRD state, left stale: the reader must refuse), so that the reader's value checks and the
@@ -147,6 +147,10 @@ const char *kScenes[] = {
     "seed = 7\nt_end = 1.0\n[cell]\ncells = 2\ndt = 0.1\ne_agg = 1.0\ne_frag = 3.0\neps_f = 0.7\nheat_rate = 0.01\n"
     "bath_density = 0.01\nbath_mass = 0.5\nbath_T = 1.0\nbath_sigma = 0.5\n[observables]\ntimes = [0.2, 0.5, 1.0]\n"
     "msd = false\n",
+    /* cell selector with streams by cell (the particles' keys), displacements, a thermostat and a bath */
+    "[mixture]\nnspecies = 2\nmass = [1.0, 2.0]\ndensity = [0.03, 0.02]\n[restitution]\neps = 0.8\n[engine]\n"
+    "selector = \"cell\"\nvolume = 3000\nseed = 5\nt_end = 1.0\n[cell]\ncells = 3\ndt = 0.1\nheat_rate = 0.01\n"
+    "bath_density = 0.01\nstreams = \"cells\"\n[observables]\ntimes = [0.2, 0.5, 1.0]\n",
     /* GSRD 2-D with walls, gravity and snapshots (its state group /engine) */
     "[engine]\ntype = \"srd\"\ndimension = 2\ncells = [6, 5]\nn0 = 4\ndt = 0.5\nalpha = 120\neps = 0.9\nsigma = 0.2\n"
     "T0 = 1.0\nsteps = 8\nseed = 3\nthreads = 1\n[boundaries]\nwalls = {axis = \"y\", rule = \"slip\"}\n[forces]\n"

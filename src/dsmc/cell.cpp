@@ -988,6 +988,16 @@ inline __attribute__((always_inline)) int collide_cell(CellStepCtx &k, int64_t q
   return GRAN_SUCCESS;
 }
 
+/* the velocities (and species) of cell q's particles, which its candidates load at random */
+inline void prefetch_cell(const int32_t *list, const int64_t *start, int64_t q, const double *v, const int32_t *sp,
+                          bool species) {
+  for (int64_t e = start[q]; e < start[q + 1]; e++) {
+    __builtin_prefetch(v + 3 * list[e]);
+    __builtin_prefetch(v + 3 * list[e] + 2);
+    if (species) __builtin_prefetch(sp + list[e]);
+  }
+}
+
 CellStepCtx step_ctx(gran_dsmc *s, bool agg) {
   DsmcCell *const c = s->cell;
   CellStepCtx k;
@@ -1035,7 +1045,7 @@ int cell_step(gran_dsmc *s) {
   const int64_t C = c->C, M = s->M, N = s->N;
   CellStepCtx k = step_ctx(s, kAgg);
   Words w{&s->vrng};
-  const int32_t *const list = c->list.data();
+  int32_t *const list = c->list.data();
   const int64_t *const start = c->start.data();
   CellAcc acc{s->collisions, s->trials, s->e_diss, s->e_diss_c, 0.0, &c->vmax2, s->bound2.data()};
   AggCtx actx{s, c, &w, nullptr, nullptr, GRAN_SUCCESS};
@@ -1044,15 +1054,9 @@ int cell_step(gran_dsmc *s) {
    * in 0.145 s with them against 0.183 s without (min of 5-9 alternated runs) */
   const bool prefetch = kAgg || N >= kReorderMin;
   for (int64_t q = 0; q < C; q++) {
-    if (prefetch && q + kAhead < C) { /* velocities of a cell kAhead ahead: its candidates load them at random */
-      for (int64_t e = start[q + kAhead]; e < start[q + kAhead + 1]; e++) {
-        __builtin_prefetch(k.v + 3 * list[e]);
-        __builtin_prefetch(k.v + 3 * list[e] + 2);
-        if (M > 1 || kAgg) __builtin_prefetch(k.sp + list[e]);
-      }
-    }
-    const int st = collide_cell<kRest, kDisp, kCount, kAgg, false>(k, q, c->list.data() + start[q],
-                                                                   start[q + 1] - start[q], w, acc, &actx);
+    if (prefetch && q + kAhead < C) prefetch_cell(list, start, q + kAhead, k.v, k.sp, M > 1 || kAgg);
+    const int st =
+        collide_cell<kRest, kDisp, kCount, kAgg, false>(k, q, list + start[q], start[q + 1] - start[q], w, acc, &actx);
     if (st != GRAN_SUCCESS) return st;
   }
   c->pmax_last = acc.pmax;
@@ -1253,12 +1257,7 @@ int cell_step_by_cells(gran_dsmc *s) {
     CellPart &p = my_part(parts);
     int32_t *const lq = list + start[q];
     const int64_t n = start[q + 1] - start[q];
-    if (prefetch && q + kAhead < C) /* a cell kAhead ahead: its velocities are loaded at random */
-      for (int64_t e = start[q + kAhead]; e < start[q + kAhead + 1]; e++) {
-        __builtin_prefetch(v + 3 * list[e]);
-        __builtin_prefetch(v + 3 * list[e] + 2);
-        if (M > 1) __builtin_prefetch(sp + list[e]);
-      }
+    if (prefetch && q + kAhead < C) prefetch_cell(list, start, q + kAhead, v, sp, M > 1);
     double vm = 0, sg = 0; /* the cell's largest speed and diameter */
     for (int64_t e = 0; e < n; e++) {
       const double *const vj = v + 3 * lq[e];
@@ -1329,7 +1328,6 @@ int cell_step_by_cells(gran_dsmc *s) {
   if (bath) { /* pass 3, per cell: the bath's collisions of its particles, from the cell's bath stream */
     GRAN_CALL(bath_check(s, true, t));
     const BathLaw law = bath_law(c);
-    const double *const sig = s->mix.sigma.data();
 #pragma omp parallel for schedule(dynamic, 16) num_threads(nth)
     for (int64_t q = 0; q < C; q++) {
       CellPart &p = my_part(parts);
