@@ -20,11 +20,12 @@
 namespace gran {
 
 /* The draws on a source of 64-bit words (D::next): uniform, below n, unit vector, normal pairs. */
+#define GRAN_DRAW inline __attribute__((always_inline)) /* the hot loops' draws: inlined, as before the template */
 template <class D>
 struct DsmcDraws {
-  inline double uniform() { return u64_uniform(self().next()); }
-  inline int64_t below(int64_t n) { return u64_below(self().next(), n); }
-  inline void unit3(double e[3]) {
+  GRAN_DRAW double uniform() { return u64_uniform(self().next()); }
+  GRAN_DRAW int64_t below(int64_t n) { return u64_below(self().next(), n); }
+  GRAN_DRAW void unit3(double e[3]) {
     dsmc_unit3(
         [&](double &a, double &b) {
           a = uniform();
@@ -32,7 +33,7 @@ struct DsmcDraws {
         },
         e);
   }
-  inline void normal2(double z[2]) { /* Marsaglia's polar method: two independent N(0, 1) */
+  GRAN_DRAW void normal2(double z[2]) { /* Marsaglia's polar method: two independent N(0, 1) */
     double a, b, q;
     do {
       a = 2.0 * uniform() - 1.0;
@@ -45,8 +46,9 @@ struct DsmcDraws {
   }
 
  private:
-  D &self() { return *static_cast<D *>(this); }
+  GRAN_DRAW D &self() { return *static_cast<D *>(this); }
 };
+#undef GRAN_DRAW
 
 /* next word of the engine's buffered streams */
 struct DsmcWords : DsmcDraws<DsmcWords> {

@@ -988,9 +988,10 @@ inline __attribute__((always_inline)) int collide_cell(CellStepCtx &k, int64_t q
   return GRAN_SUCCESS;
 }
 
-/* the velocities (and species) of cell q's particles, which its candidates load at random */
-inline void prefetch_cell(const int32_t *list, const int64_t *start, int64_t q, const double *v, const int32_t *sp,
-                          bool species) {
+/* the velocities (and species) of cell q's particles, which its candidates load at random; always inlined: out
+ * of line, GCC takes a function of nothing but prefetches for one without effects and drops its calls */
+inline __attribute__((always_inline)) void prefetch_cell(const int32_t *list, const int64_t *start, int64_t q,
+                                                         const double *v, const int32_t *sp, bool species) {
   for (int64_t e = start[q]; e < start[q + 1]; e++) {
     __builtin_prefetch(v + 3 * list[e]);
     __builtin_prefetch(v + 3 * list[e] + 2);

@@ -137,7 +137,7 @@ static inline double u64_uniform_pos(uint64_t x) { return ((double)(x >> 11) + 1
 /* A uniform direction on the sphere (Marsaglia 1972) from pairs of uniforms in [0, 1), pair(a, b):
  * the hot loop's buffered words and DsmcWords (agg_impl.h) draw the pairs their own way. */
 template <class Pair>
-static inline void dsmc_unit3(Pair pair, double e[3]) {
+static inline __attribute__((always_inline)) void dsmc_unit3(Pair pair, double e[3]) {
   double a, b, q;
   do {
     pair(a, b);
